@@ -1,0 +1,39 @@
+/* `clrender devices`: every OpenCL platform and device, with the index --device accepts. */
+#include <stdio.h>
+#include <string.h>
+#include "cli.h"
+#include "clrender.h"
+
+int cli_devices(int argc, char **argv) {
+  if (argc > 1) {
+    fprintf(stderr, "usage: clrender devices\n");
+    return 2;
+  }
+  (void)argv;
+  clr_device_info infos[64];
+  int count = 0;
+  clr_result r = clr_device_list(infos, 64, &count);
+  if (r != CLR_SUCCESS) {
+    fprintf(stderr, "clrender: %s\n", clr_last_error_message());
+    return 1;
+  }
+  clr_context ctx = NULL;
+  int chosen = -1;
+  if (clr_context_create(NULL, &ctx) == CLR_SUCCESS) {
+    for (int i = 0; i < count && i < 64; ++i) {
+      char full[300];
+      snprintf(full, sizeof full, "%s: %s", infos[i].platform_name, infos[i].device_name);
+      if (strcmp(full, clr_context_device_name(ctx)) == 0) chosen = i;
+    }
+    clr_context_release(ctx);
+  }
+  for (int i = 0; i < count && i < 64; ++i) {
+    printf("%c %d  %s: %s  [%s, %u compute units, %.1f GiB, %s, driver %s]\n",
+           i == chosen ? '*' : ' ', infos[i].index, infos[i].platform_name, infos[i].device_name,
+           infos[i].is_gpu ? "GPU" : "CPU", infos[i].compute_units,
+           (double)infos[i].global_memory_bytes / (1024.0 * 1024.0 * 1024.0),
+           infos[i].device_version, infos[i].driver_version);
+  }
+  printf("(* = default; choose with --device INDEX|NAME or CLRENDER_DEVICE)\n");
+  return 0;
+}

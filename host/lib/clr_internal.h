@@ -1,0 +1,56 @@
+/* Internal helpers shared by the library's host code: error reporting and OpenCL checks. */
+#ifndef CLR_INTERNAL_H
+#define CLR_INTERNAL_H
+
+#include <stdarg.h>
+#include "clrender/context.h"
+
+/* Records `code` with a printf-style message as this thread's last error, calls the context's
+ * error callback (ctx may be NULL) and returns `code`. */
+clr_result clr_fail(clr_context ctx, clr_result code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Clears this thread's last error message. */
+void clr_clear_error(void);
+
+/* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
+const char *clr_cl_error_name(cl_int err);
+
+/* Checks an OpenCL call returning cl_int; on failure returns CLR_ERROR_OPENCL naming the call. */
+#define CLR_CL_CHECK(ctx, call)                                                             \
+  do {                                                                                      \
+    cl_int clr_cl_err_ = (call);                                                            \
+    if (clr_cl_err_ != CL_SUCCESS)                                                          \
+      return clr_fail((ctx), CLR_ERROR_OPENCL, "%s failed: %s (%d)", #call,                \
+                      clr_cl_error_name(clr_cl_err_), (int)clr_cl_err_);                   \
+  } while (0)
+
+/* Same, for calls that report through an errcode_ret argument already stored in `err`. */
+#define CLR_CL_CHECK_ERR(ctx, err, what)                                                    \
+  do {                                                                                      \
+    if ((err) != CL_SUCCESS)                                                                \
+      return clr_fail((ctx), CLR_ERROR_OPENCL, "%s failed: %s (%d)", (what),               \
+                      clr_cl_error_name(err), (int)(err));                                  \
+  } while (0)
+
+#define CLR_CHECK(expr)                                                                     \
+  do {                                                                                      \
+    clr_result clr_r_ = (expr);                                                             \
+    if (clr_r_ != CLR_SUCCESS) return clr_r_;                                               \
+  } while (0)
+
+/* Returns the program built from embedded entry file `name` with the build options
+ * `defines` (e.g. "-DCLR_FILTER=3", may be NULL) for this context; built once and cached. The
+ * context owns the program. A build failure returns CLR_ERROR_KERNEL_BUILD with the device's
+ * build log in the message. */
+clr_result clr_context_program(clr_context ctx, const char *name, const char *defines,
+                               cl_program *program);
+/* Creates a kernel from a cached program; the caller releases it. */
+clr_result clr_context_kernel(clr_context ctx, const char *program_name, const char *defines,
+                              const char *kernel_name, cl_kernel *kernel);
+
+/* Device copy of a constant table shared by every user of a context (created on first use from
+ * `data`, owned by the context, keyed by `key`). */
+clr_result clr_context_shared_buffer(clr_context ctx, const char *key, const void *data,
+                                     size_t bytes, cl_mem *buffer);
+
+#endif

@@ -1,0 +1,9 @@
+/* clrender: sampling and reconstruction for physically based rendering, as OpenCL kernels. */
+#ifndef CLRENDER_H
+#define CLRENDER_H
+
+#include "clrender/result.h"
+#include "clrender/context.h"
+#include "clrender/sampler.h"
+
+#endif

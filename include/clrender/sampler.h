@@ -1,0 +1,125 @@
+/* clrender samplers: pbrt-v3's random, stratified, halton and sobol samplers as OpenCL kernels,
+ * with a host reference built from the same kernel headers. */
+#ifndef CLRENDER_SAMPLER_H
+#define CLRENDER_SAMPLER_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <CL/cl.h>
+#include "clrender/context.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum clr_sampler_type {
+  CLR_SAMPLER_RANDOM = 0,
+  CLR_SAMPLER_STRATIFIED = 1,
+  CLR_SAMPLER_HALTON = 2,
+  CLR_SAMPLER_SOBOL = 3
+} clr_sampler_type;
+
+typedef enum clr_seeding {
+  /* pbrt-v3: the RNG stream of a pixel sampler is the index of its 16x16 render tile over the
+   * sample bounds, and the stream runs through the tile's pixels in row-major order. */
+  CLR_SEEDING_PBRT_V3 = 0,
+  /* One RNG stream per pixel (hash of pixel and seed): independent of tiling and visiting order. */
+  CLR_SEEDING_PIXEL = 1
+} clr_seeding;
+
+/* Film geometry the sampler needs: the sample bounds are the film's (cropped) pixel bounds grown
+ * by the filter radius exactly as pbrt-v3's Film::GetSampleBounds. */
+typedef struct clr_film_geometry {
+  int32_t x_resolution, y_resolution;
+  float crop_window[4]; /* x0, x1, y0, y1 in NDC, pbrt-v3 "cropwindow" order; default 0 1 0 1 */
+  float filter_radius[2];
+} clr_film_geometry;
+
+typedef struct clr_bounds2i {
+  int32_t x0, y0, x1, y1; /* half-open [x0,x1) x [y0,y1) */
+} clr_bounds2i;
+
+typedef struct clr_sampler_desc {
+  size_t struct_size; /* sizeof(clr_sampler_desc), set by clr_sampler_desc_init */
+  clr_sampler_type type;
+  int32_t pixel_samples;       /* random 4, halton 16, sobol 16 (rounded up to a power of two) */
+  int32_t x_samples, y_samples; /* stratified 4 x 4 */
+  int32_t jitter;               /* stratified, default 1 */
+  int32_t dimensions;           /* stratified, default 4 */
+  int32_t sample_pixel_center;  /* halton, default 0 */
+  clr_seeding seeding;          /* default CLR_SEEDING_PIXEL; CLR_SEEDING_PBRT_V3 matches pbrt-v3 */
+  uint32_t seed;                /* mixed into CLR_SEEDING_PIXEL streams; default 0 */
+  clr_film_geometry film;       /* default 1280x720, full crop, radius 0.5 (pbrt-v3 box) */
+} clr_sampler_desc;
+
+/* Defaults of pbrt-v3's scene format for `type`. */
+void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type);
+/* "random", "stratified", "halton", "sobol" -> type; CLR_ERROR_INVALID_SAMPLER otherwise. */
+clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type);
+const char *clr_sampler_type_name(clr_sampler_type type);
+
+/* One request of the layout. The camera's requests come first: 2D film offset, 1D time, 2D lens;
+ * then the integrator's 1D/2D requests and arrays in the order it makes them. */
+typedef struct clr_sample_request {
+  int32_t dims;       /* 1 or 2 */
+  int32_t array_size; /* 0: one value (Get1D/Get2D); n >= 1: an array (Get1DArray/Get2DArray) */
+} clr_sample_request;
+
+#define CLR_MAX_REQUESTS 64
+#define CLR_MAX_VALUES_PER_SAMPLE 4096
+
+typedef struct clr_sampler_t *clr_sampler;
+
+clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr_sampler *out);
+void clr_sampler_retain(clr_sampler sampler);
+void clr_sampler_release(clr_sampler sampler);
+
+/* Effective samples per pixel (after rounding: stratified x*y, sobol power of two). */
+int32_t clr_sampler_spp(clr_sampler sampler);
+clr_bounds2i clr_sampler_sample_bounds(clr_sampler sampler);
+clr_bounds2i clr_sampler_pixel_bounds(clr_sampler sampler);
+/* 1 if the sampler has a global sample index (halton, sobol). */
+int clr_sampler_has_global_index(clr_sampler sampler);
+
+/* A batch: the pixels of `pixels` (must lie inside the sample bounds) x samples
+ * [first_sample, first_sample + sample_count) x the request layout. */
+typedef struct clr_sample_batch {
+  size_t struct_size; /* sizeof(clr_sample_batch), set by clr_sample_batch_init */
+  clr_bounds2i pixels;
+  int32_t first_sample; /* default 0 */
+  int32_t sample_count; /* default 0 meaning all spp */
+  const clr_sample_request *requests;
+  int32_t request_count;
+} clr_sample_batch;
+
+void clr_sample_batch_init(clr_sample_batch *batch);
+/* Values per sample vector: sum of dims * max(1, array_size). */
+clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
+                                    int32_t *values_per_sample);
+
+/* Output layout, for pixel (px,py), sample s (relative to first_sample) and value k:
+ *   values [((py - y0) * width + (px - x0)) * sample_count + s) * values_per_sample + k]
+ *   indices[((py - y0) * width + (px - x0)) * sample_count + s]   (global index, halton/sobol)
+ * Values of an array request are element-major: element j's 2 values are adjacent. */
+typedef struct clr_sample_output {
+  size_t struct_size;      /* sizeof(clr_sample_output), set by clr_sample_output_init */
+  cl_mem device_values;    /* optional: float buffer of at least the batch's size */
+  float *host_values;      /* optional host copy */
+  uint64_t *host_indices;  /* optional host copy of global indices (halton, sobol only) */
+} clr_sample_output;
+
+void clr_sample_output_init(clr_sample_output *out);
+
+/* Generate on the context's device. If device_values is NULL a temporary buffer is used (needs
+ * host_values). */
+clr_result clr_sampler_generate(clr_sampler sampler, const clr_sample_batch *batch,
+                                const clr_sample_output *out);
+/* Same values computed on the host by the C build of the kernel headers (single thread): the
+ * reference the device output is compared against. device_values is ignored. */
+clr_result clr_sampler_generate_reference(clr_sampler sampler, const clr_sample_batch *batch,
+                                          const clr_sample_output *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

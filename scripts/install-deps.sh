@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs clrender's build and test dependencies from Debian 12 packages.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
+  libembree-dev libopenexr-dev libcmocka-dev libpng-dev
+)
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${packages[@]}"
