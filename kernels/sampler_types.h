@@ -1,0 +1,70 @@
+/* Structures shared by the sampler kernels and their host reference: 32-bit scalars only, so the
+ * layout is identical on every device and on the host. */
+#ifndef CLR_SAMPLER_TYPES_H
+#define CLR_SAMPLER_TYPES_H
+
+#include "clr_platform.h"
+
+#define CLR_SAMPLER_TYPE_RANDOM 0
+#define CLR_SAMPLER_TYPE_STRATIFIED 1
+#define CLR_SAMPLER_TYPE_HALTON 2
+#define CLR_SAMPLER_TYPE_SOBOL 3
+
+#define CLR_SEEDING_TYPE_PBRT_V3 0
+#define CLR_SEEDING_TYPE_PIXEL 1
+
+/* pbrt-v3's render tiles (over the sample bounds) that seed the pixel samplers' RNG streams. */
+#define CLR_PBRT_TILE_SIZE 16
+
+/* GlobalSampler::arrayStartDim in pbrt-v3: arrays start after the camera's five dimensions. */
+#define CLR_GLOBAL_ARRAY_START_DIM 5
+
+#define CLR_SOBOL_DIMENSIONS 1024
+#define CLR_SOBOL_MATRIX_SIZE 52
+#define CLR_HALTON_PRIMES 1000
+#define CLR_HALTON_MAX_RESOLUTION 128
+
+typedef struct clr_sampler_params {
+  clr_i32 type;            /* CLR_SAMPLER_TYPE_* */
+  clr_i32 spp;             /* effective samples per pixel */
+  clr_i32 x_samples, y_samples; /* stratified strata */
+  clr_i32 jitter;
+  clr_i32 dimensions;      /* stratified: number of 1D and of 2D streams */
+  clr_i32 sample_pixel_center; /* halton */
+  clr_i32 seeding;         /* CLR_SEEDING_TYPE_* */
+  clr_u32 seed;
+  clr_i32 tiles_x;         /* pbrt-v3 16x16 tiles across the sample bounds */
+  clr_i32 sample_x0, sample_y0, sample_x1, sample_y1; /* sample bounds, half-open */
+  clr_i32 pixel_x0, pixel_y0, pixel_x1, pixel_y1;     /* (cropped) pixel bounds, half-open */
+  float inv_x_samples, inv_y_samples, inv_spp;        /* 1/n rounded on the host */
+  /* halton */
+  clr_i32 halton_scale[2], halton_exponent[2];
+  clr_u32 halton_mult_inverse[2];
+  clr_i32 halton_stride;
+  /* sobol */
+  clr_i32 sobol_log2_resolution;
+  float sobol_resolution;
+  /* batch */
+  clr_i32 batch_x0, batch_y0, batch_width, batch_height;
+  clr_i32 first_sample, sample_count, values_per_sample, request_count;
+  /* pixel samplers: RNG draws each rendered sample makes past the precomputed streams */
+  clr_i32 fallback_draws_per_sample;
+  clr_i32 scratch_floats; /* per work-item scratch the pixel samplers need */
+  clr_i32 pad[2];
+} clr_sampler_params;
+
+/* One request of the layout, resolved for the sampler family. */
+typedef struct clr_request_slot {
+  clr_i32 dims;        /* 1 or 2 */
+  clr_i32 array_size;  /* 0: a single value; n >= 1: array of n elements */
+  clr_i32 first_value; /* offset of its first value in the sample vector */
+  /* Global samplers: first dimension. Pixel samplers: index of the 1D/2D stream (single values)
+   * or of the 1D/2D array (arrays); -1 when a single value falls past `dimensions` and comes from
+   * the RNG (random: always). */
+  clr_i32 source;
+  clr_i32 rng_offset;  /* pixel samplers, source -1: index of its first per-sample RNG draw */
+  float inv_array_size; /* 1/array_size rounded on the host */
+  clr_i32 pad[2];
+} clr_request_slot;
+
+#endif
