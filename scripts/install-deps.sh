@@ -5,6 +5,7 @@ packages=(
   build-essential cmake pkg-config
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libembree-dev libopenexr-dev libcmocka-dev libpng-dev
+  openexr  # exrheader/exrmaketiled: independent EXR readers used by tests/test_image_io.c
 )
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

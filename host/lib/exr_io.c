@@ -1,0 +1,528 @@
+/* OpenEXR reading and writing through OpenEXRCore: scanline chunks, ZIP, float32/half planes. */
+#include "exr_io.h"
+
+#include <openexr.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "atomic_file.h"
+#include "clr_internal.h"
+
+/* ---- half precision ---------------------------------------------------------------------- */
+
+uint16_t clr_float_to_half(float f) {
+  uint32_t x;
+  memcpy(&x, &f, sizeof x);
+  uint32_t sign = (x >> 16) & 0x8000u;
+  uint32_t abs = x & 0x7fffffffu;
+  if (abs > 0x7f800000u) return (uint16_t)(sign | 0x7e00u | ((abs >> 13) & 0x3ffu)); /* NaN */
+  if (abs >= 0x477ff000u) return (uint16_t)(sign | 0x7c00u); /* >= 65520 (and inf) -> inf */
+  if (abs < 0x33000000u) return (uint16_t)sign;              /* <= 2^-25 exactly -> zero */
+  uint32_t exponent = abs >> 23, result, rest, halfway;
+  if (abs < 0x38800000u) { /* half subnormal: units of 2^-24 */
+    uint32_t mantissa = (abs & 0x7fffffu) | 0x800000u, shift = 126u - exponent;
+    result = mantissa >> shift;
+    rest = mantissa & ((1u << shift) - 1u);
+    halfway = 1u << (shift - 1u);
+  } else {
+    result = ((exponent - 112u) << 10) | ((abs >> 13) & 0x3ffu);
+    rest = abs & 0x1fffu;
+    halfway = 0x1000u;
+  }
+  if (rest > halfway || (rest == halfway && (result & 1u))) ++result; /* carries are exact */
+  return (uint16_t)(sign | result);
+}
+
+float clr_half_to_float(uint16_t h) {
+  uint32_t sign = (uint32_t)(h & 0x8000u) << 16;
+  uint32_t exponent = (h >> 10) & 0x1fu, mantissa = h & 0x3ffu, bits;
+  if (exponent == 0) {
+    float magnitude = (float)mantissa * 5.9604644775390625e-8f; /* exact: mantissa * 2^-24 */
+    return sign ? -magnitude : magnitude;
+  }
+  if (exponent == 31) bits = sign | 0x7f800000u | (mantissa << 13);
+  else bits = sign | ((exponent + 112u) << 23) | (mantissa << 13);
+  float f;
+  memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+/* ---- error reporting --------------------------------------------------------------------- */
+
+/* OpenEXR's detailed message for the call in progress on this thread (its error handler). */
+static _Thread_local char exr_detail[512];
+
+static void capture_exr_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
+  (void)ctxt;
+  (void)code;
+  snprintf(exr_detail, sizeof exr_detail, "%s", msg ? msg : "");
+}
+
+typedef struct exr_job {
+  const char *path;
+  int reading;
+  clr_result result; /* first failure */
+} exr_job;
+
+static clr_result map_exr_error(exr_result_t rv, int reading) {
+  if (rv == EXR_ERR_OUT_OF_MEMORY) return CLR_ERROR_OUT_OF_MEMORY;
+  if (rv == EXR_ERR_FILE_ACCESS || rv == EXR_ERR_WRITE_IO) return CLR_ERROR_IO;
+  return reading ? CLR_ERROR_FILE_FORMAT : CLR_ERROR_OPENEXR;
+}
+
+/* Returns 1 on success; otherwise records the first failure, naming call, file and error. */
+static int exr_check(exr_job *job, exr_result_t rv, const char *call) {
+  if (rv == EXR_ERR_SUCCESS) return 1;
+  if (job->result == CLR_SUCCESS)
+    job->result = clr_fail(NULL, map_exr_error(rv, job->reading), "%s failed for '%s': %s (%s)",
+                           call, job->path,
+                           exr_detail[0] ? exr_detail : exr_get_default_error_message(rv),
+                           exr_get_error_code_as_string(rv));
+  return 0;
+}
+
+/* Calls OpenEXR function `fn` with fresh detail text and checks it. */
+#define EXR_TRY(job, fn, ...) exr_check((job), (exr_detail[0] = 0, fn(__VA_ARGS__)), #fn)
+
+static int job_fail(exr_job *job, clr_result code, const char *what) {
+  if (job->result == CLR_SUCCESS) job->result = clr_fail(NULL, code, "'%s': %s", job->path, what);
+  return 0;
+}
+
+/* ---- writing ----------------------------------------------------------------------------- */
+
+static clr_result validate_write(const char *path, int32_t display_width, int32_t display_height,
+                                 clr_bounds2i dw, const clr_exr_channel *channels,
+                                 int32_t channel_count, const clr_exr_attribute *attrs,
+                                 int32_t attr_count) {
+  if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_write: path is NULL");
+  if (display_width <= 0 || display_height <= 0)
+    return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION,
+                    "clr_exr_write '%s': display size %dx%d must be positive", path,
+                    (int)display_width, (int)display_height);
+  if (dw.x0 < 0 || dw.y0 < 0 || dw.x1 > display_width || dw.y1 > display_height ||
+      dw.x0 >= dw.x1 || dw.y0 >= dw.y1)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_exr_write '%s': data window [%d,%d)x[%d,%d) is empty or outside the "
+                    "display window [0,%d)x[0,%d)", path, (int)dw.x0, (int)dw.x1, (int)dw.y0,
+                    (int)dw.y1, (int)display_width, (int)display_height);
+  if (channel_count <= 0 || !channels)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_exr_write '%s': channel_count %d needs at least one channel", path,
+                    (int)channel_count);
+  for (int32_t c = 0; c < channel_count; ++c) {
+    if (!channels[c].name || !channels[c].name[0] || !channels[c].data)
+      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                      "clr_exr_write '%s': channel %d has no name or no data", path, (int)c);
+    for (int32_t d = 0; d < c; ++d)
+      if (strcmp(channels[c].name, channels[d].name) == 0)
+        return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                        "clr_exr_write '%s': channel name '%s' appears twice", path,
+                        channels[c].name);
+  }
+  if (attr_count < 0 || (attr_count > 0 && !attrs))
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_exr_write '%s': attr_count %d without attributes", path, (int)attr_count);
+  for (int32_t a = 0; a < attr_count; ++a) {
+    const clr_exr_attribute *at = &attrs[a];
+    if (!at->name || !at->name[0] || at->kind < CLR_EXR_ATTR_STRING ||
+        at->kind > CLR_EXR_ATTR_INT || (at->kind == CLR_EXR_ATTR_STRING && !at->s))
+      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                      "clr_exr_write '%s': attribute %d ('%s', kind %d) is incomplete", path,
+                      (int)a, at->name ? at->name : "(null)", (int)at->kind);
+  }
+  return CLR_SUCCESS;
+}
+
+static int64_t write_to_atomic_file(exr_const_context_t ctxt, void *user, const void *buffer,
+                                    uint64_t size, uint64_t offset,
+                                    exr_stream_error_func_ptr_t error_cb) {
+  if (clr_atomic_file_pwrite(user, buffer, size, offset) != CLR_SUCCESS) {
+    error_cb(ctxt, EXR_ERR_WRITE_IO, "%s", clr_last_error_message());
+    return -1;
+  }
+  return (int64_t)size;
+}
+
+/* What one chunk's encoder reads: the file-typed plane of each of the caller's channels. */
+typedef struct exr_planes {
+  const clr_exr_channel *channels;
+  int32_t count;
+  const void **data; /* float or half plane per channel */
+  int32_t width;
+  int32_t y0;
+} exr_planes;
+
+static int point_encoder_at_chunk(exr_job *job, exr_encode_pipeline_t *enc, const exr_planes *p) {
+  for (int c = 0; c < enc->channel_count; ++c) {
+    exr_coding_channel_info_t *ch = &enc->channels[c];
+    int32_t k = 0;
+    while (k < p->count && strcmp(p->channels[k].name, ch->channel_name) != 0) ++k;
+    if (k == p->count) return job_fail(job, CLR_ERROR_INTERNAL, "encoder channel not found");
+    int32_t bytes = p->channels[k].half ? 2 : 4;
+    size_t row = (size_t)(enc->chunk.start_y - p->y0) * (size_t)p->width;
+    ch->user_bytes_per_element = (int16_t)bytes;
+    ch->user_data_type = (uint16_t)(p->channels[k].half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT);
+    ch->user_pixel_stride = bytes;
+    ch->user_line_stride = bytes * p->width;
+    ch->encode_from_ptr = (const uint8_t *)p->data[k] + row * (size_t)bytes;
+  }
+  return 1;
+}
+
+static int define_header(exr_job *job, exr_context_t ctxt, int32_t display_width,
+                         int32_t display_height, clr_bounds2i dw, const clr_exr_channel *channels,
+                         int32_t channel_count, const clr_exr_attribute *attrs,
+                         int32_t attr_count) {
+  int part = 0;
+  exr_attr_box2i_t display = {{{{0, 0}}}, {{{display_width - 1, display_height - 1}}}};
+  exr_attr_box2i_t data = {{{{dw.x0, dw.y0}}}, {{{dw.x1 - 1, dw.y1 - 1}}}};
+  exr_attr_v2f_t center = {{{0.f, 0.f}}};
+  if (!EXR_TRY(job, exr_add_part, ctxt, NULL, EXR_STORAGE_SCANLINE, &part) ||
+      !EXR_TRY(job, exr_initialize_required_attr, ctxt, part, &display, &data, 1.f, &center, 1.f,
+               EXR_LINEORDER_INCREASING_Y, EXR_COMPRESSION_ZIP))
+    return 0;
+  for (int32_t c = 0; c < channel_count; ++c)
+    if (!EXR_TRY(job, exr_add_channel, ctxt, part, channels[c].name,
+                 channels[c].half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT,
+                 EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1))
+      return 0;
+  for (int32_t a = 0; a < attr_count; ++a) {
+    const clr_exr_attribute *at = &attrs[a];
+    int ok;
+    if (at->kind == CLR_EXR_ATTR_STRING)
+      ok = EXR_TRY(job, exr_attr_set_string, ctxt, part, at->name, at->s);
+    else if (at->kind == CLR_EXR_ATTR_FLOAT)
+      ok = EXR_TRY(job, exr_attr_set_float, ctxt, part, at->name, at->f);
+    else
+      ok = EXR_TRY(job, exr_attr_set_int, ctxt, part, at->name, at->i);
+    if (!ok) return 0;
+  }
+  return EXR_TRY(job, exr_write_header, ctxt);
+}
+
+static int write_chunks(exr_job *job, exr_context_t ctxt, const exr_planes *planes, int32_t y1) {
+  int32_t lines = 0;
+  if (!EXR_TRY(job, exr_get_scanlines_per_chunk, ctxt, 0, &lines)) return 0;
+  if (lines <= 0) return job_fail(job, CLR_ERROR_OPENEXR, "bad scanlines per chunk");
+  exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+  int started = 0, ok = 1;
+  for (int32_t y = planes->y0; ok && y < y1; y += lines) {
+    exr_chunk_info_t cinfo;
+    ok = EXR_TRY(job, exr_write_scanline_chunk_info, ctxt, 0, y, &cinfo);
+    if (ok && !started)
+      ok = started = EXR_TRY(job, exr_encoding_initialize, ctxt, 0, &cinfo, &enc);
+    else if (ok)
+      ok = EXR_TRY(job, exr_encoding_update, ctxt, 0, &cinfo, &enc);
+    ok = ok && point_encoder_at_chunk(job, &enc, planes);
+    if (ok && y == planes->y0)
+      ok = EXR_TRY(job, exr_encoding_choose_default_routines, ctxt, 0, &enc);
+    ok = ok && EXR_TRY(job, exr_encoding_run, ctxt, 0, &enc);
+  }
+  if (started && !EXR_TRY(job, exr_encoding_destroy, ctxt, &enc)) ok = 0;
+  return ok;
+}
+
+/* Writes the whole EXR stream into the open temporary file. */
+static clr_result write_exr_stream(const char *path, clr_atomic_file *file, int32_t display_width,
+                                   int32_t display_height, clr_bounds2i dw,
+                                   const exr_planes *planes, const clr_exr_attribute *attrs,
+                                   int32_t attr_count) {
+  exr_job job = {path, 0, CLR_SUCCESS};
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.error_handler_fn = capture_exr_error;
+  init.user_data = file;
+  init.write_fn = write_to_atomic_file;
+  exr_context_t ctxt = NULL;
+  if (EXR_TRY(&job, exr_start_write, &ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init) &&
+      define_header(&job, ctxt, display_width, display_height, dw, planes->channels,
+                    planes->count, attrs, attr_count))
+    write_chunks(&job, ctxt, planes, dw.y1);
+  if (ctxt) EXR_TRY(&job, exr_finish, &ctxt); /* writes the chunk offset table */
+  return job.result;
+}
+
+clr_result clr_exr_write(const char *path, int32_t display_width, int32_t display_height,
+                         clr_bounds2i data_window, const clr_exr_channel *channels,
+                         int32_t channel_count, const clr_exr_attribute *attrs,
+                         int32_t attr_count) {
+  CLR_CHECK(validate_write(path, display_width, display_height, data_window, channels,
+                           channel_count, attrs, attr_count));
+  int32_t width = data_window.x1 - data_window.x0;
+  size_t pixels = (size_t)width * (size_t)(data_window.y1 - data_window.y0);
+  const void **data = calloc((size_t)channel_count, sizeof *data);
+  uint16_t **halves = calloc((size_t)channel_count, sizeof *halves);
+  clr_result result = CLR_SUCCESS;
+  if (!data || !halves)
+    result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_exr_write '%s': out of memory", path);
+  for (int32_t c = 0; result == CLR_SUCCESS && c < channel_count; ++c) {
+    data[c] = channels[c].data;
+    if (!channels[c].half) continue;
+    halves[c] = malloc(pixels * sizeof(uint16_t));
+    if (!halves[c]) {
+      result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_exr_write '%s': out of memory", path);
+      break;
+    }
+    for (size_t i = 0; i < pixels; ++i) halves[c][i] = clr_float_to_half(channels[c].data[i]);
+    data[c] = halves[c];
+  }
+  clr_atomic_file file;
+  if (result == CLR_SUCCESS) result = clr_atomic_file_open(&file, path);
+  if (result == CLR_SUCCESS) {
+    exr_planes planes = {channels, channel_count, data, width, data_window.y0};
+    result = write_exr_stream(path, &file, display_width, display_height, data_window, &planes,
+                              attrs, attr_count);
+    if (result == CLR_SUCCESS) result = clr_atomic_file_commit(&file);
+    else clr_atomic_file_abort(&file);
+  }
+  for (int32_t c = 0; halves && c < channel_count; ++c) free(halves[c]);
+  free(halves);
+  free(data);
+  return result;
+}
+
+/* ---- reading ----------------------------------------------------------------------------- */
+
+static char *copy_string(const char *s, size_t n) {
+  char *copy = malloc(n + 1);
+  if (!copy) return NULL;
+  memcpy(copy, s, n);
+  copy[n] = 0;
+  return copy;
+}
+
+void clr_exr_image_free(clr_exr_image *image) {
+  if (!image) return;
+  for (int32_t c = 0; c < image->channel_count; ++c) {
+    if (image->channel_names) free(image->channel_names[c]);
+    if (image->channels) free(image->channels[c]);
+  }
+  free(image->channel_names);
+  free(image->channel_types);
+  free(image->channels);
+  for (int32_t a = 0; a < image->attr_count; ++a) {
+    free((char *)image->attrs[a].name);
+    free((char *)image->attrs[a].s);
+  }
+  free(image->attrs);
+  free(image);
+}
+
+/* Checks the part is a plain scanline image and fills the image's windows. */
+static int read_layout(exr_job *job, exr_context_t ctxt, clr_exr_image *image) {
+  int parts = 0;
+  exr_storage_t storage;
+  exr_attr_box2i_t display, data;
+  if (!EXR_TRY(job, exr_get_count, ctxt, &parts) ||
+      !EXR_TRY(job, exr_get_storage, ctxt, 0, &storage) ||
+      !EXR_TRY(job, exr_get_display_window, ctxt, 0, &display) ||
+      !EXR_TRY(job, exr_get_data_window, ctxt, 0, &data))
+    return 0;
+  if (storage != EXR_STORAGE_SCANLINE)
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, "only scanline EXR images are supported (tiled "
+                                                "or deep storage found)");
+  int64_t w = (int64_t)data.max.x - data.min.x + 1, h = (int64_t)data.max.y - data.min.y + 1;
+  int64_t dwid = (int64_t)display.max.x - display.min.x + 1;
+  int64_t dhgt = (int64_t)display.max.y - display.min.y + 1;
+  if (w <= 0 || h <= 0 || w > INT32_MAX || h > INT32_MAX || dwid <= 0 || dhgt <= 0 ||
+      dwid > INT32_MAX || dhgt > INT32_MAX || data.max.x == INT32_MAX || data.max.y == INT32_MAX ||
+      display.max.x == INT32_MAX || display.max.y == INT32_MAX)
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, "invalid data or display window");
+  image->display_window = (clr_bounds2i){display.min.x, display.min.y, display.max.x + 1,
+                                         display.max.y + 1};
+  image->display_width = (int32_t)dwid;
+  image->display_height = (int32_t)dhgt;
+  image->data_window = (clr_bounds2i){data.min.x, data.min.y, data.max.x + 1, data.max.y + 1};
+  image->width = (int32_t)w;
+  image->height = (int32_t)h;
+  return 1;
+}
+
+/* Allocates one float plane per channel (plus a half staging plane for half channels). */
+static int allocate_channels(exr_job *job, exr_context_t ctxt, clr_exr_image *image,
+                             uint16_t ***halves) {
+  const exr_attr_chlist_t *list = NULL;
+  if (!EXR_TRY(job, exr_get_channels, ctxt, 0, &list)) return 0;
+  if (!list || list->num_channels <= 0)
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, "the image has no channels");
+  size_t n = (size_t)list->num_channels, pixels = (size_t)image->width * (size_t)image->height;
+  if (pixels > SIZE_MAX / sizeof(float) / n)
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, "the image is too large");
+  image->channel_names = calloc(n, sizeof(char *));
+  image->channel_types = calloc(n, sizeof(int32_t));
+  image->channels = calloc(n, sizeof(float *));
+  *halves = calloc(n, sizeof(uint16_t *));
+  if (!image->channel_names || !image->channel_types || !image->channels || !*halves)
+    return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "out of memory");
+  image->channel_count = (int32_t)n;
+  for (size_t c = 0; c < n; ++c) {
+    const exr_attr_chlist_entry_t *e = &list->entries[c];
+    if (e->x_sampling != 1 || e->y_sampling != 1)
+      return job_fail(job, CLR_ERROR_FILE_FORMAT, "subsampled channels are not supported");
+    image->channel_names[c] = copy_string(e->name.str, (size_t)e->name.length);
+    image->channel_types[c] = (int32_t)e->pixel_type;
+    image->channels[c] = malloc(pixels * sizeof(float));
+    if (e->pixel_type == EXR_PIXEL_HALF) (*halves)[c] = malloc(pixels * sizeof(uint16_t));
+    if (!image->channel_names[c] || !image->channels[c] ||
+        (e->pixel_type == EXR_PIXEL_HALF && !(*halves)[c]))
+      return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "out of memory");
+  }
+  return 1;
+}
+
+/* Decodes each channel in its stored type: half into the staging plane, float and uint into the
+ * float plane (uint is converted in place afterwards). */
+static int point_decoder_at_chunk(exr_job *job, exr_decode_pipeline_t *dec,
+                                  const clr_exr_image *image, uint16_t **halves) {
+  for (int c = 0; c < dec->channel_count; ++c) {
+    exr_coding_channel_info_t *ch = &dec->channels[c];
+    int32_t k = 0;
+    while (k < image->channel_count && strcmp(image->channel_names[k], ch->channel_name) != 0)
+      ++k;
+    if (k == image->channel_count)
+      return job_fail(job, CLR_ERROR_INTERNAL, "decoder channel not found");
+    int32_t bytes = ch->bytes_per_element;
+    size_t row = (size_t)(dec->chunk.start_y - image->data_window.y0) * (size_t)image->width;
+    uint8_t *plane = halves[k] ? (uint8_t *)halves[k] : (uint8_t *)image->channels[k];
+    ch->user_bytes_per_element = (int16_t)bytes;
+    ch->user_data_type = ch->data_type;
+    ch->user_pixel_stride = bytes;
+    ch->user_line_stride = bytes * image->width;
+    ch->decode_to_ptr = plane + row * (size_t)bytes;
+  }
+  return 1;
+}
+
+static int read_chunks(exr_job *job, exr_context_t ctxt, clr_exr_image *image, uint16_t **halves) {
+  int32_t lines = 0;
+  if (!EXR_TRY(job, exr_get_scanlines_per_chunk, ctxt, 0, &lines)) return 0;
+  if (lines <= 0) return job_fail(job, CLR_ERROR_FILE_FORMAT, "bad scanlines per chunk");
+  exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+  int started = 0, ok = 1;
+  for (int64_t y = image->data_window.y0; ok && y < image->data_window.y1; y += lines) {
+    exr_chunk_info_t cinfo;
+    ok = EXR_TRY(job, exr_read_scanline_chunk_info, ctxt, 0, (int)y, &cinfo);
+    if (ok && !started)
+      ok = started = EXR_TRY(job, exr_decoding_initialize, ctxt, 0, &cinfo, &dec);
+    else if (ok)
+      ok = EXR_TRY(job, exr_decoding_update, ctxt, 0, &cinfo, &dec);
+    ok = ok && point_decoder_at_chunk(job, &dec, image, halves);
+    if (ok && y == image->data_window.y0)
+      ok = EXR_TRY(job, exr_decoding_choose_default_routines, ctxt, 0, &dec);
+    ok = ok && EXR_TRY(job, exr_decoding_run, ctxt, 0, &dec);
+  }
+  if (started && !EXR_TRY(job, exr_decoding_destroy, ctxt, &dec)) ok = 0;
+  return ok;
+}
+
+static void convert_planes(clr_exr_image *image, uint16_t **halves) {
+  size_t pixels = (size_t)image->width * (size_t)image->height;
+  for (int32_t c = 0; c < image->channel_count; ++c) {
+    float *plane = image->channels[c];
+    if (halves[c]) {
+      for (size_t i = 0; i < pixels; ++i) plane[i] = clr_half_to_float(halves[c][i]);
+    } else if (image->channel_types[c] == EXR_PIXEL_UINT) {
+      for (size_t i = 0; i < pixels; ++i) {
+        uint32_t u;
+        memcpy(&u, &plane[i], sizeof u);
+        plane[i] = (float)u;
+      }
+    }
+  }
+}
+
+/* Copies the string, float, double (as float) and int header attributes. */
+static int read_attributes(exr_job *job, exr_context_t ctxt, clr_exr_image *image) {
+  int32_t count = 0;
+  if (!EXR_TRY(job, exr_get_attribute_count, ctxt, 0, &count)) return 0;
+  image->attrs = calloc(count > 0 ? (size_t)count : 1u, sizeof *image->attrs);
+  if (!image->attrs) return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "out of memory");
+  for (int32_t i = 0; i < count; ++i) {
+    const exr_attribute_t *attr = NULL;
+    if (!EXR_TRY(job, exr_get_attribute_by_index, ctxt, 0, EXR_ATTR_LIST_FILE_ORDER, i, &attr))
+      return 0;
+    clr_exr_attribute *out = &image->attrs[image->attr_count];
+    if (attr->type == EXR_ATTR_STRING) {
+      out->kind = CLR_EXR_ATTR_STRING;
+      out->s = copy_string(attr->string->str ? attr->string->str : "",
+                           attr->string->str ? (size_t)attr->string->length : 0u);
+      if (!out->s) return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "out of memory");
+    } else if (attr->type == EXR_ATTR_FLOAT || attr->type == EXR_ATTR_DOUBLE) {
+      out->kind = CLR_EXR_ATTR_FLOAT;
+      out->f = attr->type == EXR_ATTR_FLOAT ? attr->f : (float)attr->d;
+    } else if (attr->type == EXR_ATTR_INT) {
+      out->kind = CLR_EXR_ATTR_INT;
+      out->i = attr->i;
+    } else {
+      continue;
+    }
+    ++image->attr_count; /* counted before the name so free() sees a partly filled entry */
+    out->name = copy_string(attr->name, strlen(attr->name));
+    if (!out->name) return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "out of memory");
+  }
+  return 1;
+}
+
+clr_result clr_exr_read(const char *path, clr_exr_image **out) {
+  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_read: out is NULL");
+  *out = NULL;
+  if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_read: path is NULL");
+  exr_job job = {path, 1, CLR_SUCCESS};
+  clr_exr_image *image = calloc(1, sizeof *image);
+  uint16_t **halves = NULL;
+  if (!image)
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_exr_read '%s': out of memory", path);
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.error_handler_fn = capture_exr_error;
+  exr_context_t ctxt = NULL;
+  if (EXR_TRY(&job, exr_start_read, &ctxt, path, &init) && read_layout(&job, ctxt, image) &&
+      allocate_channels(&job, ctxt, image, &halves) && read_chunks(&job, ctxt, image, halves) &&
+      read_attributes(&job, ctxt, image))
+    convert_planes(image, halves);
+  if (ctxt) EXR_TRY(&job, exr_finish, &ctxt);
+  for (int32_t c = 0; halves && c < image->channel_count; ++c) free(halves[c]);
+  free(halves);
+  if (job.result != CLR_SUCCESS) {
+    clr_exr_image_free(image);
+    return job.result;
+  }
+  *out = image;
+  return CLR_SUCCESS;
+}
+
+/* ---- lookups ----------------------------------------------------------------------------- */
+
+const float *clr_exr_image_channel(const clr_exr_image *image, const char *name) {
+  if (!image || !name) return NULL;
+  for (int32_t c = 0; c < image->channel_count; ++c)
+    if (strcmp(image->channel_names[c], name) == 0) return image->channels[c];
+  return NULL;
+}
+
+static const clr_exr_attribute *find_attr(const clr_exr_image *image, const char *name,
+                                          int32_t kind) {
+  if (!image || !name) return NULL;
+  for (int32_t a = 0; a < image->attr_count; ++a)
+    if (image->attrs[a].kind == kind && strcmp(image->attrs[a].name, name) == 0)
+      return &image->attrs[a];
+  return NULL;
+}
+
+const char *clr_exr_image_string_attr(const clr_exr_image *image, const char *name) {
+  const clr_exr_attribute *a = find_attr(image, name, CLR_EXR_ATTR_STRING);
+  return a ? a->s : NULL;
+}
+
+int clr_exr_image_float_attr(const clr_exr_image *image, const char *name, float *value) {
+  const clr_exr_attribute *a = find_attr(image, name, CLR_EXR_ATTR_FLOAT);
+  if (!a || !value) return 0;
+  *value = a->f;
+  return 1;
+}
+
+int clr_exr_image_int_attr(const clr_exr_image *image, const char *name, int32_t *value) {
+  const clr_exr_attribute *a = find_attr(image, name, CLR_EXR_ATTR_INT);
+  if (!a || !value) return 0;
+  *value = a->i;
+  return 1;
+}

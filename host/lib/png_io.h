@@ -1,0 +1,30 @@
+/* 8-bit sRGB PNG files (libpng) and extension-dispatched linear RGB image loading. */
+#ifndef CLR_PNG_IO_H
+#define CLR_PNG_IO_H
+
+#include <stdint.h>
+#include "clrender/result.h"
+
+/* pbrt-v3 GammaCorrect: v <= 0.0031308 ? 12.92 v : 1.055 v^(1/2.4) - 0.055. */
+float clr_gamma_correct(float v);
+/* pbrt-v3 InverseGammaCorrect: v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055)^2.4. */
+float clr_inverse_gamma_correct(float v);
+/* pbrt-v3's 8-bit value: clamp(255 * GammaCorrect(v) + 0.5, 0, 255) truncated (NaN -> 0). */
+uint8_t clr_to_srgb8(float v);
+
+/* Writes interleaved linear RGB (width * height * 3 floats, top row first) as an 8-bit sRGB PNG.
+ * The file appears at `path` only when complete (temporary file renamed); nothing is left behind
+ * on failure. */
+clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, const float *rgb);
+
+/* Reads any PNG (gray, palette, alpha composited onto black, 16-bit) as interleaved linear RGB:
+ * each 8-bit sRGB value v becomes InverseGammaCorrect(v / 255). *rgb is malloc'ed (free()). */
+clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float **rgb);
+
+/* Reads an image as interleaved linear RGB, choosing the reader by extension (case-insensitive):
+ * ".png" via clr_png_read; ".exr" via clr_exr_read using channels R, G, B or else Y (gray), over
+ * the EXR's data window. Other extensions or channel sets: CLR_ERROR_FILE_FORMAT. *rgb is
+ * malloc'ed (free()). */
+clr_result clr_image_read(const char *path, int32_t *width, int32_t *height, float **rgb);
+
+#endif
