@@ -101,7 +101,7 @@ static void test_ply_ascii(void **state) {
              "element vertex 5\r\nproperty float x\r\nproperty float y\r\nproperty double z\r\n"
              "property uchar red\r\nproperty float nx\r\nproperty float ny\r\nproperty float nz\r\n"
              "property list uchar float extra\r\nproperty float s\r\nproperty float t\r\n"
-             "element material 1\r\nproperty int id\r\n"
+             "element material 1\r\nproperty int id\r\nelement empty 9000000000000000000\r\n"
              "element face 3\r\nproperty int flags\r\nproperty list uchar int vertex_indices\r\n"
              "end_header\r\n"
              "0 0 0 255 0 0 1 0 0 0\n1.5 0 0 1 0 0 1 2 7 8 1 0\n1.5 2 0 0 0.5 0 1 0 1 1\n"

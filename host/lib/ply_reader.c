@@ -419,6 +419,7 @@ static clr_result read_faces(ply_file *f, const ply_element *e, clr_mesh *mesh) 
 }
 
 static clr_result skip_element(ply_file *f, const ply_element *e) {
+  if (e->property_count == 0) return CLR_SUCCESS; /* any count of empty instances */
   for (long long i = 0; i < e->count; ++i) {
     for (int k = 0; k < e->property_count; ++k) {
       const ply_property *p = &e->properties[k];
