@@ -1,0 +1,287 @@
+/* Film lifetime, pbrt-v3 bounds (crop window, sample bounds), splats, raw sums, merges and the
+ * resolve to RGB (pbrt WriteImage). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "film_internal.h"
+
+void clr_film_desc_init(clr_film_desc *desc) {
+  if (!desc) return;
+  memset(desc, 0, sizeof *desc);
+  desc->struct_size = sizeof *desc;
+  desc->x_resolution = 1280;
+  desc->y_resolution = 720;
+  desc->crop_window[1] = desc->crop_window[3] = 1.0f;
+  desc->scale = 1.0f;
+  desc->max_sample_luminance = INFINITY;
+  clr_filter_desc_init(&desc->filter, (clr_filter_type)CLR_FILTER_TYPE_BOX);
+  desc->accumulation_tile_size = 16;
+}
+
+static clr_result check_desc(clr_context ctx, const clr_film_desc *d) {
+  if (d->struct_size != sizeof *d)
+    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_create: desc->struct_size is %zu, expected %zu (call clr_film_desc_init)",
+                    d->struct_size, sizeof *d);
+  if (d->x_resolution < 1 || d->y_resolution < 1 || d->x_resolution > CLR_FILM_MAX_SIDE ||
+      d->y_resolution > CLR_FILM_MAX_SIDE ||
+      (int64_t)d->x_resolution * d->y_resolution > CLR_FILM_MAX_PIXELS)
+    return clr_fail(ctx, CLR_ERROR_INVALID_RESOLUTION,
+                    "film_create: resolution %d x %d (each side 1..%d, at most %d pixels)",
+                    (int)d->x_resolution, (int)d->y_resolution, CLR_FILM_MAX_SIDE,
+                    CLR_FILM_MAX_PIXELS);
+  for (int i = 0; i < 4; ++i)
+    if (!(d->crop_window[i] >= 0.0f && d->crop_window[i] <= 1.0f))
+      return clr_fail(ctx, CLR_ERROR_INVALID_CROP_WINDOW,
+                      "film_create: crop_window = [%g %g %g %g], value %d outside [0,1]",
+                      (double)d->crop_window[0], (double)d->crop_window[1],
+                      (double)d->crop_window[2], (double)d->crop_window[3], i);
+  for (int i = 0; i < 2; ++i)
+    if (!(d->filter.radius[i] > 0.0f && d->filter.radius[i] <= CLR_FILM_MAX_FILTER_RADIUS))
+      return clr_fail(ctx, CLR_ERROR_INVALID_RADIUS,
+                      "film_create: filter.radius[%d] = %g (must be in (0, %g])", i,
+                      (double)d->filter.radius[i], (double)CLR_FILM_MAX_FILTER_RADIUS);
+  if (d->accumulation_tile_size < 4 || d->accumulation_tile_size > 64)
+    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_create: accumulation_tile_size = %d (must be 4..64)",
+                    (int)d->accumulation_tile_size);
+  if (!isfinite(d->scale))
+    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT, "film_create: scale = %g (must be finite)",
+                    (double)d->scale);
+  if (!(d->max_sample_luminance > 0.0f))
+    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_create: max_sample_luminance = %g (must be > 0, INFINITY for none)",
+                    (double)d->max_sample_luminance);
+  return CLR_SUCCESS;
+}
+
+/* pbrt-v3 Film constructor and GetSampleBounds, in float like pbrt. */
+static clr_result make_params(clr_context ctx, const clr_film_desc *d, const clr_filter_params *f,
+                              clr_film_params *p) {
+  float cx0 = fminf(d->crop_window[0], d->crop_window[1]);
+  float cx1 = fmaxf(d->crop_window[0], d->crop_window[1]);
+  float cy0 = fminf(d->crop_window[2], d->crop_window[3]);
+  float cy1 = fmaxf(d->crop_window[2], d->crop_window[3]);
+  float xres = (float)d->x_resolution, yres = (float)d->y_resolution;
+  memset(p, 0, sizeof *p);
+  p->pixel_x0 = (clr_i32)ceilf(xres * cx0);
+  p->pixel_x1 = (clr_i32)ceilf(xres * cx1);
+  p->pixel_y0 = (clr_i32)ceilf(yres * cy0);
+  p->pixel_y1 = (clr_i32)ceilf(yres * cy1);
+  if (p->pixel_x1 <= p->pixel_x0 || p->pixel_y1 <= p->pixel_y0)
+    return clr_fail(ctx, CLR_ERROR_INVALID_CROP_WINDOW,
+                    "film_create: crop_window = [%g %g %g %g] leaves no pixel of %d x %d",
+                    (double)d->crop_window[0], (double)d->crop_window[1],
+                    (double)d->crop_window[2], (double)d->crop_window[3], (int)d->x_resolution,
+                    (int)d->y_resolution);
+  p->sample_x0 = (clr_i32)floorf((float)p->pixel_x0 + 0.5f - f->radius_x);
+  p->sample_y0 = (clr_i32)floorf((float)p->pixel_y0 + 0.5f - f->radius_y);
+  p->sample_x1 = (clr_i32)ceilf((float)p->pixel_x1 - 0.5f + f->radius_x);
+  p->sample_y1 = (clr_i32)ceilf((float)p->pixel_y1 - 0.5f + f->radius_y);
+  p->tile_size = d->accumulation_tile_size;
+  p->tiles_x = (p->pixel_x1 - p->pixel_x0 + p->tile_size - 1) / p->tile_size;
+  p->tiles_y = (p->pixel_y1 - p->pixel_y0 + p->tile_size - 1) / p->tile_size;
+  p->max_luminance = d->max_sample_luminance;
+  p->clamp_luminance = isinf(d->max_sample_luminance) ? 0 : 1;
+  return CLR_SUCCESS;
+}
+
+clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out) {
+  clr_clear_error();
+  if (!ctx || !desc || !out)
+    return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "film_create: %s is NULL",
+                    !ctx ? "ctx" : !desc ? "desc" : "out");
+  *out = NULL;
+  CLR_CHECK(check_desc(ctx, desc));
+  clr_filter_params filter;
+  CLR_CHECK(clr_filter_params_make(&desc->filter, &filter));
+  clr_film_params params;
+  CLR_CHECK(make_params(ctx, desc, &filter, &params));
+
+  clr_film film = calloc(1, sizeof *film);
+  if (!film) return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "film_create: out of memory");
+  atomic_init(&film->refcount, 1);
+  film->ctx = ctx;
+  clr_context_retain(ctx);
+  film->params = params;
+  film->filter = filter;
+  film->scale = desc->scale;
+  film->width = params.pixel_x1 - params.pixel_x0;
+  film->height = params.pixel_y1 - params.pixel_y0;
+  film->pixel_count = (size_t)film->width * (size_t)film->height;
+  pthread_mutex_init(&film->lock, NULL);
+  clr_result r = clr_filter_make_table(&filter, film->table);
+  if (r != CLR_SUCCESS) {
+    film_release(film);
+    return r;
+  }
+  film->rgb_sum = calloc(film->pixel_count * 3, sizeof(double));
+  film->weight_sum = calloc(film->pixel_count, sizeof(double));
+  film->splat_rgb = calloc(film->pixel_count * 3, sizeof(double));
+  if (!film->rgb_sum || !film->weight_sum || !film->splat_rgb) {
+    size_t n = film->pixel_count;
+    film_release(film);
+    return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "film_create: no memory for %zu pixels", n);
+  }
+  *out = film;
+  return CLR_SUCCESS;
+}
+
+void film_retain(clr_film film) {
+  if (film) atomic_fetch_add(&film->refcount, 1);
+}
+
+void film_release(clr_film film) {
+  if (!film || atomic_fetch_sub(&film->refcount, 1) != 1) return;
+  clr_film_accumulate_release(film);
+  free(film->rgb_sum);
+  free(film->weight_sum);
+  free(film->splat_rgb);
+  pthread_mutex_destroy(&film->lock);
+  clr_context_release(film->ctx);
+  free(film);
+}
+
+clr_bounds2i film_pixel_bounds(clr_film film) {
+  clr_bounds2i b = {0, 0, 0, 0};
+  if (!film) return b;
+  b.x0 = film->params.pixel_x0;
+  b.y0 = film->params.pixel_y0;
+  b.x1 = film->params.pixel_x1;
+  b.y1 = film->params.pixel_y1;
+  return b;
+}
+
+clr_bounds2i film_sample_bounds(clr_film film) {
+  clr_bounds2i b = {0, 0, 0, 0};
+  if (!film) return b;
+  b.x0 = film->params.sample_x0;
+  b.y0 = film->params.sample_y0;
+  b.x1 = film->params.sample_x1;
+  b.y1 = film->params.sample_y1;
+  return b;
+}
+
+void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums) {
+  const clr_film_params *p = &film->params;
+  int32_t bw = block.x1 - block.x0;
+  for (int32_t y = block.y0; y < block.y1; ++y) {
+    if (y < p->pixel_y0 || y >= p->pixel_y1) continue;
+    for (int32_t x = block.x0; x < block.x1; ++x) {
+      if (x < p->pixel_x0 || x >= p->pixel_x1) continue;
+      const float *s = sums + ((size_t)(y - block.y0) * bw + (x - block.x0)) * CLR_FILM_SUM_FLOATS;
+      size_t i = (size_t)(y - p->pixel_y0) * film->width + (x - p->pixel_x0);
+      film->rgb_sum[3 * i] += (double)s[0];
+      film->rgb_sum[3 * i + 1] += (double)s[1];
+      film->rgb_sum[3 * i + 2] += (double)s[2];
+      film->weight_sum[i] += (double)s[3];
+    }
+  }
+}
+
+clr_result film_add_splat(clr_film film, float x, float y, float r, float g, float b) {
+  if (!film) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "film_add_splat: film is NULL");
+  const clr_film_params *p = &film->params;
+  float lum = 0.212671f * r + 0.715160f * g + 0.072169f * b;
+  int bad = isnan(r) || isnan(g) || isnan(b) || isnan(x) || isnan(y) || !(lum >= 0.0f) ||
+            isinf(lum) || isinf(r) || isinf(g) || isinf(b);
+  pthread_mutex_lock(&film->lock);
+  if (bad) {
+    ++film->dropped;
+  } else {
+    float fx = floorf(x), fy = floorf(y);
+    if (fx >= (float)p->pixel_x0 && fx < (float)p->pixel_x1 && fy >= (float)p->pixel_y0 &&
+        fy < (float)p->pixel_y1) {
+      if (p->clamp_luminance && lum > p->max_luminance) {
+        float s = p->max_luminance / lum;
+        r *= s;
+        g *= s;
+        b *= s;
+      }
+      size_t i = (size_t)((int32_t)fy - p->pixel_y0) * film->width + ((int32_t)fx - p->pixel_x0);
+      film->splat_rgb[3 * i] += (double)r;
+      film->splat_rgb[3 * i + 1] += (double)g;
+      film->splat_rgb[3 * i + 2] += (double)b;
+    }
+  }
+  pthread_mutex_unlock(&film->lock);
+  return CLR_SUCCESS;
+}
+
+clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale) {
+  if (!film || !rgb)
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_get_rgb: %s is NULL",
+                    !film ? "film" : "rgb");
+  if (!isfinite(splat_scale))
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_get_rgb: splat_scale = %g",
+                    (double)splat_scale);
+  pthread_mutex_lock(&film->lock);
+  for (size_t i = 0; i < film->pixel_count; ++i) {
+    double w = film->weight_sum[i];
+    for (int c = 0; c < 3; ++c) {
+      double v = film->rgb_sum[3 * i + c];
+      if (w != 0.0) {
+        v /= w;
+        if (!(v > 0.0)) v = 0.0;
+      }
+      v += (double)splat_scale * film->splat_rgb[3 * i + c];
+      rgb[3 * i + c] = (float)(v * (double)film->scale);
+    }
+  }
+  pthread_mutex_unlock(&film->lock);
+  return CLR_SUCCESS;
+}
+
+clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb) {
+  if (!film || (!rgb_sum && !weight_sum && !splat_rgb))
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER,
+                    "film_get_sums: %s is NULL", !film ? "film" : "every output");
+  pthread_mutex_lock(&film->lock);
+  size_t n = film->pixel_count;
+  if (rgb_sum) memcpy(rgb_sum, film->rgb_sum, n * 3 * sizeof(double));
+  if (weight_sum) memcpy(weight_sum, film->weight_sum, n * sizeof(double));
+  if (splat_rgb) memcpy(splat_rgb, film->splat_rgb, n * 3 * sizeof(double));
+  pthread_mutex_unlock(&film->lock);
+  return CLR_SUCCESS;
+}
+
+clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
+                           const double *weight_sum, const double *splat_rgb) {
+  if (!dst || (!rgb_sum && !weight_sum && !splat_rgb))
+    return clr_fail(dst ? dst->ctx : NULL, CLR_ERROR_NULL_POINTER,
+                    "film_merge_sums: %s is NULL", !dst ? "dst" : "every input");
+  const clr_film_params *p = &dst->params;
+  if (region.x0 >= region.x1 || region.y0 >= region.y1 || region.x0 < p->pixel_x0 ||
+      region.y0 < p->pixel_y0 || region.x1 > p->pixel_x1 || region.y1 > p->pixel_y1)
+    return clr_fail(dst->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
+                    "film_merge_sums: region [%d,%d)x[%d,%d) is empty or outside the pixel "
+                    "bounds [%d,%d)x[%d,%d)",
+                    region.x0, region.x1, region.y0, region.y1, p->pixel_x0, p->pixel_x1,
+                    p->pixel_y0, p->pixel_y1);
+  pthread_mutex_lock(&dst->lock);
+  size_t rw = (size_t)(region.x1 - region.x0);
+  for (int32_t y = region.y0; y < region.y1; ++y)
+    for (int32_t x = region.x0; x < region.x1; ++x) {
+      size_t s = (size_t)(y - region.y0) * rw + (size_t)(x - region.x0);
+      size_t d = (size_t)(y - p->pixel_y0) * dst->width + (size_t)(x - p->pixel_x0);
+      for (int c = 0; c < 3; ++c) {
+        if (rgb_sum) dst->rgb_sum[3 * d + c] += rgb_sum[3 * s + c];
+        if (splat_rgb) dst->splat_rgb[3 * d + c] += splat_rgb[3 * s + c];
+      }
+      if (weight_sum) dst->weight_sum[d] += weight_sum[s];
+    }
+  pthread_mutex_unlock(&dst->lock);
+  return CLR_SUCCESS;
+}
+
+static uint64_t read_counter(clr_film film, const uint64_t *counter) {
+  pthread_mutex_lock(&film->lock);
+  uint64_t v = *counter;
+  pthread_mutex_unlock(&film->lock);
+  return v;
+}
+
+uint64_t film_sample_count(clr_film film) { return film ? read_counter(film, &film->accepted) : 0; }
+uint64_t film_dropped_samples(clr_film film) { return film ? read_counter(film, &film->dropped) : 0; }
+uint64_t film_outside_samples(clr_film film) { return film ? read_counter(film, &film->outside) : 0; }

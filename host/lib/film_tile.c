@@ -1,0 +1,116 @@
+/* pbrt-v3 FilmTile for host threads: per-pixel float sums over the pixels a sample region
+ * reaches, filled with the same math as the kernels, merged into the film under its lock. */
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "film_funcs.h"
+#include "film_internal.h"
+
+struct clr_film_tile_t {
+  clr_film film; /* retained */
+  clr_bounds2i bounds;
+  float *sums; /* CLR_FILM_SUM_FLOATS per pixel of bounds, row-major */
+  uint64_t accepted, dropped, outside;
+  int merged;
+};
+
+clr_result film_get_tile(clr_film film, clr_bounds2i region, clr_film_tile *out) {
+  if (!film || !out)
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_get_tile: %s is NULL",
+                    !film ? "film" : "out");
+  *out = NULL;
+  if (region.x0 >= region.x1 || region.y0 >= region.y1)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
+                    "film_get_tile: sample region [%d,%d)x[%d,%d) is empty", region.x0,
+                    region.x1, region.y0, region.y1);
+  const clr_film_params *p = &film->params;
+  const clr_filter_params *f = &film->filter;
+  clr_bounds2i b;
+  b.x0 = (int32_t)ceilf((float)region.x0 - 0.5f - f->radius_x);
+  b.y0 = (int32_t)ceilf((float)region.y0 - 0.5f - f->radius_y);
+  b.x1 = (int32_t)floorf((float)region.x1 - 0.5f + f->radius_x) + 1;
+  b.y1 = (int32_t)floorf((float)region.y1 - 0.5f + f->radius_y) + 1;
+  if (b.x0 < p->pixel_x0) b.x0 = p->pixel_x0;
+  if (b.y0 < p->pixel_y0) b.y0 = p->pixel_y0;
+  if (b.x1 > p->pixel_x1) b.x1 = p->pixel_x1;
+  if (b.y1 > p->pixel_y1) b.y1 = p->pixel_y1;
+  if (b.x1 < b.x0) b.x1 = b.x0;
+  if (b.y1 < b.y0) b.y1 = b.y0;
+  clr_film_tile tile = calloc(1, sizeof *tile);
+  size_t n = (size_t)(b.x1 - b.x0) * (size_t)(b.y1 - b.y0);
+  if (tile) tile->sums = calloc(n ? n * CLR_FILM_SUM_FLOATS : 1, sizeof(float));
+  if (!tile || !tile->sums) {
+    free(tile);
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_get_tile: no memory for %zu pixels",
+                    n);
+  }
+  film_retain(film);
+  tile->film = film;
+  tile->bounds = b;
+  *out = tile;
+  return CLR_SUCCESS;
+}
+
+clr_bounds2i film_tile_pixel_bounds(clr_film_tile tile) {
+  clr_bounds2i none = {0, 0, 0, 0};
+  return tile ? tile->bounds : none;
+}
+
+clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samples, size_t count) {
+  if (!tile || !samples)
+    return clr_fail(tile ? tile->film->ctx : NULL, CLR_ERROR_NULL_POINTER,
+                    "film_tile_add_samples: %s is NULL", !tile ? "tile" : "samples");
+  clr_film film = tile->film;
+  if (count == 0)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_tile_add_samples: count is 0");
+  if (tile->merged)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE, "film_tile_add_samples: tile already merged");
+  const clr_bounds2i b = tile->bounds;
+  size_t w = (size_t)(b.x1 - b.x0);
+  for (size_t i = 0; i < count; ++i) {
+    const clr_film_sample *in = &samples[i];
+    clr_film_prepared s;
+    clr_i32 status = clr_film_prepare(&film->params, &film->filter, in->x, in->y, in->r, in->g,
+                                      in->b, in->weight, &s);
+    if (status == CLR_FILM_SAMPLE_DROPPED) ++tile->dropped;
+    if (status == CLR_FILM_SAMPLE_OUTSIDE) ++tile->outside;
+    if (status != CLR_FILM_SAMPLE_OK) continue;
+    ++tile->accepted;
+    int32_t x0 = s.x0 > b.x0 ? s.x0 : b.x0, x1 = s.x1 < b.x1 - 1 ? s.x1 : b.x1 - 1;
+    int32_t y0 = s.y0 > b.y0 ? s.y0 : b.y0, y1 = s.y1 < b.y1 - 1 ? s.y1 : b.y1 - 1;
+    for (int32_t y = y0; y <= y1; ++y)
+      for (int32_t x = x0; x <= x1; ++x) {
+        size_t pix = (size_t)(y - b.y0) * w + (size_t)(x - b.x0);
+        clr_film_accumulate(&film->filter, film->table, &s, x, y,
+                            tile->sums + pix * CLR_FILM_SUM_FLOATS);
+      }
+  }
+  return CLR_SUCCESS;
+}
+
+clr_result film_merge_tile(clr_film film, clr_film_tile tile) {
+  if (!film || !tile)
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_merge_tile: %s is NULL",
+                    !film ? "film" : "tile");
+  if (tile->film != film)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE,
+                    "film_merge_tile: the tile belongs to another film");
+  if (tile->merged)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE, "film_merge_tile: tile already merged");
+  pthread_mutex_lock(&film->lock);
+  if (tile->bounds.x1 > tile->bounds.x0 && tile->bounds.y1 > tile->bounds.y0)
+    clr_film_add_block(film, tile->bounds, tile->sums);
+  film->accepted += tile->accepted;
+  film->dropped += tile->dropped;
+  film->outside += tile->outside;
+  pthread_mutex_unlock(&film->lock);
+  tile->merged = 1;
+  return CLR_SUCCESS;
+}
+
+void film_tile_release(clr_film_tile tile) {
+  if (!tile) return;
+  film_release(tile->film);
+  free(tile->sums);
+  free(tile);
+}

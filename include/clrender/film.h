@@ -1,0 +1,129 @@
+/* clrender film: pbrt-v3's Film/FilmTile reconstruction (filtered sample sums, splats, crop
+ * window) with the sample accumulation as OpenCL kernels.
+ *
+ * Sums and determinism. Each film_add_samples call (or internal chunk of CLR_FILM_CHUNK_SAMPLES
+ * samples) first sums, per pixel and in float, the contributions L*(w*f) and filter weights f of
+ * the call's samples in BATCH ORDER, exactly as pbrt-v3's FilmTilePixel does; the per-call float
+ * sums are then added into the film's double sums. Every pixel's float sum is the same sequence
+ * of float operations whatever the accumulation tile size, work-group size or device thread
+ * count, so the film is bit-identical across those and to the host reference (given a device
+ * with correctly rounded float division, used only by the luminance clamp; PoCL has it).
+ * Splitting samples into different calls, or merging film tiles in a different order, changes
+ * float/double rounding only (same result to float tolerance); the same calls or merges in the
+ * same order give the same bits. Sums merged with film_merge_sums are added in double: exact
+ * only when the additions are.
+ *
+ * Differences from pbrt-v3, all below float tolerance or documented choices:
+ * - sums are kept as RGB, not XYZ: pbrt's XYZToRGB(RGBToXYZ(x)) is the identity to ~1e-6;
+ * - samples with a NaN/Inf component, non-finite luminance or luminance < -1e-5 are DROPPED and
+ *   counted (pbrt's integrator replaces the radiance by black and still adds the filter weight);
+ * - a splat lands in pixel floor(p) (pbrt truncates toward zero);
+ * - the resolve divides in double (pbrt multiplies by a float reciprocal). */
+#ifndef CLRENDER_FILM_H
+#define CLRENDER_FILM_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <CL/cl.h>
+#include "clrender/context.h"
+#include "clrender/filter.h"
+#include "clrender/sampler.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Resolution limits: each side at most CLR_FILM_MAX_SIDE, at most CLR_FILM_MAX_PIXELS pixels. */
+#define CLR_FILM_MAX_SIDE 32768
+#define CLR_FILM_MAX_PIXELS (1 << 28)
+/* Filter radii above this are rejected (CLR_ERROR_INVALID_RADIUS): the binning duplicates a
+ * sample into every accumulation tile its filter reaches. */
+#define CLR_FILM_MAX_FILTER_RADIUS 32.0f
+/* film_add_samples processes larger calls in consecutive chunks of this many samples. */
+#define CLR_FILM_CHUNK_SAMPLES (1u << 20)
+
+typedef struct clr_film_t *clr_film;
+typedef struct clr_film_tile_t *clr_film_tile;
+
+typedef struct clr_film_desc {
+  size_t struct_size;              /* sizeof(clr_film_desc), set by clr_film_desc_init */
+  int32_t x_resolution, y_resolution; /* 1280 x 720 */
+  float crop_window[4];            /* x0 x1 y0 y1 in [0,1] (pbrt order, min/max sorted); 0 1 0 1 */
+  float scale;                     /* 1 */
+  float max_sample_luminance;      /* INFINITY: no clamp; must be > 0 */
+  clr_filter_desc filter;          /* pbrt-v3 box, radius 0.5 */
+  int32_t accumulation_tile_size;  /* 4..64, default 16: performance only, never the result */
+} clr_film_desc;
+
+/* One radiance sample: 24 bytes, six floats, tightly packed (also the layout of device buffers
+ * given to film_add_samples_buffer). x, y: raster position (pbrt pFilm, full-resolution pixel
+ * coordinates); r, g, b: radiance; weight: the camera ray weight. */
+typedef struct clr_film_sample {
+  float x, y;
+  float r, g, b;
+  float weight;
+} clr_film_sample;
+
+void clr_film_desc_init(clr_film_desc *desc);
+
+/* Errors: NULL pointers; struct_size mismatch or tile size outside 4..64 or bad scale/max
+ * luminance -> CLR_ERROR_INVALID_ARGUMENT; resolution < 1 or beyond the limits ->
+ * CLR_ERROR_INVALID_RESOLUTION; crop values NaN or outside [0,1], or an empty cropped image ->
+ * CLR_ERROR_INVALID_CROP_WINDOW; radius not in (0, CLR_FILM_MAX_FILTER_RADIUS] ->
+ * CLR_ERROR_INVALID_RADIUS; filter errors from clr_filter_params_make. */
+clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out);
+void film_retain(clr_film film);
+void film_release(clr_film film);
+
+/* pbrt croppedPixelBounds: [ceil(W*cx0), ceil(H*cy0)) to [ceil(W*cx1), ceil(H*cy1)) in float. */
+clr_bounds2i film_pixel_bounds(clr_film film);
+/* pbrt GetSampleBounds: [floor(pMin + .5 - r), ceil(pMax - .5 + r)). */
+clr_bounds2i film_sample_bounds(clr_film film);
+
+/* Adds samples (host memory) through the accumulation kernels. count 0 ->
+ * CLR_ERROR_INVALID_ARGUMENT. Bad samples are dropped (film_dropped_samples), samples outside
+ * the sample bounds ignored (film_outside_samples). Thread-safe (serialised per film). */
+clr_result film_add_samples(clr_film film, const clr_film_sample *samples, size_t count);
+/* Same for a device buffer of `count` clr_film_sample on the film's context. The host bins the
+ * samples, so it reads the buffer back once; the kernels read the samples from `samples`. */
+clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count);
+
+/* pbrt AddSplat: drops NaN/Inf/negative-luminance values (counted as dropped), ignores points
+ * outside the pixel bounds, clamps the luminance, adds to pixel floor(x), floor(y). Thread-safe;
+ * deterministic for a fixed call order. */
+clr_result film_add_splat(clr_film film, float x, float y, float r, float g, float b);
+
+/* Host-thread film tiles (pbrt GetFilmTile/MergeFilmTile). The tile covers the pixels samples
+ * in `sample_region` reach: [ceil(s0 - .5 - r), floor(s1 - .5 + r) + 1) clipped to the pixel
+ * bounds. An empty or inverted region -> CLR_ERROR_INVALID_PIXEL_RANGE. */
+clr_result film_get_tile(clr_film film, clr_bounds2i sample_region, clr_film_tile *out);
+clr_bounds2i film_tile_pixel_bounds(clr_film_tile tile);
+/* Same math and checks as film_add_samples, on the host, into the tile's float sums. */
+clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samples, size_t count);
+/* Adds the tile's per-pixel sums (float, into the film's double sums) and counters under the
+ * film's mutex. A tile merges once (again -> CLR_ERROR_INVALID_TILE), into its own film only.
+ * Merging tiles in a fixed order is deterministic; the result equals one film_add_samples call
+ * with the same samples to float tolerance. */
+clr_result film_merge_tile(clr_film film, clr_film_tile tile);
+void film_tile_release(clr_film_tile tile);
+
+/* pbrt WriteImage: per pixel of the pixel bounds (row-major, w*h*3 floats):
+ * rgb = max(0, sum/weight) (sum itself where weight is 0), += splat_scale * splat, *= scale. */
+clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale);
+/* Raw sums over the pixel bounds (row-major): rgb_sum and splat_rgb 3 per pixel, weight_sum 1;
+ * any may be NULL (not all). */
+clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb);
+/* Adds sums laid out over `region` (row-major, region-sized, same layout as film_get_sums) into
+ * dst; the region must lie inside dst's pixel bounds (else CLR_ERROR_INVALID_PIXEL_RANGE). Any
+ * array may be NULL (not all). */
+clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
+                           const double *weight_sum, const double *splat_rgb);
+
+uint64_t film_sample_count(clr_film film);   /* accepted samples */
+uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */
+uint64_t film_outside_samples(clr_film film); /* samples outside the sample bounds */
+
+#ifdef __cplusplus
+}
+#endif
+#endif
