@@ -1,0 +1,84 @@
+/* The renderable scene built from a parsed pbrt-v3 description: Embree geometry, camera,
+ * materials with textures, and lights, with the queries the integrators make. This header is
+ * the contract between scene building (camera.c, lights.c, materials.c, textures.c,
+ * render_scene.c) and the integrators/render loop. All colours are linear RGB. */
+#ifndef CLR_RENDER_SCENE_H
+#define CLR_RENDER_SCENE_H
+
+#include <stdint.h>
+#include "clrender/result.h"
+#include "scene_desc.h"
+#include "tracer.h"
+
+typedef struct clr_render_scene clr_render_scene;
+
+/* Film and camera settings resolved from the scene file and CLI overrides. */
+typedef struct clr_render_settings {
+  int32_t x_resolution, y_resolution; /* Film "xresolution"/"yresolution" (1280x720) */
+  float crop_window[4];               /* Film "cropwindow" x0 x1 y0 y1 (0 1 0 1) */
+  float scale;                        /* Film "scale" (1) */
+  float max_sample_luminance;         /* Film "maxsampleluminance" (inf) */
+  char filename[1024];                /* Film "filename" ("pbrt.exr") */
+} clr_render_settings;
+
+/* Builds everything. `warn` gets one message per unsupported feature or fallback (with the
+ * scene file and line). Errors (bad mesh index, missing PLY/texture file, ...) name the file and
+ * line of the directive. */
+clr_result clr_render_scene_build(const clr_scene_desc *desc, clr_warn_fn warn, void *warn_user,
+                                  clr_render_scene **out);
+void clr_render_scene_free(clr_render_scene *scene);
+
+/* Film settings read from desc->film (before CLI overrides). */
+void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *settings);
+
+clr_tracer clr_render_scene_tracer(const clr_render_scene *scene);
+
+/* --- camera (pbrt-v3 perspective/orthographic, thin lens) --- */
+/* Must be called once the final film resolution / crop is known (before generating rays). */
+clr_result clr_render_scene_set_film(clr_render_scene *scene, int32_t x_resolution,
+                                     int32_t y_resolution);
+/* pbrt-v3 camera sample: pFilm in raster space (pixel + film offset), time in [0,1) mapped to
+ * [shutteropen, shutterclose], lens in [0,1)^2. Returns the ray weight (1 or 0 if none). */
+float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
+                                  float time, float lens_u, float lens_v, clr_ray *ray);
+
+/* --- surfaces --- */
+typedef struct clr_surface {
+  float p[3];          /* world position */
+  float ng[3];         /* geometric normal, unit, facing the side the ray came from (-dir) */
+  float ns[3];         /* shading normal, unit, same hemisphere as ng */
+  float uv[2];
+  float kd[3];         /* diffuse reflectance (matte Kd, textures evaluated) */
+  float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */
+  int32_t has_material;/* 0 for material "none" (invisible: continue the ray) */
+  int32_t area_light;  /* index of the area light (into the light list) or -1 */
+} clr_surface;
+
+/* Fills `s` for a hit of `ray`. */
+void clr_render_scene_surface(const clr_render_scene *scene, const clr_ray *ray,
+                              const clr_hit *hit, clr_surface *s);
+
+/* --- lights --- */
+int32_t clr_render_scene_light_count(const clr_render_scene *scene);
+
+/* One light sample from point p (with normal n, may be zero vector for none) using u in [0,1)^2:
+ * direction wi (unit), incident radiance li (already divided by nothing: the integrator divides
+ * by pdf), pdf (solid angle; for delta lights 1 and *is_delta = 1), and the shadow ray to test
+ * (origin offset from p along the geometric normal, tfar short of the light). pdf == 0 means no
+ * contribution. */
+typedef struct clr_light_sample {
+  float wi[3];
+  float li[3];
+  float pdf;
+  int32_t is_delta;
+  clr_ray shadow;
+} clr_light_sample;
+void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light, const float p[3],
+                                   const float ng[3], const float u[2], clr_light_sample *ls);
+/* Radiance arriving along a ray that escaped the scene (infinite lights), summed. */
+void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]);
+
+/* Offset ray origin for leaving surface s in direction d (avoids self-intersection). */
+void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray *ray);
+
+#endif
