@@ -48,6 +48,8 @@ typedef struct clr_surface {
   float ng[3];         /* geometric normal, unit, facing the side the ray came from (-dir) */
   float ns[3];         /* shading normal, unit, same hemisphere as ng */
   float uv[2];
+  float dpdu[3];       /* pbrt dpdu (world), for the AO frame */
+  float n_geom[3];     /* pbrt isect.n: geometric normal oriented as the shape's (unit) */
   float kd[3];         /* diffuse reflectance (matte Kd, textures evaluated) */
   float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */
   int32_t has_material;/* 0 for material "none" (invisible: continue the ray) */

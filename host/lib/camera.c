@@ -1,0 +1,134 @@
+/* pbrt-v3 projective cameras (perspective, orthographic) with a thin lens. */
+#include <math.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "render_scene_internal.h"
+
+clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn warn, void *wu) {
+  const clr_param_list *p = &d->camera.params;
+  memset(cam, 0, sizeof *cam);
+  const char *type = d->camera.type ? d->camera.type : "perspective";
+  if (strcmp(type, "perspective") == 0) {
+    cam->type = RS_CAMERA_PERSPECTIVE;
+  } else if (strcmp(type, "orthographic") == 0) {
+    cam->type = RS_CAMERA_ORTHOGRAPHIC;
+  } else {
+    return clr_fail(NULL, CLR_ERROR_SCENE, "%s:%d: unsupported camera \"%s\"", p->file ? p->file : "?",
+                    p->line, type);
+  }
+  cam->lens_radius = clr_params_find_float(p, "lensradius", 0.0f);
+  cam->focal_distance = clr_params_find_float(p, "focaldistance", 1e6f);
+  cam->frame_aspect = clr_params_find_float(p, "frameaspectratio", -1.0f);
+  cam->shutter_open = clr_params_find_float(p, "shutteropen", 0.0f);
+  cam->shutter_close = clr_params_find_float(p, "shutterclose", 1.0f);
+  if (cam->shutter_close < cam->shutter_open) {
+    float t = cam->shutter_open;
+    cam->shutter_open = cam->shutter_close;
+    cam->shutter_close = t;
+  }
+  int n = 0;
+  const float *sw = clr_params_find_floats(p, "screenwindow", &n);
+  if (sw && n == 4) {
+    memcpy(cam->screen, sw, sizeof cam->screen);
+    cam->screen_given = 1;
+  } else if (sw && warn) {
+    warn(wu, "Camera \"screenwindow\" needs four values: ignored");
+  }
+  if (cam->type == RS_CAMERA_PERSPECTIVE) {
+    cam->fov = clr_params_find_float(p, "fov", 90.0f);
+    float half = clr_params_find_float(p, "halffov", -1.0f);
+    if (half > 0.0f) cam->fov = 2.0f * half;
+  }
+  cam->camera_to_world = d->camera.camera_to_world;
+  return CLR_SUCCESS;
+}
+
+static clr_transform perspective(float fov_deg, float n, float f) {
+  float m[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, f / (f - n), -f * n / (f - n)}, {0, 0, 1, 0}};
+  clr_transform persp;
+  clr_transform_from_matrix(m, &persp);
+  float inv_tan = 1.0f / tanf(fov_deg * (RS_PI / 180.0f) * 0.5f);
+  clr_transform s = clr_transform_scale(inv_tan, inv_tan, 1.0f);
+  return clr_transform_compose(&s, &persp);
+}
+
+clr_result clr_render_scene_set_film(clr_render_scene *scene, int32_t xres, int32_t yres) {
+  rs_camera *cam = &scene->camera;
+  float frame = cam->frame_aspect > 0.0f ? cam->frame_aspect : (float)xres / (float)yres;
+  float sw[4];
+  if (cam->screen_given) {
+    memcpy(sw, cam->screen, sizeof sw);
+  } else if (frame > 1.0f) {
+    sw[0] = -frame; sw[1] = frame; sw[2] = -1.0f; sw[3] = 1.0f;
+  } else {
+    sw[0] = -1.0f; sw[1] = 1.0f; sw[2] = -1.0f / frame; sw[3] = 1.0f / frame;
+  }
+  clr_transform camera_to_screen = cam->type == RS_CAMERA_PERSPECTIVE
+                                       ? perspective(cam->fov, 1e-2f, 1000.0f)
+                                       : clr_transform_identity();
+  clr_transform a = clr_transform_scale((float)xres, (float)yres, 1.0f);
+  clr_transform b = clr_transform_scale(1.0f / (sw[1] - sw[0]), 1.0f / (sw[2] - sw[3]), 1.0f);
+  clr_transform c = clr_transform_translate(-sw[0], -sw[3], 0.0f);
+  clr_transform ab = clr_transform_compose(&a, &b);
+  clr_transform screen_to_raster = clr_transform_compose(&ab, &c);
+  clr_transform raster_to_screen = clr_transform_inverse(&screen_to_raster);
+  clr_transform screen_to_camera = clr_transform_inverse(&camera_to_screen);
+  cam->raster_to_camera = clr_transform_compose(&screen_to_camera, &raster_to_screen);
+  return CLR_SUCCESS;
+}
+
+/* pbrt-v3 ConcentricSampleDisk. */
+static void concentric_disk(float u0, float u1, float *dx, float *dy) {
+  float ox = 2.0f * u0 - 1.0f, oy = 2.0f * u1 - 1.0f;
+  if (ox == 0.0f && oy == 0.0f) { *dx = *dy = 0.0f; return; }
+  float r, theta;
+  if (fabsf(ox) > fabsf(oy)) {
+    r = ox;
+    theta = (RS_PI / 4.0f) * (oy / ox);
+  } else {
+    r = oy;
+    theta = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy);
+  }
+  *dx = r * cosf(theta);
+  *dy = r * sinf(theta);
+}
+
+float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
+                                  float time, float lens_u, float lens_v, clr_ray *ray) {
+  const rs_camera *cam = &scene->camera;
+  float pf[3] = {film_x, film_y, 0.0f}, pc[3];
+  clr_transform_point(&cam->raster_to_camera, pf, pc);
+  float o[3], d[3];
+  if (cam->type == RS_CAMERA_PERSPECTIVE) {
+    o[0] = o[1] = o[2] = 0.0f;
+    memcpy(d, pc, sizeof d);
+    rs_normalize(d);
+  } else {
+    memcpy(o, pc, sizeof o);
+    d[0] = d[1] = 0.0f;
+    d[2] = 1.0f;
+  }
+  if (cam->lens_radius > 0.0f) {
+    float lx, ly;
+    concentric_disk(lens_u, lens_v, &lx, &ly);
+    lx *= cam->lens_radius;
+    ly *= cam->lens_radius;
+    float ft = cam->focal_distance / d[2];
+    float focus[3] = {o[0] + ft * d[0], o[1] + ft * d[1], o[2] + ft * d[2]};
+    o[0] += lx;
+    o[1] += ly;
+    if (cam->type == RS_CAMERA_PERSPECTIVE) o[0] = lx, o[1] = ly;
+    for (int i = 0; i < 3; ++i) d[i] = focus[i] - o[i];
+    rs_normalize(d);
+  }
+  (void)time; /* no motion blur: every transform is static (time only consumes its dimension) */
+  float ow[3], dw[3];
+  clr_transform_point(&cam->camera_to_world, o, ow);
+  clr_transform_vector(&cam->camera_to_world, d, dw);
+  rs_normalize(dw);
+  ray->ox = ow[0]; ray->oy = ow[1]; ray->oz = ow[2];
+  ray->dx = dw[0]; ray->dy = dw[1]; ray->dz = dw[2];
+  ray->tnear = 0.0f;
+  ray->tfar = INFINITY;
+  return 1.0f;
+}

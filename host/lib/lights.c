@@ -1,0 +1,388 @@
+/* pbrt-v3 lights: point, spot, distant, infinite (constant), diffuse area lights on triangles
+ * (one light per triangle, as pbrt-v3's per-triangle shapes) and spheres (cone sampling). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "render_scene_internal.h"
+
+void rs_normalize(float v[3]) {
+  float l = sqrtf(rs_dot(v, v));
+  if (l > 0.0f) { v[0] /= l; v[1] /= l; v[2] /= l; }
+}
+
+static float luminance(const float c[3]) {
+  return 0.212671f * c[0] + 0.715160f * c[1] + 0.072169f * c[2];
+}
+
+static void mat3_vec(const float m[3][3], const float v[3], float out[3]) {
+  for (int i = 0; i < 3; ++i) out[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
+}
+
+static void coordinate_system(const float v1[3], float v2[3], float v3[3]) {
+  if (fabsf(v1[0]) > fabsf(v1[1])) {
+    float l = sqrtf(v1[0] * v1[0] + v1[2] * v1[2]);
+    v2[0] = -v1[2] / l; v2[1] = 0.0f; v2[2] = v1[0] / l;
+  } else {
+    float l = sqrtf(v1[1] * v1[1] + v1[2] * v1[2]);
+    v2[0] = 0.0f; v2[1] = v1[2] / l; v2[2] = -v1[1] / l;
+  }
+  rs_cross(v1, v2, v3);
+}
+
+static clr_result push_light(clr_render_scene *s, const rs_light *l) {
+  rs_light *n = realloc(s->lights, (size_t)(s->light_count + 1) * sizeof *n);
+  if (!n) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "lights");
+  s->lights = n;
+  s->lights[s->light_count++] = *l;
+  return CLR_SUCCESS;
+}
+
+static void scaled_colour(const clr_param_list *p, const char *name, float out[3]) {
+  float one[3] = {1, 1, 1}, sc[3];
+  clr_params_find_rgb(p, name, one, out);
+  clr_params_find_rgb(p, "scale", one, sc);
+  const clr_param *fs = clr_params_find(p, "scale", CLR_PARAM_FLOAT);
+  if (fs && fs->count == 1) sc[0] = sc[1] = sc[2] = fs->floats[0];
+  for (int i = 0; i < 3; ++i) out[i] *= sc[i];
+}
+
+static void linear_part(const float m[4][4], float out[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[i][j] = m[i][j];
+}
+
+static clr_result build_light(clr_render_scene *s, const clr_light_desc *ld, clr_warn_fn warn,
+                              void *wu) {
+  const clr_param_list *p = &ld->params;
+  rs_light l;
+  memset(&l, 0, sizeof l);
+  l.shape = -1;
+  l.nsamples = clr_params_find_int(p, "nsamples", 1);
+  if (l.nsamples < 1) l.nsamples = 1;
+  float zero[3] = {0, 0, 0}, zdir[3] = {0, 0, 1}, from[3], to[3];
+  const clr_transform *ctm = &ld->light_to_world;
+  if (strcmp(ld->type, "point") == 0 || strcmp(ld->type, "spot") == 0) {
+    int spot = ld->type[0] == 's';
+    l.type = spot ? RS_LIGHT_SPOT : RS_LIGHT_POINT;
+    scaled_colour(p, "I", l.colour);
+    clr_params_find_point3(p, "from", zero, from);
+    clr_transform_point(ctm, from, l.pos);
+    l.power = 4.0f * RS_PI * luminance(l.colour);
+    if (spot) {
+      clr_params_find_point3(p, "to", zdir, to);
+      float cone = clr_params_find_float(p, "coneangle", 30.0f);
+      float delta = clr_params_find_float(p, "conedelta", 5.0f);
+      l.cos_total = cosf(cone * RS_PI / 180.0f);
+      l.cos_falloff_start = cosf((cone - delta) * RS_PI / 180.0f);
+      float dir[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]}, du[3], dv[3];
+      rs_normalize(dir);
+      coordinate_system(dir, du, dv);
+      float dir_to_z[3][3] = {{du[0], du[1], du[2]}, {dv[0], dv[1], dv[2]}, {dir[0], dir[1], dir[2]}};
+      float inv[3][3];
+      linear_part(ctm->m_inv, inv);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          l.to_light[i][j] = dir_to_z[i][0] * inv[0][j] + dir_to_z[i][1] * inv[1][j] + dir_to_z[i][2] * inv[2][j];
+      l.power = luminance(l.colour) * 2.0f * RS_PI * (1.0f - 0.5f * (l.cos_falloff_start + l.cos_total));
+    }
+  } else if (strcmp(ld->type, "distant") == 0) {
+    l.type = RS_LIGHT_DISTANT;
+    scaled_colour(p, "L", l.colour);
+    clr_params_find_point3(p, "from", zero, from);
+    clr_params_find_point3(p, "to", zdir, to);
+    float w[3] = {from[0] - to[0], from[1] - to[1], from[2] - to[2]};
+    clr_transform_vector(ctm, w, l.dir);
+    rs_normalize(l.dir);
+    l.power = luminance(l.colour) * RS_PI * s->world_radius * s->world_radius;
+  } else if (strcmp(ld->type, "infinite") == 0) {
+    l.type = RS_LIGHT_INFINITE;
+    scaled_colour(p, "L", l.colour);
+    const char *map = clr_params_find_string(p, "mapname", "");
+    if (map[0] && warn) {
+      char m[512];
+      snprintf(m, sizeof m, "%s:%d: infinite light \"mapname\" not supported: using constant L",
+               p->file, p->line);
+      warn(wu, m);
+    }
+    linear_part(ctm->m, l.light_to_world);
+    linear_part(ctm->m_inv, l.to_light);
+    l.power = luminance(l.colour) * RS_PI * s->world_radius * s->world_radius;
+  } else {
+    if (warn) {
+      char m[512];
+      snprintf(m, sizeof m, "%s:%d: light \"%s\" not supported: ignored", p->file, p->line, ld->type);
+      warn(wu, m);
+    }
+    return CLR_SUCCESS;
+  }
+  return push_light(s, &l);
+}
+
+clr_result rs_lights_build(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
+                           void *wu) {
+  for (int i = 0; i < d->light_count; ++i) CLR_CHECK(build_light(s, &d->lights[i], warn, wu));
+  return CLR_SUCCESS;
+}
+
+static void tri_vertices(const rs_shape *sh, int prim, const float **p0, const float **p1,
+                         const float **p2) {
+  const uint32_t *ix = sh->mesh.indices + 3 * prim;
+  *p0 = sh->mesh.p + 3 * ix[0];
+  *p1 = sh->mesh.p + 3 * ix[1];
+  *p2 = sh->mesh.p + 3 * ix[2];
+}
+
+clr_result rs_area_lights_add(clr_render_scene *s, int shape_index, const clr_area_light_desc *a) {
+  rs_shape *sh = &s->shapes[shape_index];
+  rs_light l;
+  memset(&l, 0, sizeof l);
+  scaled_colour(&a->params, "L", l.colour);
+  l.two_sided = clr_params_find_bool(&a->params, "twosided", false);
+  l.nsamples = clr_params_find_int(&a->params, "nsamples", 1);
+  if (l.nsamples < 1) l.nsamples = 1;
+  l.shape = shape_index;
+  sh->first_light = s->light_count;
+  float sides = l.two_sided ? 2.0f : 1.0f;
+  if (sh->type == RS_SHAPE_SPHERE) {
+    l.type = RS_LIGHT_AREA_SPHERE;
+    float o[3] = {0, 0, 0};
+    clr_transform_point(&sh->object_to_world, o, l.pos);
+    l.radius = sh->radius;
+    l.power = luminance(l.colour) * sides * RS_PI * 4.0f * RS_PI * l.radius * l.radius;
+    return push_light(s, &l);
+  }
+  l.type = RS_LIGHT_AREA_TRIANGLE;
+  for (int t = 0; t < sh->mesh.triangle_count; ++t) {
+    const float *p0, *p1, *p2;
+    tri_vertices(sh, t, &p0, &p1, &p2);
+    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]}, c[3];
+    rs_cross(e1, e2, c);
+    l.prim = t;
+    l.area = 0.5f * sqrtf(rs_dot(c, c));
+    l.power = luminance(l.colour) * sides * RS_PI * l.area;
+    CLR_CHECK(push_light(s, &l));
+  }
+  return CLR_SUCCESS;
+}
+
+int rs_light_is_delta(const rs_light *l) {
+  return l->type == RS_LIGHT_POINT || l->type == RS_LIGHT_SPOT || l->type == RS_LIGHT_DISTANT;
+}
+
+/* Area light emission toward w from a point with oriented normal n. */
+static void area_emit(const rs_light *l, const float n[3], const float w[3], float li[3]) {
+  if (l->two_sided || rs_dot(n, w) > 0.0f) memcpy(li, l->colour, 3 * sizeof(float));
+  else li[0] = li[1] = li[2] = 0.0f;
+}
+
+/* Samples a point on the emitter: position, oriented normal, area-measure pdf or (cone)
+ * solid-angle pdf with *solid = 1. */
+static void sample_emitter(const clr_render_scene *s, const rs_light *l, const float ref[3],
+                           const float u[2], float pt[3], float n[3], float *pdf, int *solid) {
+  *solid = 0;
+  if (l->type == RS_LIGHT_AREA_TRIANGLE) {
+    const rs_shape *sh = &s->shapes[l->shape];
+    const float *p0, *p1, *p2;
+    tri_vertices(sh, l->prim, &p0, &p1, &p2);
+    float su0 = sqrtf(u[0]);
+    float b0 = 1.0f - su0, b1 = u[1] * su0, b2 = 1.0f - b0 - b1;
+    for (int i = 0; i < 3; ++i) pt[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
+    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    rs_cross(e1, e2, n);
+    rs_normalize(n);
+    if (sh->mesh.n) {
+      const uint32_t *ix = sh->mesh.indices + 3 * l->prim;
+      float ns[3];
+      for (int i = 0; i < 3; ++i)
+        ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] + b2 * sh->mesh.n[3 * ix[2] + i];
+      if (rs_dot(n, ns) < 0.0f) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+    } else if (sh->flip_normal) {
+      n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2];
+    }
+    *pdf = 1.0f / l->area;
+    return;
+  }
+  /* sphere */
+  const rs_shape *sh = &s->shapes[l->shape];
+  float wc[3] = {l->pos[0] - ref[0], l->pos[1] - ref[1], l->pos[2] - ref[2]};
+  float dc2 = rs_dot(wc, wc), r = l->radius;
+  if (dc2 <= r * r) {
+    float z = 1.0f - 2.0f * u[0], rr = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
+    n[0] = rr * cosf(phi); n[1] = rr * sinf(phi); n[2] = z;
+    for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
+    if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+    *pdf = 1.0f / (4.0f * RS_PI * r * r);
+    return;
+  }
+  float dc = sqrtf(dc2);
+  for (int i = 0; i < 3; ++i) wc[i] /= dc;
+  float wx[3], wy[3];
+  coordinate_system(wc, wx, wy);
+  float sin_max = r / dc, sin_max2 = sin_max * sin_max, inv_sin_max = 1.0f / sin_max;
+  float cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin_max2));
+  float cos_t = (cos_max - 1.0f) * u[0] + 1.0f, sin_t2 = 1.0f - cos_t * cos_t;
+  if (sin_max2 < 0.00068523f) { sin_t2 = sin_max2 * u[0]; cos_t = sqrtf(1.0f - sin_t2); }
+  float cos_a = sin_t2 * inv_sin_max +
+                cos_t * sqrtf(fmaxf(0.0f, 1.0f - sin_t2 * inv_sin_max * inv_sin_max));
+  float sin_a = sqrtf(fmaxf(0.0f, 1.0f - cos_a * cos_a)), phi = u[1] * 2.0f * RS_PI;
+  for (int i = 0; i < 3; ++i)
+    n[i] = -(sin_a * cosf(phi) * wx[i] + sin_a * sinf(phi) * wy[i] + cos_a * wc[i]);
+  for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
+  if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+  *pdf = 1.0f / (2.0f * RS_PI * (1.0f - cos_max));
+  *solid = 1;
+}
+
+static float spot_falloff(const rs_light *l, const float w[3]) {
+  float wl[3];
+  mat3_vec(l->to_light, w, wl);
+  rs_normalize(wl);
+  float c = wl[2];
+  if (c < l->cos_total) return 0.0f;
+  if (c >= l->cos_falloff_start) return 1.0f;
+  float d = (c - l->cos_total) / (l->cos_falloff_start - l->cos_total);
+  return (d * d) * (d * d);
+}
+
+static float spawn_eps(const float p[3]) {
+  float m = fmaxf(fabsf(p[0]), fmaxf(fabsf(p[1]), fabsf(p[2])));
+  return 1e-4f * (1.0f + m);
+}
+
+/* Shadow ray from p (offset along ng toward the target side) to `target`. */
+static void shadow_to(const float p[3], const float ng[3], const float target[3], clr_ray *r) {
+  float o[3], d[3];
+  float side = (ng[0] * (target[0] - p[0]) + ng[1] * (target[1] - p[1]) + ng[2] * (target[2] - p[2])) < 0 ? -1.0f : 1.0f;
+  float e = spawn_eps(p) * side;
+  for (int i = 0; i < 3; ++i) o[i] = p[i] + ng[i] * e;
+  for (int i = 0; i < 3; ++i) d[i] = target[i] - o[i];
+  float dist = sqrtf(rs_dot(d, d));
+  r->ox = o[0]; r->oy = o[1]; r->oz = o[2];
+  r->dx = d[0] / dist; r->dy = d[1] / dist; r->dz = d[2] / dist;
+  r->tnear = 0.0f;
+  r->tfar = dist * (1.0f - 1e-3f);
+}
+
+void clr_render_scene_sample_light(const clr_render_scene *s, int32_t light, const float p[3],
+                                   const float ng[3], const float u[2], clr_light_sample *ls) {
+  const rs_light *l = &s->lights[light];
+  memset(ls, 0, sizeof *ls);
+  ls->is_delta = rs_light_is_delta(l);
+  float target[3];
+  switch (l->type) {
+    case RS_LIGHT_POINT:
+    case RS_LIGHT_SPOT: {
+      float d[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
+      float d2 = rs_dot(d, d);
+      if (!(d2 > 0.0f)) return;
+      memcpy(ls->wi, d, sizeof d);
+      rs_normalize(ls->wi);
+      float f = 1.0f;
+      if (l->type == RS_LIGHT_SPOT) {
+        float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
+        f = spot_falloff(l, w);
+      }
+      for (int i = 0; i < 3; ++i) ls->li[i] = l->colour[i] * f / d2;
+      ls->pdf = 1.0f;
+      memcpy(target, l->pos, sizeof target);
+      break;
+    }
+    case RS_LIGHT_DISTANT:
+      memcpy(ls->wi, l->dir, sizeof ls->wi);
+      memcpy(ls->li, l->colour, sizeof ls->li);
+      ls->pdf = 1.0f;
+      for (int i = 0; i < 3; ++i) target[i] = p[i] + l->dir[i] * 2.0f * s->world_radius;
+      break;
+    case RS_LIGHT_INFINITE: {
+      float theta = u[1] * RS_PI, phi = u[0] * 2.0f * RS_PI;
+      float st = sinf(theta), ct = cosf(theta);
+      if (st == 0.0f) return;
+      float wl[3] = {st * cosf(phi), st * sinf(phi), ct};
+      mat3_vec(l->light_to_world, wl, ls->wi);
+      rs_normalize(ls->wi);
+      ls->pdf = 1.0f / (2.0f * RS_PI * RS_PI * st);
+      memcpy(ls->li, l->colour, sizeof ls->li);
+      for (int i = 0; i < 3; ++i) target[i] = p[i] + ls->wi[i] * 2.0f * s->world_radius;
+      break;
+    }
+    default: {
+      float pt[3], n[3], pdf;
+      int solid;
+      sample_emitter(s, l, p, u, pt, n, &pdf, &solid);
+      float d[3] = {pt[0] - p[0], pt[1] - p[1], pt[2] - p[2]};
+      float d2 = rs_dot(d, d);
+      if (!(d2 > 0.0f)) return;
+      float dist = sqrtf(d2);
+      for (int i = 0; i < 3; ++i) ls->wi[i] = d[i] / dist;
+      if (!solid) {
+        float c = fabsf(rs_dot(n, ls->wi));
+        pdf = c > 0.0f ? pdf * d2 / c : 0.0f;
+        if (!isfinite(pdf)) pdf = 0.0f;
+      }
+      ls->pdf = pdf;
+      float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
+      area_emit(l, n, w, ls->li);
+      memcpy(target, pt, sizeof target);
+      break;
+    }
+  }
+  shadow_to(p, ng, target, &ls->shadow);
+}
+
+float rs_light_pdf(const clr_render_scene *s, int light, const float p[3], const float wi[3],
+                   float t, const float n_hit[3]) {
+  const rs_light *l = &s->lights[light];
+  if (l->type == RS_LIGHT_INFINITE) {
+    float wl[3];
+    mat3_vec(l->to_light, wi, wl);
+    rs_normalize(wl);
+    float ct = fminf(1.0f, fmaxf(-1.0f, wl[2]));
+    float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+    return st == 0.0f ? 0.0f : 1.0f / (2.0f * RS_PI * RS_PI * st);
+  }
+  if (l->type == RS_LIGHT_AREA_SPHERE) {
+    float wc[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
+    float dc2 = rs_dot(wc, wc);
+    if (dc2 > l->radius * l->radius) {
+      float sin2 = l->radius * l->radius / dc2, cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin2));
+      return 1.0f / (2.0f * RS_PI * (1.0f - cos_max));
+    }
+    float c = fabsf(rs_dot(n_hit, wi));
+    return c > 0.0f ? t * t / (c * 4.0f * RS_PI * l->radius * l->radius) : 0.0f;
+  }
+  if (l->type == RS_LIGHT_AREA_TRIANGLE) {
+    float c = fabsf(rs_dot(n_hit, wi));
+    return c > 0.0f ? t * t / (c * l->area) : 0.0f;
+  }
+  return 0.0f;
+}
+
+void rs_light_le(const clr_render_scene *s, int light, const float d[3], float le[3]) {
+  const rs_light *l = &s->lights[light];
+  (void)d;
+  if (l->type == RS_LIGHT_INFINITE) memcpy(le, l->colour, 3 * sizeof(float));
+  else le[0] = le[1] = le[2] = 0.0f;
+}
+
+void clr_render_scene_escaped(const clr_render_scene *s, const clr_ray *ray, float le[3]) {
+  le[0] = le[1] = le[2] = 0.0f;
+  float d[3] = {ray->dx, ray->dy, ray->dz}, c[3];
+  for (int i = 0; i < s->infinite_count; ++i) {
+    rs_light_le(s, s->infinite[i], d, c);
+    for (int k = 0; k < 3; ++k) le[k] += c[k];
+  }
+}
+
+void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray *ray) {
+  float e = spawn_eps(s->p) * (rs_dot(s->ng, d) < 0.0f ? -1.0f : 1.0f);
+  ray->ox = s->p[0] + s->ng[0] * e;
+  ray->oy = s->p[1] + s->ng[1] * e;
+  ray->oz = s->p[2] + s->ng[2] * e;
+  ray->dx = d[0]; ray->dy = d[1]; ray->dz = d[2];
+  ray->tnear = 0.0f;
+  ray->tfar = INFINITY;
+}

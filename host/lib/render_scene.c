@@ -1,0 +1,416 @@
+/* Builds the renderable scene (Embree geometry, materials, lights) from a parsed description
+ * and answers surface queries for hits. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "loop_subdiv.h"
+#include "ply_reader.h"
+#include "render_scene_internal.h"
+
+void rs_xform_m16(const clr_transform *t, float out[16]) {
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out[r * 4 + c] = t->m[r][c];
+}
+
+clr_tracer clr_render_scene_tracer(const clr_render_scene *scene) { return scene->tracer; }
+int32_t clr_render_scene_light_count(const clr_render_scene *scene) { return scene->light_count; }
+
+void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *st) {
+  const clr_param_list *p = &desc->film.params;
+  memset(st, 0, sizeof *st);
+  st->x_resolution = clr_params_find_int(p, "xresolution", 1280);
+  st->y_resolution = clr_params_find_int(p, "yresolution", 720);
+  float def[4] = {0, 1, 0, 1};
+  memcpy(st->crop_window, def, sizeof def);
+  int n = 0;
+  const float *cw = clr_params_find_floats(p, "cropwindow", &n);
+  if (cw && n == 4) {
+    st->crop_window[0] = fminf(cw[0], cw[1]);
+    st->crop_window[1] = fmaxf(cw[0], cw[1]);
+    st->crop_window[2] = fminf(cw[2], cw[3]);
+    st->crop_window[3] = fmaxf(cw[2], cw[3]);
+  }
+  st->scale = clr_params_find_float(p, "scale", 1.0f);
+  st->max_sample_luminance = clr_params_find_float(p, "maxsampleluminance", INFINITY);
+  snprintf(st->filename, sizeof st->filename, "%s", clr_params_find_string(p, "filename", "pbrt.exr"));
+}
+
+static void warn_fmt(clr_warn_fn warn, void *wu, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void warn_fmt(clr_warn_fn warn, void *wu, const char *fmt, ...) {
+  if (!warn) return;
+  char m[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(m, sizeof m, fmt, ap);
+  va_end(ap);
+  warn(wu, m);
+}
+
+static void resolve_path(const char *scene_file, const char *name, char *out, size_t n) {
+  const char *slash = scene_file ? strrchr(scene_file, '/') : NULL;
+  if (name[0] == '/' || !slash) snprintf(out, n, "%s", name);
+  else snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
+}
+
+static clr_result mesh_from_params(const clr_param_list *p, const char *what, clr_mesh *m) {
+  int ni = 0, np = 0, nn = 0, nuv = 0;
+  const int *ix = clr_params_find_ints(p, "indices", &ni);
+  const float *P = clr_params_find_point3s(p, "P", &np);
+  const float *N = clr_params_find_normals(p, "N", &nn);
+  const float *uv = clr_params_find_point2s(p, "uv", &nuv);
+  size_t uv_count = (size_t)nuv * 2;
+  if (!uv) { uv = clr_params_find_floats(p, "uv", &nuv); uv_count = (size_t)nuv; }
+  if (!uv) { uv = clr_params_find_point2s(p, "st", &nuv); uv_count = (size_t)nuv * 2; }
+  if (!uv) { uv = clr_params_find_floats(p, "st", &nuv); uv_count = (size_t)nuv; }
+  return clr_mesh_from_arrays(what, (const int32_t *)ix, (size_t)ni, P, (size_t)np * 3, N,
+                              (size_t)nn * 3, uv, uv_count, m);
+}
+
+static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn warn, void *wu) {
+  const clr_param_list *p = &sd->params;
+  char what[1200];
+  snprintf(what, sizeof what, "%s:%d: Shape \"%s\"", p->file ? p->file : "?", p->line, sd->type);
+  clr_result r;
+  if (strcmp(sd->type, "trianglemesh") == 0) {
+    r = mesh_from_params(p, what, m);
+  } else if (strcmp(sd->type, "plymesh") == 0) {
+    char path[4096];
+    resolve_path(p->file, clr_params_find_string(p, "filename", ""), path, sizeof path);
+    r = clr_ply_read(path, m);
+    if (r != CLR_SUCCESS) return clr_fail(NULL, r, "%s: %s", what, clr_last_error_message());
+  } else {
+    clr_mesh in;
+    r = mesh_from_params(p, what, &in);
+    if (r != CLR_SUCCESS) return r;
+    int levels = clr_params_find_int(p, "nlevels", 3);
+    r = clr_loop_subdivide(&in, levels, m);
+    clr_mesh_free(&in);
+    if (r != CLR_SUCCESS) return clr_fail(NULL, r, "%s: %s", what, clr_last_error_message());
+  }
+  (void)warn; (void)wu;
+  if (r != CLR_SUCCESS) return r;
+  float xf[16];
+  rs_xform_m16(&sd->object_to_world, xf);
+  r = clr_mesh_transform(m, xf);
+  if (r != CLR_SUCCESS) {
+    clr_mesh_free(m);
+    return clr_fail(NULL, r, "%s: %s", what, clr_last_error_message());
+  }
+  return CLR_SUCCESS;
+}
+
+static void grow_bounds(clr_render_scene *s, float lo[3], float hi[3], const float p[3]) {
+  (void)s;
+  for (int i = 0; i < 3; ++i) { lo[i] = fminf(lo[i], p[i]); hi[i] = fmaxf(hi[i], p[i]); }
+}
+
+/* Object-space bounds of a shape (mesh vertices or sphere box). */
+static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
+  for (int i = 0; i < 3; ++i) { lo[i] = INFINITY; hi[i] = -INFINITY; }
+  if (sh->type == RS_SHAPE_MESH) {
+    for (int v = 0; v < sh->mesh.vertex_count; ++v)
+      for (int i = 0; i < 3; ++i) {
+        lo[i] = fminf(lo[i], sh->mesh.p[3 * v + i]);
+        hi[i] = fmaxf(hi[i], sh->mesh.p[3 * v + i]);
+      }
+    return;
+  }
+  for (int c = 0; c < 8; ++c) {
+    float q[3] = {(c & 1) ? sh->radius : -sh->radius, (c & 2) ? sh->radius : -sh->radius,
+                  (c & 4) ? sh->radius : -sh->radius}, w[3];
+    clr_transform_point(&sh->object_to_world, q, w);
+    for (int i = 0; i < 3; ++i) { lo[i] = fminf(lo[i], w[i]); hi[i] = fmaxf(hi[i], w[i]); }
+  }
+}
+
+static int material_is_supported(const char *type) { return strcmp(type, "matte") == 0; }
+
+static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
+                               void *wu, uint32_t *object_group) {
+  char warned[32][64];
+  int warned_count = 0;
+  s->shapes = calloc((size_t)(d->shape_count ? d->shape_count : 1), sizeof *s->shapes);
+  if (!s->shapes) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "shapes");
+  for (int i = 0; i < d->shape_count; ++i) {
+    const clr_shape_desc *sd = &d->shapes[i];
+    const clr_param_list *p = &sd->params;
+    rs_shape *sh = &s->shapes[s->shape_count];
+    sh->first_light = -1;
+    sh->in_object = sd->object >= 0;
+    sh->object_to_world = sd->object_to_world;
+    sh->flip_normal = sd->reverse_orientation != clr_transform_swaps_handedness(&sd->object_to_world);
+    if (strcmp(sd->type, "sphere") == 0) {
+      sh->type = RS_SHAPE_SPHERE;
+      sh->radius = clr_params_find_float(p, "radius", 1.0f);
+      const char *extra[] = {"zmin", "zmax", "phimax"};
+      for (int k = 0; k < 3; ++k)
+        if (clr_params_find(p, extra[k], CLR_PARAM_FLOAT))
+          warn_fmt(warn, wu, "%s:%d: sphere \"%s\" not supported: full sphere used", p->file, p->line, extra[k]);
+    } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
+               strcmp(sd->type, "loopsubdiv") == 0) {
+      sh->type = RS_SHAPE_MESH;
+      CLR_CHECK(build_mesh(sd, &sh->mesh, warn, wu));
+    } else {
+      warn_fmt(warn, wu, "%s:%d: shape \"%s\" not supported: ignored", p->file, p->line, sd->type);
+      continue;
+    }
+    s->shape_count++;
+    const clr_material_desc *md = &d->materials[sd->material >= 0 ? sd->material : 0];
+    const char *mtype = md->type ? md->type : "";
+    sh->has_material = !(mtype[0] == 0 || strcmp(mtype, "none") == 0);
+    rs_colour_param(&sd->params, &md->params, "Kd", 0.5f, &sh->kd);
+    if (sh->has_material && !material_is_supported(mtype)) {
+      int seen = 0;
+      for (int k = 0; k < warned_count; ++k) seen |= strcmp(warned[k], mtype) == 0;
+      if (!seen) {
+        if (warned_count < 32) snprintf(warned[warned_count++], 64, "%s", mtype);
+        warn_fmt(warn, wu, "%s:%d: material \"%s\" not supported: rendered as matte with its Kd",
+                 md->params.file ? md->params.file : p->file, md->params.line, mtype);
+      }
+    }
+    uint32_t group = 0;
+    if (sd->object >= 0) {
+      if (object_group[sd->object] == 0) CLR_CHECK(clr_tracer_new_group(s->tracer, &object_group[sd->object]));
+      group = object_group[sd->object];
+    }
+    int index = s->shape_count - 1;
+    if (sh->type == RS_SHAPE_MESH) {
+      CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
+    } else {
+      float xf[16];
+      rs_xform_m16(&sh->object_to_world, xf);
+      CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
+    }
+    if (sd->area_light >= 0) {
+      const clr_area_light_desc *a = &d->area_lights[sd->area_light];
+      if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
+        warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line, a->type);
+      } else {
+        CLR_CHECK(rs_area_lights_add(s, index, a));
+      }
+    }
+  }
+  return CLR_SUCCESS;
+}
+
+static clr_result build_instances(clr_render_scene *s, const clr_scene_desc *d,
+                                  const uint32_t *object_group) {
+  s->instances = calloc((size_t)(d->instance_count ? d->instance_count : 1), sizeof *s->instances);
+  if (!s->instances) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "instances");
+  for (int i = 0; i < d->instance_count; ++i) {
+    const clr_instance_desc *in = &d->instances[i];
+    s->instances[i] = in->instance_to_world;
+    s->instance_count = i + 1;
+    if (object_group[in->object] == 0) continue; /* empty object */
+    float xf[16];
+    rs_xform_m16(&in->instance_to_world, xf);
+    CLR_CHECK(clr_tracer_add_instance(s->tracer, object_group[in->object], xf, (uint32_t)i));
+  }
+  return CLR_SUCCESS;
+}
+
+static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int k = 0; k < s->shape_count; ++k) {
+    float a[3], b[3];
+    shape_bounds(&s->shapes[k], a, b);
+    if (!(a[0] <= b[0])) continue;
+    if (!s->shapes[k].in_object) {
+      grow_bounds(s, lo, hi, a);
+      grow_bounds(s, lo, hi, b);
+      continue;
+    }
+    for (int i = 0; i < d->instance_count; ++i)
+      for (int c = 0; c < 8; ++c) {
+        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
+        clr_transform_point(&s->instances[i], q, w);
+        grow_bounds(s, lo, hi, w);
+      }
+  }
+  if (!(lo[0] <= hi[0])) { lo[0] = lo[1] = lo[2] = 0; hi[0] = hi[1] = hi[2] = 0; }
+  float diag[3];
+  for (int i = 0; i < 3; ++i) {
+    s->world_center[i] = 0.5f * (lo[i] + hi[i]);
+    diag[i] = hi[i] - s->world_center[i];
+  }
+  s->world_radius = fmaxf(sqrtf(rs_dot(diag, diag)), 1e-3f);
+}
+
+clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, void *wu,
+                                  clr_render_scene **out) {
+  if (!d || !out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_render_scene_build: NULL");
+  *out = NULL;
+  clr_render_scene *s = calloc(1, sizeof *s);
+  uint32_t *object_group = calloc((size_t)(d->object_count + 1), sizeof *object_group);
+  if (!s || !object_group) {
+    free(s);
+    free(object_group);
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_render_scene_build");
+  }
+  clr_result r = clr_tracer_create(&s->tracer);
+  if (r == CLR_SUCCESS) r = rs_camera_build(&s->camera, d, warn, wu);
+  if (r == CLR_SUCCESS) r = rs_textures_build(s, d, warn, wu);
+  if (r == CLR_SUCCESS) r = build_shapes(s, d, warn, wu, object_group);
+  if (r == CLR_SUCCESS) r = build_instances(s, d, object_group);
+  if (r == CLR_SUCCESS) {
+    world_bounds(s, d);
+    /* lights after the bounds (distant and infinite lights use the world radius) */
+    int area_lights = s->light_count;
+    rs_light *area = s->lights;
+    s->lights = NULL;
+    s->light_count = 0;
+    r = rs_lights_build(s, d, warn, wu);
+    if (r == CLR_SUCCESS && area_lights) {
+      rs_light *all = realloc(s->lights, (size_t)(s->light_count + area_lights) * sizeof *all);
+      if (!all) {
+        r = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "lights");
+      } else {
+        memcpy(all + s->light_count, area, (size_t)area_lights * sizeof *all);
+        for (int k = 0; k < s->shape_count; ++k)
+          if (s->shapes[k].first_light >= 0) s->shapes[k].first_light += s->light_count;
+        s->lights = all;
+        s->light_count += area_lights;
+      }
+    }
+    free(area);
+  }
+  if (r == CLR_SUCCESS) {
+    s->infinite = calloc((size_t)(s->light_count + 1), sizeof *s->infinite);
+    if (!s->infinite) r = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "lights");
+    for (int k = 0; r == CLR_SUCCESS && k < s->light_count; ++k)
+      if (s->lights[k].type == RS_LIGHT_INFINITE) s->infinite[s->infinite_count++] = k;
+  }
+  if (r == CLR_SUCCESS) r = clr_tracer_commit(s->tracer);
+  free(object_group);
+  if (r != CLR_SUCCESS) {
+    clr_render_scene_free(s);
+    return r;
+  }
+  *out = s;
+  return CLR_SUCCESS;
+}
+
+void clr_render_scene_free(clr_render_scene *s) {
+  if (!s) return;
+  if (s->tracer) clr_tracer_release(s->tracer);
+  rs_textures_free(s);
+  for (int i = 0; i < s->shape_count; ++i) clr_mesh_free(&s->shapes[i].mesh);
+  free(s->shapes);
+  free(s->instances);
+  free(s->lights);
+  free(s->infinite);
+  free(s);
+}
+
+static void negate(float v[3]) { v[0] = -v[0]; v[1] = -v[1]; v[2] = -v[2]; }
+
+static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], float n[3],
+                         float ns[3], int *has_ns, float uv[2], float dpdu[3]) {
+  const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
+  const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1], *p2 = sh->mesh.p + 3 * ix[2];
+  float b1 = hit->u, b2 = hit->v, b0 = 1.0f - b1 - b2;
+  for (int i = 0; i < 3; ++i) p[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
+  float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
+  if (sh->mesh.uv) {
+    memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
+    memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
+    memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
+  }
+  for (int i = 0; i < 2; ++i) uv[i] = b0 * uv0[i] + b1 * uv1[i] + b2 * uv2[i];
+  float dp02[3], dp12[3];
+  for (int i = 0; i < 3; ++i) { dp02[i] = p0[i] - p2[i]; dp12[i] = p1[i] - p2[i]; }
+  rs_cross(dp02, dp12, n);
+  rs_normalize(n);
+  float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0], dv12 = uv1[1] - uv2[1];
+  float det = du02 * dv12 - dv02 * du12;
+  if (fabsf(det) < 1e-8f) {
+    float t[3];
+    if (fabsf(n[0]) > fabsf(n[1])) { t[0] = -n[2]; t[1] = 0; t[2] = n[0]; }
+    else { t[0] = 0; t[1] = n[2]; t[2] = -n[1]; }
+    memcpy(dpdu, t, sizeof t);
+  } else {
+    float inv = 1.0f / det;
+    for (int i = 0; i < 3; ++i) dpdu[i] = (dv12 * dp02[i] - dv02 * dp12[i]) * inv;
+  }
+  *has_ns = sh->mesh.n != NULL;
+  if (*has_ns) {
+    for (int i = 0; i < 3; ++i)
+      ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] + b2 * sh->mesh.n[3 * ix[2] + i];
+    if (rs_dot(n, ns) < 0.0f) negate(n);
+  } else if (sh->flip_normal) {
+    negate(n);
+  }
+}
+
+static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const clr_ray *ray,
+                           const clr_hit *hit, float p[3], float n[3], float uv[2], float dpdu[3]) {
+  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy, ray->oz + hit->t * ray->dz};
+  float po[3];
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  float len = sqrtf(rs_dot(po, po));
+  if (len > 0.0f)
+    for (int i = 0; i < 3; ++i) po[i] *= sh->radius / len;
+  if (po[0] == 0.0f && po[1] == 0.0f) po[0] = 1e-5f * sh->radius;
+  float phi = atan2f(po[1], po[0]);
+  if (phi < 0.0f) phi += 2.0f * RS_PI;
+  float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / sh->radius));
+  uv[0] = phi / (2.0f * RS_PI);
+  uv[1] = 1.0f - acosf(ct) / RS_PI;
+  float du_o[3] = {-2.0f * RS_PI * po[1], 2.0f * RS_PI * po[0], 0.0f};
+  clr_transform_point(o2w, po, p);
+  clr_transform_normal(o2w, po, n);
+  rs_normalize(n);
+  clr_transform_vector(o2w, du_o, dpdu);
+  if (sh->flip_normal) negate(n);
+}
+
+void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
+                              clr_surface *out) {
+  const rs_shape *sh = &s->shapes[hit->user_id];
+  const clr_transform *inst =
+      hit->inst_id != CLR_TRACER_INVALID_ID ? &s->instances[hit->inst_id] : NULL;
+  float p[3], n[3], ns[3], uv[2], dpdu[3];
+  int has_ns = 0;
+  if (sh->type == RS_SHAPE_MESH) {
+    mesh_surface(sh, hit, p, n, ns, &has_ns, uv, dpdu);
+    if (inst) {
+      float q[3];
+      clr_transform_point(inst, p, q); memcpy(p, q, sizeof q);
+      clr_transform_normal(inst, n, q); memcpy(n, q, sizeof q); rs_normalize(n);
+      clr_transform_vector(inst, dpdu, q); memcpy(dpdu, q, sizeof q);
+      if (has_ns) { clr_transform_normal(inst, ns, q); memcpy(ns, q, sizeof q); }
+    }
+  } else {
+    clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
+  }
+  memcpy(out->p, p, sizeof p);
+  memcpy(out->n_geom, n, sizeof n);
+  memcpy(out->uv, uv, sizeof uv);
+  memcpy(out->dpdu, dpdu, sizeof dpdu);
+  float wo[3] = {-ray->dx, -ray->dy, -ray->dz};
+  memcpy(out->ng, n, sizeof n);
+  if (rs_dot(out->ng, wo) < 0.0f) negate(out->ng);
+  if (has_ns) {
+    rs_normalize(ns);
+    memcpy(out->ns, ns, sizeof ns);
+    if (rs_dot(out->ns, out->ng) < 0.0f) negate(out->ns);
+  } else {
+    memcpy(out->ns, out->ng, sizeof n);
+  }
+  out->has_material = sh->has_material;
+  if (sh->has_material) rs_colour_eval(s, &sh->kd, uv, out->kd);
+  else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
+  out->area_light = -1;
+  out->le[0] = out->le[1] = out->le[2] = 0.0f;
+  if (sh->first_light >= 0) {
+    out->area_light = sh->first_light + (sh->type == RS_SHAPE_MESH ? (int32_t)hit->prim_id : 0);
+    const rs_light *l = &s->lights[out->area_light];
+    if (l->two_sided || rs_dot(n, wo) > 0.0f) memcpy(out->le, l->colour, sizeof out->le);
+  }
+}
