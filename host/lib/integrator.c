@@ -1,0 +1,649 @@
+/* pbrt-v3 AO, direct lighting and path tracing over batches of camera samples. Every sample's
+ * contributions are summed in a fixed order, so results do not depend on batching. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "clr_internal.h"
+#include "integrator.h"
+#include "pcg32.h"
+#include "render_scene_internal.h"
+
+#define ONE_MINUS_EPSILON 0x1.fffffep-1f
+#define MAX_NULL_SURFACES 64
+
+/* ---------- request layout ---------- */
+
+static int add_request(clr_integrator *it, int dims, int array_size) {
+  int32_t values = dims * (array_size > 0 ? array_size : 1);
+  if (it->request_count >= CLR_MAX_REQUESTS || it->values_per_sample + values > CLR_MAX_VALUES_PER_SAMPLE)
+    return -1;
+  it->requests[it->request_count].dims = dims;
+  it->requests[it->request_count].array_size = array_size;
+  it->request_count++;
+  int offset = it->values_per_sample;
+  it->values_per_sample += values;
+  return offset;
+}
+
+static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *scene, int power) {
+  it->light_cdf = calloc((size_t)it->light_count + 1, sizeof *it->light_cdf);
+  if (!it->light_cdf) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator");
+  double total = 0.0;
+  for (int i = 0; i < it->light_count; ++i) total += power ? fmax(0.0, scene->lights[i].power) : 1.0;
+  if (!(total > 0.0) || !isfinite(total)) { power = 0; total = it->light_count; }
+  double acc = 0.0;
+  for (int i = 0; i < it->light_count; ++i) {
+    acc += power ? fmax(0.0, scene->lights[i].power) : 1.0;
+    it->light_cdf[i + 1] = (float)(acc / total);
+  }
+  if (it->light_count) it->light_cdf[it->light_count] = 1.0f;
+  return CLR_SUCCESS;
+}
+
+clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_scene *scene,
+                                 clr_warn_fn warn, void *wu, clr_integrator *it) {
+  memset(it, 0, sizeof *it);
+  const clr_param_list *p = &desc->integrator.params;
+  const char *type = desc->integrator.type ? desc->integrator.type : "path";
+  /* camera: film offset, time, lens */
+  add_request(it, 2, 0);
+  add_request(it, 1, 0);
+  add_request(it, 2, 0);
+  it->value_offset = it->values_per_sample;
+  it->light_count = scene->light_count;
+  it->max_depth = clr_params_find_int(p, "maxdepth", 5);
+  if (strcmp(type, "ambientocclusion") == 0) {
+    it->type = CLR_INTEGRATOR_AO;
+    it->ao_samples = clr_params_find_int(p, "nsamples", 64);
+    it->ao_cos_sample = clr_params_find_bool(p, "cossample", true);
+    if (it->ao_samples < 1) it->ao_samples = 1;
+    if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2)
+      return clr_fail(NULL, CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d", p->file,
+                      p->line, it->ao_samples, (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
+    add_request(it, 2, it->ao_samples);
+    return CLR_SUCCESS;
+  }
+  if (strcmp(type, "directlighting") == 0) {
+    it->type = CLR_INTEGRATOR_DIRECT;
+    const char *strategy = clr_params_find_string(p, "strategy", "all");
+    it->direct_all = strcmp(strategy, "one") != 0;
+    if (it->direct_all) {
+      it->light_samples = calloc((size_t)it->light_count + 1, sizeof(int));
+      it->light_offsets = calloc((size_t)it->light_count + 1, sizeof(int));
+      if (!it->light_samples || !it->light_offsets) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator");
+      for (int j = 0; j < it->light_count; ++j) {
+        it->light_samples[j] = scene->lights[j].nsamples;
+        /* depth-0 arrays only: matte surfaces never recurse */
+        it->light_offsets[j] = add_request(it, 2, it->light_samples[j]);
+        if (it->light_offsets[j] >= 0 && add_request(it, 2, it->light_samples[j]) < 0) {
+          it->request_count--;
+          it->values_per_sample -= 2 * it->light_samples[j];
+          it->light_offsets[j] = -1;
+        }
+      }
+    } else {
+      add_request(it, 1, 0);
+      add_request(it, 2, 0);
+      add_request(it, 2, 0);
+    }
+    return build_light_cdf(it, scene, 0);
+  }
+  if (strcmp(type, "path") != 0 && warn) {
+    char m[512];
+    snprintf(m, sizeof m, "%s:%d: integrator \"%s\" not supported: using \"path\"",
+             p->file ? p->file : "?", p->line, type);
+    warn(wu, m);
+  }
+  it->type = CLR_INTEGRATOR_PATH;
+  it->rr_threshold = clr_params_find_float(p, "rrthreshold", 1.0f);
+  const char *strategy = clr_params_find_string(p, "lightsamplestrategy", "spatial");
+  for (int b = 0; b < it->max_depth + 1; ++b) {
+    int before = it->request_count;
+    int32_t values = it->values_per_sample;
+    if (add_request(it, 1, 0) < 0 || add_request(it, 2, 0) < 0 || add_request(it, 2, 0) < 0 ||
+        add_request(it, 2, 0) < 0 || add_request(it, 1, 0) < 0) {
+      it->request_count = before;
+      it->values_per_sample = values;
+      break;
+    }
+    it->path_bounces_in_layout = b + 1;
+  }
+  return build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
+}
+
+void clr_integrator_free(clr_integrator *it) {
+  free(it->light_cdf);
+  free(it->light_samples);
+  free(it->light_offsets);
+  memset(it, 0, sizeof *it);
+}
+
+/* ---------- scratch ---------- */
+
+typedef struct direct_job {
+  int32_t sample, light;
+  float u_light[2], u_scatter[2];
+  float scale[3];
+  float result[3];
+  float bsdf_f[3]; /* f * |cos| / pdf of the BSDF sample (MIS part) */
+  float bsdf_pdf;
+  int32_t shadow_index, mis_index;
+  float shadow_contrib[3];
+} direct_job;
+
+struct clr_integrator_scratch {
+  clr_ray *rays, *rays2;
+  clr_hit *hits;
+  uint8_t *occluded;
+  clr_surface *surfaces;
+  direct_job *jobs;
+  int32_t *owner;
+  float *beta;
+  int32_t *bounces, *active;
+  size_t ray_cap, ray2_cap, job_cap, sample_cap;
+};
+
+clr_integrator_scratch *clr_integrator_scratch_create(void) {
+  return calloc(1, sizeof(clr_integrator_scratch));
+}
+
+void clr_integrator_scratch_free(clr_integrator_scratch *s) {
+  if (!s) return;
+  free(s->rays); free(s->rays2); free(s->hits); free(s->occluded); free(s->surfaces);
+  free(s->jobs); free(s->owner); free(s->beta); free(s->bounces); free(s->active);
+  free(s);
+}
+
+static int grow(void **p, size_t *cap, size_t need, size_t elem) {
+  if (need <= *cap) return 0;
+  size_t n = *cap ? *cap : 256;
+  while (n < need) n *= 2;
+  void *q = realloc(*p, n * elem);
+  if (!q) return -1;
+  *p = q;
+  *cap = n;
+  return 0;
+}
+
+/* Rays (and hits / occlusion flags) for `n` queries. */
+static clr_result reserve_rays(clr_integrator_scratch *s, size_t n) {
+  size_t cap = s->ray_cap, cap2 = s->ray_cap, cap3 = s->ray_cap;
+  if (grow((void **)&s->rays, &cap, n, sizeof *s->rays) ||
+      grow((void **)&s->hits, &cap2, n, sizeof *s->hits) ||
+      grow((void **)&s->occluded, &cap3, n, 1))
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+  s->ray_cap = cap;
+  return CLR_SUCCESS;
+}
+
+static clr_result reserve_samples(clr_integrator_scratch *s, size_t n) {
+  if (n <= s->sample_cap) return CLR_SUCCESS;
+  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1;
+  if (grow((void **)&s->surfaces, &c1, n, sizeof *s->surfaces) ||
+      grow((void **)&s->beta, &c2, n, 3 * sizeof(float)) ||
+      grow((void **)&s->bounces, &c3, n, sizeof(int32_t)) ||
+      grow((void **)&s->active, &c4, n, sizeof(int32_t)) ||
+      grow((void **)&s->owner, &c5, n, sizeof(int32_t)) ||
+      grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)))
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+  s->sample_cap = c1;
+  s->ray2_cap = c6;
+  return CLR_SUCCESS;
+}
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void trace(const clr_render_scene *sc, const clr_ray *r, clr_hit *h, size_t n,
+                  clr_integrator_counters *c) {
+  if (!n) return;
+  double t0 = now_seconds();
+  clr_tracer_intersect(sc->tracer, r, h, n);
+  c->trace_seconds += now_seconds() - t0;
+  c->rays += n;
+}
+
+static void occlude(const clr_render_scene *sc, const clr_ray *r, uint8_t *o, size_t n,
+                    clr_integrator_counters *c) {
+  if (!n) return;
+  double t0 = now_seconds();
+  clr_tracer_occluded(sc->tracer, r, o, n);
+  c->trace_seconds += now_seconds() - t0;
+  c->rays += n;
+}
+
+/* ---------- sampling helpers ---------- */
+
+/* Value `k` of a per-sample vector, or the documented hash fallback past the layout. */
+static float fallback(uint64_t key, int dim) {
+  return clr_hash_float(key ^ clr_mix64(0x5bd1e995u + (uint64_t)dim));
+}
+
+static void concentric_disk(const float u[2], float *x, float *y) {
+  float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
+  if (ox == 0.0f && oy == 0.0f) { *x = *y = 0.0f; return; }
+  float r, th;
+  if (fabsf(ox) > fabsf(oy)) { r = ox; th = (RS_PI / 4.0f) * (oy / ox); }
+  else { r = oy; th = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy); }
+  *x = r * cosf(th);
+  *y = r * sinf(th);
+}
+
+static void cosine_hemisphere(const float u[2], float w[3]) {
+  concentric_disk(u, &w[0], &w[1]);
+  w[2] = sqrtf(fmaxf(0.0f, 1.0f - w[0] * w[0] - w[1] * w[1]));
+}
+
+static void uniform_hemisphere(const float u[2], float w[3]) {
+  float z = u[0], r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
+  w[0] = r * cosf(phi); w[1] = r * sinf(phi); w[2] = z;
+}
+
+/* Shading frame (ss, ts, ns) of a surface. */
+static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
+  float d = rs_dot(s->dpdu, s->ns);
+  for (int i = 0; i < 3; ++i) ss[i] = s->dpdu[i] - d * s->ns[i];
+  if (!(rs_dot(ss, ss) > 1e-20f)) {
+    if (fabsf(s->ns[0]) > fabsf(s->ns[1])) { ss[0] = -s->ns[2]; ss[1] = 0; ss[2] = s->ns[0]; }
+    else { ss[0] = 0; ss[1] = s->ns[2]; ss[2] = -s->ns[1]; }
+  }
+  rs_normalize(ss);
+  rs_cross(s->ns, ss, ts);
+}
+
+/* Lambertian BSDF value times |cos| for world directions, pbrt BSDF::f reflect rule. */
+static float lambert_cos(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0.0f;
+  return fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
+}
+
+static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
+  float a = rs_dot(wo, s->ns), b = rs_dot(wi, s->ns);
+  return (a * b > 0.0f) ? fabsf(b) * RS_INV_PI : 0.0f;
+}
+
+/* pbrt Lambertian Sample_f: direction wi and pdf; returns f*|cos| scale (without Kd). */
+static float lambert_sample(const clr_surface *s, const float wo[3], const float u_in[2],
+                            float wi[3], float *pdf) {
+  float u[2] = {fminf(u_in[0], ONE_MINUS_EPSILON), u_in[1]}, l[3], ss[3], ts[3];
+  cosine_hemisphere(u, l);
+  if (rs_dot(wo, s->ns) < 0.0f) l[2] = -l[2];
+  shading_frame(s, ss, ts);
+  for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + s->ns[i] * l[2];
+  *pdf = fabsf(l[2]) * RS_INV_PI;
+  return lambert_cos(s, wo, wi);
+}
+
+static float power_heuristic(float f, float g) {
+  float f2 = f * f, g2 = g * g;
+  return (f2 + g2) > 0.0f ? f2 / (f2 + g2) : 0.0f;
+}
+
+static int is_black(const float c[3]) { return c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f; }
+
+/* ---------- primary hits (material "none" surfaces are skipped) ---------- */
+
+/* Intersects rays[0..count) (in scratch->rays2) and fills surfaces; hit[i].geom_id says miss. */
+static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch *s, int count,
+                              clr_integrator_counters *c) {
+  int pending = count;
+  for (int i = 0; i < count; ++i) s->owner[i] = i;
+  for (int round = 0; pending > 0 && round < MAX_NULL_SURFACES; ++round) {
+    for (int k = 0; k < pending; ++k) s->rays[k] = s->rays2[s->owner[k]];
+    clr_hit *h = s->hits;
+    trace(sc, s->rays, h, (size_t)pending, c);
+    int next = 0;
+    for (int k = 0; k < pending; ++k) {
+      int i = s->owner[k];
+      s->surfaces[i].has_material = -1; /* miss marker */
+      if (h[k].geom_id == CLR_TRACER_INVALID_ID) continue;
+      clr_render_scene_surface(sc, &s->rays[k], &h[k], &s->surfaces[i]);
+      if (!s->surfaces[i].has_material) {
+        float d[3] = {s->rays[k].dx, s->rays[k].dy, s->rays[k].dz};
+        clr_render_scene_spawn_ray(&s->surfaces[i], d, &s->rays2[i]);
+        s->owner[next++] = i;
+      }
+    }
+    pending = next;
+  }
+  for (int k = 0; k < pending; ++k) s->surfaces[s->owner[k]].has_material = -1;
+}
+
+/* ---------- EstimateDirect for a batch of jobs ---------- */
+
+static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scratch *s,
+                                  direct_job *jobs, int njobs, const float *wo_all,
+                                  clr_integrator_counters *c) {
+  CLR_CHECK(reserve_rays(s, (size_t)njobs * 2));
+  int nshadow = 0;
+  for (int j = 0; j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    const clr_surface *sf = &s->surfaces[jb->sample];
+    const float *wo = wo_all + 3 * jb->sample;
+    memset(jb->result, 0, sizeof jb->result);
+    jb->shadow_index = -1;
+    jb->mis_index = -1;
+    clr_light_sample ls;
+    clr_render_scene_sample_light(sc, jb->light, sf->p, sf->ng, jb->u_light, &ls);
+    if (ls.pdf > 0.0f && !is_black(ls.li)) {
+      float fc = lambert_cos(sf, wo, ls.wi);
+      if (fc > 0.0f) {
+        float w = 1.0f;
+        if (!ls.is_delta) w = power_heuristic(ls.pdf, lambert_pdf(sf, wo, ls.wi));
+        for (int k = 0; k < 3; ++k) jb->shadow_contrib[k] = sf->kd[k] * fc * ls.li[k] * w / ls.pdf;
+        jb->shadow_index = nshadow;
+        s->rays[nshadow++] = ls.shadow;
+      }
+    }
+  }
+  occlude(sc, s->rays, s->occluded, (size_t)nshadow, c);
+  for (int j = 0; j < njobs; ++j)
+    if (jobs[j].shadow_index >= 0 && !s->occluded[jobs[j].shadow_index])
+      memcpy(jobs[j].result, jobs[j].shadow_contrib, sizeof jobs[j].result);
+  /* BSDF sampling with MIS, for non-delta lights */
+  int nmis = 0;
+  for (int j = 0; j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    if (rs_light_is_delta(&sc->lights[jb->light])) continue;
+    const clr_surface *sf = &s->surfaces[jb->sample];
+    const float *wo = wo_all + 3 * jb->sample;
+    float wi[3], pdf;
+    float fc = lambert_sample(sf, wo, jb->u_scatter, wi, &pdf);
+    if (!(fc > 0.0f) || !(pdf > 0.0f)) continue;
+    for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = sf->kd[k] * fc;
+    jb->bsdf_pdf = pdf;
+    jb->mis_index = nmis;
+    clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis++]);
+  }
+  trace(sc, s->rays, s->hits, (size_t)nmis, c);
+  for (int j = 0; j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    if (jb->mis_index < 0) continue;
+    const clr_ray *r = &s->rays[jb->mis_index];
+    const clr_hit *h = &s->hits[jb->mis_index];
+    const clr_surface *sf = &s->surfaces[jb->sample];
+    float wi[3] = {r->dx, r->dy, r->dz}, le[3] = {0, 0, 0}, light_pdf = 0.0f;
+    if (h->geom_id != CLR_TRACER_INVALID_ID) {
+      clr_surface hs;
+      clr_render_scene_surface(sc, r, h, &hs);
+      if (hs.area_light != jb->light) continue;
+      light_pdf = rs_light_pdf(sc, jb->light, sf->p, wi, h->t, hs.n_geom);
+      memcpy(le, hs.le, sizeof le);
+    } else {
+      if (sc->lights[jb->light].type != RS_LIGHT_INFINITE) continue;
+      light_pdf = rs_light_pdf(sc, jb->light, sf->p, wi, 0.0f, NULL);
+      rs_light_le(sc, jb->light, wi, le);
+    }
+    if (!(light_pdf > 0.0f)) continue;
+    float w = power_heuristic(jb->bsdf_pdf, light_pdf);
+    for (int k = 0; k < 3; ++k) jb->result[k] += jb->bsdf_f[k] * le[k] * w / jb->bsdf_pdf;
+  }
+  return CLR_SUCCESS;
+}
+
+static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
+  if (grow((void **)&s->jobs, &s->job_cap, n, sizeof *s->jobs))
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+  return CLR_SUCCESS;
+}
+
+/* pbrt Distribution1D::SampleDiscrete over the light cdf. */
+static int choose_light(const clr_integrator *it, float u, float *pdf) {
+  int lo = 0, hi = it->light_count - 1;
+  while (lo < hi) {
+    int mid = (lo + hi + 1) / 2;
+    if (it->light_cdf[mid] <= u) lo = mid;
+    else hi = mid - 1;
+  }
+  while (lo < it->light_count - 1 && it->light_cdf[lo + 1] - it->light_cdf[lo] <= 0.0f) ++lo;
+  *pdf = it->light_cdf[lo + 1] - it->light_cdf[lo];
+  return lo;
+}
+
+/* ---------- integrators ---------- */
+
+static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
+                        clr_integrator_scratch *s, const float *values, int count, float *L,
+                        clr_integrator_counters *c) {
+  intersect_visible(sc, s, count, c);
+  int n = it->ao_samples;
+  CLR_CHECK(reserve_rays(s, (size_t)count * (size_t)n));
+  /* directions first (in rays), then one occlusion query for the whole chunk */
+  size_t q = 0;
+  float *cosine = (float *)s->beta; /* unused by AO: reuse is not possible (3 per sample) */
+  (void)cosine;
+  for (int i = 0; i < count; ++i) {
+    const clr_surface *sf = &s->surfaces[i];
+    if (sf->has_material < 0) continue;
+    const float *u = values + (size_t)i * (size_t)it->values_per_sample + it->value_offset;
+    float ss[3], ts[3];
+    memcpy(ss, sf->dpdu, sizeof ss);
+    rs_normalize(ss);
+    rs_cross(sf->n_geom, ss, ts);
+    for (int k = 0; k < n; ++k) {
+      float w[3], wi[3];
+      if (it->ao_cos_sample) cosine_hemisphere(u + 2 * k, w);
+      else uniform_hemisphere(u + 2 * k, w);
+      for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
+      clr_render_scene_spawn_ray(sf, wi, &s->rays[q++]);
+    }
+  }
+  occlude(sc, s->rays, s->occluded, q, c);
+  q = 0;
+  for (int i = 0; i < count; ++i) {
+    const clr_surface *sf = &s->surfaces[i];
+    L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
+    if (sf->has_material < 0) continue;
+    const float *u = values + (size_t)i * (size_t)it->values_per_sample + it->value_offset;
+    float sum = 0.0f;
+    for (int k = 0; k < n; ++k, ++q) {
+      float w[3];
+      if (it->ao_cos_sample) cosine_hemisphere(u + 2 * k, w);
+      else uniform_hemisphere(u + 2 * k, w);
+      float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
+      if (s->occluded[q] || !(pdf > 0.0f)) continue;
+      const clr_ray *r = &s->rays[q];
+      float wi[3] = {r->dx, r->dy, r->dz};
+      sum += rs_dot(wi, sf->ng) / (pdf * (float)n);
+    }
+    L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = sum;
+  }
+  return CLR_SUCCESS;
+}
+
+static void add_escaped(const clr_render_scene *sc, const clr_ray *r, const float beta[3], float *L) {
+  float le[3];
+  clr_render_scene_escaped(sc, r, le);
+  for (int k = 0; k < 3; ++k) L[k] += beta[k] * le[k];
+}
+
+static void add_jobs(const direct_job *jobs, int njobs, float *L) {
+  for (int j = 0; j < njobs; ++j)
+    for (int k = 0; k < 3; ++k) L[3 * jobs[j].sample + k] += jobs[j].scale[k] * jobs[j].result[k];
+}
+
+static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc,
+                            clr_integrator_scratch *s, const float *values, const uint64_t *keys,
+                            int count, float *L, clr_integrator_counters *c) {
+  intersect_visible(sc, s, count, c);
+  float *wo = s->beta;
+  size_t per = 0;
+  if (it->direct_all)
+    for (int j = 0; j < it->light_count; ++j) per += (size_t)it->light_samples[j];
+  else
+    per = it->light_count ? 1 : 0;
+  CLR_CHECK(reserve_jobs(s, (size_t)count * per + 1));
+  int nj = 0;
+  for (int i = 0; i < count; ++i) {
+    const clr_surface *sf = &s->surfaces[i];
+    const float *v = values + (size_t)i * (size_t)it->values_per_sample;
+    const float one[3] = {1, 1, 1};
+    L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
+    if (sf->has_material < 0) {
+      add_escaped(sc, &s->rays2[i], one, L + 3 * i);
+      continue;
+    }
+    wo[3 * i] = -s->rays2[i].dx; wo[3 * i + 1] = -s->rays2[i].dy; wo[3 * i + 2] = -s->rays2[i].dz;
+    for (int k = 0; k < 3; ++k) L[3 * i + k] += sf->le[k];
+    if (!it->light_count) continue;
+    if (it->direct_all) {
+      int dim = 0;
+      for (int j = 0; j < it->light_count; ++j) {
+        int n = it->light_samples[j], off = it->light_offsets[j];
+        for (int k = 0; k < n; ++k) {
+          direct_job *jb = &s->jobs[nj++];
+          jb->sample = i;
+          jb->light = j;
+          for (int a = 0; a < 2; ++a) {
+            jb->u_light[a] = off >= 0 ? v[off + 2 * k + a] : fallback(keys[i], 100 + dim++);
+            jb->u_scatter[a] = off >= 0 ? v[off + 2 * n + 2 * k + a] : fallback(keys[i], 100 + dim++);
+          }
+          jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)n;
+        }
+      }
+    } else {
+      const float *u = v + it->value_offset;
+      direct_job *jb = &s->jobs[nj++];
+      int n = it->light_count;
+      jb->light = (int)fminf(u[0] * (float)n, (float)(n - 1));
+      jb->sample = i;
+      memcpy(jb->u_light, u + 1, 2 * sizeof(float));
+      memcpy(jb->u_scatter, u + 3, 2 * sizeof(float));
+      jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)n;
+    }
+  }
+  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
+  add_jobs(s->jobs, nj, L);
+  return CLR_SUCCESS;
+}
+
+static float path_value(const clr_integrator *it, const float *v, uint64_t key, int bounce, int k) {
+  if (bounce < it->path_bounces_in_layout)
+    return v[it->value_offset + bounce * CLR_PATH_VALUES_PER_BOUNCE + k];
+  return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
+}
+
+static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
+                          clr_integrator_scratch *s, const float *values, const uint64_t *keys,
+                          int count, float *L, clr_integrator_counters *c) {
+  float wo[3 * 1];
+  (void)wo;
+  float *beta = s->beta;
+  CLR_CHECK(reserve_jobs(s, (size_t)count + 1));
+  float *wos = malloc((size_t)count * 3 * sizeof(float));
+  int *idx = malloc((size_t)count * sizeof(int));
+  if (!wos || !idx) {
+    free(wos);
+    free(idx);
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "path integrator");
+  }
+  for (int i = 0; i < count; ++i) {
+    beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;
+    L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
+    s->bounces[i] = 0;
+    s->active[i] = 1;
+  }
+  clr_result r = CLR_SUCCESS;
+  int nactive = count, nulls = 0;
+  for (int wave = 0; nactive > 0 && r == CLR_SUCCESS; ++wave) {
+    int n = 0;
+    for (int i = 0; i < count; ++i)
+      if (s->active[i]) idx[n++] = i;
+    r = reserve_rays(s, (size_t)n);
+    if (r != CLR_SUCCESS) break;
+    for (int k = 0; k < n; ++k) s->rays[k] = s->rays2[idx[k]];
+    trace(sc, s->rays, s->hits, (size_t)n, c);
+    int nj = 0;
+    for (int k = 0; k < n; ++k) {
+      int i = idx[k];
+      float *b = beta + 3 * i, *Li = L + 3 * i;
+      const clr_ray *ray = &s->rays[k];
+      const clr_hit *h = &s->hits[k];
+      int bounces = s->bounces[i];
+      if (h->geom_id == CLR_TRACER_INVALID_ID) {
+        if (bounces == 0) add_escaped(sc, ray, b, Li);
+        s->active[i] = 0;
+        continue;
+      }
+      clr_surface *sf = &s->surfaces[i];
+      clr_render_scene_surface(sc, ray, h, sf);
+      if (!sf->has_material) {
+        float d[3] = {ray->dx, ray->dy, ray->dz};
+        clr_render_scene_spawn_ray(sf, d, &s->rays2[i]);
+        if (++nulls > MAX_NULL_SURFACES * count) s->active[i] = 0;
+        continue;
+      }
+      if (bounces == 0)
+        for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
+      if (bounces >= it->max_depth) {
+        s->active[i] = 0;
+        continue;
+      }
+      const float *v = values + (size_t)i * (size_t)it->values_per_sample;
+      float *w = wos + 3 * i;
+      w[0] = -ray->dx; w[1] = -ray->dy; w[2] = -ray->dz;
+      if (it->light_count) {
+        float lpdf;
+        int light = choose_light(it, path_value(it, v, keys[i], bounces, 0), &lpdf);
+        if (lpdf > 0.0f) {
+          direct_job *jb = &s->jobs[nj++];
+          jb->sample = i;
+          jb->light = light;
+          for (int a = 0; a < 2; ++a) {
+            jb->u_light[a] = path_value(it, v, keys[i], bounces, 1 + a);
+            jb->u_scatter[a] = path_value(it, v, keys[i], bounces, 3 + a);
+          }
+          for (int a = 0; a < 3; ++a) jb->scale[a] = b[a] / lpdf;
+        }
+      }
+      float u[2] = {path_value(it, v, keys[i], bounces, 5), path_value(it, v, keys[i], bounces, 6)};
+      float wi[3], pdf;
+      float fc = lambert_sample(sf, w, u, wi, &pdf);
+      if (!(fc > 0.0f) || !(pdf > 0.0f) || is_black(sf->kd)) {
+        s->active[i] = 0;
+        continue;
+      }
+      for (int a = 0; a < 3; ++a) b[a] *= sf->kd[a] * fc / pdf;
+      clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+      float m = fmaxf(b[0], fmaxf(b[1], b[2]));
+      if (m < it->rr_threshold && bounces > 3) {
+        float q = fmaxf(0.05f, 1.0f - m);
+        if (path_value(it, v, keys[i], bounces, 7) < q) {
+          s->active[i] = 0;
+        } else {
+          for (int a = 0; a < 3; ++a) b[a] /= 1.0f - q;
+        }
+      }
+      s->bounces[i] = bounces + 1;
+    }
+    if (nj) {
+      /* the direct jobs need the surfaces of this wave: copy their index order */
+      r = estimate_direct(sc, s, s->jobs, nj, wos, c);
+      if (r == CLR_SUCCESS) add_jobs(s->jobs, nj, L);
+    }
+    nactive = 0;
+    for (int i = 0; i < count; ++i) nactive += s->active[i];
+  }
+  free(wos);
+  free(idx);
+  return r;
+}
+
+clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *sc,
+                             clr_integrator_scratch *s, const clr_ray *rays, const float *values,
+                             const uint64_t *keys, int count, float *L,
+                             clr_integrator_counters *c) {
+  CLR_CHECK(reserve_samples(s, (size_t)count));
+  CLR_CHECK(reserve_rays(s, (size_t)count));
+  memcpy(s->rays2, rays, (size_t)count * sizeof *rays);
+  switch (it->type) {
+    case CLR_INTEGRATOR_AO: return li_ao(it, sc, s, values, count, L, c);
+    case CLR_INTEGRATOR_DIRECT: return li_direct(it, sc, s, values, keys, count, L, c);
+    default: return li_path(it, sc, s, values, keys, count, L, c);
+  }
+}

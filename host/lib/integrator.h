@@ -1,0 +1,54 @@
+/* pbrt-v3 integrators (ambientocclusion, directlighting, path) for matte scenes, evaluated
+ * wavefront-style over a chunk of camera samples with batched Embree queries. */
+#ifndef CLR_INTEGRATOR_H
+#define CLR_INTEGRATOR_H
+
+#include <stdint.h>
+#include "clrender/sampler.h"
+#include "render_scene.h"
+
+typedef enum { CLR_INTEGRATOR_AO, CLR_INTEGRATOR_DIRECT, CLR_INTEGRATOR_PATH } clr_integrator_type;
+
+/* Values per path bounce in the layout: 1D light choice, 2D light, 2D scattering, 2D BSDF, 1D
+ * Russian roulette (pbrt-v3 PathIntegrator::Li order). */
+#define CLR_PATH_VALUES_PER_BOUNCE 8
+
+typedef struct clr_integrator {
+  clr_integrator_type type;
+  int ao_samples, ao_cos_sample;
+  int direct_all;    /* directlighting strategy "all" (1) or "one" (0) */
+  int max_depth;
+  float rr_threshold;
+  int light_count;
+  float *light_cdf;  /* light_count + 1 entries: light selection for path (uniform or power) */
+  int *light_samples; /* directlighting "all": pbrt nsamples per light */
+  int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
+  int value_offset;   /* first integrator value (after the camera's 5) */
+  int path_bounces_in_layout;
+  clr_sample_request requests[CLR_MAX_REQUESTS];
+  int32_t request_count;
+  int32_t values_per_sample;
+} clr_integrator;
+
+/* Reads desc->integrator; unknown types warn and render as "path". */
+clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_scene *scene,
+                                 clr_warn_fn warn, void *warn_user, clr_integrator *out);
+void clr_integrator_free(clr_integrator *integrator);
+
+typedef struct clr_integrator_counters {
+  uint64_t rays;        /* every ray given to the tracer (camera, shadow, bounce) */
+  double trace_seconds; /* time inside tracer calls */
+} clr_integrator_counters;
+
+typedef struct clr_integrator_scratch clr_integrator_scratch;
+clr_integrator_scratch *clr_integrator_scratch_create(void);
+void clr_integrator_scratch_free(clr_integrator_scratch *scratch);
+
+/* Radiance of `count` camera rays. values: count sample vectors of values_per_sample floats;
+ * keys: per-sample hash keys for dimensions past the layout; L: 3 floats per sample. */
+clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *scene,
+                             clr_integrator_scratch *scratch, const clr_ray *rays,
+                             const float *values, const uint64_t *keys, int count, float *L,
+                             clr_integrator_counters *counters);
+
+#endif

@@ -1,0 +1,567 @@
+/* Render loop: tiles over the sample bounds; the main thread generates each tile's sample
+ * vectors on the OpenCL device and merges finished film tiles strictly in tile order, worker
+ * threads trace and shade tiles and filter their samples into film tiles. The image is thus
+ * bit-identical whatever the thread count and scheduling. */
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "atomic_file.h"
+#include "clr_internal.h"
+#include "clrender/film.h"
+#include "integrator.h"
+#include "pcg32.h"
+#include "render_scene.h"
+#include "renderer.h"
+#include "scene_parser.h"
+
+#define CHUNK_SAMPLES 256
+
+void clr_render_options_init(clr_render_options *o) {
+  if (!o) return;
+  memset(o, 0, sizeof *o);
+  o->struct_size = sizeof *o;
+  o->tile_size = 16;
+  o->seeding = CLR_SEEDING_PIXEL;
+}
+
+void clr_render_stats_init(clr_render_stats *s) {
+  if (!s) return;
+  memset(s, 0, sizeof *s);
+  s->struct_size = sizeof *s;
+}
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct warn_sink { int quiet; } warn_sink;
+static void warn_print(void *user, const char *msg) {
+  const warn_sink *w = user;
+  if (!w || !w->quiet) fprintf(stderr, "clrender: warning: %s\n", msg);
+}
+
+/* ---------- configuration from the scene and the options ---------- */
+
+static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_options *o,
+                                    clr_warn_fn warn, void *wu, clr_sampler_desc *sd) {
+  const clr_param_list *p = &d->sampler.params;
+  const char *name = o->sampler ? o->sampler : (d->sampler.type ? d->sampler.type : "halton");
+  clr_sampler_type type;
+  if (strcmp(name, "lowdiscrepancy") == 0 || strcmp(name, "02sequence") == 0 ||
+      strcmp(name, "zerotwosequence") == 0 || strcmp(name, "maxmindist") == 0) {
+    if (warn) {
+      char m[256];
+      snprintf(m, sizeof m, "sampler \"%s\" not supported: using \"sobol\"", name);
+      warn(wu, m);
+    }
+    type = CLR_SAMPLER_SOBOL;
+  } else if (clr_sampler_type_from_name(name, &type) != CLR_SUCCESS) {
+    return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER, "%s:%d: unknown sampler \"%s\"",
+                    o->sampler ? "--sampler" : (p->file ? p->file : "?"), p->line, name);
+  }
+  clr_sampler_desc_init(sd, type);
+  int same = !o->sampler || (d->sampler.type && strcmp(d->sampler.type, name) == 0);
+  if (same) {
+    sd->pixel_samples = clr_params_find_int(p, "pixelsamples", sd->pixel_samples);
+    sd->x_samples = clr_params_find_int(p, "xsamples", sd->x_samples);
+    sd->y_samples = clr_params_find_int(p, "ysamples", sd->y_samples);
+    sd->jitter = clr_params_find_bool(p, "jitter", sd->jitter != 0);
+    sd->dimensions = clr_params_find_int(p, "dimensions", sd->dimensions);
+    sd->sample_pixel_center = clr_params_find_bool(p, "samplepixelcenter", false);
+  }
+  if (o->spp > 0) {
+    sd->pixel_samples = o->spp;
+    int x = (int)sqrt((double)o->spp);
+    if (x < 1) x = 1;
+    sd->x_samples = x;
+    sd->y_samples = (o->spp + x - 1) / x;
+  }
+  sd->seeding = o->seeding;
+  sd->seed = o->seed;
+  return CLR_SUCCESS;
+}
+
+static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_options *o,
+                                   clr_warn_fn warn, void *wu, clr_filter_desc *fd) {
+  const char *name = o->filter ? o->filter : (d->filter.type ? d->filter.type : "box");
+  const clr_param_list *p = &d->filter.params;
+  clr_filter_type type = CLR_FILTER_BOX;
+  if (strcmp(name, "triangle") == 0) {
+    type = CLR_FILTER_TRIANGLE;
+  } else if (strcmp(name, "box") != 0) {
+    if (o->filter)
+      return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "--filter: unsupported filter \"%s\"", name);
+    if (warn) {
+      char m[512];
+      snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"", p->file ? p->file : "?",
+               p->line, name);
+      warn(wu, m);
+    }
+  }
+  clr_filter_desc_init(fd, type);
+  int same = !o->filter || (d->filter.type && strcmp(d->filter.type, name) == 0);
+  if (same && type == (strcmp(d->filter.type ? d->filter.type : "box", "triangle") == 0 ? CLR_FILTER_TRIANGLE : CLR_FILTER_BOX)) {
+    fd->radius[0] = clr_params_find_float(p, "xwidth", fd->radius[0]);
+    fd->radius[1] = clr_params_find_float(p, "ywidth", fd->radius[1]);
+  }
+  return CLR_SUCCESS;
+}
+
+/* ---------- tiles ---------- */
+
+enum { SLOT_FREE, SLOT_READY, SLOT_BUSY, SLOT_DONE };
+
+typedef struct tile_slot {
+  int tile;
+  int state;
+  clr_bounds2i pixels;
+  int32_t sample_count;
+  float *values;
+  size_t values_cap;
+  clr_film_tile film_tile;
+  clr_result result;
+} tile_slot;
+
+typedef struct render_job {
+  const clr_render_scene *scene;
+  const clr_integrator *integrator;
+  clr_film film;
+  int spp;
+  uint32_t seed;
+  int nslots;
+  tile_slot *slots;
+  pthread_mutex_t mutex;
+  pthread_cond_t cond;
+  int next_ready; /* lowest tile index that may be READY */
+  int stop;
+  /* per-thread phase sums, merged under the mutex */
+  double trace_s, shade_s, recon_s;
+  uint64_t rays;
+} render_job;
+
+static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
+  return clr_mix64(((uint64_t)seed << 32) ^ clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
+         (uint64_t)s * 0x9E3779B97F4A7C15ull;
+}
+
+/* Traces, shades and filters one tile's samples into a new film tile. */
+static clr_result shade_tile(render_job *job, tile_slot *slot, clr_integrator_scratch *scratch,
+                             clr_integrator_counters *counters, double *recon_s) {
+  const clr_integrator *it = job->integrator;
+  int w = slot->pixels.x1 - slot->pixels.x0, spp = slot->sample_count;
+  size_t total = (size_t)w * (size_t)(slot->pixels.y1 - slot->pixels.y0) * (size_t)spp;
+  clr_film_sample *fs = malloc(total * sizeof *fs);
+  clr_ray *rays = malloc(CHUNK_SAMPLES * sizeof *rays);
+  uint64_t *keys = malloc(CHUNK_SAMPLES * sizeof *keys);
+  float *L = malloc(CHUNK_SAMPLES * 3 * sizeof *L), *weights = malloc(CHUNK_SAMPLES * sizeof *weights);
+  clr_result r = (fs && rays && keys && L && weights) ? CLR_SUCCESS
+                 : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tile");
+  for (size_t base = 0; r == CLR_SUCCESS && base < total; base += CHUNK_SAMPLES) {
+    int n = (int)(total - base < CHUNK_SAMPLES ? total - base : CHUNK_SAMPLES);
+    for (int k = 0; k < n; ++k) {
+      size_t idx = base + (size_t)k;
+      int pixel = (int)(idx / (size_t)spp), s = (int)(idx % (size_t)spp);
+      int px = slot->pixels.x0 + pixel % w, py = slot->pixels.y0 + pixel / w;
+      const float *v = slot->values + idx * (size_t)it->values_per_sample;
+      fs[idx].x = (float)px + v[0];
+      fs[idx].y = (float)py + v[1];
+      weights[k] = clr_render_scene_camera_ray(job->scene, fs[idx].x, fs[idx].y, v[2], v[3], v[4], &rays[k]);
+      keys[k] = sample_key(job->seed, px, py, s);
+    }
+    r = clr_integrator_li(it, job->scene, scratch, rays,
+                          slot->values + base * (size_t)it->values_per_sample, keys, n, L, counters);
+    for (int k = 0; r == CLR_SUCCESS && k < n; ++k) {
+      clr_film_sample *f = &fs[base + (size_t)k];
+      f->r = L[3 * k];
+      f->g = L[3 * k + 1];
+      f->b = L[3 * k + 2];
+      f->weight = weights[k];
+    }
+  }
+  if (r == CLR_SUCCESS) {
+    double t0 = now_seconds();
+    r = film_get_tile(job->film, slot->pixels, &slot->film_tile);
+    if (r == CLR_SUCCESS) r = film_tile_add_samples(slot->film_tile, fs, total);
+    *recon_s += now_seconds() - t0;
+  }
+  free(fs); free(rays); free(keys); free(L); free(weights);
+  return r;
+}
+
+static void *worker_main(void *arg) {
+  render_job *job = arg;
+  clr_integrator_scratch *scratch = clr_integrator_scratch_create();
+  clr_integrator_counters counters = {0, 0.0};
+  double busy = 0.0, recon = 0.0;
+  pthread_mutex_lock(&job->mutex);
+  for (;;) {
+    tile_slot *slot = NULL;
+    /* the lowest READY tile keeps merges flowing */
+    for (int i = 0; i < job->nslots; ++i) {
+      tile_slot *c = &job->slots[i];
+      if (c->state == SLOT_READY && (!slot || c->tile < slot->tile)) slot = c;
+    }
+    if (!slot) {
+      if (job->stop) break;
+      pthread_cond_wait(&job->cond, &job->mutex);
+      continue;
+    }
+    slot->state = SLOT_BUSY;
+    pthread_mutex_unlock(&job->mutex);
+    double t0 = now_seconds();
+    clr_result r = scratch ? shade_tile(job, slot, scratch, &counters, &recon)
+                           : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render worker");
+    busy += now_seconds() - t0;
+    pthread_mutex_lock(&job->mutex);
+    slot->result = r;
+    slot->state = SLOT_DONE;
+    pthread_cond_broadcast(&job->cond);
+  }
+  job->trace_s += counters.trace_seconds;
+  job->recon_s += recon;
+  job->shade_s += busy - counters.trace_seconds - recon;
+  job->rays += counters.rays;
+  pthread_mutex_unlock(&job->mutex);
+  clr_integrator_scratch_free(scratch);
+  return NULL;
+}
+
+static int default_threads(void) {
+  long n = sysconf(_SC_NPROCESSORS_ONLN);
+  return n > 0 ? (int)n : 1;
+}
+
+static void progress_bar(int done, int total, double elapsed) {
+  int width = 30, filled = total ? done * width / total : width;
+  char bar[64];
+  for (int i = 0; i < width; ++i) bar[i] = i < filled ? '=' : ' ';
+  bar[width] = 0;
+  double eta = done ? elapsed * (double)(total - done) / (double)done : 0.0;
+  fprintf(stderr, "\r[%s] %d/%d tiles  %.1fs elapsed  ~%.1fs left ", bar, done, total, elapsed, eta);
+  if (done == total) fputc('\n', stderr);
+  fflush(stderr);
+}
+
+/* Runs the tile pipeline; *partial set when cancelled. */
+static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
+                               int nthreads, clr_render_stats *st) {
+  clr_bounds2i sb = clr_sampler_sample_bounds(sampler);
+  int ts = o->tile_size > 0 ? o->tile_size : 16;
+  int ntx = (sb.x1 - sb.x0 + ts - 1) / ts, nty = (sb.y1 - sb.y0 + ts - 1) / ts;
+  int ntiles = ntx * nty;
+  st->tiles_total = ntiles;
+  job->nslots = 2 * nthreads + 2;
+  job->slots = calloc((size_t)job->nslots, sizeof *job->slots);
+  pthread_t *threads = calloc((size_t)nthreads, sizeof *threads);
+  if (!job->slots || !threads) {
+    free(job->slots);
+    free(threads);
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tiles");
+  }
+  pthread_mutex_init(&job->mutex, NULL);
+  pthread_cond_init(&job->cond, NULL);
+  int started = 0;
+  for (; started < nthreads; ++started)
+    if (pthread_create(&threads[started], NULL, worker_main, job) != 0) break;
+  clr_result r = started ? CLR_SUCCESS : clr_fail(NULL, CLR_ERROR_INTERNAL, "pthread_create failed");
+  clr_sample_batch batch;
+  clr_sample_batch_init(&batch);
+  batch.requests = job->integrator->requests;
+  batch.request_count = job->integrator->request_count;
+  int next_gen = 0, next_merge = 0, cancelled = 0;
+  double t_start = now_seconds();
+  while (r == CLR_SUCCESS && next_merge < ntiles) {
+    if (o->cancel && *o->cancel) cancelled = 1;
+    /* generate ahead while a slot is free */
+    tile_slot *free_slot = NULL;
+    if (!cancelled && next_gen < ntiles) {
+      pthread_mutex_lock(&job->mutex);
+      for (int i = 0; i < job->nslots && !free_slot; ++i)
+        if (job->slots[i].state == SLOT_FREE) free_slot = &job->slots[i];
+      pthread_mutex_unlock(&job->mutex);
+    }
+    if (free_slot) {
+      int tx = next_gen % ntx, ty = next_gen / ntx;
+      clr_bounds2i px = {sb.x0 + tx * ts, sb.y0 + ty * ts, sb.x0 + (tx + 1) * ts, sb.y0 + (ty + 1) * ts};
+      if (px.x1 > sb.x1) px.x1 = sb.x1;
+      if (px.y1 > sb.y1) px.y1 = sb.y1;
+      size_t need = (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp *
+                    (size_t)job->integrator->values_per_sample;
+      if (need > free_slot->values_cap) {
+        float *v = realloc(free_slot->values, need * sizeof *v);
+        if (!v) { r = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "sample values"); break; }
+        free_slot->values = v;
+        free_slot->values_cap = need;
+      }
+      batch.pixels = px;
+      clr_sample_output out;
+      clr_sample_output_init(&out);
+      out.host_values = free_slot->values;
+      double t0 = now_seconds();
+      r = clr_sampler_generate(sampler, &batch, &out);
+      st->seconds_sample_generation += now_seconds() - t0;
+      if (r != CLR_SUCCESS) break;
+      pthread_mutex_lock(&job->mutex);
+      free_slot->tile = next_gen++;
+      free_slot->pixels = px;
+      free_slot->sample_count = job->spp;
+      free_slot->state = SLOT_READY;
+      pthread_cond_broadcast(&job->cond);
+      pthread_mutex_unlock(&job->mutex);
+      continue;
+    }
+    if (next_merge >= next_gen) break; /* cancelled with nothing in flight */
+    /* merge the next tile in order */
+    tile_slot *m = NULL;
+    pthread_mutex_lock(&job->mutex);
+    for (;;) {
+      for (int i = 0; i < job->nslots && !m; ++i)
+        if (job->slots[i].state == SLOT_DONE && job->slots[i].tile == next_merge) m = &job->slots[i];
+      if (m) break;
+      pthread_cond_wait(&job->cond, &job->mutex);
+    }
+    pthread_mutex_unlock(&job->mutex);
+    r = m->result;
+    if (r == CLR_SUCCESS) {
+      double t0 = now_seconds();
+      r = film_merge_tile(job->film, m->film_tile);
+      st->seconds_merge += now_seconds() - t0;
+    }
+    film_tile_release(m->film_tile);
+    m->film_tile = NULL;
+    pthread_mutex_lock(&job->mutex);
+    m->state = SLOT_FREE;
+    pthread_mutex_unlock(&job->mutex);
+    ++next_merge;
+    st->tiles_done = next_merge;
+    if (o->progress) progress_bar(next_merge, ntiles, now_seconds() - t_start);
+  }
+  /* stop the workers; wait for tiles in flight when failing */
+  pthread_mutex_lock(&job->mutex);
+  for (;;) {
+    int busy = 0;
+    for (int i = 0; i < job->nslots; ++i) {
+      if (job->slots[i].state == SLOT_READY) job->slots[i].state = SLOT_FREE;
+      busy |= job->slots[i].state == SLOT_BUSY;
+    }
+    if (!busy) break;
+    pthread_cond_wait(&job->cond, &job->mutex);
+  }
+  job->stop = 1;
+  pthread_cond_broadcast(&job->cond);
+  pthread_mutex_unlock(&job->mutex);
+  for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
+  for (int i = 0; i < job->nslots; ++i) {
+    if (job->slots[i].film_tile) film_tile_release(job->slots[i].film_tile);
+    free(job->slots[i].values);
+  }
+  if (o->progress && st->tiles_done < ntiles) fputc('\n', stderr);
+  pthread_cond_destroy(&job->cond);
+  pthread_mutex_destroy(&job->mutex);
+  free(job->slots);
+  free(threads);
+  st->partial = st->tiles_done < ntiles;
+  return r;
+}
+
+/* ---------- output paths ---------- */
+
+static int has_suffix(const char *s, const char *suffix) {
+  size_t a = strlen(s), b = strlen(suffix);
+  if (a < b) return 0;
+  for (size_t i = 0; i < b; ++i) {
+    char c = s[a - b + i];
+    if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+    if (c != suffix[i]) return 0;
+  }
+  return 1;
+}
+
+static clr_result output_paths(const char *path, clr_render_stats *st) {
+  if (strlen(path) + 8 >= sizeof st->exr_path)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "output path too long: %s", path);
+  st->exr_path[0] = 0;
+  if (has_suffix(path, ".png")) {
+    snprintf(st->png_path, sizeof st->png_path, "%s", path);
+    return CLR_SUCCESS;
+  }
+  snprintf(st->exr_path, sizeof st->exr_path, "%s", path);
+  if (has_suffix(path, ".exr"))
+    snprintf(st->png_path, sizeof st->png_path, "%.*s.png", (int)(strlen(path) - 4), path);
+  else
+    snprintf(st->png_path, sizeof st->png_path, "%s.png", path);
+  return CLR_SUCCESS;
+}
+
+/* ---------- entry points ---------- */
+
+clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *opts,
+                           clr_render_stats *stats, int write_files, clr_render_image *image) {
+  clr_render_options defaults;
+  clr_render_options_init(&defaults);
+  const clr_render_options *o = opts ? opts : &defaults;
+  if (o->struct_size != sizeof *o)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_render_options.struct_size %zu, expected %zu",
+                    o->struct_size, sizeof *o);
+  clr_render_stats local;
+  clr_render_stats_init(&local);
+  clr_render_stats *st = &local;
+  double t_begin = now_seconds();
+  warn_sink sink = {o->quiet};
+  clr_warn_fn warn = warn_print;
+  void *wu = &sink;
+
+  clr_render_settings settings;
+  clr_render_settings_from_desc(d, &settings);
+  if (o->crop_given) memcpy(settings.crop_window, o->crop_window, sizeof settings.crop_window);
+  if (o->xresolution > 0) settings.x_resolution = o->xresolution;
+  if (o->yresolution > 0) settings.y_resolution = o->yresolution;
+  clr_result r = CLR_SUCCESS;
+  if (write_files) {
+    r = output_paths(o->outfile ? o->outfile : settings.filename, st);
+    if (r == CLR_SUCCESS && st->exr_path[0]) r = clr_check_writable(st->exr_path);
+    if (r == CLR_SUCCESS) r = clr_check_writable(st->png_path);
+    if (r != CLR_SUCCESS) return r;
+  }
+
+  clr_sampler_desc sdesc;
+  clr_filter_desc fdesc;
+  CLR_CHECK(sampler_from_desc(d, o, warn, wu, &sdesc));
+  CLR_CHECK(filter_from_desc(d, o, warn, wu, &fdesc));
+
+  double t0 = now_seconds();
+  clr_render_scene *scene = NULL;
+  CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
+  clr_integrator integ;
+  r = clr_integrator_create(d, scene, warn, wu, &integ);
+  if (r != CLR_SUCCESS) { clr_render_scene_free(scene); return r; }
+  if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
+  st->seconds_build = now_seconds() - t0;
+
+  clr_context ctx = NULL;
+  clr_sampler sampler = NULL;
+  clr_film film = NULL;
+  clr_context_desc cdesc;
+  clr_context_desc_init(&cdesc);
+  cdesc.device = o->device;
+  r = clr_context_create(&cdesc, &ctx);
+  if (r == CLR_SUCCESS) {
+    clr_film_desc fd;
+    clr_film_desc_init(&fd);
+    fd.x_resolution = settings.x_resolution;
+    fd.y_resolution = settings.y_resolution;
+    memcpy(fd.crop_window, settings.crop_window, sizeof fd.crop_window);
+    fd.scale = settings.scale;
+    fd.max_sample_luminance = settings.max_sample_luminance;
+    fd.filter = fdesc;
+    r = film_create(ctx, &fd, &film);
+  }
+  if (r == CLR_SUCCESS) {
+    sdesc.film.x_resolution = settings.x_resolution;
+    sdesc.film.y_resolution = settings.y_resolution;
+    memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
+    sdesc.film.filter_radius[0] = fdesc.radius[0];
+    sdesc.film.filter_radius[1] = fdesc.radius[1];
+    r = clr_sampler_create(ctx, &sdesc, &sampler);
+  }
+  if (r == CLR_SUCCESS) r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
+  int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
+  if (r == CLR_SUCCESS) {
+    render_job job;
+    memset(&job, 0, sizeof job);
+    job.scene = scene;
+    job.integrator = &integ;
+    job.film = film;
+    job.spp = clr_sampler_spp(sampler);
+    job.seed = o->seed;
+    st->spp = job.spp;
+    st->threads = nthreads;
+    snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
+    snprintf(st->integrator, sizeof st->integrator, "%s",
+             integ.type == CLR_INTEGRATOR_AO ? "ambientocclusion"
+             : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting" : "path");
+    double tr = now_seconds();
+    r = render_tiles(&job, sampler, o, nthreads, st);
+    st->seconds_render = now_seconds() - tr;
+    st->seconds_tracing = job.trace_s;
+    st->seconds_shading = job.shade_s;
+    st->seconds_reconstruction = job.recon_s;
+    st->rays = job.rays;
+  }
+  clr_render_image im;
+  memset(&im, 0, sizeof im);
+  if (r == CLR_SUCCESS) {
+    im.full_width = settings.x_resolution;
+    im.full_height = settings.y_resolution;
+    im.pixel_bounds = film_pixel_bounds(film);
+    im.width = im.pixel_bounds.x1 - im.pixel_bounds.x0;
+    im.height = im.pixel_bounds.y1 - im.pixel_bounds.y0;
+    im.rgb = malloc((size_t)im.width * (size_t)im.height * 3 * sizeof(float));
+    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f) : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "image");
+    st->samples = film_sample_count(film);
+    st->dropped_samples = film_dropped_samples(film);
+  }
+  if (r == CLR_SUCCESS && write_files) {
+    double tw = now_seconds();
+    r = clr_render_write_output(st->exr_path[0] ? st->exr_path : NULL, st->png_path, &im, st);
+    st->seconds_output = now_seconds() - tw;
+  }
+  if (r == CLR_SUCCESS && image) *image = im;
+  else free(im.rgb);
+  if (sampler) clr_sampler_release(sampler);
+  if (film) film_release(film);
+  if (ctx) clr_context_release(ctx);
+  clr_integrator_free(&integ);
+  clr_render_scene_free(scene);
+  st->seconds_total = now_seconds() - t_begin;
+  if (stats) {
+    double parse = stats->seconds_parse;
+    *stats = local;
+    stats->seconds_parse = parse;
+  }
+  return r;
+}
+
+clr_result clr_render_file(const char *path, const clr_render_options *opts,
+                           clr_render_stats *stats) {
+  if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
+  warn_sink sink = {opts ? opts->quiet : 0};
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  po.warn = warn_print;
+  po.warn_user = &sink;
+  double t0 = now_seconds();
+  clr_scene_desc *desc = NULL;
+  CLR_CHECK(clr_scene_parse_file(path, &po, &desc));
+  double parse = now_seconds() - t0;
+  if (stats) {
+    clr_render_stats_init(stats);
+    stats->seconds_parse = parse;
+  }
+  clr_result r = clr_render_desc(desc, opts, stats, 1, NULL);
+  if (stats) stats->seconds_total += parse;
+  clr_scene_desc_free(desc);
+  return r;
+}
+
+int clr_render_stats_json(const clr_render_stats *s, char *buf, size_t size) {
+  return snprintf(buf, size,
+                  "{\"seconds\":{\"total\":%.6f,\"parse\":%.6f,\"build\":%.6f,\"render\":%.6f,"
+                  "\"sample_generation\":%.6f,\"tracing\":%.6f,\"shading\":%.6f,"
+                  "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f},"
+                  "\"rays\":%llu,\"samples\":%llu,\"dropped_samples\":%llu,\"tiles\":%d,"
+                  "\"tiles_total\":%d,\"threads\":%d,\"spp\":%d,\"sampler\":\"%s\","
+                  "\"integrator\":\"%s\",\"partial\":%d}",
+                  s->seconds_total, s->seconds_parse, s->seconds_build, s->seconds_render,
+                  s->seconds_sample_generation, s->seconds_tracing, s->seconds_shading,
+                  s->seconds_reconstruction, s->seconds_merge, s->seconds_output,
+                  (unsigned long long)s->rays, (unsigned long long)s->samples,
+                  (unsigned long long)s->dropped_samples, s->tiles_done, s->tiles_total, s->threads,
+                  s->spp, s->sampler, s->integrator, s->partial);
+}

@@ -1,0 +1,65 @@
+/* clrender end-to-end rendering of pbrt-v3 scene files: Embree tracing on the host, sample
+ * vectors from the sampler kernels, reconstruction by the film, EXR + PNG output. */
+#ifndef CLRENDER_RENDER_H
+#define CLRENDER_RENDER_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "clrender/result.h"
+#include "clrender/sampler.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct clr_render_options {
+  size_t struct_size;      /* sizeof(clr_render_options), set by clr_render_options_init */
+  int32_t nthreads;        /* worker threads; 0: every core */
+  int32_t spp;             /* samples per pixel override; 0: the scene's */
+  int32_t tile_size;       /* render tile side in pixels (16); never changes the image beyond
+                              float rounding of the film sums */
+  uint32_t seed;           /* mixed into CLR_SEEDING_PIXEL streams (0) */
+  clr_seeding seeding;     /* CLR_SEEDING_PIXEL (default) or CLR_SEEDING_PBRT_V3 */
+  const char *sampler;     /* sampler name override or NULL */
+  const char *filter;      /* filter name override ("box", "triangle") or NULL */
+  int32_t crop_given;      /* 1: crop_window overrides the Film's "cropwindow" */
+  float crop_window[4];    /* x0 x1 y0 y1 in [0,1] */
+  int32_t xresolution, yresolution; /* overrides when > 0 */
+  const char *outfile;     /* EXR path (PNG written beside it); NULL: the Film's "filename" */
+  const char *device;      /* OpenCL device selector (see clr_context_desc) or NULL */
+  int32_t quiet;           /* 1: no warnings on stderr */
+  int32_t progress;        /* 1: progress bar on stderr */
+  volatile int *cancel;    /* optional: set non-zero to stop after the tiles in flight; the
+                              image written is then marked "partial" */
+} clr_render_options;
+
+typedef struct clr_render_stats {
+  size_t struct_size;               /* sizeof(clr_render_stats), set by clr_render_stats_init */
+  double seconds_total, seconds_parse, seconds_build;
+  double seconds_render;            /* wall time of the tile loop */
+  /* phase breakdown; worker phases are summed over threads (CPU seconds) */
+  double seconds_sample_generation, seconds_tracing, seconds_shading,
+      seconds_reconstruction, seconds_merge, seconds_output;
+  uint64_t rays, samples, dropped_samples;
+  int32_t tiles_done, tiles_total, threads, spp, partial;
+  char sampler[32], integrator[32];
+  char exr_path[1024], png_path[1024];
+} clr_render_stats;
+
+void clr_render_options_init(clr_render_options *options);
+void clr_render_stats_init(clr_render_stats *stats);
+
+/* Parses, builds and renders the scene and writes the image. Scene errors (syntax, missing
+ * files, bad meshes) fail before anything is written, with clr_last_error_message() naming the
+ * file and line. CLR_ERROR_INTERRUPTED is not returned for a cancelled render: the partial
+ * image is written and stats->partial set. options and stats may be NULL. */
+clr_result clr_render_file(const char *scene_path, const clr_render_options *options,
+                           clr_render_stats *stats);
+
+/* The stats as one JSON object (no newline) into buf; returns the length it needs. */
+int clr_render_stats_json(const clr_render_stats *stats, char *buf, size_t size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
