@@ -178,6 +178,10 @@ static void area_emit(const rs_light *l, const float n[3], const float w[3], flo
   else li[0] = li[1] = li[2] = 0.0f;
 }
 
+/* Points on the sphere itself count as inside (pbrt-v3 tests its offset ray origin): cone
+ * sampling from them would see the sphere from the wrong side. */
+static int sphere_inside(float dc2, float r) { return dc2 <= r * r * (1.0f + 2e-4f); }
+
 /* Samples a point on the emitter: position, oriented normal, area-measure pdf or (cone)
  * solid-angle pdf with *solid = 1. */
 static void sample_emitter(const clr_render_scene *s, const rs_light *l, const float ref[3],
@@ -210,7 +214,7 @@ static void sample_emitter(const clr_render_scene *s, const rs_light *l, const f
   const rs_shape *sh = &s->shapes[l->shape];
   float wc[3] = {l->pos[0] - ref[0], l->pos[1] - ref[1], l->pos[2] - ref[2]};
   float dc2 = rs_dot(wc, wc), r = l->radius;
-  if (dc2 <= r * r) {
+  if (sphere_inside(dc2, r)) {
     float z = 1.0f - 2.0f * u[0], rr = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
     n[0] = rr * cosf(phi); n[1] = rr * sinf(phi); n[2] = z;
     for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
@@ -347,7 +351,7 @@ float rs_light_pdf(const clr_render_scene *s, int light, const float p[3], const
   if (l->type == RS_LIGHT_AREA_SPHERE) {
     float wc[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
     float dc2 = rs_dot(wc, wc);
-    if (dc2 > l->radius * l->radius) {
+    if (!sphere_inside(dc2, l->radius)) {
       float sin2 = l->radius * l->radius / dc2, cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin2));
       return 1.0f / (2.0f * RS_PI * (1.0f - cos_max));
     }
