@@ -7,16 +7,34 @@
 #include "sampler_types.h"
 #include "pcg32.h"
 
-/* One prime base of the scrambled dimensions (dimension d uses record d), filled on the host by
- * clr_halton_primes(). Dividing a 32-bit n by `base` needs no divide instruction:
- *   t = mulhi32(n, div_magic); n / base = (t + ((n - t) >> 1)) >> div_shift. */
+/* Records in clr_halton_primes(): one per prime (dimension d >= 2 uses record d), then one
+ * unscrambled base-3 record (identity permutation, scramble_tail 0) for dimension 1. */
+#define CLR_HALTON_BASE3_RECORD CLR_HALTON_PRIMES
+#define CLR_HALTON_PRIME_RECORDS (CLR_HALTON_PRIMES + 1)
+/* Values below 2^32 are split into chunks of m digits, chunk base B = base^m >= 128, so that at
+ * most 5 chunks (table lookups) make a radical inverse, in a loop-free (vectorisable) body. */
+#define CLR_HALTON_CHUNK_MIN 128u
+#define CLR_HALTON_MAX_CHUNKS32 5
+/* Digits of a 32-bit value in base 2: the most of any base. */
+#define CLR_HALTON_MAX_DIGITS32 32
+
+/* One radical-inverse base, filled on the host by clr_halton_primes(). All offsets index the
+ * single u16 table of clr_halton_permutations(). 32-bit scalars only. */
 typedef struct clr_halton_prime {
   clr_u32 base;
-  clr_u32 perm_offset;  /* first entry of this base's digit permutation (pbrt-v3 PrimeSums) */
+  clr_u32 perm_offset;  /* pbrt-v3's digit permutation of this base (PrimeSums[d]) */
   float inv_base;       /* (float)1 / (float)base */
   float scramble_tail;  /* inv_base * perm[0] / (1 - inv_base), in float, pbrt-v3's order */
-  clr_u32 div_magic;    /* floor(2^32 * (2^l - base) / base) + 1, l = ceil(log2(base)) */
-  clr_u32 div_shift;    /* l - 1 */
+  /* n / base for 32-bit n: t = mulhi32(n, div_magic), (t + ((n - t) >> 1)) >> div_shift */
+  clr_u32 div_magic, div_shift;
+  clr_u32 chunk_base;   /* B = base^chunk_digits, the smallest power >= 128 */
+  clr_u32 chunk_digits;
+  clr_u32 chunk_magic, chunk_shift; /* n / B, as div_magic */
+  clr_u32 chunk_offset; /* B entries: chunk value D -> its m digits permuted, reversed */
+  clr_u32 tail_offset;  /* B entries: D -> only its significant digits permuted, reversed, with
+                           (their count - 1) << tail_shift (for the top chunk) */
+  clr_u32 tail_shift;   /* bits of a reversed chunk value (values < B <= 2^tail_shift) */
+  float inv_base_pow[CLR_HALTON_MAX_DIGITS32 + 1]; /* [k]: pbrt-v3's invBaseN after k digits */
 } clr_halton_prime;
 
 /* (float)1 / (float)3, written out so that devices never divide. */
@@ -108,12 +126,59 @@ CLR_INLINE float clr_radical_inverse(clr_u32 base, float inv_base, clr_u64 a) {
   return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
 }
 
+/* ScrambledRadicalInverseSpecialized for a < 2^32, loop-free after unrolling: chunk by chunk
+ * (at most 5 of base B = base^m) the table gives the permuted digits already reversed; the top
+ * chunk uses the tail table, which keeps only its significant digits. The integer `reversed`
+ * and the digit count k are pbrt-v3's, so inv_base_pow[k] is its invBaseN. */
+CLR_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_halton_prime *pr,
+                                                 CLR_GLOBAL const clr_u16 *perms, clr_u32 a) {
+  clr_u32 base = pr->base, chunk_base = pr->chunk_base, chunk_digits = pr->chunk_digits;
+  clr_u32 magic = pr->chunk_magic, shift = pr->chunk_shift;
+  clr_u32 chunk_offset = pr->chunk_offset, tail_offset = pr->tail_offset;
+  clr_u32 tail_shift = pr->tail_shift, value_mask = (1u << tail_shift) - 1u;
+  /* base^count for a top chunk of count <= chunk_digits <= 7 digits (7: base 2, 5: base 3). */
+  clr_u32 base2 = base * base, base3 = base2 * base, base4 = base3 * base, base5 = base4 * base;
+  clr_u32 base6 = base5 * base, base7 = base6 * base;
+  clr_u64 reversed = 0u;
+  clr_u32 digits = 0u;
+#if CLR_DEVICE
+#pragma unroll
+#endif
+  for (int chunk = 0; chunk < CLR_HALTON_MAX_CHUNKS32; ++chunk) {
+    clr_u32 next = clr_halton_div32(a, magic, shift);
+    clr_u32 d = a - next * chunk_base;
+    clr_u32 top = next == 0u;
+    clr_u32 entry = perms[(top ? tail_offset : chunk_offset) + d];
+    clr_u32 count = top ? (entry >> tail_shift) + 1u : chunk_digits;
+    clr_u32 value = entry & value_mask;
+    clr_u32 scale = count == 1u   ? base
+                    : count == 2u ? base2
+                    : count == 3u ? base3
+                    : count == 4u ? base4
+                    : count == 5u ? base5
+                    : count == 6u ? base6
+                                  : base7;
+    clr_u32 active = a != 0u;
+    reversed = active ? reversed * scale + value : reversed;
+    digits += active ? count : 0u;
+    a = next;
+  }
+  float v = pr->inv_base_pow[digits] * ((float)reversed + pr->scramble_tail);
+  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+}
+
 /* pbrt-v3 ScrambledRadicalInverseSpecialized(perm, a):
  *   min(invBaseN * ((float)reversed + scramble_tail), 1 - eps), digits d replaced by perm[d].
- * `pr` points to a private copy of the prime's record (copy it from the global table first);
- * `perms` is the whole permutation table (clr_halton_permutations()). */
-CLR_INLINE float clr_scrambled_radical_inverse(const clr_halton_prime *pr,
+ * `pr` is the prime's record in the global table (clr_halton_primes()), `perms` the whole u16
+ * table (clr_halton_permutations()). With CLR_HALTON_INDEX32 defined (the caller guarantees
+ * a < 2^32) only the loop-free 32-bit path is compiled: define it in kernels whenever the largest
+ * index of a launch is below 2^32, so that the work-item loop can be vectorised. */
+CLR_INLINE float clr_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr,
                                                CLR_GLOBAL const clr_u16 *perms, clr_u64 a) {
+#ifdef CLR_HALTON_INDEX32
+  return clr_scrambled_radical_inverse32(pr, perms, (clr_u32)a);
+#else
+  if ((a >> 32u) == 0u) return clr_scrambled_radical_inverse32(pr, perms, (clr_u32)a);
   CLR_GLOBAL const clr_u16 *perm = perms + pr->perm_offset;
   clr_u32 base = pr->base;
   float inv_base = pr->inv_base;
@@ -134,6 +199,7 @@ CLR_INLINE float clr_scrambled_radical_inverse(const clr_halton_prime *pr,
   }
   float v = inv_base_n * ((float)reversed + pr->scramble_tail);
   return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+#endif
 }
 
 /* pbrt-v3 InverseRadicalInverse<base>(inverse, nDigits): the index whose n_digits lowest base-b
@@ -148,7 +214,7 @@ CLR_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inverse, cl
   return index;
 }
 
-/* Same for small values (pixel coordinates modulo 128), in 32 bits. */
+/* Same for small values, in 32 bits. */
 CLR_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse, clr_i32 n_digits) {
   clr_u32 index = 0u;
   for (clr_i32 i = 0; i < n_digits; ++i) {
@@ -159,37 +225,60 @@ CLR_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse, cl
   return index;
 }
 
+/* v / 3^n for n <= 5 (the base-3 exponent never exceeds 5: 3^5 = 243 >= 128), loop-free. */
+CLR_INLINE clr_u32 clr_halton_div_pow3(clr_u32 v, clr_i32 n) {
+#if CLR_DEVICE
+#pragma unroll
+#endif
+  for (clr_i32 i = 0; i < 5; ++i) v = i < n ? v / 3u : v;
+  return v;
+}
+
 /* pbrt-v3 HaltonSampler::GetIndexForSample for the absolute pixel (px, py): the global index of
- * the pixel's sample `sample_number` (CRT over the base-2 and base-3 scales set up by
- * clr_halton_setup). Pixels are taken modulo 128 like pbrt-v3's Mod (p & 127 for negatives too). */
+ * the pixel's sample `sample_number`. Pixels are taken modulo 128 like pbrt-v3's Mod (p & 127,
+ * negatives included). pbrt-v3's offset (d0 * scale1 * inv0 + d1 * scale0 * inv1) mod stride is
+ * formed from its two CRT terms reduced mod scale0 and scale1 (same value, no runtime division). */
 CLR_INLINE clr_u64 clr_halton_sampler_index(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
                                             clr_i64 sample_number) {
+  clr_u32 scale0 = (clr_u32)p->halton_scale[0], scale1 = (clr_u32)p->halton_scale[1];
   clr_u32 stride = (clr_u32)p->halton_stride;
-  clr_u32 offset = 0u;
-  if (stride > 1u) {
-    clr_u32 mx = (clr_u32)px & (CLR_HALTON_MAX_RESOLUTION - 1u);
-    clr_u32 my = (clr_u32)py & (CLR_HALTON_MAX_RESOLUTION - 1u);
-    clr_u32 d0 = clr_halton_inverse_digits32(2u, mx, p->halton_exponent[0]);
-    clr_u32 d1 = clr_halton_inverse_digits32(3u, my, p->halton_exponent[1]);
-    /* stride / scale[0] == scale[1] and back; every term stays below 2^24. */
-    offset = (d0 * (clr_u32)p->halton_scale[1] * p->halton_mult_inverse[0] +
-              d1 * (clr_u32)p->halton_scale[0] * p->halton_mult_inverse[1]) % stride;
+  clr_i32 exponent1 = p->halton_exponent[1];
+  clr_u32 mx = (clr_u32)px & (CLR_HALTON_MAX_RESOLUTION - 1u);
+  clr_u32 my = (clr_u32)py & (CLR_HALTON_MAX_RESOLUTION - 1u);
+  /* InverseRadicalInverse<2>(mx, e0): the e0 low bits reversed (e0 <= 7). */
+  clr_u32 d0 = (clr_reverse_bits32(mx) >> (31u - (clr_u32)p->halton_exponent[0])) >> 1u;
+  /* InverseRadicalInverse<3>(my, e1), e1 <= 5. */
+  clr_u32 d1 = 0u;
+#if CLR_DEVICE
+#pragma unroll
+#endif
+  for (clr_i32 i = 0; i < 5; ++i) {
+    clr_u32 next = my / 3u;
+    d1 = i < exponent1 ? d1 * 3u + (my - next * 3u) : d1;
+    my = next;
   }
+  clr_u32 x0 = (d0 * p->halton_mult_inverse[0]) & (scale0 - 1u);
+  clr_u32 y1 = d1 * p->halton_mult_inverse[1];
+  clr_u32 x1 = y1 - clr_halton_div_pow3(y1, exponent1) * scale1;
+  clr_u32 offset = x0 * scale1 + x1 * scale0;
+  offset = offset >= stride ? offset - stride : offset;
   return (clr_u64)offset + (clr_u64)sample_number * (clr_u64)stride;
 }
 
 /* index / scale[1] (scale[1] = 3^exponent[1]). */
 CLR_INLINE clr_u64 clr_halton_drop_base3_digits(const clr_sampler_params *p, clr_u64 index) {
+#ifndef CLR_HALTON_INDEX32
   if ((index >> 32u) != 0u) return index / (clr_u64)(clr_u32)p->halton_scale[1];
-  clr_u32 a = (clr_u32)index;
-  for (clr_i32 i = 0; i < p->halton_exponent[1]; ++i) a /= 3u;
-  return a;
+#endif
+  return clr_halton_div_pow3((clr_u32)index, p->halton_exponent[1]);
 }
 
 /* pbrt-v3 HaltonSampler::SampleDimension(index, dim):
  *   dims 0, 1: 0.5 with sample_pixel_center; else Phi_2(index >> exponent[0]) and
- *              Phi_3(index / scale[1]), the offset inside the pixel (unscrambled);
+ *              Phi_3(index / scale[1]), the offset inside the pixel (unscrambled; dim 1 uses
+ *              record CLR_HALTON_BASE3_RECORD);
  *   dims 2..999: ScrambledRadicalInverse with primes[dim] and its permutation.
+ * `primes` holds CLR_HALTON_PRIME_RECORDS records, `perms` the whole clr_halton_permutations().
  * Where pbrt-v3 aborts (dim >= 1000, or dim < 0) this returns a documented stand-in:
  *   clr_hash_float(clr_mix64(index) ^ (clr_u32)dim), uniform in [0, 1). */
 CLR_INLINE float clr_halton_sampler_value(const clr_sampler_params *p,
@@ -199,12 +288,12 @@ CLR_INLINE float clr_halton_sampler_value(const clr_sampler_params *p,
   if (dim == 0 || dim == 1) {
     if (p->sample_pixel_center) return 0.5f;
     if (dim == 0) return clr_radical_inverse_base2(index >> (clr_u32)p->halton_exponent[0]);
-    return clr_radical_inverse(3u, CLR_HALTON_INV_3, clr_halton_drop_base3_digits(p, index));
+    return clr_scrambled_radical_inverse(primes + CLR_HALTON_BASE3_RECORD, perms,
+                                         clr_halton_drop_base3_digits(p, index));
   }
   if ((clr_u32)dim >= CLR_HALTON_PRIMES)
     return clr_hash_float(clr_mix64(index) ^ (clr_u64)(clr_u32)dim);
-  clr_halton_prime pr = primes[dim];
-  return clr_scrambled_radical_inverse(&pr, perms, index);
+  return clr_scrambled_radical_inverse(primes + dim, perms, index);
 }
 
 #endif

@@ -78,13 +78,34 @@ static void test_primes(void **state) {
   assert_float_bits_equal(pr[2].scramble_tail, (0.2f * 3.0f) / (1.0f - 0.2f));
   assert_float_equal(pr[2].scramble_tail, 0.75f, 1e-7f);
   assert_float_bits_equal(CLR_HALTON_INV_3, 1.0f / 3.0f);
+  /* pbrt-v3's invBaseN after k digits is the running float product. */
+  float running = 1.0f;
+  for (int k = 0; k <= CLR_HALTON_MAX_DIGITS32; ++k, running *= pr[2].inv_base)
+    assert_float_bits_equal(pr[2].inv_base_pow[k], running);
+  /* Chunks: base 5 takes 4 digits (625), 11 three (1331), 127 two, 131 one (its permutation). */
+  assert_int_equal(pr[2].chunk_base, 625);
+  assert_int_equal(pr[4].chunk_digits, 3);
+  assert_int_equal(pr[30].base, 127);
+  assert_int_equal(pr[30].chunk_base, 127 * 127);
+  assert_int_equal(pr[31].chunk_digits, 1);
+  assert_int_equal(pr[31].chunk_offset, pr[31].perm_offset);
+  /* The unscrambled base-3 record of dimension 1. */
+  const clr_halton_prime *b3 = &pr[CLR_HALTON_BASE3_RECORD];
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  assert_int_equal(b3->base, 3);
+  assert_int_equal(b3->chunk_base, 243);
+  assert_float_bits_equal(b3->scramble_tail, 0.0f);
+  for (clr_u16 d = 0; d < 3; ++d) assert_int_equal(perms[b3->perm_offset + d], d);
+  /* 5-digit chunk 1 = 00001_3 reversed is 10000_3 = 81; tail of 5 = 12_3 is 21_3 = 7, 2 digits. */
+  assert_int_equal(perms[b3->chunk_offset + 1], 81);
+  assert_int_equal(perms[b3->tail_offset + 5], (1u << b3->tail_shift) | 7u);
 }
 
 static void test_permutations(void **state) {
   (void)state;
   size_t count = 0;
   const clr_u16 *perms = clr_halton_permutations(&count);
-  assert_int_equal(count, CLR_HALTON_PERMUTATION_COUNT);
+  assert_int_equal(count, CLR_HALTON_TABLE_ENTRIES);
   assert_ptr_equal(clr_halton_permutations(NULL), perms);
   const clr_halton_prime *pr = clr_halton_primes();
   static unsigned char seen[8000];
@@ -243,6 +264,36 @@ static void test_scrambled_values(void **state) {
   }
 }
 
+/* The loop-free 32-bit path (chunk tables) against the plain digit loop, for every record. */
+static void test_chunked_path(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  clr_pcg32 rng = clr_pcg32_sequence(21);
+  for (int r = 0; r < CLR_HALTON_PRIME_RECORDS; ++r) {
+    clr_u32 b = pr[r].base;
+    const clr_u16 *perm = perms + pr[r].perm_offset;
+    clr_u32 values[64 + 40];
+    int n = 0;
+    values[n++] = 0;
+    values[n++] = 0xffffffffu;
+    for (clr_u64 power = b; power <= 0xffffffffull && n < 40; power *= b) {
+      values[n++] = (clr_u32)power;
+      values[n++] = (clr_u32)(power - 1);
+      values[n++] = (clr_u32)(power + 1);
+    }
+    while (n < (int)(sizeof values / sizeof values[0]))
+      values[n++] = clr_pcg32_next(&rng) >> (clr_pcg32_next(&rng) % 32);
+    for (int i = 0; i < n; ++i) {
+      float got = clr_scrambled_radical_inverse32(&pr[r], perms, values[i]);
+      float want = ref_scrambled(b, perm, values[i]);
+      if (float_bits(got) != float_bits(want))
+        fail_msg("record %d a %u: %a != %a", r, values[i], got, want);
+      if (r == CLR_HALTON_BASE3_RECORD) assert_float_bits_equal(got, ref_radical_inverse(3, values[i]));
+    }
+  }
+}
+
 static void test_inverse_radical_inverse(void **state) {
   (void)state;
   assert_int_equal(clr_inverse_radical_inverse(2, 1, 3), 4);  /* 001 -> 100 */
@@ -272,6 +323,8 @@ static void test_inverse_radical_inverse(void **state) {
 }
 
 /* ---- sampler ---- */
+
+static clr_u32 mod128(clr_i32 v) { return (clr_u32)(((v % 128) + 128) % 128); }
 
 static clr_sampler_params halton_params(int x0, int y0, int x1, int y1) {
   clr_sampler_params p;
@@ -324,10 +377,33 @@ static void index_cell(const clr_sampler_params *p, clr_u64 index, clr_u32 *cx, 
   *cy = (clr_u32)clr_inverse_radical_inverse(3, index, p->halton_exponent[1]);
 }
 
-static clr_u32 mod128(clr_i32 v) { return (clr_u32)(((v % 128) + 128) % 128); }
+/* clr_halton_sampler_index against pbrt-v3's formula written out with 64-bit arithmetic. */
+static void test_index_matches_pbrt_form(void **state) {
+  (void)state;
+  const int bounds[][4] = {{-2, -2, 66, 34}, {0, 0, 1280, 720}, {0, 0, 5, 4}, {10, 10, 11, 40},
+                           {0, 0, 3, 200}, {-7, 3, 1, 4}};
+  clr_pcg32 rng = clr_pcg32_sequence(23);
+  for (int b = 0; b < 6; ++b) {
+    clr_sampler_params p = halton_params(bounds[b][0], bounds[b][1], bounds[b][2], bounds[b][3]);
+    for (int i = 0; i < 3000; ++i) {
+      clr_i32 px = (clr_i32)(clr_pcg32_next(&rng) % 1000) - 500;
+      clr_i32 py = (clr_i32)(clr_pcg32_next(&rng) % 1000) - 500;
+      clr_i64 s = clr_pcg32_next(&rng) % 5000;
+      clr_u64 stride = (clr_u64)p.halton_stride, offset = 0;
+      clr_u64 d0 = clr_inverse_radical_inverse(2, mod128(px), p.halton_exponent[0]);
+      clr_u64 d1 = clr_inverse_radical_inverse(3, mod128(py), p.halton_exponent[1]);
+      offset += d0 * (stride / (clr_u64)p.halton_scale[0]) * p.halton_mult_inverse[0];
+      offset += d1 * (stride / (clr_u64)p.halton_scale[1]) * p.halton_mult_inverse[1];
+      offset %= stride;
+      assert_int_equal(clr_halton_sampler_index(&p, px, py, s), offset + (clr_u64)s * stride);
+    }
+  }
+}
 
 static void test_index_lands_in_pixel(void **state) {
   (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
   clr_sampler_params p = halton_params(-2, -2, 66, 34);
   const clr_i32 pixels[][2] = {{-2, -2}, {-1, 5}, {0, 0}, {65, 33}, {7, 20},
                                {130, 200}, {-130, -50}, {127, 127}, {128, -129}};
@@ -342,10 +418,10 @@ static void test_index_lands_in_pixel(void **state) {
       assert_int_equal(cx, mod128(px) % (clr_u32)p.halton_scale[0]);
       assert_int_equal(cy, mod128(py) % (clr_u32)p.halton_scale[1]);
       /* The float values agree: Phi_2(index) * 128 = cx + dim0 value (both exact here). */
-      float u = clr_halton_sampler_value(&p, NULL, NULL, index, 0);
+      float u = clr_halton_sampler_value(&p, pr, perms, index, 0);
       assert_true(u >= 0.0f && u < 1.0f);
       assert_float_bits_equal(clr_radical_inverse_base2(index) * 128.0f, (float)cx + u);
-      float w = clr_halton_sampler_value(&p, NULL, NULL, index, 1);
+      float w = clr_halton_sampler_value(&p, pr, perms, index, 1);
       assert_true(w >= 0.0f && w < 1.0f);
       assert_float_equal(clr_radical_inverse(3, CLR_HALTON_INV_3, index) * 81.0f, (float)cy + w,
                          1e-4f);
@@ -444,6 +520,16 @@ static const char *device_source =
     "  ulong index = clr_halton_sampler_index(&p, pixel % width, pixel / width, s);\n"
     "  for (int d = 0; d < dims; ++d)\n"
     "    out[(size_t)i * dims + d] = clr_halton_sampler_value(&p, primes, perms, index, d);\n"
+    "}\n"
+    "__kernel void one_value(__global const clr_sampler_params *params,\n"
+    "                     __global const clr_halton_prime *primes, __global const ushort *perms,\n"
+    "                     int width, int spp, int dims, __global float *out) {\n"
+    "  int i = (int)get_global_id(0);\n"
+    "  int sample = i / dims, d = i - sample * dims;\n"
+    "  int pixel = sample / spp, s = sample - pixel * spp;\n"
+    "  clr_sampler_params p = *params;\n"
+    "  ulong index = clr_halton_sampler_index(&p, pixel % width, pixel / width, s);\n"
+    "  out[i] = clr_halton_sampler_value(&p, primes, perms, index, d);\n"
     "}\n";
 
 typedef struct device_fixture {
@@ -460,14 +546,15 @@ static cl_mem make_buffer(cl_context cl, size_t bytes, const void *data) {
   return m;
 }
 
-static void device_setup(device_fixture *f, const clr_sampler_params *p) {
+static void device_setup(device_fixture *f, const clr_sampler_params *p, const char *defines) {
   assert_int_equal(clr_context_create(NULL, &f->ctx), CLR_SUCCESS);
   cl_context cl = clr_context_cl_context(f->ctx);
   cl_device_id dev = clr_context_cl_device(f->ctx);
   cl_int err = 0;
   f->program = clCreateProgramWithSource(cl, 1, &device_source, NULL, &err);
   assert_int_equal(err, CL_SUCCESS);
-  const char *options = "-cl-std=CL1.2 -I " CLR_SOURCE_DIR "/kernels";
+  char options[1024];
+  snprintf(options, sizeof options, "-cl-std=CL1.2 -I %s/kernels %s", CLR_SOURCE_DIR, defines);
   err = clBuildProgram(f->program, 1, &dev, options, NULL, NULL);
   if (err != CL_SUCCESS) {
     char log[8192] = {0};
@@ -477,7 +564,8 @@ static void device_setup(device_fixture *f, const clr_sampler_params *p) {
   size_t count = 0;
   const clr_u16 *perms = clr_halton_permutations(&count);
   f->params = make_buffer(cl, sizeof *p, p);
-  f->primes = make_buffer(cl, sizeof(clr_halton_prime) * CLR_HALTON_PRIMES, clr_halton_primes());
+  f->primes = make_buffer(cl, sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                          clr_halton_primes());
   f->perms = make_buffer(cl, sizeof(clr_u16) * count, perms);
 }
 
@@ -493,7 +581,7 @@ static void test_device_matches_host(void **state) {
   (void)state;
   clr_sampler_params p = halton_params(-2, -2, 66, 34);
   device_fixture f;
-  device_setup(&f, &p);
+  device_setup(&f, &p, "");
   cl_context cl = clr_context_cl_context(f.ctx);
   cl_command_queue q = clr_context_cl_queue(f.ctx);
   const cl_int dims = 40;
@@ -538,22 +626,22 @@ static void test_device_matches_host(void **state) {
   device_teardown(&f);
 }
 
-/* Reports device throughput (values per second) for 1280x720-style bounds; asserts only that
- * the output matches the host for a sample of the values. */
-static void test_device_throughput(void **state) {
-  (void)state;
+/* Runs `kernel` (pixel_values: a work item per sample; one_value: a work item per value) over
+ * 256 x 64 pixels x 16 samples x 16 dims with CLR_HALTON_INDEX32, prints the throughput and checks
+ * a sample of the values against the host. */
+static void run_throughput(const char *kernel, size_t items, cl_int dims) {
   clr_sampler_params p = halton_params(0, 0, 1280, 720);
   device_fixture f;
-  device_setup(&f, &p);
+  device_setup(&f, &p, "-DCLR_HALTON_INDEX32");
   cl_context cl = clr_context_cl_context(f.ctx);
   cl_command_queue q = clr_context_cl_queue(f.ctx);
-  const cl_int width = 256, spp = 16, dims = 16;
-  const size_t items = (size_t)width * 64 * spp;
-  float *out = malloc(items * dims * sizeof(float));
+  const cl_int width = 256, spp = 16;
+  const size_t values = (size_t)width * 64 * spp * (size_t)dims;
+  float *out = malloc(values * sizeof(float));
   assert_non_null(out);
-  cl_mem res = make_buffer(cl, items * dims * sizeof(float), NULL);
+  cl_mem res = make_buffer(cl, values * sizeof(float), NULL);
   cl_int err = 0;
-  cl_kernel k = clCreateKernel(f.program, "pixel_values", &err);
+  cl_kernel k = clCreateKernel(f.program, kernel, &err);
   assert_int_equal(err, CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 0, sizeof(cl_mem), &f.params), CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 1, sizeof(cl_mem), &f.primes), CL_SUCCESS);
@@ -573,24 +661,31 @@ static void test_device_throughput(void **state) {
     double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     if (rep > 0 && s < best) best = s;
   }
-  printf("halton device throughput: %.3f G values/s (%zu values, %.2f ms)\n",
-         (double)items * dims / best * 1e-9, items * dims, best * 1e3);
-  assert_int_equal(clEnqueueReadBuffer(q, res, CL_TRUE, 0, items * dims * sizeof(float), out, 0,
-                                       NULL, NULL),
-                   CL_SUCCESS);
+  printf("halton %s: %.3f G values/s (%zu values, %.2f ms)\n", kernel,
+         (double)values / best * 1e-9, values, best * 1e3);
+  assert_int_equal(
+      clEnqueueReadBuffer(q, res, CL_TRUE, 0, values * sizeof(float), out, 0, NULL, NULL),
+      CL_SUCCESS);
   const clr_halton_prime *pr = clr_halton_primes();
   const clr_u16 *perms = clr_halton_permutations(NULL);
-  for (size_t i = 0; i < items; i += 97) {
-    int pixel = (int)(i / (size_t)spp), s = (int)(i % (size_t)spp);
-    clr_u64 index = clr_halton_sampler_index(&p, pixel % width, pixel / width, s);
-    for (int d = 0; d < dims; ++d)
-      assert_float_bits_equal(out[i * (size_t)dims + (size_t)d],
-                              clr_halton_sampler_value(&p, pr, perms, index, d));
+  for (size_t v = 0; v < values; v += 31) {
+    size_t sample = v / (size_t)dims;
+    int d = (int)(v % (size_t)dims), pixel = (int)(sample / (size_t)spp);
+    clr_u64 index = clr_halton_sampler_index(&p, pixel % width, pixel / width,
+                                             (clr_i64)(sample % (size_t)spp));
+    assert_float_bits_equal(out[v], clr_halton_sampler_value(&p, pr, perms, index, d));
   }
   free(out);
   clReleaseKernel(k);
   clReleaseMemObject(res);
   device_teardown(&f);
+}
+
+static void test_device_throughput(void **state) {
+  (void)state;
+  const size_t samples = (size_t)256 * 64 * 16;
+  run_throughput("pixel_values", samples, 16);
+  run_throughput("one_value", samples * 16, 16);
 }
 
 int main(void) {
@@ -602,7 +697,9 @@ int main(void) {
       cmocka_unit_test(test_base2_matches_double),
       cmocka_unit_test(test_radical_inverse_values),
       cmocka_unit_test(test_scrambled_values),
+      cmocka_unit_test(test_chunked_path),
       cmocka_unit_test(test_inverse_radical_inverse),
+      cmocka_unit_test(test_index_matches_pbrt_form),
       cmocka_unit_test(test_setup),
       cmocka_unit_test(test_index_lands_in_pixel),
       cmocka_unit_test(test_stratification),

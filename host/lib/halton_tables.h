@@ -10,13 +10,18 @@
 #include "halton_funcs.h"
 #pragma GCC diagnostic pop
 
-/* Sum of the first CLR_HALTON_PRIMES primes: entries of the permutation table. */
+/* Sum of the first CLR_HALTON_PRIMES primes: entries of pbrt-v3's permutation table. */
 #define CLR_HALTON_PERMUTATION_COUNT 3682913u
+/* All entries of clr_halton_permutations(): pbrt-v3's permutations, the identity permutation of
+ * the unscrambled base-3 record, then the chunk and tail tables of the bases below 128. */
+#define CLR_HALTON_TABLE_ENTRIES 3965994u
 
-/* The CLR_HALTON_PRIMES records (2, 3, 5, ..., 7919), built once (thread-safe), never freed. */
+/* The CLR_HALTON_PRIME_RECORDS records: primes 2, 3, 5, ..., 7919, then the unscrambled base-3
+ * record. Built once (thread-safe), never freed. */
 const clr_halton_prime *clr_halton_primes(void);
-/* pbrt-v3's radicalInversePermutations: every prime's permutation, concatenated in prime order,
- * from a default-constructed RNG. *count (may be NULL) receives CLR_HALTON_PERMUTATION_COUNT. */
+/* The u16 table every record's offsets point into. It starts with pbrt-v3's
+ * radicalInversePermutations (every prime's permutation, concatenated in prime order, from a
+ * default-constructed RNG). *count (may be NULL) receives CLR_HALTON_TABLE_ENTRIES. */
 const clr_u16 *clr_halton_permutations(size_t *count);
 
 /* Fills halton_scale, halton_exponent, halton_mult_inverse and halton_stride from the sample
