@@ -7,6 +7,14 @@
 #include "sampler_types.h"
 #include "pcg32.h"
 
+/* Everything is inlined into the kernel: PoCL can vectorise a work-group loop only when its body
+ * has no calls and no loops left after unrolling (define CLR_HALTON_INDEX32 for that). */
+#if CLR_DEVICE
+#define CLR_HALTON_INLINE inline __attribute__((always_inline))
+#else
+#define CLR_HALTON_INLINE CLR_INLINE
+#endif
+
 /* Records in clr_halton_primes(): one per prime (dimension d >= 2 uses record d), then one
  * unscrambled base-3 record (identity permutation, scramble_tail 0) for dimension 1. */
 #define CLR_HALTON_BASE3_RECORD CLR_HALTON_PRIMES
@@ -40,15 +48,13 @@ typedef struct clr_halton_prime {
 /* (float)1 / (float)3, written out so that devices never divide. */
 #define CLR_HALTON_INV_3 0x1.555556p-2f
 
-CLR_INLINE clr_u32 clr_halton_mulhi32(clr_u32 a, clr_u32 b) {
-#if CLR_DEVICE
-  return mul_hi(a, b);
-#else
+/* High half of a 32x32-bit product. Written as a 64-bit product rather than OpenCL's mul_hi,
+ * which PoCL emulates with 16-bit pieces and does not vectorise. */
+CLR_HALTON_INLINE clr_u32 clr_halton_mulhi32(clr_u32 a, clr_u32 b) {
   return (clr_u32)(((clr_u64)a * b) >> 32u);
-#endif
 }
 
-CLR_INLINE clr_u32 clr_halton_clz64(clr_u64 x) {
+CLR_HALTON_INLINE clr_u32 clr_halton_clz64(clr_u64 x) {
 #if CLR_DEVICE
   return (clr_u32)clz(x);
 #else
@@ -57,12 +63,12 @@ CLR_INLINE clr_u32 clr_halton_clz64(clr_u64 x) {
 }
 
 /* n / base for any 32-bit n, with the magic constants of the base's clr_halton_prime. */
-CLR_INLINE clr_u32 clr_halton_div32(clr_u32 n, clr_u32 magic, clr_u32 shift) {
+CLR_HALTON_INLINE clr_u32 clr_halton_div32(clr_u32 n, clr_u32 magic, clr_u32 shift) {
   clr_u32 t = clr_halton_mulhi32(n, magic);
   return (t + ((n - t) >> 1u)) >> shift;
 }
 
-CLR_INLINE clr_u32 clr_reverse_bits32(clr_u32 n) {
+CLR_HALTON_INLINE clr_u32 clr_reverse_bits32(clr_u32 n) {
   n = (n << 16u) | (n >> 16u);
   n = ((n & 0x00ff00ffu) << 8u) | ((n & 0xff00ff00u) >> 8u);
   n = ((n & 0x0f0f0f0fu) << 4u) | ((n & 0xf0f0f0f0u) >> 4u);
@@ -71,12 +77,12 @@ CLR_INLINE clr_u32 clr_reverse_bits32(clr_u32 n) {
   return n;
 }
 
-CLR_INLINE clr_u64 clr_reverse_bits64(clr_u64 n) {
+CLR_HALTON_INLINE clr_u64 clr_reverse_bits64(clr_u64 n) {
   return ((clr_u64)clr_reverse_bits32((clr_u32)n) << 32u) | clr_reverse_bits32((clr_u32)(n >> 32u));
 }
 
 /* v / 2^shift rounded to nearest, ties to even (shift in [0, 63]). */
-CLR_INLINE clr_u64 clr_halton_round_shift(clr_u64 v, clr_u32 shift) {
+CLR_HALTON_INLINE clr_u64 clr_halton_round_shift(clr_u64 v, clr_u32 shift) {
   if (shift == 0u) return v;
   clr_u64 q = v >> shift;
   clr_u64 rem = v & ((((clr_u64)1) << shift) - 1u);
@@ -88,7 +94,7 @@ CLR_INLINE clr_u64 clr_halton_round_shift(clr_u64 v, clr_u32 shift) {
  * float on return. The two roundings (to 53, then to 24 significant bits) are done on integers so
  * that devices without fp64 agree. Like pbrt-v3 it is not clamped: it can return 1.0f (when the
  * lowest 25 bits of a are all ones). */
-CLR_INLINE float clr_radical_inverse_base2(clr_u64 a) {
+CLR_HALTON_INLINE float clr_radical_inverse_base2(clr_u64 a) {
   if ((a >> 32u) == 0u) /* at most 32 significant bits: the double is exact */
     return (float)clr_reverse_bits32((clr_u32)a) * 0x1p-32f;
   clr_u64 v = clr_reverse_bits64(a);
@@ -106,7 +112,7 @@ CLR_INLINE float clr_radical_inverse_base2(clr_u64 a) {
  * the running float product of inv_base, result min((float)reversed * invBaseN, 1 - eps).
  * Digits of a >= 2^32 use 64-bit division, the rest 32-bit division (a constant divisor when
  * base is a literal and the call is inlined). */
-CLR_INLINE float clr_radical_inverse(clr_u32 base, float inv_base, clr_u64 a) {
+CLR_HALTON_INLINE float clr_radical_inverse(clr_u32 base, float inv_base, clr_u64 a) {
   clr_u64 reversed = 0u;
   float inv_base_n = 1.0f;
   while ((a >> 32u) != 0u) {
@@ -130,15 +136,14 @@ CLR_INLINE float clr_radical_inverse(clr_u32 base, float inv_base, clr_u64 a) {
  * (at most 5 of base B = base^m) the table gives the permuted digits already reversed; the top
  * chunk uses the tail table, which keeps only its significant digits. The integer `reversed`
  * and the digit count k are pbrt-v3's, so inv_base_pow[k] is its invBaseN. */
-CLR_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_halton_prime *pr,
+CLR_HALTON_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_halton_prime *pr,
                                                  CLR_GLOBAL const clr_u16 *perms, clr_u32 a) {
   clr_u32 base = pr->base, chunk_base = pr->chunk_base, chunk_digits = pr->chunk_digits;
   clr_u32 magic = pr->chunk_magic, shift = pr->chunk_shift;
   clr_u32 chunk_offset = pr->chunk_offset, tail_offset = pr->tail_offset;
   clr_u32 tail_shift = pr->tail_shift, value_mask = (1u << tail_shift) - 1u;
-  /* base^count for a top chunk of count <= chunk_digits <= 7 digits (7: base 2, 5: base 3). */
-  clr_u32 base2 = base * base, base3 = base2 * base, base4 = base3 * base, base5 = base4 * base;
-  clr_u32 base6 = base5 * base, base7 = base6 * base;
+  /* for base^count of a top chunk of count <= chunk_digits <= 7 digits (7: base 2, 5: base 3) */
+  clr_u32 base2 = base * base, base4 = base2 * base2;
   clr_u64 reversed = 0u;
   clr_u32 digits = 0u;
 #if CLR_DEVICE
@@ -151,13 +156,8 @@ CLR_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_halton_pri
     clr_u32 entry = perms[(top ? tail_offset : chunk_offset) + d];
     clr_u32 count = top ? (entry >> tail_shift) + 1u : chunk_digits;
     clr_u32 value = entry & value_mask;
-    clr_u32 scale = count == 1u   ? base
-                    : count == 2u ? base2
-                    : count == 3u ? base3
-                    : count == 4u ? base4
-                    : count == 5u ? base5
-                    : count == 6u ? base6
-                                  : base7;
+    clr_u32 scale = ((count & 1u) ? base : 1u) * ((count & 2u) ? base2 : 1u) *
+                    ((count & 4u) ? base4 : 1u); /* base^count */
     clr_u32 active = a != 0u;
     reversed = active ? reversed * scale + value : reversed;
     digits += active ? count : 0u;
@@ -173,7 +173,7 @@ CLR_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_halton_pri
  * table (clr_halton_permutations()). With CLR_HALTON_INDEX32 defined (the caller guarantees
  * a < 2^32) only the loop-free 32-bit path is compiled: define it in kernels whenever the largest
  * index of a launch is below 2^32, so that the work-item loop can be vectorised. */
-CLR_INLINE float clr_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr,
+CLR_HALTON_INLINE float clr_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr,
                                                CLR_GLOBAL const clr_u16 *perms, clr_u64 a) {
 #ifdef CLR_HALTON_INDEX32
   return clr_scrambled_radical_inverse32(pr, perms, (clr_u32)a);
@@ -204,7 +204,7 @@ CLR_INLINE float clr_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime
 
 /* pbrt-v3 InverseRadicalInverse<base>(inverse, nDigits): the index whose n_digits lowest base-b
  * digits, reversed, are the lowest digits of `inverse`. */
-CLR_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inverse, clr_i32 n_digits) {
+CLR_HALTON_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inverse, clr_i32 n_digits) {
   clr_u64 index = 0u;
   for (clr_i32 i = 0; i < n_digits; ++i) {
     clr_u64 next = inverse / base;
@@ -215,7 +215,7 @@ CLR_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inverse, cl
 }
 
 /* Same for small values, in 32 bits. */
-CLR_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse, clr_i32 n_digits) {
+CLR_HALTON_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse, clr_i32 n_digits) {
   clr_u32 index = 0u;
   for (clr_i32 i = 0; i < n_digits; ++i) {
     clr_u32 next = inverse / base;
@@ -226,7 +226,7 @@ CLR_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse, cl
 }
 
 /* v / 3^n for n <= 5 (the base-3 exponent never exceeds 5: 3^5 = 243 >= 128), loop-free. */
-CLR_INLINE clr_u32 clr_halton_div_pow3(clr_u32 v, clr_i32 n) {
+CLR_HALTON_INLINE clr_u32 clr_halton_div_pow3(clr_u32 v, clr_i32 n) {
 #if CLR_DEVICE
 #pragma unroll
 #endif
@@ -238,7 +238,7 @@ CLR_INLINE clr_u32 clr_halton_div_pow3(clr_u32 v, clr_i32 n) {
  * the pixel's sample `sample_number`. Pixels are taken modulo 128 like pbrt-v3's Mod (p & 127,
  * negatives included). pbrt-v3's offset (d0 * scale1 * inv0 + d1 * scale0 * inv1) mod stride is
  * formed from its two CRT terms reduced mod scale0 and scale1 (same value, no runtime division). */
-CLR_INLINE clr_u64 clr_halton_sampler_index(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
+CLR_HALTON_INLINE clr_u64 clr_halton_sampler_index(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
                                             clr_i64 sample_number) {
   clr_u32 scale0 = (clr_u32)p->halton_scale[0], scale1 = (clr_u32)p->halton_scale[1];
   clr_u32 stride = (clr_u32)p->halton_stride;
@@ -266,7 +266,7 @@ CLR_INLINE clr_u64 clr_halton_sampler_index(const clr_sampler_params *p, clr_i32
 }
 
 /* index / scale[1] (scale[1] = 3^exponent[1]). */
-CLR_INLINE clr_u64 clr_halton_drop_base3_digits(const clr_sampler_params *p, clr_u64 index) {
+CLR_HALTON_INLINE clr_u64 clr_halton_drop_base3_digits(const clr_sampler_params *p, clr_u64 index) {
 #ifndef CLR_HALTON_INDEX32
   if ((index >> 32u) != 0u) return index / (clr_u64)(clr_u32)p->halton_scale[1];
 #endif
@@ -281,19 +281,25 @@ CLR_INLINE clr_u64 clr_halton_drop_base3_digits(const clr_sampler_params *p, clr
  * `primes` holds CLR_HALTON_PRIME_RECORDS records, `perms` the whole clr_halton_permutations().
  * Where pbrt-v3 aborts (dim >= 1000, or dim < 0) this returns a documented stand-in:
  *   clr_hash_float(clr_mix64(index) ^ (clr_u32)dim), uniform in [0, 1). */
-CLR_INLINE float clr_halton_sampler_value(const clr_sampler_params *p,
-                                          CLR_GLOBAL const clr_halton_prime *primes,
-                                          CLR_GLOBAL const clr_u16 *perms, clr_u64 index,
-                                          clr_i32 dim) {
-  if (dim == 0 || dim == 1) {
-    if (p->sample_pixel_center) return 0.5f;
-    if (dim == 0) return clr_radical_inverse_base2(index >> (clr_u32)p->halton_exponent[0]);
-    return clr_scrambled_radical_inverse(primes + CLR_HALTON_BASE3_RECORD, perms,
-                                         clr_halton_drop_base3_digits(p, index));
-  }
-  if ((clr_u32)dim >= CLR_HALTON_PRIMES)
-    return clr_hash_float(clr_mix64(index) ^ (clr_u64)(clr_u32)dim);
-  return clr_scrambled_radical_inverse(primes + dim, perms, index);
+CLR_HALTON_INLINE float clr_halton_sampler_value(const clr_sampler_params *p,
+                                                 CLR_GLOBAL const clr_halton_prime *primes,
+                                                 CLR_GLOBAL const clr_u16 *perms, clr_u64 index,
+                                                 clr_i32 dim) {
+  /* Select-based so that work items with different dims vectorise together. */
+  clr_u32 udim = (clr_u32)dim;
+  clr_u32 scrambled = udim >= 2u && udim < CLR_HALTON_PRIMES;
+  clr_u32 record = udim == 1u ? CLR_HALTON_BASE3_RECORD : scrambled ? udim : 2u;
+  clr_u64 a = udim == 1u ? clr_halton_drop_base3_digits(p, index) : index;
+  float table_value = clr_scrambled_radical_inverse(primes + record, perms, a);
+  clr_u64 a2 = index >> (clr_u32)p->halton_exponent[0];
+#ifdef CLR_HALTON_INDEX32
+  float base2_value = (float)clr_reverse_bits32((clr_u32)a2) * 0x1p-32f;
+#else
+  float base2_value = clr_radical_inverse_base2(a2);
+#endif
+  float past_tables = clr_hash_float(clr_mix64(index) ^ (clr_u64)udim);
+  float v = udim == 0u ? base2_value : udim < CLR_HALTON_PRIMES ? table_value : past_tables;
+  return (udim <= 1u && p->sample_pixel_center) ? 0.5f : v;
 }
 
 #endif
