@@ -5,5 +5,6 @@
 #include "clrender/result.h"
 #include "clrender/context.h"
 #include "clrender/sampler.h"
+#include "clrender/film.h"
 
 #endif

@@ -3,5 +3,6 @@
 #define CLR_CLI_H
 
 int cli_devices(int argc, char **argv);
+int cli_samples(int argc, char **argv);
 
 #endif

@@ -19,6 +19,7 @@ int main(int argc, char **argv) {
   }
   const char *cmd = argv[1];
   if (strcmp(cmd, "devices") == 0) return cli_devices(argc - 1, argv + 1);
+  if (strcmp(cmd, "samples") == 0) return cli_samples(argc - 1, argv + 1);
   if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
     usage(stdout);
     return 0;
