@@ -9,6 +9,7 @@ static void usage(FILE *f) {
           "commands:\n"
           "  devices              list every OpenCL platform and device\n"
           "  samples              print or plot sample vectors (clrender samples --help)\n"
+          "  merge                merge films written with their sums (clrender merge --help)\n"
           "  help                 this text\n");
 }
 
@@ -20,6 +21,7 @@ int main(int argc, char **argv) {
   const char *cmd = argv[1];
   if (strcmp(cmd, "devices") == 0) return cli_devices(argc - 1, argv + 1);
   if (strcmp(cmd, "samples") == 0) return cli_samples(argc - 1, argv + 1);
+  if (strcmp(cmd, "merge") == 0) return cli_merge(argc - 1, argv + 1);
   if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
     usage(stdout);
     return 0;
