@@ -29,7 +29,9 @@ typedef ulong clr_u64;
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
-#pragma STDC FP_CONTRACT OFF
+#ifdef __clang__
+#pragma STDC FP_CONTRACT OFF /* GCC: -ffp-contract=off in CMakeLists.txt */
+#endif
 typedef uint8_t clr_u8;
 typedef uint16_t clr_u16;
 typedef int32_t clr_i32;
