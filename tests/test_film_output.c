@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* Film output and merging: EXR round trip of values and metadata, PNG preview, quarter crops and
  * independent passes merged (API and `clrender merge`) against the single film, bad input. */
 #include <setjmp.h>
