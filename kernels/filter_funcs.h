@@ -114,8 +114,8 @@ CLR_INLINE float clr_sinc_portable(float a) {
   return clr_sinpi_portable(a) * clr_rcp_portable(a) * 0x1.45f306p-2f;
 }
 
-/* pbrt-v3's Mitchell1D at u = |x|/r in [0, 1] (t = 2u); the outer cubic is written as
- * (2-t)^2 ((2B+6C) - (B+6C) t), which is pbrt's polynomial factored, so it is exactly 0 at t = 2. */
+/* pbrt-v3's Mitchell1D at u = |x|/r in [0, 1] (t = 2u). The outer cubic is pbrt's polynomial
+ * factored as (2-t)^2 ((2B+6C) - (B+6C) t), so it is exactly 0 at t = 2. */
 CLR_INLINE float clr_mitchell_1d(float u, float b, float c) {
   float t = 2.0f * u;
   float inner = (((12.0f - 9.0f * b) - 6.0f * c) * t + ((-18.0f + 12.0f * b) + 6.0f * c)) * t * t +
@@ -125,8 +125,8 @@ CLR_INLINE float clr_mitchell_1d(float u, float b, float c) {
   return (t > 1.0f ? outer : inner) * 0x1.555556p-3f;
 }
 
-/* Blackman-Harris at u = |x|/r in [0, 1] as a cubic in c = cos(pi u) (cos 2θ = 2c²-1,
- * cos 3θ = 4c³-3c): (A0 - A2) + (A1 - 3 A3) c + 2 A2 c² + 4 A3 c³ with the positive A's above. */
+/* Blackman-Harris at u = |x|/r in [0, 1] as a cubic in c = cos(pi u) (cos 2w = 2c^2 - 1,
+ * cos 3w = 4c^3 - 3c): (A0 - A2) + (A1 - 3 A3) c + 2 A2 c^2 + 4 A3 c^3, positive A's above. */
 CLR_INLINE float clr_blackman_harris_1d(float u) {
   float c = clr_cospi_portable(u);
   return ((0.04672f * c + 0.28256f) * c + 0.45325f) * c + 0.21747f;

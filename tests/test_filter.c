@@ -1,4 +1,5 @@
-/* Reconstruction filters: support, symmetry, integrals, pbrt-v3's table, portable math, device bits. */
+/* Reconstruction filters: support, symmetry, integrals, pbrt-v3's table, portable math, device
+ * bits. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -46,7 +47,8 @@ static double ref_mitchell(double x, double b, double c) { /* pbrt-v3 Mitchell1D
   double t = fabs(2 * x);
   if (t > 1)
     return ((-b - 6 * c) * t * t * t + (6 * b + 30 * c) * t * t + (-12 * b - 48 * c) * t +
-            (8 * b + 24 * c)) / 6;
+            (8 * b + 24 * c)) /
+           6;
   return ((12 - 9 * b - 6 * c) * t * t * t + (-18 + 12 * b + 6 * c) * t * t + (6 - 2 * b)) / 6;
 }
 
@@ -60,14 +62,22 @@ static double ref_1d(const clr_filter_params *p, double x, double r) {
   double a = fabs(x);
   if (a > r) return 0;
   switch (p->type) {
-  case CLR_FILTER_TYPE_BOX: return 1;
-  case CLR_FILTER_TYPE_TRIANGLE: return fmax(0, r - a);
-  case CLR_FILTER_TYPE_GAUSSIAN: return fmax(0, exp(-(double)p->alpha * a * a) - exp(-(double)p->alpha * r * r));
-  case CLR_FILTER_TYPE_MITCHELL: return ref_mitchell(a / r, p->b, p->c);
-  case CLR_FILTER_TYPE_SINC: return ref_sinc(a) * ref_sinc(a / p->tau);
-  case CLR_FILTER_TYPE_BLACKMANHARRIS: return ref_blackman_harris(a / r);
-  case CLR_FILTER_TYPE_CATMULLROM: return ref_mitchell(a / r, 0.0, 0.5);
-  default: return NAN;
+  case CLR_FILTER_TYPE_BOX:
+    return 1;
+  case CLR_FILTER_TYPE_TRIANGLE:
+    return fmax(0, r - a);
+  case CLR_FILTER_TYPE_GAUSSIAN:
+    return fmax(0, exp(-(double)p->alpha * a * a) - exp(-(double)p->alpha * r * r));
+  case CLR_FILTER_TYPE_MITCHELL:
+    return ref_mitchell(a / r, p->b, p->c);
+  case CLR_FILTER_TYPE_SINC:
+    return ref_sinc(a) * ref_sinc(a / p->tau);
+  case CLR_FILTER_TYPE_BLACKMANHARRIS:
+    return ref_blackman_harris(a / r);
+  case CLR_FILTER_TYPE_CATMULLROM:
+    return ref_mitchell(a / r, 0.0, 0.5);
+  default:
+    return NAN;
   }
 }
 
@@ -78,23 +88,29 @@ static double ref_2d(const clr_filter_params *p, double x, double y) {
 /* Closed-form integral over [-r, r] of one factor, NAN where there is none (sinc). */
 static double closed_form_1d(const clr_filter_params *p, double r) {
   switch (p->type) {
-  case CLR_FILTER_TYPE_BOX: return 2 * r;
-  case CLR_FILTER_TYPE_TRIANGLE: return r * r;
+  case CLR_FILTER_TYPE_BOX:
+    return 2 * r;
+  case CLR_FILTER_TYPE_TRIANGLE:
+    return r * r;
   case CLR_FILTER_TYPE_GAUSSIAN: {
     double al = p->alpha;
     return sqrt(PI / al) * erf(r * sqrt(al)) - 2 * r * exp(-al * r * r);
   }
   case CLR_FILTER_TYPE_MITCHELL:
-  case CLR_FILTER_TYPE_CATMULLROM: return r / 2; /* the Mitchell kernel integrates to 1 over t */
-  case CLR_FILTER_TYPE_BLACKMANHARRIS: return 2 * r * 0.35875;
-  default: return NAN;
+  case CLR_FILTER_TYPE_CATMULLROM:
+    return r / 2; /* the Mitchell kernel integrates to 1 over t */
+  case CLR_FILTER_TYPE_BLACKMANHARRIS:
+    return 2 * r * 0.35875;
+  default:
+    return NAN;
   }
 }
 
-/* ---- Gauss-Legendre integration over [-r, r] in 32 panels (panel ends at multiples of r/16) ---- */
+/* ---- Gauss-Legendre integration over [-r, r] in 32 panels (panel ends at multiples of r/16) ----
+ */
 
-static const double gl_node[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
-                                  0.5384693101056831, 0.9061798459386640};
+static const double gl_node[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                  0.9061798459386640};
 static const double gl_weight[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
                                     0.4786286704993665, 0.2369268850561891};
 #define GL_PANELS 32
@@ -167,19 +183,22 @@ static void test_defaults_and_names(void **state) {
  * 0 (the sinc at integer radii). */
 static double edge_1d(const clr_filter_params *p) {
   switch (p->type) {
-  case CLR_FILTER_TYPE_BOX: return 1;
-  case CLR_FILTER_TYPE_BLACKMANHARRIS: return BH_EDGE;
-  default: return 0;
+  case CLR_FILTER_TYPE_BOX:
+    return 1;
+  case CLR_FILTER_TYPE_BLACKMANHARRIS:
+    return BH_EDGE;
+  default:
+    return 0;
   }
 }
 
 static void check_support(const clr_filter_params *p, const float *table) {
   float rx = p->radius_x, ry = p->radius_y;
   float out_x = nextafterf(rx, INFINITY), out_y = nextafterf(ry, INFINITY);
-  float probes[][2] = {{out_x, 0},       {-out_x, 0},     {0, out_y},       {0, -out_y},
-                       {out_x, out_y},   {-out_x, -out_y}, {2 * rx, 0},     {0, 3 * ry},
-                       {2 * rx, 2 * ry}, {-4 * rx, 0.1f * ry}, {1e30f, 0},  {0, -1e30f},
-                       {INFINITY, 0},    {0, -INFINITY},   {NAN, 0},        {0, NAN},
+  float probes[][2] = {{out_x, 0},         {-out_x, 0},          {0, out_y},  {0, -out_y},
+                       {out_x, out_y},     {-out_x, -out_y},     {2 * rx, 0}, {0, 3 * ry},
+                       {2 * rx, 2 * ry},   {-4 * rx, 0.1f * ry}, {1e30f, 0},  {0, -1e30f},
+                       {INFINITY, 0},      {0, -INFINITY},       {NAN, 0},    {0, NAN},
                        {rx * 0.5f, out_y}, {out_x, ry * 0.25f}};
   for (size_t i = 0; i < sizeof probes / sizeof probes[0]; ++i) {
     float v = clr_filter_evaluate(p, table, probes[i][0], probes[i][1]);
@@ -331,7 +350,8 @@ static double max_ulp_error(float (*fn)(float), double (*ref)(double), float lo,
   return worst;
 }
 
-/* sin(pi x) in double with exact reduction x = k/2 + f (libm's sin(PI * x) is not 0 at integers). */
+/* sin(pi x) in double with exact reduction x = k/2 + f (libm's sin(PI * x) is not 0 at integers).
+ */
 static double ref_sinpi_shifted(double x, int quarter_turns) {
   double k = nearbyint(2 * x), f = x - k / 2;
   int quadrant = (int)(((long long)k + quarter_turns) & 3);
@@ -392,8 +412,8 @@ static void test_table_matches_pbrt(void **state) {
           float got = table[iy * 16 + ix];
           double tol = 1e-6 * (t == CLR_FILTER_TYPE_TRIANGLE ? p.radius_x * p.radius_y : 1.0);
           if (fabs(got - expect) > tol)
-            fail_msg("%s table[%d][%d] = %.9g, pbrt-v3 gives %.9g", clr_filter_type_name(t), iy,
-                     ix, got, expect);
+            fail_msg("%s table[%d][%d] = %.9g, pbrt-v3 gives %.9g", clr_filter_type_name(t), iy, ix,
+                     got, expect);
         }
       /* Table-mode evaluation returns the entry of the cell holding (|x|, |y|). */
       for (int i = 0; i < 20000; ++i) {
@@ -479,10 +499,17 @@ static void test_bad_params(void **state) {
   d.use_table = 2;
   expect_make_error(&d, CLR_ERROR_INVALID_ARGUMENT, "use_table is 2");
 
-  struct { int axis; float value; const char *text; } radii[] = {
-      {0, 0.0f, "radius[0] (xwidth) is 0"}, {1, -1.0f, "radius[1] (ywidth) is -1"},
-      {0, NAN, "is nan"}, {1, INFINITY, "is inf"}, {0, -INFINITY, "is -inf"},
-      {1, 65.0f, "is 65"}, {0, 1e-4f, "is 0.0001"}};
+  struct {
+    int axis;
+    float value;
+    const char *text;
+  } radii[] = {{0, 0.0f, "radius[0] (xwidth) is 0"},
+               {1, -1.0f, "radius[1] (ywidth) is -1"},
+               {0, NAN, "is nan"},
+               {1, INFINITY, "is inf"},
+               {0, -INFINITY, "is -inf"},
+               {1, 65.0f, "is 65"},
+               {0, 1e-4f, "is 0.0001"}};
   for (size_t i = 0; i < sizeof radii / sizeof radii[0]; ++i) {
     clr_filter_desc_init(&d, CLR_FILTER_MITCHELL);
     d.radius[radii[i].axis] = radii[i].value;
@@ -547,7 +574,8 @@ static const char *device_source =
     "  clr_filter_params f = *fp;\n"
     "  out[3 * i] = clr_filter_eval_exact(&f, xy[2 * i], xy[2 * i + 1]);\n"
     "  out[3 * i + 1] = clr_filter_eval(&f, xy[2 * i], xy[2 * i + 1], table);\n"
-    "  out[3 * i + 2] = i < 256 ? clr_filter_table_entry(&f, (int)(i % 16), (int)(i / 16)) : 0.0f;\n"
+    "  out[3 * i + 2] = i < 256 ? clr_filter_table_entry(&f, (int)(i % 16), (int)(i / 16)) : "
+    "0.0f;\n"
     "}\n"
     "__kernel void eval_math(__global const float *x, __global float *out) {\n"
     "  size_t i = get_global_id(0);\n"
@@ -625,7 +653,8 @@ static void test_device_matches_host(void **state) {
     assert_int_equal(clr_filter_make_table(&p, table), CLR_SUCCESS);
     for (int i = 0; i < N; ++i) {
       double spread = i < 64 ? 1.0 : 1.05; /* some points on the edge and just outside */
-      xy[2 * i] = i < 16 ? p.radius_x * (float)i / 15.0f : (float)((uniform() * 2 - 1) * spread * p.radius_x);
+      xy[2 * i] = i < 16 ? p.radius_x * (float)i / 15.0f
+                         : (float)((uniform() * 2 - 1) * spread * p.radius_x);
       xy[2 * i + 1] = (float)((uniform() * 2 - 1) * spread * p.radius_y);
     }
     for (int i = 0; i < N; ++i) {
@@ -641,7 +670,8 @@ static void test_device_matches_host(void **state) {
     check_bits(clr_filter_type_name(t), host, dev, 3 * N, xy, 3);
   }
   enum { M = 1 << 18 };
-  float *x = malloc(M * sizeof *x), *hm = malloc(4 * M * sizeof *hm), *dm = malloc(4 * M * sizeof *dm);
+  float *x = malloc(M * sizeof *x), *hm = malloc(4 * M * sizeof *hm),
+        *dm = malloc(4 * M * sizeof *dm);
   assert_non_null(x);
   assert_non_null(hm);
   assert_non_null(dm);
@@ -669,11 +699,16 @@ static void test_device_matches_host(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_defaults_and_names),   cmocka_unit_test(test_zero_outside_support),
-      cmocka_unit_test(test_symmetry),             cmocka_unit_test(test_exact_matches_formulas),
-      cmocka_unit_test(test_integrals),            cmocka_unit_test(test_mitchell_continuity),
-      cmocka_unit_test(test_portable_math),        cmocka_unit_test(test_table_matches_pbrt),
-      cmocka_unit_test(test_table_index_edges),    cmocka_unit_test(test_bad_params),
+      cmocka_unit_test(test_defaults_and_names),
+      cmocka_unit_test(test_zero_outside_support),
+      cmocka_unit_test(test_symmetry),
+      cmocka_unit_test(test_exact_matches_formulas),
+      cmocka_unit_test(test_integrals),
+      cmocka_unit_test(test_mitchell_continuity),
+      cmocka_unit_test(test_portable_math),
+      cmocka_unit_test(test_table_matches_pbrt),
+      cmocka_unit_test(test_table_index_edges),
+      cmocka_unit_test(test_bad_params),
       cmocka_unit_test(test_device_matches_host),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

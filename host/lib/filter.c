@@ -6,9 +6,10 @@
 #include "filter_funcs.h"
 
 _Static_assert(sizeof(clr_filter_params) % 16 == 0, "clr_filter_params must be 16-byte sized");
-_Static_assert(CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE == CLR_FILTER_TABLE_ENTRIES,
+_Static_assert(CLR_FILTER_TABLE_SIZE *CLR_FILTER_TABLE_SIZE == CLR_FILTER_TABLE_ENTRIES,
                "table size mismatch");
-_Static_assert(CLR_FILTER_BOX == CLR_FILTER_TYPE_BOX && CLR_FILTER_TRIANGLE == CLR_FILTER_TYPE_TRIANGLE &&
+_Static_assert(CLR_FILTER_BOX == CLR_FILTER_TYPE_BOX &&
+                   CLR_FILTER_TRIANGLE == CLR_FILTER_TYPE_TRIANGLE &&
                    CLR_FILTER_GAUSSIAN == CLR_FILTER_TYPE_GAUSSIAN &&
                    CLR_FILTER_MITCHELL == CLR_FILTER_TYPE_MITCHELL &&
                    CLR_FILTER_SINC == CLR_FILTER_TYPE_SINC &&
@@ -20,7 +21,8 @@ static const char *const filter_names[CLR_FILTER_TYPE_COUNT] = {
     "box", "triangle", "gaussian", "mitchell", "sinc", "blackmanharris", "catmullrom"};
 
 /* Default radius (xwidth = ywidth) per type. */
-static const float default_radius[CLR_FILTER_TYPE_COUNT] = {0.5f, 2.0f, 2.0f, 2.0f, 4.0f, 2.0f, 2.0f};
+static const float default_radius[CLR_FILTER_TYPE_COUNT] = {0.5f, 2.0f, 2.0f, 2.0f,
+                                                            4.0f, 2.0f, 2.0f};
 
 static int valid_type(int type) { return type >= 0 && type < CLR_FILTER_TYPE_COUNT; }
 
@@ -121,8 +123,8 @@ clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params
                     "clr_filter_desc_init)",
                     desc->struct_size, sizeof *desc);
   if (!valid_type((int)desc->type))
-    return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "clr_filter_params_make: unknown filter type %d",
-                    (int)desc->type);
+    return clr_fail(NULL, CLR_ERROR_INVALID_FILTER,
+                    "clr_filter_params_make: unknown filter type %d", (int)desc->type);
   if (desc->use_table != 0 && desc->use_table != 1)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                     "clr_filter_params_make: use_table is %d; it must be 0 or 1",

@@ -40,9 +40,9 @@ typedef struct clr_filter_desc {
   /* xwidth, ywidth (radii). Defaults: box 0.5, triangle 2, gaussian 2, mitchell 2, sinc 4,
    * blackmanharris 2 (LuxCore's film.filter.width), catmullrom 2 (Mitsuba). */
   float radius[2];
-  float alpha;   /* gaussian, default 2 */
-  float b, c;    /* mitchell, default 1/3 each; catmullrom always uses B = 0, C = 1/2 */
-  float tau;     /* sinc, default 3 */
+  float alpha;       /* gaussian, default 2 */
+  float b, c;        /* mitchell, default 1/3 each; catmullrom always uses B = 0, C = 1/2 */
+  float tau;         /* sinc, default 3 */
   int32_t use_table; /* 0 (default): exact evaluation; 1: pbrt-v3's 16x16 table, nearest entry */
 } clr_filter_desc;
 
