@@ -6,5 +6,7 @@
 #include "clrender/context.h"
 #include "clrender/sampler.h"
 #include "clrender/render.h"
+#include "clrender/filter.h"
+#include "clrender/film.h"
 
 #endif

@@ -25,8 +25,8 @@ typedef struct clr_filter_params {
   float alpha;                      /* gaussian */
   float exp_x, exp_y;               /* gaussian: e^(-alpha r^2), computed by the shared exp */
   float b, c;                       /* mitchell */
-  float tau;                        /* sinc */
-  clr_i32 pad[4];
+  float tau, inv_tau;               /* sinc: tau and 1/tau rounded on the host */
+  clr_i32 pad[3];                   /* keeps the size a multiple of 16 bytes (64) */
 } clr_filter_params;
 
 #endif

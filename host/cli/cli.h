@@ -4,5 +4,7 @@
 
 int cli_devices(int argc, char **argv);
 int cli_render(int argc, char **argv);
+int cli_samples(int argc, char **argv);
+int cli_merge(int argc, char **argv);
 
 #endif

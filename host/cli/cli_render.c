@@ -27,7 +27,8 @@ static void usage(FILE *f) {
           "                          the samples of the full frame; pbrt-v3: per-16x16-tile streams)\n"
           "  --device D              OpenCL device index or name (see clrender devices)\n"
           "  --sampler NAME          random, stratified, halton, sobol\n"
-          "  --filter NAME           box, triangle\n"
+          "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
+          "                          catmullrom (default parameters)\n"
           "  --tile-size N           render tile side in pixels (default 16)\n"
           "  --quiet                 no warnings, no progress bar\n"
           "  --stats                 print timings and counts as JSON on stderr\n"
@@ -95,7 +96,8 @@ int cli_render(int argc, char **argv) {
     } else if (strcmp(a, "--filter") == 0) {
       NEED(1);
       o.filter = argv[++i];
-      if (strcmp(o.filter, "box") != 0 && strcmp(o.filter, "triangle") != 0) goto bad;
+      clr_filter_type ft;
+      if (clr_filter_type_from_name(o.filter, &ft) != CLR_SUCCESS) goto bad;
     } else if (strcmp(a, "--seeding") == 0) {
       NEED(1);
       ++i;

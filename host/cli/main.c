@@ -10,6 +10,7 @@ static void usage(FILE *f) {
           "  devices              list every OpenCL platform and device\n"
           "  render SCENE.pbrt    render a pbrt-v3 scene to EXR + PNG (clrender render --help)\n"
           "  samples              print or plot sample vectors (clrender samples --help)\n"
+          "  merge                merge films written with their sums (clrender merge --help)\n"
           "  help                 this text\n");
 }
 
@@ -21,6 +22,8 @@ int main(int argc, char **argv) {
   const char *cmd = argv[1];
   if (strcmp(cmd, "devices") == 0) return cli_devices(argc - 1, argv + 1);
   if (strcmp(cmd, "render") == 0) return cli_render(argc - 1, argv + 1);
+  if (strcmp(cmd, "samples") == 0) return cli_samples(argc - 1, argv + 1);
+  if (strcmp(cmd, "merge") == 0) return cli_merge(argc - 1, argv + 1);
   if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
     usage(stdout);
     return 0;

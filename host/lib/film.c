@@ -107,6 +107,7 @@ clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out
   film->params = params;
   film->filter = filter;
   film->scale = desc->scale;
+  film->desc = *desc;
   film->width = params.pixel_x1 - params.pixel_x0;
   film->height = params.pixel_y1 - params.pixel_y0;
   film->pixel_count = (size_t)film->width * (size_t)film->height;

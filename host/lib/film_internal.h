@@ -38,6 +38,7 @@ struct clr_film_t {
   clr_filter_params filter;
   float table[CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE];
   float scale;
+  clr_film_desc desc; /* as created */
   int32_t width, height; /* of the pixel bounds */
   size_t pixel_count;
   double *rgb_sum;    /* 3 per pixel */

@@ -203,7 +203,8 @@ static void trace(const clr_render_scene *sc, const clr_ray *r, clr_hit *h, size
                   clr_integrator_counters *c) {
   if (!n) return;
   double t0 = now_seconds();
-  clr_tracer_intersect(sc->tracer, r, h, n);
+  clr_result e = clr_tracer_intersect(sc->tracer, r, h, (int32_t)n);
+  if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
   c->trace_seconds += now_seconds() - t0;
   c->rays += n;
 }
@@ -212,7 +213,8 @@ static void occlude(const clr_render_scene *sc, const clr_ray *r, uint8_t *o, si
                     clr_integrator_counters *c) {
   if (!n) return;
   double t0 = now_seconds();
-  clr_tracer_occluded(sc->tracer, r, o, n);
+  clr_result e = clr_tracer_occluded(sc->tracer, r, o, (int32_t)n);
+  if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
   c->trace_seconds += now_seconds() - t0;
   c->rays += n;
 }
@@ -641,9 +643,11 @@ clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *s
   CLR_CHECK(reserve_samples(s, (size_t)count));
   CLR_CHECK(reserve_rays(s, (size_t)count));
   memcpy(s->rays2, rays, (size_t)count * sizeof *rays);
+  clr_result r;
   switch (it->type) {
-    case CLR_INTEGRATOR_AO: return li_ao(it, sc, s, values, count, L, c);
-    case CLR_INTEGRATOR_DIRECT: return li_direct(it, sc, s, values, keys, count, L, c);
-    default: return li_path(it, sc, s, values, keys, count, L, c);
+    case CLR_INTEGRATOR_AO: r = li_ao(it, sc, s, values, count, L, c); break;
+    case CLR_INTEGRATOR_DIRECT: r = li_direct(it, sc, s, values, keys, count, L, c); break;
+    default: r = li_path(it, sc, s, values, keys, count, L, c); break;
   }
+  return r != CLR_SUCCESS ? r : c->error;
 }

@@ -38,6 +38,7 @@ void clr_integrator_free(clr_integrator *integrator);
 typedef struct clr_integrator_counters {
   uint64_t rays;        /* every ray given to the tracer (camera, shadow, bounce) */
   double trace_seconds; /* time inside tracer calls */
+  clr_result error;     /* first failing tracer call, CLR_SUCCESS when none */
 } clr_integrator_counters;
 
 typedef struct clr_integrator_scratch clr_integrator_scratch;

@@ -130,7 +130,7 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
 static int material_is_supported(const char *type) { return strcmp(type, "matte") == 0; }
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
-                               void *wu, uint32_t *object_group) {
+                               void *wu, int32_t *object_group) {
   char warned[32][64];
   int warned_count = 0;
   s->shapes = calloc((size_t)(d->shape_count ? d->shape_count : 1), sizeof *s->shapes);
@@ -172,7 +172,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
                  md->params.file ? md->params.file : p->file, md->params.line, mtype);
       }
     }
-    uint32_t group = 0;
+    int32_t group = 0;
     if (sd->object >= 0) {
       if (object_group[sd->object] == 0) CLR_CHECK(clr_tracer_new_group(s->tracer, &object_group[sd->object]));
       group = object_group[sd->object];
@@ -198,7 +198,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
 }
 
 static clr_result build_instances(clr_render_scene *s, const clr_scene_desc *d,
-                                  const uint32_t *object_group) {
+                                  const int32_t *object_group) {
   s->instances = calloc((size_t)(d->instance_count ? d->instance_count : 1), sizeof *s->instances);
   if (!s->instances) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "instances");
   for (int i = 0; i < d->instance_count; ++i) {
@@ -245,7 +245,7 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   if (!d || !out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_render_scene_build: NULL");
   *out = NULL;
   clr_render_scene *s = calloc(1, sizeof *s);
-  uint32_t *object_group = calloc((size_t)(d->object_count + 1), sizeof *object_group);
+  int32_t *object_group = calloc((size_t)(d->object_count + 1), sizeof *object_group);
   if (!s || !object_group) {
     free(s);
     free(object_group);
@@ -372,8 +372,12 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
-  const clr_transform *inst =
-      hit->inst_id != CLR_TRACER_INVALID_ID ? &s->instances[hit->inst_id] : NULL;
+  const clr_transform *inst = NULL;
+  uint32_t inst_user = CLR_TRACER_INVALID_ID;
+  if (hit->inst_id != CLR_TRACER_INVALID_ID &&
+      clr_tracer_instance_info(s->tracer, hit->inst_id, NULL, &inst_user) == CLR_SUCCESS &&
+      inst_user < (uint32_t)s->instance_count)
+    inst = &s->instances[inst_user];
   float p[3], n[3], ns[3], uv[2], dpdu[3];
   int has_ns = 0;
   if (sh->type == RS_SHAPE_MESH) {

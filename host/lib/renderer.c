@@ -89,26 +89,29 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
 
 static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_options *o,
                                    clr_warn_fn warn, void *wu, clr_filter_desc *fd) {
-  const char *name = o->filter ? o->filter : (d->filter.type ? d->filter.type : "box");
+  const char *scene_name = d->filter.type ? d->filter.type : "box";
+  const char *name = o->filter ? o->filter : scene_name;
   const clr_param_list *p = &d->filter.params;
-  clr_filter_type type = CLR_FILTER_BOX;
-  if (strcmp(name, "triangle") == 0) {
-    type = CLR_FILTER_TRIANGLE;
-  } else if (strcmp(name, "box") != 0) {
-    if (o->filter)
-      return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "--filter: unsupported filter \"%s\"", name);
+  clr_filter_type type;
+  if (clr_filter_type_from_name(name, &type) != CLR_SUCCESS) {
+    if (o->filter) return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
     if (warn) {
       char m[512];
       snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"", p->file ? p->file : "?",
                p->line, name);
       warn(wu, m);
     }
+    type = CLR_FILTER_BOX;
+    name = "box";
   }
   clr_filter_desc_init(fd, type);
-  int same = !o->filter || (d->filter.type && strcmp(d->filter.type, name) == 0);
-  if (same && type == (strcmp(d->filter.type ? d->filter.type : "box", "triangle") == 0 ? CLR_FILTER_TRIANGLE : CLR_FILTER_BOX)) {
+  if (strcmp(name, scene_name) == 0) { /* the scene's own parameters apply to its filter only */
     fd->radius[0] = clr_params_find_float(p, "xwidth", fd->radius[0]);
     fd->radius[1] = clr_params_find_float(p, "ywidth", fd->radius[1]);
+    fd->alpha = clr_params_find_float(p, "alpha", fd->alpha);
+    fd->b = clr_params_find_float(p, "B", fd->b);
+    fd->c = clr_params_find_float(p, "C", fd->c);
+    fd->tau = clr_params_find_float(p, "tau", fd->tau);
   }
   return CLR_SUCCESS;
 }
@@ -197,7 +200,7 @@ static clr_result shade_tile(render_job *job, tile_slot *slot, clr_integrator_sc
 static void *worker_main(void *arg) {
   render_job *job = arg;
   clr_integrator_scratch *scratch = clr_integrator_scratch_create();
-  clr_integrator_counters counters = {0, 0.0};
+  clr_integrator_counters counters = {0, 0.0, CLR_SUCCESS};
   double busy = 0.0, recon = 0.0;
   pthread_mutex_lock(&job->mutex);
   for (;;) {
@@ -509,7 +512,18 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   }
   if (r == CLR_SUCCESS && write_files) {
     double tw = now_seconds();
-    r = clr_render_write_output(st->exr_path[0] ? st->exr_path : NULL, st->png_path, &im, st);
+    clr_film_write_options wo;
+    clr_film_write_options_init(&wo);
+    wo.sampler = st->sampler;
+    wo.spp = st->spp;
+    wo.render_time_s = st->seconds_render;
+    wo.partial = st->partial;
+    const char *keys[1] = {"integrator"}, *vals[1] = {st->integrator};
+    wo.metadata_keys = keys;
+    wo.metadata_values = vals;
+    wo.metadata_count = 1;
+    if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
+    if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
     st->seconds_output = now_seconds() - tw;
   }
   if (r == CLR_SUCCESS && image) *image = im;

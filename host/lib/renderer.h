@@ -18,9 +18,4 @@ typedef struct clr_render_image {
 clr_result clr_render_desc(const clr_scene_desc *desc, const clr_render_options *options,
                            clr_render_stats *stats, int write_files, clr_render_image *image);
 
-/* Writes rgb (pixel bounds of a full_width x full_height film) as EXR (float RGB, metadata) and
- * an sRGB PNG of the same pixels. png_path may be NULL. */
-clr_result clr_render_write_output(const char *exr_path, const char *png_path,
-                                   const clr_render_image *image, const clr_render_stats *stats);
-
 #endif

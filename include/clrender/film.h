@@ -119,6 +119,41 @@ clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, dou
 clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
                            const double *weight_sum, const double *splat_rgb);
 
+/* The description the film was created with. */
+const clr_film_desc *film_get_desc(clr_film film);
+
+/* Film output. The EXR holds R, G, B (float32, or half with `half`) over the film's pixel
+ * bounds as data window inside the full-resolution display window, and metadata: software
+ * version, sampler, spp, filter and its parameters, scale, crop window, render time, partial
+ * flag, plus the caller's string pairs. With `include_sums` it also holds the raw sums so films
+ * can be merged later (`clrender merge`, film_merge_file): channels sum.R/G/B, weight and
+ * splat.R/G/B as float32, each with a ".lo" float32 residual (value = channel + channel.lo), so
+ * the double sums survive to ~48 bits. Files are written to a temporary name and renamed. */
+typedef struct clr_film_write_options {
+  size_t struct_size;      /* sizeof, set by clr_film_write_options_init */
+  int32_t half;            /* 0: float32 RGB (default); 1: half RGB */
+  int32_t include_sums;    /* 1 (default): raw sum channels for merging */
+  float splat_scale;       /* 1 */
+  const char *sampler;     /* e.g. "sobol" (metadata; NULL: omitted) */
+  int32_t spp;             /* metadata; 0: omitted */
+  double render_time_s;    /* metadata; < 0: omitted */
+  int32_t partial;         /* 1: marks an interrupted render */
+  const char *const *metadata_keys; /* extra string attributes */
+  const char *const *metadata_values;
+  int32_t metadata_count;
+} clr_film_write_options;
+
+void clr_film_write_options_init(clr_film_write_options *opts);
+clr_result film_write(clr_film film, const char *path, const clr_film_write_options *opts);
+/* 8-bit sRGB preview with pbrt-v3's gamma and rounding. */
+clr_result film_write_png(clr_film film, const char *path, float splat_scale);
+
+/* Merges films written with include_sums (crops of one frame, or independent passes of the same
+ * frame) into the image a single render would have produced and writes it (with sums) to
+ * `out_path`. Refuses mismatched resolutions or filters and files without sum channels. */
+clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t count,
+                            const char *out_path);
+
 uint64_t film_sample_count(clr_film film);   /* accepted samples */
 uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */
 uint64_t film_outside_samples(clr_film film); /* samples outside the sample bounds */

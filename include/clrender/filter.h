@@ -1,5 +1,6 @@
-/* TEMPORARY stand-in for the filter helper's public header (film branch only; replaced at merge).
- * Holds exactly the contract the film code relies on. */
+/* clrender reconstruction filters: pbrt-v3's box, triangle, gaussian, mitchell and sinc, plus
+ * LuxCore's blackmanharris and Mitsuba's catmullrom, evaluated exactly or through pbrt-v3's 16x16
+ * table. Radii are pbrt-v3's xwidth/ywidth (half the support width). */
 #ifndef CLRENDER_FILTER_H
 #define CLRENDER_FILTER_H
 
@@ -11,22 +12,68 @@
 extern "C" {
 #endif
 
-typedef enum clr_filter_type { CLR_FILTER_BOX = 0, CLR_FILTER_TRIANGLE = 1 } clr_filter_type;
+/* Values equal the kernels' CLR_FILTER_TYPE_*. */
+typedef enum clr_filter_type {
+  CLR_FILTER_BOX = 0,
+  CLR_FILTER_TRIANGLE = 1,
+  CLR_FILTER_GAUSSIAN = 2,
+  CLR_FILTER_MITCHELL = 3,
+  CLR_FILTER_SINC = 4,
+  CLR_FILTER_BLACKMANHARRIS = 5,
+  CLR_FILTER_CATMULLROM = 6
+} clr_filter_type;
 
-/* Defined in kernels/filter_types.h. */
-typedef struct clr_filter_params clr_filter_params;
+/* Accepted radii: [CLR_FILTER_MIN_RADIUS, CLR_FILTER_MAX_RADIUS] pixels in x and y. */
+#define CLR_FILTER_MIN_RADIUS (1.0f / 1024.0f)
+#define CLR_FILTER_MAX_RADIUS 64.0f
+/* Mitchell B and C must lie in [-CLR_FILTER_MAX_BC, CLR_FILTER_MAX_BC]. */
+#define CLR_FILTER_MAX_BC 100.0f
+/* Sinc tau must lie in [CLR_FILTER_MIN_TAU, CLR_FILTER_MAX_TAU]. */
+#define CLR_FILTER_MIN_TAU (1.0f / 64.0f)
+#define CLR_FILTER_MAX_TAU 1.0e6f
+/* Entries of the table mode: 16 x 16 over the positive quadrant, row-major (index iy*16 + ix). */
+#define CLR_FILTER_TABLE_ENTRIES 256
 
 typedef struct clr_filter_desc {
-  size_t struct_size;
+  size_t struct_size; /* sizeof(clr_filter_desc), set by clr_filter_desc_init */
   clr_filter_type type;
+  /* xwidth, ywidth (radii). Defaults: box 0.5, triangle 2, gaussian 2, mitchell 2, sinc 4,
+   * blackmanharris 2 (LuxCore's film.filter.width), catmullrom 2 (Mitsuba). */
   float radius[2];
-  float alpha, b, c, tau;
-  int32_t use_table;
+  float alpha;       /* gaussian, default 2 */
+  float b, c;        /* mitchell, default 1/3 each; catmullrom always uses B = 0, C = 1/2 */
+  float tau;         /* sinc, default 3 */
+  int32_t use_table; /* 0 (default): exact evaluation; 1: pbrt-v3's 16x16 table, nearest entry */
 } clr_filter_desc;
 
+/* Parameter block shared with the kernels, defined in kernels/filter_types.h. */
+typedef struct clr_filter_params clr_filter_params;
+
+/* pbrt-v3's defaults for `type` (the defaults listed above). */
 void clr_filter_desc_init(clr_filter_desc *desc, clr_filter_type type);
-clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params *params);
-clr_result clr_filter_make_table(const clr_filter_params *params, float table[256]);
+/* pbrt-v3 scene names: "box", "triangle", "gaussian", "mitchell", "sinc", plus "blackmanharris"
+ * and "catmullrom" (case-sensitive). CLR_ERROR_INVALID_FILTER for any other name. */
+clr_result clr_filter_type_from_name(const char *name, clr_filter_type *type);
+/* The scene name of `type`, "unknown" for values outside the enum. */
+const char *clr_filter_type_name(clr_filter_type type);
+
+/* Validates `desc` and fills the kernels' parameter block (1/radius, 1/tau and the gaussian's
+ * e^(-alpha r^2) precomputed). *out is written only on success. Errors:
+ * CLR_ERROR_NULL_POINTER, CLR_ERROR_INVALID_ARGUMENT (struct_size, use_table not 0/1),
+ * CLR_ERROR_INVALID_FILTER (type; alpha <= 0, non-finite or so small the gaussian vanishes; B or
+ * C non-finite or beyond CLR_FILTER_MAX_BC; tau outside its range or NaN),
+ * CLR_ERROR_INVALID_RADIUS (radius NaN, infinite or outside its range). Parameters a type does
+ * not use are ignored. */
+clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params *out);
+
+/* pbrt-v3's filter table for `params` (whatever its use_table): entry iy*16 + ix is the exact
+ * filter at ((ix + .5) rx / 16, (iy + .5) ry / 16), bit-identical to the device's. */
+clr_result clr_filter_make_table(const clr_filter_params *params,
+                                 float table[CLR_FILTER_TABLE_ENTRIES]);
+
+/* Host evaluation with the kernels' code: clr_filter_eval (table mode when params->use_table,
+ * reading `table`, or computing the entry itself when table is NULL). 0 for a NULL params. */
+float clr_filter_evaluate(const clr_filter_params *params, const float *table, float x, float y);
 
 #ifdef __cplusplus
 }

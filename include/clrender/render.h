@@ -21,7 +21,7 @@ typedef struct clr_render_options {
   uint32_t seed;           /* mixed into CLR_SEEDING_PIXEL streams (0) */
   clr_seeding seeding;     /* CLR_SEEDING_PIXEL (default) or CLR_SEEDING_PBRT_V3 */
   const char *sampler;     /* sampler name override or NULL */
-  const char *filter;      /* filter name override ("box", "triangle") or NULL */
+  const char *filter;      /* filter name override (clr_filter_type_from_name names) or NULL */
   int32_t crop_given;      /* 1: crop_window overrides the Film's "cropwindow" */
   float crop_window[4];    /* x0 x1 y0 y1 in [0,1] */
   int32_t xresolution, yresolution; /* overrides when > 0 */

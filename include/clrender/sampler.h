@@ -65,7 +65,7 @@ typedef struct clr_sample_request {
   int32_t array_size; /* 0: one value (Get1D/Get2D); n >= 1: an array (Get1DArray/Get2DArray) */
 } clr_sample_request;
 
-#define CLR_MAX_REQUESTS 64
+#define CLR_MAX_REQUESTS 1024
 #define CLR_MAX_VALUES_PER_SAMPLE 4096
 
 typedef struct clr_sampler_t *clr_sampler;

@@ -1,0 +1,112 @@
+/* Sample generation throughput (values/s) per sampler on each device, against the host reference. */
+#include <stdlib.h>
+#include <string.h>
+#include "bench.h"
+
+static const clr_sample_request layout[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}, {2, 0}, {2, 0}};
+#define LAYOUT_VALUES 10
+
+typedef struct run {
+  clr_sampler sampler;
+  clr_sample_batch batch;
+  clr_sample_output out;
+  int reference;
+} run;
+
+static int run_once(void *user) {
+  run *r = user;
+  clr_result res = r->reference ? clr_sampler_generate_reference(r->sampler, &r->batch, &r->out)
+                                : clr_sampler_generate(r->sampler, &r->batch, &r->out);
+  if (res != CLR_SUCCESS) fprintf(stderr, "bench: %s\n", clr_last_error_message());
+  return res == CLR_SUCCESS;
+}
+
+static void setup_run(run *r, clr_sampler s, int side) {
+  memset(r, 0, sizeof *r);
+  r->sampler = s;
+  clr_sample_batch_init(&r->batch);
+  r->batch.pixels = (clr_bounds2i){0, 0, side, side};
+  r->batch.requests = layout;
+  r->batch.request_count = 6;
+  clr_sample_output_init(&r->out);
+}
+
+/* Values per second of the single-thread host reference on a smaller batch. */
+static double reference_rate(clr_sampler_type type, int quick) {
+  int side = quick ? 32 : 64;
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, type);
+  d.film.x_resolution = d.film.y_resolution = 512;
+  clr_sampler s = NULL;
+  if (clr_sampler_create(NULL, &d, &s) != CLR_SUCCESS) return -1;
+  run r;
+  setup_run(&r, s, side);
+  r.reference = 1;
+  size_t values = (size_t)side * side * clr_sampler_spp(s) * LAYOUT_VALUES;
+  r.out.host_values = malloc(values * sizeof(float));
+  double t = r.out.host_values ? bench_median(quick ? 1 : 3, run_once, &r) : -1;
+  free(r.out.host_values);
+  clr_sampler_release(s);
+  return t > 0 ? (double)values / t : -1;
+}
+
+static double device_rate(clr_context ctx, clr_sampler_type type, int quick) {
+  int side = quick ? 128 : 512;
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, type);
+  d.film.x_resolution = d.film.y_resolution = 512;
+  clr_sampler s = NULL;
+  if (clr_sampler_create(ctx, &d, &s) != CLR_SUCCESS) return -1;
+  run r;
+  setup_run(&r, s, side);
+  size_t values = (size_t)side * side * clr_sampler_spp(s) * LAYOUT_VALUES;
+  cl_int err;
+  r.out.device_values = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_WRITE,
+                                       values * sizeof(float), NULL, &err);
+  double t = err == CL_SUCCESS ? bench_median(quick ? 2 : 5, run_once, &r) : -1;
+  if (err == CL_SUCCESS) clReleaseMemObject(r.out.device_values);
+  clr_sampler_release(s);
+  return t > 0 ? (double)values / t : -1;
+}
+
+void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count) {
+  double baseline[4];
+  for (int t = 0; t < 4; ++t) baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
+  for (int i = 0; i < device_count; ++i) {
+    char index[16];
+    snprintf(index, sizeof index, "%d", i);
+    if (o->only_device && !strstr(devices[i].device_name, o->only_device) &&
+        strcmp(o->only_device, index) != 0)
+      continue;
+    clr_context_desc cd;
+    clr_context_desc_init(&cd);
+    cd.device = index;
+    clr_context ctx = NULL;
+    if (clr_context_create(&cd, &ctx) != CLR_SUCCESS) {
+      printf("{\"bench\":\"samples\",\"device\":");
+      bench_json_escape(stdout, devices[i].device_name);
+      printf(",\"error\":");
+      bench_json_escape(stdout, clr_last_error_message());
+      printf("}\n");
+      continue;
+    }
+    for (int t = 0; t < 4; ++t) {
+      double rate = device_rate(ctx, (clr_sampler_type)t, o->quick);
+      printf("{\"bench\":\"samples\",\"device\":");
+      bench_json_escape(stdout, clr_context_device_name(ctx));
+      printf(",\"sampler\":\"%s\",\"layout_values\":%d", clr_sampler_type_name((clr_sampler_type)t),
+             LAYOUT_VALUES);
+      if (rate < 0) {
+        printf(",\"error\":");
+        bench_json_escape(stdout, clr_last_error_message());
+      } else {
+        printf(",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
+               "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
+               rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
+      }
+      printf("}\n");
+      fflush(stdout);
+    }
+    clr_context_release(ctx);
+  }
+}

@@ -1,0 +1,17 @@
+/* pbrt-v3's film geometry: cropped pixel bounds and the sample bounds grown by the filter radius. */
+#ifndef CLR_FILM_GEOMETRY_H
+#define CLR_FILM_GEOMETRY_H
+
+#include "clrender/sampler.h"
+
+/* Largest accepted film side and pixel count (documented limits). */
+#define CLR_MAX_RESOLUTION 32768
+#define CLR_MAX_PIXELS (1 << 28)
+#define CLR_MAX_FILTER_RADIUS 64.0f
+
+/* Validates resolution, crop window and radius (messages name `who` and the bad value) and
+ * computes pbrt-v3's croppedPixelBounds and GetSampleBounds. */
+clr_result clr_film_geometry_bounds(const clr_film_geometry *g, const char *who,
+                                    clr_bounds2i *pixel_bounds, clr_bounds2i *sample_bounds);
+
+#endif

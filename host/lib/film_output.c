@@ -1,0 +1,177 @@
+/* Film output: OpenEXR with metadata and mergeable sums, PNG previews, and merging of films
+ * written with their sums. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "exr_io.h"
+#include "film_internal.h"
+#include "png_io.h"
+
+#define SUM_PLANES 7 /* sum.R sum.G sum.B weight splat.R splat.G splat.B */
+static const char *const sum_names[SUM_PLANES] = {"sum.R",   "sum.G",   "sum.B",  "weight",
+                                                  "splat.R", "splat.G", "splat.B"};
+static const char *const sum_lo_names[SUM_PLANES] = {"sum.R.lo",   "sum.G.lo",   "sum.B.lo",
+                                                     "weight.lo",  "splat.R.lo", "splat.G.lo",
+                                                     "splat.B.lo"};
+
+const clr_film_desc *film_get_desc(clr_film film) { return film ? &film->desc : NULL; }
+
+void clr_film_write_options_init(clr_film_write_options *o) {
+  if (!o) return;
+  memset(o, 0, sizeof *o);
+  o->struct_size = sizeof *o;
+  o->include_sums = 1;
+  o->splat_scale = 1.0f;
+  o->render_time_s = -1.0;
+}
+
+/* All planes of one output, freed together. */
+typedef struct film_planes {
+  float *rgb;               /* interleaved, from film_get_rgb */
+  float *plane[3];          /* R, G, B */
+  float *sum[SUM_PLANES];   /* high parts */
+  float *lo[SUM_PLANES];    /* residuals */
+} film_planes;
+
+static void free_planes(film_planes *p) {
+  free(p->rgb);
+  for (int i = 0; i < 3; ++i) free(p->plane[i]);
+  for (int i = 0; i < SUM_PLANES; ++i) {
+    free(p->sum[i]);
+    free(p->lo[i]);
+  }
+}
+
+static clr_result make_planes(clr_film film, float splat_scale, int sums, film_planes *p) {
+  size_t n = film->pixel_count;
+  memset(p, 0, sizeof *p);
+  p->rgb = malloc(n * 3 * sizeof(float));
+  int ok = p->rgb != NULL;
+  for (int i = 0; i < 3; ++i) ok &= (p->plane[i] = malloc(n * sizeof(float))) != NULL;
+  for (int i = 0; sums && i < SUM_PLANES; ++i) {
+    ok &= (p->sum[i] = malloc(n * sizeof(float))) != NULL;
+    ok &= (p->lo[i] = malloc(n * sizeof(float))) != NULL;
+  }
+  if (!ok) return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_write: out of memory");
+  CLR_CHECK(film_get_rgb(film, p->rgb, splat_scale));
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) p->plane[c][i] = p->rgb[3 * i + c];
+  if (!sums) return CLR_SUCCESS;
+  pthread_mutex_lock(&film->lock);
+  for (size_t i = 0; i < n; ++i) {
+    double v[SUM_PLANES] = {film->rgb_sum[3 * i], film->rgb_sum[3 * i + 1],
+                            film->rgb_sum[3 * i + 2], film->weight_sum[i],
+                            film->splat_rgb[3 * i], film->splat_rgb[3 * i + 1],
+                            film->splat_rgb[3 * i + 2]};
+    for (int k = 0; k < SUM_PLANES; ++k) {
+      p->sum[k][i] = (float)v[k];
+      p->lo[k][i] = (float)(v[k] - (double)p->sum[k][i]);
+    }
+  }
+  pthread_mutex_unlock(&film->lock);
+  return CLR_SUCCESS;
+}
+
+#define MAX_ATTRS 48
+
+typedef struct attr_list {
+  clr_exr_attribute a[MAX_ATTRS];
+  int n;
+  char text[4][256];
+} attr_list;
+
+static void add_string(attr_list *l, const char *name, const char *s) {
+  if (l->n < MAX_ATTRS && s) l->a[l->n++] = (clr_exr_attribute){name, CLR_EXR_ATTR_STRING, s, 0, 0};
+}
+static void add_float(attr_list *l, const char *name, float f) {
+  if (l->n < MAX_ATTRS) l->a[l->n++] = (clr_exr_attribute){name, CLR_EXR_ATTR_FLOAT, NULL, f, 0};
+}
+static void add_int(attr_list *l, const char *name, int32_t i) {
+  if (l->n < MAX_ATTRS) l->a[l->n++] = (clr_exr_attribute){name, CLR_EXR_ATTR_INT, NULL, 0, i};
+}
+
+static void film_attributes(clr_film film, const clr_film_write_options *o, attr_list *l) {
+  const clr_film_desc *d = &film->desc;
+  add_string(l, "software", "clrender " CLR_VERSION_STRING);
+  add_string(l, "clrender.filter", clr_filter_type_name(d->filter.type));
+  add_float(l, "clrender.filter.xwidth", d->filter.radius[0]);
+  add_float(l, "clrender.filter.ywidth", d->filter.radius[1]);
+  add_float(l, "clrender.filter.alpha", d->filter.alpha);
+  add_float(l, "clrender.filter.B", d->filter.b);
+  add_float(l, "clrender.filter.C", d->filter.c);
+  add_float(l, "clrender.filter.tau", d->filter.tau);
+  add_int(l, "clrender.filter.table", d->filter.use_table);
+  add_float(l, "clrender.scale", d->scale);
+  add_float(l, "clrender.maxsampleluminance", d->max_sample_luminance);
+  add_float(l, "clrender.splat_scale", o->splat_scale);
+  snprintf(l->text[0], sizeof l->text[0], "%.9g %.9g %.9g %.9g", (double)d->crop_window[0],
+           (double)d->crop_window[1], (double)d->crop_window[2], (double)d->crop_window[3]);
+  add_string(l, "clrender.cropwindow", l->text[0]);
+  add_string(l, "clrender.sampler", o->sampler);
+  if (o->spp > 0) add_int(l, "clrender.spp", o->spp);
+  if (o->render_time_s >= 0) add_float(l, "clrender.render_time_s", (float)o->render_time_s);
+  add_int(l, "clrender.partial", o->partial ? 1 : 0);
+  add_int(l, "clrender.samples", (int32_t)(film->accepted > INT32_MAX ? INT32_MAX : film->accepted));
+  add_int(l, "clrender.dropped_samples",
+          (int32_t)(film->dropped > INT32_MAX ? INT32_MAX : film->dropped));
+  for (int i = 0; i < o->metadata_count; ++i)
+    if (o->metadata_keys && o->metadata_values && o->metadata_keys[i] && o->metadata_values[i])
+      add_string(l, o->metadata_keys[i], o->metadata_values[i]);
+}
+
+static clr_bounds2i pixel_bounds(clr_film film) {
+  clr_bounds2i b = {film->params.pixel_x0, film->params.pixel_y0, film->params.pixel_x1,
+                    film->params.pixel_y1};
+  return b;
+}
+
+clr_result film_write(clr_film film, const char *path, const clr_film_write_options *opts) {
+  clr_clear_error();
+  if (!film || !path)
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_write: %s is NULL",
+                    film ? "path" : "film");
+  clr_film_write_options defaults;
+  clr_film_write_options_init(&defaults);
+  if (!opts) opts = &defaults;
+  if (opts->struct_size != sizeof *opts)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_write: opts->struct_size %zu, expected %zu", opts->struct_size,
+                    sizeof *opts);
+  if (opts->metadata_count < 0 || opts->metadata_count > 16)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_write: metadata_count %d (0..16)", (int)opts->metadata_count);
+  film_planes p;
+  clr_result r = make_planes(film, opts->splat_scale, opts->include_sums, &p);
+  if (r == CLR_SUCCESS) {
+    clr_exr_channel ch[3 + 2 * SUM_PLANES];
+    static const char *const rgb_names[3] = {"R", "G", "B"};
+    int n = 0;
+    for (int c = 0; c < 3; ++c) ch[n++] = (clr_exr_channel){rgb_names[c], p.plane[c], opts->half};
+    for (int k = 0; opts->include_sums && k < SUM_PLANES; ++k) {
+      ch[n++] = (clr_exr_channel){sum_names[k], p.sum[k], 0};
+      ch[n++] = (clr_exr_channel){sum_lo_names[k], p.lo[k], 0};
+    }
+    attr_list attrs;
+    memset(&attrs, 0, sizeof attrs);
+    film_attributes(film, opts, &attrs);
+    r = clr_exr_write(path, film->desc.x_resolution, film->desc.y_resolution, pixel_bounds(film),
+                      ch, n, attrs.a, attrs.n);
+  }
+  free_planes(&p);
+  return r;
+}
+
+clr_result film_write_png(clr_film film, const char *path, float splat_scale) {
+  clr_clear_error();
+  if (!film || !path)
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER,
+                    "film_write_png: %s is NULL", film ? "path" : "film");
+  float *rgb = malloc(film->pixel_count * 3 * sizeof(float));
+  if (!rgb) return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_write_png: out of memory");
+  clr_result r = film_get_rgb(film, rgb, splat_scale);
+  if (r == CLR_SUCCESS) r = clr_png_write_srgb(path, film->width, film->height, rgb);
+  free(rgb);
+  return r;
+}

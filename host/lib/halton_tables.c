@@ -1,0 +1,168 @@
+/* Builds pbrt-v3's Halton prime and permutation tables once, and the sampler's base scales. */
+#include "halton_tables.h"
+
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The 1000th prime is 7919. */
+#define CLR_HALTON_SIEVE_LIMIT 7920
+
+static clr_halton_prime halton_primes[CLR_HALTON_PRIME_RECORDS];
+static clr_u16 halton_permutations[CLR_HALTON_TABLE_ENTRIES];
+static pthread_once_t halton_once = PTHREAD_ONCE_INIT;
+
+static void sieve_primes(clr_u32 *primes) {
+  static unsigned char composite[CLR_HALTON_SIEVE_LIMIT];
+  memset(composite, 0, sizeof composite);
+  int count = 0;
+  for (clr_u32 n = 2; n < CLR_HALTON_SIEVE_LIMIT && count < CLR_HALTON_PRIMES; ++n) {
+    if (composite[n]) continue;
+    primes[count++] = n;
+    for (clr_u32 m = n * n; m < CLR_HALTON_SIEVE_LIMIT; m += n) composite[m] = 1;
+  }
+}
+
+/* Identity then pbrt-v3's Shuffle: for i in [0,n) swap perm[i] with perm[i + UniformUInt32(n-i)]. */
+static void shuffled_permutation(clr_u16 *perm, clr_u32 n, clr_pcg32 *rng) {
+  for (clr_u32 i = 0; i < n; ++i) perm[i] = (clr_u16)i;
+  for (clr_u32 i = 0; i < n; ++i) {
+    clr_u32 other = i + clr_pcg32_bounded(rng, n - i);
+    clr_u16 t = perm[i];
+    perm[i] = perm[other];
+    perm[other] = t;
+  }
+}
+
+/* Constants of clr_halton_div32 for divisor d >= 2. */
+static void division_magic(clr_u32 d, clr_u32 *magic, clr_u32 *shift) {
+  clr_u32 l = 0;
+  while (((clr_u64)1 << l) < d) ++l;
+  *magic = (clr_u32)((((clr_u64)1 << l) - d) * ((clr_u64)1 << 32) / d + 1u);
+  *shift = l - 1u;
+}
+
+/* The digits of x (exactly `digits` of them, or all significant ones when digits < 0) through
+ * perm, reversed; *count receives how many were taken. */
+static clr_u32 permuted_reversal(const clr_u16 *perm, clr_u32 base, clr_u32 x, int digits,
+                                 clr_u32 *count) {
+  clr_u32 v = 0, n = 0;
+  while (digits < 0 ? x != 0 : (int)n < digits) {
+    v = v * base + perm[x % base];
+    x /= base;
+    ++n;
+  }
+  *count = n;
+  return v;
+}
+
+/* Fills the record of `base` whose pbrt-v3 permutation starts at perm_offset; appends its chunk
+ * tables at *table_end when a chunk needs more than one digit. */
+static void fill_record(clr_halton_prime *pr, clr_u32 base, clr_u32 perm_offset,
+                        clr_u32 *table_end) {
+  const clr_u16 *perm = halton_permutations + perm_offset;
+  pr->base = base;
+  pr->perm_offset = perm_offset;
+  pr->inv_base = (float)1 / (float)base;
+  /* pbrt-v3: invBase * perm[0] / (1 - invBase), all float. */
+  pr->scramble_tail = pr->inv_base * (float)perm[0] / (1.0f - pr->inv_base);
+  division_magic(base, &pr->div_magic, &pr->div_shift);
+  pr->inv_base_pow[0] = 1.0f;
+  for (int k = 1; k <= CLR_HALTON_MAX_DIGITS32; ++k)
+    pr->inv_base_pow[k] = pr->inv_base_pow[k - 1] * pr->inv_base;
+  clr_u32 chunk_base = base, digits = 1;
+  while (chunk_base < CLR_HALTON_CHUNK_MIN) {
+    chunk_base *= base;
+    ++digits;
+  }
+  pr->chunk_base = chunk_base;
+  pr->chunk_digits = digits;
+  division_magic(chunk_base, &pr->chunk_magic, &pr->chunk_shift);
+  pr->tail_shift = 0;
+  while ((1u << pr->tail_shift) < chunk_base) ++pr->tail_shift;
+  if (digits == 1) { /* the permutation itself serves as both tables (count - 1 = 0) */
+    pr->chunk_offset = pr->tail_offset = perm_offset;
+    return;
+  }
+  /* value and count - 1 must share 16 bits */
+  if ((chunk_base - 1u) >> pr->tail_shift || (digits - 1u) >> (16u - pr->tail_shift)) abort();
+  if (*table_end + 2u * chunk_base > CLR_HALTON_TABLE_ENTRIES) abort(); /* constant out of date */
+  pr->chunk_offset = *table_end;
+  pr->tail_offset = *table_end + chunk_base;
+  clr_u16 *chunk = halton_permutations + pr->chunk_offset;
+  clr_u16 *tail = halton_permutations + pr->tail_offset;
+  for (clr_u32 d = 0; d < chunk_base; ++d) {
+    clr_u32 count;
+    chunk[d] = (clr_u16)permuted_reversal(perm, base, d, (int)digits, &count);
+    clr_u32 value = permuted_reversal(perm, base, d, -1, &count);
+    tail[d] = (clr_u16)(count ? ((count - 1u) << pr->tail_shift) | value : 0u);
+  }
+  *table_end += 2u * chunk_base;
+}
+
+static void build_tables(void) {
+  clr_u32 primes[CLR_HALTON_PRIMES];
+  sieve_primes(primes);
+  clr_pcg32 rng = clr_pcg32_default();
+  clr_u32 offset = 0;
+  for (int i = 0; i < CLR_HALTON_PRIMES; ++i) {
+    shuffled_permutation(halton_permutations + offset, primes[i], &rng);
+    offset += primes[i];
+  }
+  /* The unscrambled base 3 of dimension 1: identity permutation (scramble_tail 0). */
+  clr_u32 identity3 = offset;
+  for (clr_u16 d = 0; d < 3; ++d) halton_permutations[identity3 + d] = d;
+  clr_u32 table_end = identity3 + 3u;
+  for (int i = 0; i < CLR_HALTON_PRIMES; ++i)
+    fill_record(&halton_primes[i], primes[i],
+                i == 0 ? 0u : halton_primes[i - 1].perm_offset + primes[i - 1], &table_end);
+  fill_record(&halton_primes[CLR_HALTON_BASE3_RECORD], 3u, identity3, &table_end);
+  if (table_end != CLR_HALTON_TABLE_ENTRIES) abort(); /* the constant is out of date */
+}
+
+static void ensure_tables(void) { (void)pthread_once(&halton_once, build_tables); }
+
+const clr_halton_prime *clr_halton_primes(void) {
+  ensure_tables();
+  return halton_primes;
+}
+
+const clr_u16 *clr_halton_permutations(size_t *count) {
+  ensure_tables();
+  if (count) *count = CLR_HALTON_TABLE_ENTRIES;
+  return halton_permutations;
+}
+
+/* x with a * x = 1 (mod n), in [0, n) (0 when n == 1); a and n coprime. Extended Euclid. */
+static clr_i64 multiplicative_inverse(clr_i64 a, clr_i64 n) {
+  clr_i64 r0 = a, r1 = n, x0 = 1, x1 = 0;
+  while (r1 != 0) {
+    clr_i64 q = r0 / r1, t = r0 - q * r1;
+    r0 = r1;
+    r1 = t;
+    t = x0 - q * x1;
+    x0 = x1;
+    x1 = t;
+  }
+  clr_i64 m = x0 % n;
+  return m < 0 ? m + n : m;
+}
+
+void clr_halton_setup(clr_sampler_params *p) {
+  clr_i32 res[2] = {p->sample_x1 - p->sample_x0, p->sample_y1 - p->sample_y0};
+  for (int i = 0; i < 2; ++i) {
+    clr_i32 base = i == 0 ? 2 : 3, scale = 1, exponent = 0;
+    clr_i32 target = res[i] < CLR_HALTON_MAX_RESOLUTION ? res[i] : CLR_HALTON_MAX_RESOLUTION;
+    while (scale < target) {
+      scale *= base;
+      ++exponent;
+    }
+    p->halton_scale[i] = scale;
+    p->halton_exponent[i] = exponent;
+  }
+  p->halton_stride = p->halton_scale[0] * p->halton_scale[1];
+  p->halton_mult_inverse[0] =
+      (clr_u32)multiplicative_inverse(p->halton_scale[1], p->halton_scale[0]);
+  p->halton_mult_inverse[1] =
+      (clr_u32)multiplicative_inverse(p->halton_scale[0], p->halton_scale[1]);
+}

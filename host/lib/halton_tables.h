@@ -1,0 +1,31 @@
+/* pbrt-v3's Halton tables (first 1000 primes, their scrambling digit permutations) and the
+ * HaltonSampler constructor's scales, built on the host. */
+#ifndef CLR_HALTON_TABLES_H
+#define CLR_HALTON_TABLES_H
+
+#include <stddef.h>
+/* GCC does not know clr_platform.h's "#pragma STDC FP_CONTRACT" (-ffp-contract=off does the job). */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunknown-pragmas"
+#include "halton_funcs.h"
+#pragma GCC diagnostic pop
+
+/* Sum of the first CLR_HALTON_PRIMES primes: entries of pbrt-v3's permutation table. */
+#define CLR_HALTON_PERMUTATION_COUNT 3682913u
+/* All entries of clr_halton_permutations(): pbrt-v3's permutations, the identity permutation of
+ * the unscrambled base-3 record, then the chunk and tail tables of the bases below 128. */
+#define CLR_HALTON_TABLE_ENTRIES 3965994u
+
+/* The CLR_HALTON_PRIME_RECORDS records: primes 2, 3, 5, ..., 7919, then the unscrambled base-3
+ * record. Built once (thread-safe), never freed. */
+const clr_halton_prime *clr_halton_primes(void);
+/* The u16 table every record's offsets point into. It starts with pbrt-v3's
+ * radicalInversePermutations (every prime's permutation, concatenated in prime order, from a
+ * default-constructed RNG). *count (may be NULL) receives CLR_HALTON_TABLE_ENTRIES. */
+const clr_u16 *clr_halton_permutations(size_t *count);
+
+/* Fills halton_scale, halton_exponent, halton_mult_inverse and halton_stride from the sample
+ * bounds p->sample_x0..sample_y1 as pbrt-v3's HaltonSampler constructor (kMaxResolution 128). */
+void clr_halton_setup(clr_sampler_params *p);
+
+#endif

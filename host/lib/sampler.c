@@ -1,0 +1,588 @@
+/* Sampler objects: pbrt-v3 parameters and validation, the request layout resolved per sampler
+ * family, and sample generation on the device or with the host reference. */
+#include <limits.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "clrender/sampler.h"
+#include "film_geometry.h"
+#include "global_sampler_funcs.h"
+#include "halton_tables.h"
+#include "pixel_sampler_funcs.h"
+#include "sobol_tables.h"
+
+/* Upper bound on one batch: values are addressed with 32-bit item indices on the device. */
+#define CLR_MAX_BATCH_VALUES ((size_t)1 << 31)
+
+struct clr_sampler_t {
+  atomic_int refcount;
+  clr_context ctx;
+  clr_sampler_desc desc;
+  clr_sampler_params base; /* everything but the batch fields */
+  clr_bounds2i pixel_bounds, sample_bounds, index_bounds;
+};
+
+static const char *const sampler_names[] = {"random", "stratified", "halton", "sobol"};
+
+const char *clr_sampler_type_name(clr_sampler_type type) {
+  return (unsigned)type < 4 ? sampler_names[type] : "unknown";
+}
+
+clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type) {
+  if (!name || !type)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_type_from_name: NULL argument");
+  for (int i = 0; i < 4; ++i)
+    if (strcmp(name, sampler_names[i]) == 0) {
+      *type = (clr_sampler_type)i;
+      return CLR_SUCCESS;
+    }
+  return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER,
+                  "unknown sampler \"%s\" (expected random, stratified, halton or sobol)", name);
+}
+
+void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type) {
+  if (!desc) return;
+  memset(desc, 0, sizeof *desc);
+  desc->struct_size = sizeof *desc;
+  desc->type = type;
+  desc->pixel_samples = type == CLR_SAMPLER_RANDOM ? 4 : 16;
+  desc->x_samples = desc->y_samples = 4;
+  desc->jitter = 1;
+  desc->dimensions = 4;
+  desc->seeding = CLR_SEEDING_PIXEL;
+  desc->film.x_resolution = 1280;
+  desc->film.y_resolution = 720;
+  desc->film.crop_window[1] = desc->film.crop_window[3] = 1.0f;
+  desc->film.filter_radius[0] = desc->film.filter_radius[1] = 0.5f;
+}
+
+void clr_sample_batch_init(clr_sample_batch *batch) {
+  if (!batch) return;
+  memset(batch, 0, sizeof *batch);
+  batch->struct_size = sizeof *batch;
+}
+
+void clr_sample_output_init(clr_sample_output *out) {
+  if (!out) return;
+  memset(out, 0, sizeof *out);
+  out->struct_size = sizeof *out;
+}
+
+static int32_t round_up_pow2(int32_t v) {
+  int32_t p = 1;
+  while (p < v) p <<= 1;
+  return p;
+}
+
+static clr_result validate_desc(const clr_sampler_desc *d) {
+  if ((unsigned)d->type > CLR_SAMPLER_SOBOL)
+    return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER, "clr_sampler_create: unknown sampler type %d",
+                    (int)d->type);
+  if (d->type == CLR_SAMPLER_STRATIFIED) {
+    if (d->x_samples <= 0 || d->y_samples <= 0 || d->x_samples > 256 || d->y_samples > 256)
+      return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                      "stratified sampler: xsamples %d and ysamples %d must be in 1..256",
+                      (int)d->x_samples, (int)d->y_samples);
+    if (d->dimensions <= 0 || d->dimensions > 1024)
+      return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS,
+                      "stratified sampler: dimensions %d must be in 1..1024", (int)d->dimensions);
+  } else if (d->pixel_samples <= 0 || d->pixel_samples > (1 << 20)) {
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                    "%s sampler: pixelsamples %d must be in 1..%d", clr_sampler_type_name(d->type),
+                    (int)d->pixel_samples, 1 << 20);
+  }
+  if ((unsigned)d->seeding > CLR_SEEDING_PIXEL)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_sampler_create: unknown seeding %d",
+                    (int)d->seeding);
+  return CLR_SUCCESS;
+}
+
+static void fill_base_params(clr_sampler s) {
+  const clr_sampler_desc *d = &s->desc;
+  clr_sampler_params *p = &s->base;
+  memset(p, 0, sizeof *p);
+  p->type = (clr_i32)d->type;
+  p->spp = d->type == CLR_SAMPLER_STRATIFIED ? d->x_samples * d->y_samples
+           : d->type == CLR_SAMPLER_SOBOL    ? round_up_pow2(d->pixel_samples)
+                                             : d->pixel_samples;
+  p->x_samples = d->x_samples;
+  p->y_samples = d->y_samples;
+  p->jitter = d->jitter ? 1 : 0;
+  p->dimensions = d->dimensions;
+  p->sample_pixel_center = d->sample_pixel_center ? 1 : 0;
+  p->seeding = (clr_i32)d->seeding;
+  p->seed = d->seed;
+  p->inv_x_samples = 1.0f / (float)d->x_samples;
+  p->inv_y_samples = 1.0f / (float)d->y_samples;
+  p->inv_spp = 1.0f / (float)p->spp;
+  p->sample_x0 = s->index_bounds.x0;
+  p->sample_y0 = s->index_bounds.y0;
+  p->sample_x1 = s->index_bounds.x1;
+  p->sample_y1 = s->index_bounds.y1;
+  p->pixel_x0 = s->pixel_bounds.x0;
+  p->pixel_y0 = s->pixel_bounds.y0;
+  p->pixel_x1 = s->pixel_bounds.x1;
+  p->pixel_y1 = s->pixel_bounds.y1;
+  p->tiles_x = (s->index_bounds.x1 - s->index_bounds.x0 + CLR_PBRT_TILE_SIZE - 1) / CLR_PBRT_TILE_SIZE;
+  if (d->type == CLR_SAMPLER_HALTON) clr_halton_setup(p);
+  if (d->type == CLR_SAMPLER_SOBOL) clr_sobol_setup(p);
+}
+
+clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr_sampler *out) {
+  clr_clear_error();
+  if (!desc || !out)
+    return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "clr_sampler_create: desc or out is NULL");
+  *out = NULL;
+  if (desc->struct_size != sizeof *desc)
+    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_create: desc->struct_size %zu, expected %zu "
+                    "(call clr_sampler_desc_init)",
+                    desc->struct_size, sizeof *desc);
+  CLR_CHECK(validate_desc(desc));
+  clr_bounds2i pixel_bounds, sample_bounds, full_sample_bounds;
+  CLR_CHECK(clr_film_geometry_bounds(&desc->film, "clr_sampler_create", &pixel_bounds,
+                                     &sample_bounds));
+  clr_film_geometry full = desc->film;
+  full.crop_window[0] = full.crop_window[2] = 0.0f;
+  full.crop_window[1] = full.crop_window[3] = 1.0f;
+  CLR_CHECK(clr_film_geometry_bounds(&full, "clr_sampler_create", NULL, &full_sample_bounds));
+  clr_sampler s = calloc(1, sizeof *s);
+  if (!s) return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_create: out of memory");
+  atomic_init(&s->refcount, 1);
+  s->desc = *desc;
+  s->pixel_bounds = pixel_bounds;
+  s->sample_bounds = sample_bounds;
+  /* Our mode indexes over the full frame so crops reproduce the full render; pbrt-v3 re-indexes
+   * over the cropped sample bounds. */
+  s->index_bounds = desc->seeding == CLR_SEEDING_PBRT_V3 ? sample_bounds : full_sample_bounds;
+  fill_base_params(s);
+  if (desc->type == CLR_SAMPLER_SOBOL && s->base.sobol_log2_resolution > CLR_SOBOL_VDC_MATRICES) {
+    free(s);
+    return clr_fail(ctx, CLR_ERROR_INVALID_RESOLUTION,
+                    "sobol sampler: sample bounds of %dx%d exceed the 2^%d supported", 
+                    (int)(sample_bounds.x1 - sample_bounds.x0),
+                    (int)(sample_bounds.y1 - sample_bounds.y0), CLR_SOBOL_VDC_MATRICES);
+  }
+  if (desc->type == CLR_SAMPLER_SOBOL &&
+      s->base.spp > clr_sobol_max_samples(s->base.sobol_log2_resolution)) {
+    int64_t most = clr_sobol_max_samples(s->base.sobol_log2_resolution);
+    free(s);
+    return clr_fail(ctx, CLR_ERROR_INVALID_SPP,
+                    "sobol sampler: %d samples per pixel exceed the %lld that 52-bit indices "
+                    "give at this resolution",
+                    (int)desc->pixel_samples, (long long)most);
+  }
+  if (ctx) clr_context_retain(ctx);
+  s->ctx = ctx;
+  *out = s;
+  return CLR_SUCCESS;
+}
+
+void clr_sampler_retain(clr_sampler s) {
+  if (s) atomic_fetch_add(&s->refcount, 1);
+}
+
+void clr_sampler_release(clr_sampler s) {
+  if (!s || atomic_fetch_sub(&s->refcount, 1) != 1) return;
+  clr_context_release(s->ctx);
+  free(s);
+}
+
+int32_t clr_sampler_spp(clr_sampler s) { return s ? s->base.spp : 0; }
+clr_bounds2i clr_sampler_sample_bounds(clr_sampler s) {
+  clr_bounds2i none = {0, 0, 0, 0};
+  return s ? s->sample_bounds : none;
+}
+clr_bounds2i clr_sampler_pixel_bounds(clr_sampler s) {
+  clr_bounds2i none = {0, 0, 0, 0};
+  return s ? s->pixel_bounds : none;
+}
+int clr_sampler_has_global_index(clr_sampler s) {
+  return s && (s->desc.type == CLR_SAMPLER_HALTON || s->desc.type == CLR_SAMPLER_SOBOL);
+}
+
+clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
+                                    int32_t *values_per_sample) {
+  if (!values_per_sample || (count > 0 && !requests))
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "sample layout: NULL requests or result");
+  if (count <= 0 || count > CLR_MAX_REQUESTS)
+    return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
+                    "sample layout: %d requests (must be 1..%d)", (int)count, CLR_MAX_REQUESTS);
+  if (requests[0].dims != 2 || requests[0].array_size != 0)
+    return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
+                    "sample layout: the first request must be the 2D film offset (got dims %d, "
+                    "array %d)",
+                    (int)requests[0].dims, (int)requests[0].array_size);
+  int64_t total = 0;
+  for (int32_t i = 0; i < count; ++i) {
+    const clr_sample_request *r = &requests[i];
+    if (r->dims != 1 && r->dims != 2)
+      return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
+                      "sample layout: request %d has dims %d (must be 1 or 2)", (int)i,
+                      (int)r->dims);
+    if (r->array_size < 0 || r->array_size > CLR_MAX_VALUES_PER_SAMPLE)
+      return clr_fail(NULL, CLR_ERROR_REQUEST_TOO_LARGE,
+                      "sample layout: request %d has array size %d (must be 0..%d)", (int)i,
+                      (int)r->array_size, CLR_MAX_VALUES_PER_SAMPLE);
+    total += (int64_t)r->dims * (r->array_size ? r->array_size : 1);
+  }
+  if (total > CLR_MAX_VALUES_PER_SAMPLE)
+    return clr_fail(NULL, CLR_ERROR_REQUEST_TOO_LARGE,
+                    "sample layout: %lld values per sample exceed the limit of %d",
+                    (long long)total, CLR_MAX_VALUES_PER_SAMPLE);
+  *values_per_sample = (int32_t)total;
+  return CLR_SUCCESS;
+}
+
+/* pbrt-v3 GlobalSampler: singles take consecutive dimensions, skipping the array block that
+ * starts at dimension 5; 1D arrays then 2D arrays occupy that block. */
+static void resolve_global_slots(const clr_sample_batch *b, clr_request_slot *slots) {
+  int n1 = 0, n2 = 0;
+  for (int i = 0; i < b->request_count; ++i)
+    if (b->requests[i].array_size) ++*(b->requests[i].dims == 1 ? &n1 : &n2);
+  int array_end = CLR_GLOBAL_ARRAY_START_DIM + n1 + 2 * n2;
+  int dimension = 0, a1 = 0, a2 = 0;
+  for (int i = 0; i < b->request_count; ++i) {
+    clr_request_slot *s = &slots[i];
+    if (s->array_size) {
+      s->source = s->dims == 1 ? CLR_GLOBAL_ARRAY_START_DIM + a1++
+                               : CLR_GLOBAL_ARRAY_START_DIM + n1 + 2 * a2++;
+    } else if (s->dims == 1) {
+      if (dimension >= CLR_GLOBAL_ARRAY_START_DIM && dimension < array_end) dimension = array_end;
+      s->source = dimension++;
+    } else {
+      if (dimension + 1 >= CLR_GLOBAL_ARRAY_START_DIM && dimension < array_end)
+        dimension = array_end;
+      s->source = dimension;
+      dimension += 2;
+    }
+  }
+}
+
+/* pbrt-v3 PixelSampler: singles read the next 1D/2D stream while any is left, then draw from
+ * the RNG; RandomSampler draws every single value. Returns the RNG draws per sample. */
+static int resolve_pixel_slots(const clr_sample_batch *b, const clr_sampler_params *p,
+                               clr_request_slot *slots) {
+  int streams = p->type == CLR_SAMPLER_STRATIFIED ? p->dimensions : 0;
+  int n1 = 0, n2 = 0, a1 = 0, a2 = 0, draws = 0;
+  for (int i = 0; i < b->request_count; ++i) {
+    clr_request_slot *s = &slots[i];
+    if (s->array_size) {
+      s->source = s->dims == 1 ? a1++ : a2++;
+      continue;
+    }
+    int *used = s->dims == 1 ? &n1 : &n2;
+    if (*used < streams) {
+      s->source = (*used)++;
+    } else {
+      s->source = -1;
+      s->rng_offset = draws;
+      draws += s->dims;
+    }
+  }
+  return draws;
+}
+
+static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sampler_params *p,
+                                clr_request_slot *slots) {
+  if (!b) return clr_fail(s->ctx, CLR_ERROR_NULL_POINTER, "clr_sampler_generate: batch is NULL");
+  if (b->struct_size != sizeof *b)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_generate: batch->struct_size %zu, expected %zu", b->struct_size,
+                    sizeof *b);
+  int32_t values = 0;
+  CLR_CHECK(clr_sample_layout_values(b->requests, b->request_count, &values));
+  const clr_bounds2i r = b->pixels, ib = s->index_bounds;
+  if (r.x1 <= r.x0 || r.y1 <= r.y0 || r.x0 < ib.x0 || r.y0 < ib.y0 || r.x1 > ib.x1 ||
+      r.y1 > ib.y1)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
+                    "clr_sampler_generate: pixels [%d,%d)x[%d,%d) are empty or outside the "
+                    "sample bounds [%d,%d)x[%d,%d)",
+                    (int)r.x0, (int)r.x1, (int)r.y0, (int)r.y1, (int)ib.x0, (int)ib.x1,
+                    (int)ib.y0, (int)ib.y1);
+  *p = s->base;
+  int32_t count = b->sample_count ? b->sample_count : p->spp;
+  if (b->first_sample < 0 || count < 0 || b->first_sample + (int64_t)count > p->spp)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_SPP,
+                    "clr_sampler_generate: samples [%d, %d) outside the %d samples per pixel",
+                    (int)b->first_sample, (int)(b->first_sample + count), (int)p->spp);
+  size_t total = (size_t)(r.x1 - r.x0) * (size_t)(r.y1 - r.y0) * (size_t)count * (size_t)values;
+  if (total > CLR_MAX_BATCH_VALUES)
+    return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
+                    "clr_sampler_generate: batch of %zu values exceeds the limit of %zu", total,
+                    CLR_MAX_BATCH_VALUES);
+  p->batch_x0 = r.x0;
+  p->batch_y0 = r.y0;
+  p->batch_width = r.x1 - r.x0;
+  p->batch_height = r.y1 - r.y0;
+  p->first_sample = b->first_sample;
+  p->sample_count = count;
+  p->values_per_sample = values;
+  p->request_count = b->request_count;
+  int offset = 0, max_array = 0;
+  for (int i = 0; i < b->request_count; ++i) {
+    clr_request_slot *sl = &slots[i];
+    memset(sl, 0, sizeof *sl);
+    sl->dims = b->requests[i].dims;
+    sl->array_size = b->requests[i].array_size;
+    sl->first_value = offset;
+    sl->inv_array_size = sl->array_size ? 1.0f / (float)sl->array_size : 0.0f;
+    offset += sl->dims * (sl->array_size ? sl->array_size : 1);
+    if (sl->array_size > max_array) max_array = sl->array_size;
+  }
+  if (p->type == CLR_SAMPLER_TYPE_SOBOL &&
+      (int64_t)p->spp * (max_array ? max_array : 1) > clr_sobol_max_samples(p->sobol_log2_resolution))
+    return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
+                    "sobol sampler: arrays of %d elements x %d spp exceed the 52-bit index space",
+                    max_array, (int)p->spp);
+  if (clr_sampler_has_global_index(s)) {
+    resolve_global_slots(b, slots);
+  } else {
+    p->fallback_draws_per_sample = resolve_pixel_slots(b, p, slots);
+    p->scratch_floats = clr_pixel_sampler_scratch_need(p, slots);
+  }
+  return CLR_SUCCESS;
+}
+
+static size_t batch_items(const clr_sampler_params *p) {
+  return (size_t)p->batch_width * (size_t)p->batch_height * (size_t)p->sample_count;
+}
+
+static int pbrt_tiles(const clr_sampler_params *p, int *tx0, int *ty0, int *wide, int *high) {
+  *tx0 = (p->batch_x0 - p->sample_x0) / CLR_PBRT_TILE_SIZE;
+  *ty0 = (p->batch_y0 - p->sample_y0) / CLR_PBRT_TILE_SIZE;
+  int tx1 = (p->batch_x0 + p->batch_width - 1 - p->sample_x0) / CLR_PBRT_TILE_SIZE;
+  int ty1 = (p->batch_y0 + p->batch_height - 1 - p->sample_y0) / CLR_PBRT_TILE_SIZE;
+  *wide = tx1 - *tx0 + 1;
+  *high = ty1 - *ty0 + 1;
+  return *wide * *high;
+}
+
+clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch *batch,
+                                          const clr_sample_output *out) {
+  clr_clear_error();
+  if (!s || !out)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate_reference: NULL argument");
+  if (out->struct_size != sizeof *out)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_generate_reference: out->struct_size %zu, expected %zu",
+                    out->struct_size, sizeof *out);
+  clr_sampler_params p;
+  clr_request_slot slots[CLR_MAX_REQUESTS];
+  CLR_CHECK(prepare_batch(s, batch, &p, slots));
+  size_t items = batch_items(&p);
+  float *values = out->host_values;
+  float *owned = NULL;
+  if (!values) values = owned = malloc(items * (size_t)p.values_per_sample * sizeof(float));
+  if (!values) return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "reference: out of memory");
+  if (clr_sampler_has_global_index(s)) {
+    size_t nperm = 0;
+    const clr_u16 *perms = clr_halton_permutations(&nperm);
+    const clr_halton_prime *primes = clr_halton_primes();
+    uint64_t dummy = 0;
+    for (size_t i = 0; i < items; ++i)
+      clr_global_sample_vector(&p, slots, clr_sobol_matrices32, &clr_vdc_sobol_matrices[0][0],
+                               &clr_vdc_sobol_matrices_inv[0][0], primes, perms, (clr_i32)i,
+                               values + i * (size_t)p.values_per_sample,
+                               out->host_indices ? &out->host_indices[i] : &dummy);
+  } else {
+    float *scratch = malloc((size_t)p.scratch_floats * sizeof(float) + 4);
+    if (!scratch) {
+      free(owned);
+      return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "reference: out of memory");
+    }
+    size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
+    if (p.seeding == CLR_SEEDING_TYPE_PIXEL) {
+      for (int y = 0; y < p.batch_height; ++y)
+        for (int x = 0; x < p.batch_width; ++x)
+          clr_pixel_sampler_pixel(&p, slots, p.batch_x0 + x, p.batch_y0 + y,
+                                  values + ((size_t)y * p.batch_width + x) * per_pixel, scratch);
+    } else {
+      int tx0, ty0, wide, high;
+      int tiles = pbrt_tiles(&p, &tx0, &ty0, &wide, &high);
+      for (int t = 0; t < tiles; ++t)
+        clr_pixel_sampler_tile(&p, slots, tx0 + t % wide, ty0 + t / wide, values, scratch);
+    }
+    free(scratch);
+    if (out->host_indices)
+      for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
+  }
+  free(owned);
+  return CLR_SUCCESS;
+}
+
+/* Device buffers of one generate call, released together. */
+typedef struct device_call {
+  cl_mem params, slots, values, indices, scratch;
+  cl_kernel kernel;
+} device_call;
+
+static void release_call(device_call *c) {
+  cl_mem *mems[] = {&c->params, &c->slots, &c->values, &c->indices, &c->scratch};
+  for (size_t i = 0; i < sizeof mems / sizeof mems[0]; ++i)
+    if (*mems[i]) clReleaseMemObject(*mems[i]);
+  if (c->kernel) clReleaseKernel(c->kernel);
+}
+
+static clr_result create_buffer(clr_context ctx, cl_mem_flags flags, size_t bytes, void *host,
+                                const char *what, cl_mem *out) {
+  cl_int err = CL_SUCCESS;
+  *out = clCreateBuffer(clr_context_cl_context(ctx), flags, bytes ? bytes : 4, host, &err);
+  if (err != CL_SUCCESS)
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(%s, %zu bytes) failed: %s (%d)", what,
+                    bytes, clr_cl_error_name(err), (int)err);
+  return CLR_SUCCESS;
+}
+
+static clr_result global_tables(clr_context ctx, cl_mem tables[5]) {
+  size_t nperm = 0;
+  const clr_u16 *perms = clr_halton_permutations(&nperm);
+  CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
+                                      sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE,
+                                      &tables[0]));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
+                                      sizeof clr_vdc_sobol_matrices, &tables[1]));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
+                                      sizeof clr_vdc_sobol_matrices_inv, &tables[2]));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+                                      sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS, &tables[3]));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_perms", perms, sizeof(clr_u16) * nperm,
+                                      &tables[4]));
+  return CLR_SUCCESS;
+}
+
+#define SET_ARG(ctx, k, i, v) CLR_CL_CHECK(ctx, clSetKernelArg(k, i, sizeof(v), &(v)))
+
+static clr_result launch(clr_context ctx, cl_kernel k, size_t items, const char *name) {
+  size_t local = 64;
+  size_t global = (items + local - 1) / local * local;
+  cl_int err = clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, &local, 0,
+                                      NULL, NULL);
+  if (err != CL_SUCCESS)
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clEnqueueNDRangeKernel(%s, %zu items) failed: %s (%d)",
+                    name, items, clr_cl_error_name(err), (int)err);
+  return CLR_SUCCESS;
+}
+
+static void sampler_defines(const clr_sampler_params *p, char *out, size_t size) {
+  snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
+}
+
+static clr_result run_global(clr_sampler s, const clr_sampler_params *p, device_call *c) {
+  cl_mem tables[5];
+  CLR_CHECK(global_tables(s->ctx, tables));
+  char defines[64];
+  sampler_defines(p, defines, sizeof defines);
+  CLR_CHECK(clr_context_kernel(s->ctx, "sampler_kernels.cl", defines, "clr_generate_global",
+                               &c->kernel));
+  size_t items = batch_items(p);
+  CLR_CHECK(create_buffer(s->ctx, CL_MEM_WRITE_ONLY, items * sizeof(cl_ulong), NULL, "indices",
+                          &c->indices));
+  cl_int count = (cl_int)items;
+  SET_ARG(s->ctx, c->kernel, 0, c->params);
+  SET_ARG(s->ctx, c->kernel, 1, c->slots);
+  for (int i = 0; i < 5; ++i) SET_ARG(s->ctx, c->kernel, 2 + i, tables[i]);
+  SET_ARG(s->ctx, c->kernel, 7, c->values);
+  SET_ARG(s->ctx, c->kernel, 8, c->indices);
+  SET_ARG(s->ctx, c->kernel, 9, count);
+  return launch(s->ctx, c->kernel, items, "clr_generate_global");
+}
+
+static clr_result run_pixel(clr_sampler s, const clr_sampler_params *p, device_call *c) {
+  char defines[64];
+  sampler_defines(p, defines, sizeof defines);
+  int tiled = p->seeding == CLR_SEEDING_TYPE_PBRT_V3;
+  CLR_CHECK(clr_context_kernel(s->ctx, "sampler_kernels.cl", defines,
+                               tiled ? "clr_generate_tiles" : "clr_generate_pixel", &c->kernel));
+  int tx0 = 0, ty0 = 0, wide = 0, high = 0;
+  size_t items = tiled ? (size_t)pbrt_tiles(p, &tx0, &ty0, &wide, &high)
+                       : (size_t)p->batch_width * (size_t)p->batch_height;
+  CLR_CHECK(create_buffer(s->ctx, CL_MEM_READ_WRITE, items * (size_t)p->scratch_floats * 4,
+                          NULL, "sampler scratch", &c->scratch));
+  cl_int count = (cl_int)items;
+  SET_ARG(s->ctx, c->kernel, 0, c->params);
+  SET_ARG(s->ctx, c->kernel, 1, c->slots);
+  SET_ARG(s->ctx, c->kernel, 2, c->values);
+  SET_ARG(s->ctx, c->kernel, 3, c->scratch);
+  if (tiled) {
+    cl_int a = tx0, b = ty0, w = wide;
+    SET_ARG(s->ctx, c->kernel, 4, a);
+    SET_ARG(s->ctx, c->kernel, 5, b);
+    SET_ARG(s->ctx, c->kernel, 6, w);
+    SET_ARG(s->ctx, c->kernel, 7, count);
+  } else {
+    SET_ARG(s->ctx, c->kernel, 4, count);
+  }
+  return launch(s->ctx, c->kernel, items, tiled ? "clr_generate_tiles" : "clr_generate_pixel");
+}
+
+static clr_result generate_on_device(clr_sampler s, const clr_sampler_params *p,
+                                     const clr_request_slot *slots, const clr_sample_output *out,
+                                     device_call *c) {
+  clr_context ctx = s->ctx;
+  size_t value_bytes = batch_items(p) * (size_t)p->values_per_sample * sizeof(float);
+  CLR_CHECK(create_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof *p, (void *)p,
+                          "sampler params", &c->params));
+  CLR_CHECK(create_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          sizeof(clr_request_slot) * (size_t)p->request_count, (void *)slots,
+                          "request slots", &c->slots));
+  if (out->device_values) {
+    size_t have = 0;
+    CLR_CL_CHECK(ctx, clGetMemObjectInfo(out->device_values, CL_MEM_SIZE, sizeof have, &have, NULL));
+    if (have < value_bytes)
+      return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
+                      "clr_sampler_generate: device_values holds %zu bytes, the batch needs %zu",
+                      have, value_bytes);
+    CLR_CL_CHECK(ctx, clRetainMemObject(out->device_values));
+    c->values = out->device_values;
+  } else {
+    CLR_CHECK(create_buffer(ctx, CL_MEM_WRITE_ONLY, value_bytes, NULL, "sample values",
+                            &c->values));
+  }
+  if (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL)
+    CLR_CHECK(run_global(s, p, c));
+  else
+    CLR_CHECK(run_pixel(s, p, c));
+  cl_command_queue q = clr_context_cl_queue(ctx);
+  if (out->host_values)
+    CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, c->values, CL_TRUE, 0, value_bytes, out->host_values,
+                                          0, NULL, NULL));
+  if (out->host_indices) {
+    size_t n = batch_items(p);
+    if (c->indices) {
+      CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, c->indices, CL_TRUE, 0, n * sizeof(cl_ulong),
+                                            out->host_indices, 0, NULL, NULL));
+    } else {
+      for (size_t i = 0; i < n; ++i) out->host_indices[i] = UINT64_MAX;
+    }
+  }
+  CLR_CL_CHECK(ctx, clFinish(q));
+  return CLR_SUCCESS;
+}
+
+clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
+                                const clr_sample_output *out) {
+  clr_clear_error();
+  if (!s || !out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate: NULL argument");
+  if (!s->ctx)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_generate: sampler was created without a context (reference only)");
+  if (out->struct_size != sizeof *out)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_generate: out->struct_size %zu, expected %zu", out->struct_size,
+                    sizeof *out);
+  if (!out->device_values && !out->host_values)
+    return clr_fail(s->ctx, CLR_ERROR_NULL_POINTER,
+                    "clr_sampler_generate: neither device_values nor host_values given");
+  clr_sampler_params p;
+  clr_request_slot slots[CLR_MAX_REQUESTS];
+  CLR_CHECK(prepare_batch(s, batch, &p, slots));
+  device_call call;
+  memset(&call, 0, sizeof call);
+  clr_result r = generate_on_device(s, &p, slots, out, &call);
+  release_call(&call);
+  return r;
+}

@@ -1,0 +1,722 @@
+/* Host ray tracing with Embree 3: triangle meshes, exact spheres (user geometry), instances. */
+#include "tracer.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdalign.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <embree3/rtcore.h>
+#include "clr_internal.h"
+
+#define PI_D 3.14159265358979323846
+
+/* An affine map as the top 3 rows of a row-major 4x4 matrix, with its inverse. */
+typedef struct affine {
+  double m[12], inv[12];
+} affine;
+
+typedef struct tracer_mesh { /* the tracer's own copy; p has one padding float for Embree */
+  int32_t vertex_count, triangle_count;
+  float *p, *n, *uv;
+  uint32_t *indices;
+} tracer_mesh;
+
+typedef struct sphere_shape { /* Embree's user data for one sphere: a stable heap address */
+  affine object_to_group;
+  double radius;
+} sphere_shape;
+
+typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE } geom_kind;
+
+typedef struct geom_record { /* indexed by Embree geometry id within its group */
+  geom_kind kind;
+  uint32_t user_id;
+  tracer_mesh mesh;       /* GEOM_MESH */
+  sphere_shape *sphere;   /* GEOM_SPHERE */
+  int32_t instanced_group; /* GEOM_INSTANCE */
+  affine instance_to_world;
+} geom_record;
+
+typedef struct group {
+  RTCScene scene;
+  geom_record *records;
+  uint32_t count, capacity;
+} group;
+
+struct clr_tracer_t {
+  RTCDevice device;
+  group *groups;
+  int32_t group_count, group_capacity;
+  int committed;
+  pthread_mutex_t error_lock; /* guards the message recorded by the error callback */
+  char error_message[256];
+};
+
+/* ---- errors ---- */
+
+static const char *embree_error_name(enum RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+  }
+  return "unknown Embree error";
+}
+
+static void record_embree_error(void *user, enum RTCError code, const char *message) {
+  struct clr_tracer_t *t = user;
+  pthread_mutex_lock(&t->error_lock);
+  snprintf(t->error_message, sizeof t->error_message, "%s", message ? message : "");
+  pthread_mutex_unlock(&t->error_lock);
+  (void)code;
+}
+
+/* Reports a pending Embree error of this thread as CLR_ERROR_EMBREE naming `call`. */
+static clr_result embree_check(struct clr_tracer_t *t, const char *call) {
+  enum RTCError code = rtcGetDeviceError(t->device);
+  if (code == RTC_ERROR_NONE) return CLR_SUCCESS;
+  char message[sizeof t->error_message];
+  pthread_mutex_lock(&t->error_lock);
+  memcpy(message, t->error_message, sizeof message);
+  pthread_mutex_unlock(&t->error_lock);
+  return clr_fail(NULL, CLR_ERROR_EMBREE, "%s failed: %s (%d): %s", call, embree_error_name(code),
+                  (int)code, message);
+}
+
+#define EMBREE_CHECK(t, call_name)                    \
+  do {                                                \
+    clr_result e_ = embree_check((t), (call_name));   \
+    if (e_ != CLR_SUCCESS) return e_;                 \
+  } while (0)
+
+/* ---- affine maps ---- */
+
+/* Fills `a` from a row-major 4x4 matrix; 0 when it is not finite, not affine or singular. */
+static int affine_from_matrix(const float m[16], affine *a) {
+  for (int i = 0; i < 16; ++i)
+    if (!isfinite(m[i])) return 0;
+  if (m[12] != 0.0f || m[13] != 0.0f || m[14] != 0.0f || m[15] != 1.0f) return 0;
+  for (int i = 0; i < 12; ++i) a->m[i] = m[i];
+  const double *x = a->m;
+  double c[9] = {x[5] * x[10] - x[6] * x[9], x[2] * x[9] - x[1] * x[10], x[1] * x[6] - x[2] * x[5],
+                 x[6] * x[8] - x[4] * x[10], x[0] * x[10] - x[2] * x[8], x[2] * x[4] - x[0] * x[6],
+                 x[4] * x[9] - x[5] * x[8], x[1] * x[8] - x[0] * x[9], x[0] * x[5] - x[1] * x[4]};
+  double det = x[0] * c[0] + x[1] * c[3] + x[2] * c[6];
+  if (det == 0.0 || !isfinite(det)) return 0;
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) a->inv[4 * r + k] = c[3 * r + k] / det;
+    a->inv[4 * r + 3] = -(a->inv[4 * r] * x[3] + a->inv[4 * r + 1] * x[7] + a->inv[4 * r + 2] * x[11]);
+  }
+  for (int i = 0; i < 12; ++i)
+    if (!isfinite(a->inv[i])) return 0;
+  return 1;
+}
+
+static void map_point(const double m[12], const double p[3], double out[3]) {
+  for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
+}
+
+static void map_vector(const double m[12], const double v[3], double out[3]) {
+  for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * v[0] + m[4 * r + 1] * v[1] + m[4 * r + 2] * v[2];
+}
+
+/* Normals go through the transposed inverse. */
+static void map_normal(const affine *a, const double n[3], double out[3]) {
+  for (int r = 0; r < 3; ++r) out[r] = a->inv[r] * n[0] + a->inv[4 + r] * n[1] + a->inv[8 + r] * n[2];
+}
+
+/* ---- spheres: exact intersection in object space ---- */
+
+typedef struct sphere_hit {
+  float t, u, v;
+  double ng[3]; /* group space */
+} sphere_hit;
+
+/* Smallest root of |o + t d|^2 = r^2 within [tnear, tfar]; 0 if none. */
+static int sphere_hit_test(const sphere_shape *s, const float org[3], const float dir[3],
+                           float tnear, float tfar, sphere_hit *hit) {
+  double og[3] = {org[0], org[1], org[2]}, dg[3] = {dir[0], dir[1], dir[2]}, o[3], d[3];
+  map_point(s->object_to_group.inv, og, o);
+  map_vector(s->object_to_group.inv, dg, d);
+  double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  double half_b = d[0] * o[0] + d[1] * o[1] + d[2] * o[2];
+  double c = o[0] * o[0] + o[1] * o[1] + o[2] * o[2] - s->radius * s->radius;
+  double disc = half_b * half_b - a * c;
+  if (!(disc >= 0.0) || a == 0.0) return 0;
+  double q = -(half_b + copysign(sqrt(disc), half_b)); /* avoids cancellation */
+  double t0 = q / a, t1 = q != 0.0 ? c / q : t0;
+  if (t0 > t1) {
+    double tmp = t0;
+    t0 = t1;
+    t1 = tmp;
+  }
+  double t = t0;
+  if (!((float)t0 >= tnear && (float)t0 <= tfar)) {
+    if (!((float)t1 >= tnear && (float)t1 <= tfar)) return 0;
+    t = t1;
+  }
+  double p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
+  double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
+  if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
+  double phi = atan2(p[1], p[0]);
+  if (phi < 0.0) phi += 2.0 * PI_D;
+  double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
+  hit->t = (float)t;
+  hit->u = (float)(phi / (2.0 * PI_D));
+  hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
+  map_normal(&s->object_to_group, p, hit->ng);
+  return 1;
+}
+
+/* Offsets of the fields in Embree's SOA ray/hit packets of width N, in 4-byte words. */
+enum { RAY_ORG = 0, RAY_TNEAR = 3, RAY_DIR = 4, RAY_TFAR = 8, HIT_NG = 12, HIT_U = 15, HIT_V = 16,
+       HIT_PRIM = 17, HIT_GEOM = 18, HIT_INST = 19 };
+
+static void sphere_bounds(const struct RTCBoundsFunctionArguments *args) {
+  const sphere_shape *s = args->geometryUserPtr;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int corner = 0; corner < 8; ++corner) {
+    double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius,
+                   corner & 4 ? s->radius : -s->radius}, g[3];
+    map_point(s->object_to_group.m, c, g);
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = fmin(lo[k], g[k]);
+      hi[k] = fmax(hi[k], g[k]);
+    }
+  }
+  double pad = 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
+  struct RTCBounds *b = args->bounds_o;
+  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad), b->lower_z = (float)(lo[2] - pad);
+  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad), b->upper_z = (float)(hi[2] + pad);
+}
+
+static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
+  const unsigned n = args->N;
+  float *f = (float *)args->rayhit;
+  unsigned *w = (unsigned *)args->rayhit;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
+    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
+    sphere_hit h;
+    if (!sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+      continue;
+    f[RAY_TFAR * n + i] = h.t;
+    for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
+    f[HIT_U * n + i] = h.u;
+    f[HIT_V * n + i] = h.v;
+    w[HIT_PRIM * n + i] = args->primID;
+    w[HIT_GEOM * n + i] = args->geomID;
+    w[HIT_INST * n + i] = args->context->instID[0];
+  }
+}
+
+static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
+  const unsigned n = args->N;
+  float *f = (float *)args->ray;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
+    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
+    sphere_hit h;
+    if (sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+      f[RAY_TFAR * n + i] = -INFINITY;
+  }
+}
+
+/* ---- building ---- */
+
+static void free_record(geom_record *r) {
+  free(r->mesh.p);
+  free(r->mesh.n);
+  free(r->mesh.uv);
+  free(r->mesh.indices);
+  free(r->sphere);
+  memset(r, 0, sizeof *r);
+}
+
+void clr_tracer_release(clr_tracer t) {
+  if (!t) return;
+  for (int32_t g = 0; g < t->group_count; ++g) {
+    if (t->groups[g].scene) rtcReleaseScene(t->groups[g].scene);
+    for (uint32_t i = 0; i < t->groups[g].count; ++i) free_record(&t->groups[g].records[i]);
+    free(t->groups[g].records);
+  }
+  free(t->groups);
+  if (t->device) rtcReleaseDevice(t->device);
+  pthread_mutex_destroy(&t->error_lock);
+  free(t);
+}
+
+/* Appends an empty group with a new Embree scene. */
+static clr_result add_group(struct clr_tracer_t *t, const char *fn) {
+  if (t->group_count == t->group_capacity) {
+    if (t->group_capacity > INT32_MAX / 2)
+      return clr_fail(NULL, CLR_ERROR_SCENE, "%s: too many groups (%ld)", fn, (long)t->group_count);
+    int32_t capacity = t->group_capacity ? 2 * t->group_capacity : 4;
+    group *groups = realloc(t->groups, (size_t)capacity * sizeof *groups);
+    if (!groups) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow the group table", fn);
+    t->groups = groups;
+    t->group_capacity = capacity;
+  }
+  RTCScene scene = rtcNewScene(t->device);
+  EMBREE_CHECK(t, "rtcNewScene");
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  clr_result r = embree_check(t, "rtcSetSceneBuildQuality");
+  if (r != CLR_SUCCESS) {
+    rtcReleaseScene(scene);
+    return r;
+  }
+  memset(&t->groups[t->group_count], 0, sizeof(group));
+  t->groups[t->group_count++].scene = scene;
+  return CLR_SUCCESS;
+}
+
+clr_result clr_tracer_create(clr_tracer *out) {
+  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_create: out is NULL");
+  *out = NULL;
+  struct clr_tracer_t *t = calloc(1, sizeof *t);
+  if (!t) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_create: out of memory");
+  if (pthread_mutex_init(&t->error_lock, NULL) != 0) {
+    free(t);
+    return clr_fail(NULL, CLR_ERROR_INTERNAL, "clr_tracer_create: pthread_mutex_init failed");
+  }
+  t->device = rtcNewDevice(NULL);
+  if (!t->device) {
+    enum RTCError code = rtcGetDeviceError(NULL);
+    clr_tracer_release(t);
+    return clr_fail(NULL, CLR_ERROR_EMBREE, "rtcNewDevice failed: %s (%d)", embree_error_name(code),
+                    (int)code);
+  }
+  rtcSetDeviceErrorFunction(t->device, record_embree_error, t);
+  clr_result r = embree_check(t, "rtcSetDeviceErrorFunction");
+  if (r == CLR_SUCCESS && rtcGetDeviceProperty(t->device, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
+    r = clr_fail(NULL, CLR_ERROR_EMBREE, "clr_tracer_create: this Embree build culls back faces; "
+                 "pbrt needs two-sided triangles");
+  if (r == CLR_SUCCESS) r = add_group(t, "clr_tracer_create");
+  if (r != CLR_SUCCESS) {
+    clr_tracer_release(t);
+    return r;
+  }
+  *out = t;
+  return CLR_SUCCESS;
+}
+
+clr_result clr_tracer_new_group(clr_tracer t, int32_t *group_id) {
+  if (!t || !group_id)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_new_group: %s is NULL", t ? "group_id" : "tracer");
+  if (t->committed)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_new_group: the tracer is already committed");
+  CLR_CHECK(add_group(t, "clr_tracer_new_group"));
+  *group_id = t->group_count - 1;
+  return CLR_SUCCESS;
+}
+
+/* Common checks of the building calls. */
+static clr_result check_building(clr_tracer t, int32_t g, const void *arg, const char *arg_name,
+                                 const char *fn) {
+  if (!t) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: tracer is NULL", fn);
+  if (!arg) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, arg_name);
+  if (t->committed)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is already committed", fn);
+  if (g < 0 || g >= t->group_count)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [0, %ld)", fn,
+                    (long)g, (long)t->group_count);
+  if (t->groups[g].count == t->groups[g].capacity) {
+    group *gr = &t->groups[g];
+    if (gr->capacity > UINT32_MAX / 4)
+      return clr_fail(NULL, CLR_ERROR_SCENE, "%s: too many geometries in group %ld", fn, (long)g);
+    uint32_t capacity = gr->capacity ? 2 * gr->capacity : 8;
+    geom_record *records = realloc(gr->records, (size_t)capacity * sizeof *records);
+    if (!records) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow group %ld", fn, (long)g);
+    gr->records = records;
+    gr->capacity = capacity;
+  }
+  return CLR_SUCCESS;
+}
+
+/* Commits a configured geometry and attaches it to group g as record `record` (whose owned
+ * memory is freed on failure); the geometry handle is released either way. */
+static clr_result attach(struct clr_tracer_t *t, int32_t g, RTCGeometry geom, geom_record *record,
+                         uint32_t *geom_id) {
+  group *gr = &t->groups[g];
+  rtcCommitGeometry(geom);
+  clr_result r = embree_check(t, "rtcCommitGeometry");
+  unsigned id = RTC_INVALID_GEOMETRY_ID;
+  if (r == CLR_SUCCESS) {
+    id = rtcAttachGeometry(gr->scene, geom);
+    r = embree_check(t, "rtcAttachGeometry");
+  }
+  if (r == CLR_SUCCESS && id != gr->count) {
+    rtcDetachGeometry(gr->scene, id);
+    r = clr_fail(NULL, CLR_ERROR_INTERNAL, "rtcAttachGeometry gave id %u, expected %u", id, gr->count);
+  }
+  rtcReleaseGeometry(geom);
+  if (r != CLR_SUCCESS) {
+    free_record(record);
+    return r;
+  }
+  gr->records[gr->count++] = *record;
+  if (geom_id) *geom_id = id;
+  return CLR_SUCCESS;
+}
+
+/* Copies the mesh arrays the tracer needs (positions padded for Embree's 16-byte loads). */
+static clr_result copy_mesh(const clr_mesh *m, tracer_mesh *out) {
+  size_t nv = (size_t)m->vertex_count, nt = (size_t)m->triangle_count;
+  memset(out, 0, sizeof *out);
+  out->vertex_count = m->vertex_count;
+  out->triangle_count = m->triangle_count;
+  out->p = malloc((3 * nv + 1) * sizeof(float));
+  out->indices = malloc(3 * nt * sizeof(uint32_t));
+  out->n = m->n ? malloc(3 * nv * sizeof(float)) : NULL;
+  out->uv = m->uv ? malloc(2 * nv * sizeof(float)) : NULL;
+  if (!out->p || !out->indices || (m->n && !out->n) || (m->uv && !out->uv))
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_add_mesh: cannot copy a mesh of %zu "
+                    "vertices and %zu triangles", nv, nt);
+  memcpy(out->p, m->p, 3 * nv * sizeof(float));
+  out->p[3 * nv] = 0.0f;
+  memcpy(out->indices, m->indices, 3 * nt * sizeof(uint32_t));
+  if (m->n) memcpy(out->n, m->n, 3 * nv * sizeof(float));
+  if (m->uv) memcpy(out->uv, m->uv, 2 * nv * sizeof(float));
+  return CLR_SUCCESS;
+}
+
+clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, uint32_t user_id,
+                               uint32_t *geom_id) {
+  static const char fn[] = "clr_tracer_add_mesh";
+  CLR_CHECK(check_building(t, g, mesh, "mesh", fn));
+  CLR_CHECK(clr_mesh_validate(mesh, fn));
+  if (mesh->triangle_count == 0)
+    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: the mesh has no triangles (%ld vertices)", fn,
+                    (long)mesh->vertex_count);
+  geom_record record = {.kind = GEOM_MESH, .user_id = user_id};
+  clr_result r = copy_mesh(mesh, &record.mesh);
+  if (r != CLR_SUCCESS) {
+    free_record(&record);
+    return r;
+  }
+  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_TRIANGLE)");
+  if (r != CLR_SUCCESS) {
+    free_record(&record);
+    return r;
+  }
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, record.mesh.p, 0,
+                             3 * sizeof(float), (size_t)mesh->vertex_count);
+  r = embree_check(t, "rtcSetSharedGeometryBuffer(RTC_BUFFER_TYPE_VERTEX)");
+  if (r == CLR_SUCCESS) {
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, record.mesh.indices,
+                               0, 3 * sizeof(uint32_t), (size_t)mesh->triangle_count);
+    r = embree_check(t, "rtcSetSharedGeometryBuffer(RTC_BUFFER_TYPE_INDEX)");
+  }
+  if (r != CLR_SUCCESS) {
+    rtcReleaseGeometry(geom);
+    free_record(&record);
+    return r;
+  }
+  return attach(t, g, geom, &record, geom_id);
+}
+
+clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
+                                 float radius, uint32_t user_id, uint32_t *geom_id) {
+  static const char fn[] = "clr_tracer_add_sphere";
+  CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
+  if (!(radius > 0.0f) || !isfinite(radius))
+    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: radius %g must be positive and finite", fn, (double)radius);
+  geom_record record = {.kind = GEOM_SPHERE, .user_id = user_id};
+  record.sphere = malloc(sizeof *record.sphere);
+  if (!record.sphere) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
+  record.sphere->radius = radius;
+  if (!affine_from_matrix(object_to_group, &record.sphere->object_to_group)) {
+    free_record(&record);
+    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
+                    "matrix", fn);
+  }
+  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
+  clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
+  if (r != CLR_SUCCESS) {
+    free_record(&record);
+    return r;
+  }
+  rtcSetGeometryUserPrimitiveCount(geom, 1);
+  r = embree_check(t, "rtcSetGeometryUserPrimitiveCount");
+  if (r == CLR_SUCCESS) {
+    rtcSetGeometryUserData(geom, record.sphere);
+    rtcSetGeometryBoundsFunction(geom, sphere_bounds, NULL);
+    rtcSetGeometryIntersectFunction(geom, sphere_intersect);
+    rtcSetGeometryOccludedFunction(geom, sphere_occluded);
+    r = embree_check(t, "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
+  }
+  if (r != CLR_SUCCESS) {
+    rtcReleaseGeometry(geom);
+    free_record(&record);
+    return r;
+  }
+  return attach(t, g, geom, &record, geom_id);
+}
+
+clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance_to_world[16],
+                                   uint32_t user_id) {
+  static const char fn[] = "clr_tracer_add_instance";
+  CLR_CHECK(check_building(t, 0, instance_to_world, "instance_to_world", fn));
+  if (g < 1 || g >= t->group_count)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [1, %ld): only "
+                    "object-definition groups can be instanced", fn, (long)g, (long)t->group_count);
+  geom_record record = {.kind = GEOM_INSTANCE, .user_id = user_id, .instanced_group = g};
+  if (!affine_from_matrix(instance_to_world, &record.instance_to_world))
+    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: instance_to_world is not a finite, invertible "
+                    "affine matrix", fn);
+  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_INSTANCE);
+  EMBREE_CHECK(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_INSTANCE)");
+  rtcSetGeometryInstancedScene(geom, t->groups[g].scene);
+  clr_result r = embree_check(t, "rtcSetGeometryInstancedScene");
+  if (r == CLR_SUCCESS) {
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, instance_to_world);
+    r = embree_check(t, "rtcSetGeometryTransform");
+  }
+  if (r != CLR_SUCCESS) {
+    rtcReleaseGeometry(geom);
+    return r;
+  }
+  return attach(t, 0, geom, &record, NULL);
+}
+
+clr_result clr_tracer_instance_info(clr_tracer t, uint32_t inst_id, int32_t *group, uint32_t *user_id) {
+  if (!t) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_instance_info: tracer is NULL");
+  if (inst_id >= t->groups[0].count || t->groups[0].records[inst_id].kind != GEOM_INSTANCE)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_instance_info: %lu is not an "
+                    "instance id", (unsigned long)inst_id);
+  if (group) *group = t->groups[0].records[inst_id].instanced_group;
+  if (user_id) *user_id = t->groups[0].records[inst_id].user_id;
+  return CLR_SUCCESS;
+}
+
+clr_result clr_tracer_commit(clr_tracer t) {
+  if (!t) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_commit: tracer is NULL");
+  if (t->committed)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_commit: already committed");
+  for (int32_t g = t->group_count - 1; g >= 0; --g) { /* instanced scenes before the world */
+    rtcCommitScene(t->groups[g].scene);
+    EMBREE_CHECK(t, "rtcCommitScene");
+  }
+  t->committed = 1;
+  return CLR_SUCCESS;
+}
+
+/* ---- queries ---- */
+
+static int ray_is_valid(const clr_ray *r) {
+  return isfinite(r->ox) && isfinite(r->oy) && isfinite(r->oz) && isfinite(r->dx) &&
+         isfinite(r->dy) && isfinite(r->dz) && (r->dx != 0.0f || r->dy != 0.0f || r->dz != 0.0f) &&
+         isfinite(r->tnear) && r->tnear >= 0.0f && !isnan(r->tfar);
+}
+
+static clr_result check_query(clr_tracer t, const clr_ray *rays, const void *out, int32_t count,
+                              const char *fn) {
+  if (!t || !rays || !out)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
+                    !t ? "tracer" : !rays ? "rays" : "the output array");
+  if (count < 0) return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: count %ld < 0", fn, (long)count);
+  if (!t->committed)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is not committed", fn);
+  for (int32_t i = 0; i < count; ++i)
+    if (!ray_is_valid(&rays[i]))
+      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: ray %ld is invalid (o = (%g, %g, %g), "
+                      "d = (%g, %g, %g), tnear = %g, tfar = %g)", fn, (long)i, (double)rays[i].ox,
+                      (double)rays[i].oy, (double)rays[i].oz, (double)rays[i].dx, (double)rays[i].dy,
+                      (double)rays[i].dz, (double)rays[i].tnear, (double)rays[i].tfar);
+  return CLR_SUCCESS;
+}
+
+/* Turns an Embree hit into a clr_hit with a world-space normal and the user id. */
+static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[3], float u, float v,
+                       uint32_t prim, uint32_t geom, uint32_t inst, clr_hit *out) {
+  if (geom == RTC_INVALID_GEOMETRY_ID) {
+    *out = (clr_hit){.t = INFINITY, .prim_id = CLR_TRACER_INVALID_ID, .geom_id = CLR_TRACER_INVALID_ID,
+                     .inst_id = CLR_TRACER_INVALID_ID, .user_id = CLR_TRACER_INVALID_ID};
+    return;
+  }
+  const group *gr = &t->groups[0];
+  out->ng[0] = ng[0], out->ng[1] = ng[1], out->ng[2] = ng[2];
+  if (inst != RTC_INVALID_GEOMETRY_ID) {
+    const geom_record *instance = &gr->records[inst];
+    double n[3] = {ng[0], ng[1], ng[2]}, w[3];
+    map_normal(&instance->instance_to_world, n, w);
+    out->ng[0] = (float)w[0], out->ng[1] = (float)w[1], out->ng[2] = (float)w[2];
+    gr = &t->groups[instance->instanced_group];
+  }
+  out->t = tfar;
+  out->u = u;
+  out->v = v;
+  out->prim_id = prim;
+  out->geom_id = geom;
+  out->inst_id = inst;
+  out->user_id = gr->records[geom].user_id;
+}
+
+/* Loads rays [base, base + lanes) into a 16-wide packet; unused lanes are masked off. */
+static void load_packet(const clr_ray *rays, int32_t lanes, struct RTCRay16 *ray, int *valid) {
+  for (int32_t i = 0; i < 16; ++i) {
+    static const clr_ray unused = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    const clr_ray *r = i < lanes ? &rays[i] : &unused;
+    valid[i] = i < lanes ? -1 : 0;
+    ray->org_x[i] = r->ox, ray->org_y[i] = r->oy, ray->org_z[i] = r->oz, ray->tnear[i] = r->tnear;
+    ray->dir_x[i] = r->dx, ray->dir_y[i] = r->dy, ray->dir_z[i] = r->dz, ray->tfar[i] = r->tfar;
+    ray->time[i] = 0.0f;
+    ray->mask[i] = 0xffffffffu;
+    ray->id[i] = (unsigned)i;
+    ray->flags[i] = 0;
+  }
+}
+
+clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
+  CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect"));
+  for (int32_t base = 0; base < count; base += 16) {
+    int32_t lanes = count - base < 16 ? count - base : 16;
+    alignas(64) int valid[16];
+    struct RTCRayHit16 rh;
+    load_packet(rays + base, lanes, &rh.ray, valid);
+    for (int i = 0; i < 16; ++i) {
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect16(valid, t->groups[0].scene, &context, &rh);
+    for (int32_t i = 0; i < lanes; ++i) {
+      float ng[3] = {rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]};
+      finish_hit(t, rh.ray.tfar[i], ng, rh.hit.u[i], rh.hit.v[i], rh.hit.primID[i], rh.hit.geomID[i],
+                 rh.hit.instID[0][i], &hits[base + i]);
+    }
+  }
+  return embree_check(t, "rtcIntersect16");
+}
+
+clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
+  CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect_single"));
+  for (int32_t i = 0; i < count; ++i) {
+    const clr_ray *r = &rays[i];
+    struct RTCRayHit rh = {.ray = {.org_x = r->ox, .org_y = r->oy, .org_z = r->oz, .tnear = r->tnear,
+                                   .dir_x = r->dx, .dir_y = r->dy, .dir_z = r->dz, .tfar = r->tfar,
+                                   .mask = 0xffffffffu},
+                           .hit = {.geomID = RTC_INVALID_GEOMETRY_ID, .instID = {RTC_INVALID_GEOMETRY_ID}}};
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(t->groups[0].scene, &context, &rh);
+    float ng[3] = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+    finish_hit(t, rh.ray.tfar, ng, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID, rh.hit.instID[0],
+               &hits[i]);
+  }
+  return embree_check(t, "rtcIntersect1");
+}
+
+clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occluded, int32_t count) {
+  CLR_CHECK(check_query(t, rays, occluded, count, "clr_tracer_occluded"));
+  for (int32_t base = 0; base < count; base += 16) {
+    int32_t lanes = count - base < 16 ? count - base : 16;
+    alignas(64) int valid[16];
+    struct RTCRay16 ray;
+    load_packet(rays + base, lanes, &ray, valid);
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded16(valid, t->groups[0].scene, &context, &ray);
+    for (int32_t i = 0; i < lanes; ++i) occluded[base + i] = ray.tfar[i] == -INFINITY;
+  }
+  return embree_check(t, "rtcOccluded16");
+}
+
+/* ---- surface data at hits ---- */
+
+static void store_unit(const double v[3], float out[3]) {
+  double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  for (int k = 0; k < 3; ++k) out[k] = (float)(len > 0.0 ? v[k] / len : 0.0);
+}
+
+static void triangle_surface(const tracer_mesh *m, const clr_hit *hit, double p[3], double n[3],
+                             float uv[2]) {
+  const uint32_t *tri = m->indices + 3 * (size_t)hit->prim_id;
+  double b[3] = {1.0 - (double)hit->u - (double)hit->v, hit->u, hit->v};
+  const float *v[3] = {m->p + 3 * (size_t)tri[0], m->p + 3 * (size_t)tri[1], m->p + 3 * (size_t)tri[2]};
+  for (int k = 0; k < 3; ++k) p[k] = b[0] * v[0][k] + b[1] * v[1][k] + b[2] * v[2][k];
+  double len2 = 0.0;
+  if (m->n) {
+    for (int k = 0; k < 3; ++k)
+      n[k] = b[0] * m->n[3 * tri[0] + k] + b[1] * m->n[3 * tri[1] + k] + b[2] * m->n[3 * tri[2] + k];
+    len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  }
+  if (!(len2 > 0.0)) { /* no (usable) vertex normals: the geometric normal */
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = (double)v[1][k] - v[0][k], e2[k] = (double)v[2][k] - v[0][k];
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  }
+  if (m->uv) {
+    for (int k = 0; k < 2; ++k)
+      uv[k] = (float)(b[0] * m->uv[2 * tri[0] + k] + b[1] * m->uv[2 * tri[1] + k] + b[2] * m->uv[2 * tri[2] + k]);
+  } else { /* pbrt-v3's default uvs (0,0), (1,0), (1,1) */
+    uv[0] = (float)(b[1] + b[2]);
+    uv[1] = (float)b[2];
+  }
+}
+
+static void sphere_surface(const sphere_shape *s, const clr_hit *hit, double p[3], double n[3],
+                           float uv[2]) {
+  double phi = 2.0 * PI_D * hit->u, theta = PI_D * (1.0 - hit->v);
+  double o[3] = {s->radius * sin(theta) * cos(phi), s->radius * sin(theta) * sin(phi),
+                 s->radius * cos(theta)};
+  map_point(s->object_to_group.m, o, p);
+  map_normal(&s->object_to_group, o, n);
+  uv[0] = hit->u;
+  uv[1] = hit->v;
+}
+
+clr_result clr_tracer_mesh_interpolate(clr_tracer t, const clr_hit *hit, float p_out[3],
+                                       float n_out[3], float uv_out[2]) {
+  static const char fn[] = "clr_tracer_mesh_interpolate";
+  if (!t || !hit)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, t ? "hit" : "tracer");
+  const geom_record *instance = NULL;
+  const group *gr = &t->groups[0];
+  if (hit->inst_id != CLR_TRACER_INVALID_ID) {
+    if (hit->inst_id >= gr->count || gr->records[hit->inst_id].kind != GEOM_INSTANCE)
+      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: inst_id %lu is not an instance", fn,
+                      (unsigned long)hit->inst_id);
+    instance = &gr->records[hit->inst_id];
+    gr = &t->groups[instance->instanced_group];
+  }
+  if (hit->geom_id >= gr->count || gr->records[hit->geom_id].kind == GEOM_INSTANCE)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: geom_id %lu is not a hit mesh or sphere "
+                    "(a miss?)", fn, (unsigned long)hit->geom_id);
+  const geom_record *rec = &gr->records[hit->geom_id];
+  double p[3], n[3];
+  float uv[2];
+  if (rec->kind == GEOM_MESH) {
+    if (hit->prim_id >= (uint32_t)rec->mesh.triangle_count)
+      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: prim_id %lu out of range (%ld triangles)",
+                      fn, (unsigned long)hit->prim_id, (long)rec->mesh.triangle_count);
+    triangle_surface(&rec->mesh, hit, p, n, uv);
+  } else {
+    sphere_surface(rec->sphere, hit, p, n, uv);
+  }
+  if (instance) {
+    double pw[3], nw[3];
+    map_point(instance->instance_to_world.m, p, pw);
+    map_normal(&instance->instance_to_world, n, nw);
+    memcpy(p, pw, sizeof p);
+    memcpy(n, nw, sizeof n);
+  }
+  if (p_out)
+    for (int k = 0; k < 3; ++k) p_out[k] = (float)p[k];
+  if (n_out) store_unit(n, n_out);
+  if (uv_out) uv_out[0] = uv[0], uv_out[1] = uv[1];
+  return CLR_SUCCESS;
+}

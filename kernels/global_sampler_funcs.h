@@ -1,0 +1,62 @@
+/* pbrt-v3's GlobalSampler (halton, sobol) for one sample vector: each value is the sampler's
+ * SampleDimension at the global index of the pixel's sample (arrays: of sample s*n + j). */
+#ifndef CLR_GLOBAL_SAMPLER_FUNCS_H
+#define CLR_GLOBAL_SAMPLER_FUNCS_H
+
+#include "sampler_types.h"
+#include "sobol_funcs.h"
+#include "halton_funcs.h"
+
+
+CLR_INLINE clr_u64 clr_global_index(const clr_sampler_params *p, CLR_GLOBAL const clr_u64 *vdc,
+                                    CLR_GLOBAL const clr_u64 *vdc_inv, clr_i32 px, clr_i32 py,
+                                    clr_i64 sample_number) {
+  if (p->type == CLR_SAMPLER_TYPE_SOBOL)
+    return clr_sobol_sampler_index(p, vdc, vdc_inv, px, py, sample_number);
+  return clr_halton_sampler_index(p, px, py, sample_number);
+}
+
+CLR_INLINE float clr_global_value(const clr_sampler_params *p, CLR_GLOBAL const clr_u32 *sobol32,
+                                  CLR_GLOBAL const clr_halton_prime *primes,
+                                  CLR_GLOBAL const clr_u16 *perms, clr_u64 index, clr_i32 dim,
+                                  clr_i32 px, clr_i32 py) {
+  if (p->type == CLR_SAMPLER_TYPE_SOBOL)
+    return clr_sobol_sampler_value(p, sobol32, index, dim, px, py);
+  return clr_halton_sampler_value(p, primes, perms, index, dim);
+}
+
+/* Writes the sample vector of batch item `item` (pixel-major, then sample) to `out` and its
+ * global index to *index_out. */
+CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
+                                         CLR_GLOBAL const clr_request_slot *slots,
+                                         CLR_GLOBAL const clr_u32 *sobol32,
+                                         CLR_GLOBAL const clr_u64 *vdc,
+                                         CLR_GLOBAL const clr_u64 *vdc_inv,
+                                         CLR_GLOBAL const clr_halton_prime *primes,
+                                         CLR_GLOBAL const clr_u16 *perms, clr_i32 item,
+                                         CLR_GLOBAL float *out, CLR_GLOBAL clr_u64 *index_out) {
+  clr_i32 pixel = item / p->sample_count;
+  clr_i32 s = p->first_sample + (item - pixel * p->sample_count);
+  clr_i32 px = p->batch_x0 + pixel % p->batch_width;
+  clr_i32 py = p->batch_y0 + pixel / p->batch_width;
+  clr_u64 index = clr_global_index(p, vdc, vdc_inv, px, py, (clr_i64)s);
+  *index_out = index;
+  for (clr_i32 r = 0; r < p->request_count; ++r) {
+    clr_request_slot slot = slots[r];
+    if (slot.array_size == 0) {
+      for (clr_i32 c = 0; c < slot.dims; ++c)
+        out[slot.first_value + c] =
+            clr_global_value(p, sobol32, primes, perms, index, slot.source + c, px, py);
+      continue;
+    }
+    for (clr_i32 j = 0; j < slot.array_size; ++j) {
+      clr_i64 n = (clr_i64)s * slot.array_size + j;
+      clr_u64 element_index = clr_global_index(p, vdc, vdc_inv, px, py, n);
+      for (clr_i32 c = 0; c < slot.dims; ++c)
+        out[slot.first_value + j * slot.dims + c] = clr_global_value(
+            p, sobol32, primes, perms, element_index, slot.source + c, px, py);
+    }
+  }
+}
+
+#endif

@@ -1,0 +1,711 @@
+/* Halton sampler math: exact radical inverses, pbrt-v3's tables, pixel-to-index mapping, and the
+ * device build of kernels/halton_funcs.h giving the host's bits. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <cmocka.h>
+#include "clrender.h"
+#include "halton_tables.h"
+
+/* ---- references written the plain way pbrt-v3 does it (64-bit division, float ops) ---- */
+
+static float ref_radical_inverse(clr_u64 base, clr_u64 a) {
+  const float inv_base = (float)1 / (float)base;
+  clr_u64 reversed = 0;
+  float inv_base_n = 1;
+  while (a) {
+    clr_u64 next = a / base;
+    reversed = reversed * base + (a - next * base);
+    inv_base_n *= inv_base;
+    a = next;
+  }
+  float v = reversed * inv_base_n;
+  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+}
+
+static float ref_scrambled(clr_u64 base, const clr_u16 *perm, clr_u64 a) {
+  const float inv_base = (float)1 / (float)base;
+  clr_u64 reversed = 0;
+  float inv_base_n = 1;
+  while (a) {
+    clr_u64 next = a / base;
+    reversed = reversed * base + perm[a - next * base];
+    inv_base_n *= inv_base;
+    a = next;
+  }
+  float v = inv_base_n * (reversed + inv_base * perm[0] / (1 - inv_base));
+  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+}
+
+/* pbrt-v3 RadicalInverse(0, a) with real double arithmetic. */
+static float ref_base2_double(clr_u64 a) { return (float)((double)clr_reverse_bits64(a) * 0x1p-64); }
+
+static clr_u64 random_u64(clr_pcg32 *rng) {
+  clr_u64 hi = clr_pcg32_next(rng);
+  return (hi << 32) | clr_pcg32_next(rng);
+}
+
+static clr_u32 float_bits(float f) { return clr_as_uint(f); }
+
+#define assert_float_bits_equal(a, b) assert_int_equal(float_bits(a), float_bits(b))
+
+/* ---- tables ---- */
+
+static void test_primes(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u32 first[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29};
+  for (int i = 0; i < 10; ++i) assert_int_equal(pr[i].base, first[i]);
+  assert_int_equal(pr[999].base, 7919);
+  assert_int_equal(pr[500].base, 3581);
+  clr_u32 offset = 0;
+  for (int i = 0; i < CLR_HALTON_PRIMES; ++i) {
+    clr_u32 b = pr[i].base;
+    if (i > 0) assert_true(b > pr[i - 1].base);
+    for (clr_u32 d = 2; d * d <= b; ++d) assert_true(b % d != 0);
+    assert_int_equal(pr[i].perm_offset, offset);
+    assert_float_bits_equal(pr[i].inv_base, 1.0f / (float)b);
+    offset += b;
+  }
+  assert_int_equal(offset, CLR_HALTON_PERMUTATION_COUNT);
+  /* Base 2, perm {1, 0}: tail = 0.5 * 1 / 0.5 = 1 exactly. Base 5, perm[0] = 3: 0.2f*3/0.8f. */
+  assert_float_bits_equal(pr[0].scramble_tail, 1.0f);
+  assert_float_bits_equal(pr[2].scramble_tail, (0.2f * 3.0f) / (1.0f - 0.2f));
+  assert_float_equal(pr[2].scramble_tail, 0.75f, 1e-7f);
+  assert_float_bits_equal(CLR_HALTON_INV_3, 1.0f / 3.0f);
+  /* pbrt-v3's invBaseN after k digits is the running float product. */
+  float running = 1.0f;
+  for (int k = 0; k <= CLR_HALTON_MAX_DIGITS32; ++k, running *= pr[2].inv_base)
+    assert_float_bits_equal(pr[2].inv_base_pow[k], running);
+  /* Chunks: base 5 takes 4 digits (625), 11 three (1331), 127 two, 131 one (its permutation). */
+  assert_int_equal(pr[2].chunk_base, 625);
+  assert_int_equal(pr[4].chunk_digits, 3);
+  assert_int_equal(pr[30].base, 127);
+  assert_int_equal(pr[30].chunk_base, 127 * 127);
+  assert_int_equal(pr[31].chunk_digits, 1);
+  assert_int_equal(pr[31].chunk_offset, pr[31].perm_offset);
+  /* The unscrambled base-3 record of dimension 1. */
+  const clr_halton_prime *b3 = &pr[CLR_HALTON_BASE3_RECORD];
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  assert_int_equal(b3->base, 3);
+  assert_int_equal(b3->chunk_base, 243);
+  assert_float_bits_equal(b3->scramble_tail, 0.0f);
+  for (clr_u16 d = 0; d < 3; ++d) assert_int_equal(perms[b3->perm_offset + d], d);
+  /* 5-digit chunk 1 = 00001_3 reversed is 10000_3 = 81; tail of 5 = 12_3 is 21_3 = 7, 2 digits. */
+  assert_int_equal(perms[b3->chunk_offset + 1], 81);
+  assert_int_equal(perms[b3->tail_offset + 5], (1u << b3->tail_shift) | 7u);
+}
+
+static void test_permutations(void **state) {
+  (void)state;
+  size_t count = 0;
+  const clr_u16 *perms = clr_halton_permutations(&count);
+  assert_int_equal(count, CLR_HALTON_TABLE_ENTRIES);
+  assert_ptr_equal(clr_halton_permutations(NULL), perms);
+  const clr_halton_prime *pr = clr_halton_primes();
+  static unsigned char seen[8000];
+  for (int i = 0; i < CLR_HALTON_PRIMES; ++i) {
+    memset(seen, 0, pr[i].base);
+    for (clr_u32 j = 0; j < pr[i].base; ++j) {
+      clr_u16 v = perms[pr[i].perm_offset + j];
+      assert_true(v < pr[i].base);
+      assert_false(seen[v]);
+      seen[v] = 1;
+    }
+  }
+  /* Values from an independent big-integer script of pbrt-v3's default RNG + Shuffle. */
+  const clr_u16 p2[] = {1, 0}, p3[] = {1, 0, 2}, p5[] = {3, 2, 1, 4, 0},
+                p7[] = {3, 1, 0, 5, 2, 4, 6}, p11[] = {0, 9, 5, 3, 4, 2, 10, 6, 8, 1, 7};
+  const clr_u16 p3581[] = {1857, 1710, 290, 1785, 1130, 2792, 3314, 2893};
+  const clr_u16 p7919[] = {3238, 4543, 7597, 5332, 4638, 877, 5077, 5885};
+  assert_memory_equal(perms + pr[0].perm_offset, p2, sizeof p2);
+  assert_memory_equal(perms + pr[1].perm_offset, p3, sizeof p3);
+  assert_memory_equal(perms + pr[2].perm_offset, p5, sizeof p5);
+  assert_memory_equal(perms + pr[3].perm_offset, p7, sizeof p7);
+  assert_memory_equal(perms + pr[4].perm_offset, p11, sizeof p11);
+  assert_memory_equal(perms + pr[500].perm_offset, p3581, sizeof p3581);
+  assert_memory_equal(perms + pr[999].perm_offset, p7919, sizeof p7919);
+}
+
+static void test_division_magic(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  clr_pcg32 rng = clr_pcg32_sequence(7);
+  for (int i = 0; i < CLR_HALTON_PRIMES; ++i) {
+    clr_u32 d = pr[i].base;
+    clr_u32 top = 0xffffffffu / d * d;
+    const clr_u32 edges[] = {0, 1, d - 1, d, d + 1, 2 * d - 1, top - 1, top, 0xffffffffu,
+                             0x80000000u, 0x7fffffffu};
+    for (size_t k = 0; k < sizeof edges / sizeof edges[0]; ++k)
+      assert_int_equal(clr_halton_div32(edges[k], pr[i].div_magic, pr[i].div_shift),
+                       edges[k] / d);
+    for (int k = 0; k < 2000; ++k) {
+      clr_u32 n = clr_pcg32_next(&rng) >> (k % 32);
+      assert_int_equal(clr_halton_div32(n, pr[i].div_magic, pr[i].div_shift), n / d);
+    }
+  }
+  /* Dense sweeps for the smallest and largest odd bases. */
+  const int sweep[] = {1, 999};
+  for (int s = 0; s < 2; ++s) {
+    const clr_halton_prime *p = &pr[sweep[s]];
+    for (clr_u32 n = 0; n < (1u << 22); ++n)
+      if (clr_halton_div32(n, p->div_magic, p->div_shift) != n / p->base) fail();
+    for (clr_u32 n = 0xffffffffu; n > 0xffffffffu - (1u << 22); --n)
+      if (clr_halton_div32(n, p->div_magic, p->div_shift) != n / p->base) fail();
+  }
+}
+
+/* ---- radical inverses ---- */
+
+static void test_base2_exact(void **state) {
+  (void)state;
+  assert_float_bits_equal(clr_radical_inverse_base2(0), 0.0f);
+  assert_float_bits_equal(clr_radical_inverse_base2(1), 0.5f);
+  assert_float_bits_equal(clr_radical_inverse_base2(2), 0.25f);
+  assert_float_bits_equal(clr_radical_inverse_base2(3), 0.75f);
+  assert_float_bits_equal(clr_radical_inverse_base2(6), 0.375f);
+  assert_float_bits_equal(clr_radical_inverse_base2(5), 0.625f);
+  assert_float_bits_equal(clr_radical_inverse_base2((clr_u64)1 << 32), 0x1p-33f);
+  assert_float_bits_equal(clr_radical_inverse_base2((clr_u64)1 << 63), 0x1p-64f);
+  assert_float_bits_equal(clr_radical_inverse_base2(((clr_u64)1 << 63) | 1u), 0.5f);
+  /* 0.111...1 (25 ones) = 1 - 2^-25 is a tie between 0x1.fffffep-1 and 1: even wins, so pbrt-v3
+   * (no clamp on this path) returns 1. 24 ones stay below one. */
+  assert_float_bits_equal(clr_radical_inverse_base2((1u << 25) - 1u), 1.0f);
+  assert_float_bits_equal(clr_radical_inverse_base2((1u << 24) - 1u), 0x1.fffffep-1f);
+  /* Double rounding: 2^-1 + 2^-25 + 2^-55 is above the float tie at 2^-25, but 2^-55 is below
+   * half a double ulp (2^-54), so the double is the tie itself, which rounds to even: 0.5.
+   * A single rounding would give 0.5 + 2^-24. */
+  clr_u64 a = 1u | ((clr_u64)1 << 24) | ((clr_u64)1 << 54);
+  assert_float_bits_equal(clr_radical_inverse_base2(a), 0.5f);
+  assert_float_bits_equal(ref_base2_double(a), 0.5f);
+  /* Adding 2^-54 puts the double past the tie (rounds up to + 2^-53): 0.5 + 2^-24. */
+  a |= (clr_u64)1 << 53;
+  assert_float_bits_equal(clr_radical_inverse_base2(a), 0.5f + 0x1p-24f);
+}
+
+static void test_base2_matches_double(void **state) {
+  (void)state;
+  clr_pcg32 rng = clr_pcg32_sequence(11);
+  for (int i = 0; i < 100000; ++i) {
+    clr_u64 a = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
+    if (clr_radical_inverse_base2(a) != ref_base2_double(a) &&
+        float_bits(clr_radical_inverse_base2(a)) != float_bits(ref_base2_double(a)))
+      fail_msg("a = 0x%llx", (unsigned long long)a);
+  }
+  /* Reversed values built around both rounding points: 24-bit mantissa, then tie-ish patterns at
+   * the float's half bit, the double's half bit and the sticky bits. */
+  const clr_u64 mid[] = {0, 0xfffffffull, 0x5555555ull, 0x8000000ull, 1};
+  const clr_u64 low[] = {0, 0x400, 0x3ff, 0x401, 0x7ff, 1, 0x200};
+  for (int i = 0; i < 20000; ++i) {
+    clr_u64 v = ((clr_u64)(clr_pcg32_next(&rng) | 0x800000u) & 0xffffffu) << 40;
+    v |= (clr_u64)(clr_pcg32_next(&rng) & 1u) << 39;
+    v |= mid[clr_pcg32_next(&rng) % 5] << 11;
+    v |= low[clr_pcg32_next(&rng) % 7];
+    v >>= clr_pcg32_next(&rng) % 12;
+    clr_u64 a = clr_reverse_bits64(v);
+    if (float_bits(clr_radical_inverse_base2(a)) != float_bits(ref_base2_double(a)))
+      fail_msg("a = 0x%llx", (unsigned long long)a);
+  }
+}
+
+static void test_radical_inverse_values(void **state) {
+  (void)state;
+  const float third = 1.0f / 3.0f;
+  assert_float_bits_equal(clr_radical_inverse(3, third, 0), 0.0f);
+  assert_float_bits_equal(clr_radical_inverse(3, third, 1), third);
+  assert_float_bits_equal(clr_radical_inverse(3, third, 2), 2.0f * third);
+  /* 5 = 12_3 -> 0.21_3 = 2/3 + 1/9 = 7/9, as 7 * (third * third) in float. */
+  assert_float_bits_equal(clr_radical_inverse(3, third, 5), 7.0f * (third * third));
+  assert_float_equal(clr_radical_inverse(3, third, 5), 7.0f / 9.0f, 1e-7f);
+  /* 3 = 10_3 -> 0.01_3 = 1/9. */
+  assert_float_equal(clr_radical_inverse(3, third, 3), 1.0f / 9.0f, 1e-8f);
+  assert_float_bits_equal(clr_radical_inverse(2, 0.5f, 6), 0.375f);
+  assert_float_equal(clr_radical_inverse(5, 0.2f, 7), 2.0f / 5.0f + 1.0f / 25.0f, 1e-7f);
+  /* Near-one values clamp to OneMinusEpsilon: 3^20 - 1 has 20 digits 2. */
+  clr_u64 all_twos = 3486784400ull;
+  assert_true(clr_radical_inverse(3, third, all_twos) <= CLR_ONE_MINUS_EPSILON);
+
+  const clr_u32 bases[] = {2, 3, 5, 7, 11, 131, 7919};
+  clr_pcg32 rng = clr_pcg32_sequence(3);
+  for (int i = 0; i < 30000; ++i) {
+    clr_u32 b = bases[i % 7];
+    clr_u64 a = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
+    assert_float_bits_equal(clr_radical_inverse(b, (float)1 / (float)b, a),
+                            ref_radical_inverse(b, a));
+  }
+}
+
+static void test_scrambled_values(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  /* Base 2, perm {1,0}: a = 0 means every digit 0 -> 1: 0.111... = 1, clamped. */
+  assert_float_bits_equal(clr_scrambled_radical_inverse(&pr[0], perms, 0), CLR_ONE_MINUS_EPSILON);
+  /* Base 5, perm {3,2,1,4,0}: a = 1 -> digits 2, then 3 forever: 2/5 + (3/25) / (4/5) = 0.55. */
+  float v = clr_scrambled_radical_inverse(&pr[2], perms, 1);
+  assert_float_bits_equal(v, 0.2f * (2.0f + pr[2].scramble_tail));
+  assert_float_equal(v, 0.55f, 1e-7f);
+  /* a = 7 = 12_5 -> digits 2 -> 1, 1 -> 2: 0.12333..._5 = 1/5 + 2/25 + 3/125/(4/5) = 0.31. */
+  assert_float_equal(clr_scrambled_radical_inverse(&pr[2], perms, 7), 0.31f, 1e-7f);
+
+  clr_pcg32 rng = clr_pcg32_sequence(5);
+  for (int i = 0; i < 60000; ++i) {
+    int dim = (int)(clr_pcg32_next(&rng) % CLR_HALTON_PRIMES);
+    clr_u64 a = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
+    float got = clr_scrambled_radical_inverse(&pr[dim], perms, a);
+    float want = ref_scrambled(pr[dim].base, perms + pr[dim].perm_offset, a);
+    if (float_bits(got) != float_bits(want))
+      fail_msg("dim %d a 0x%llx: %a != %a", dim, (unsigned long long)a, got, want);
+  }
+}
+
+/* The loop-free 32-bit path (chunk tables) against the plain digit loop, for every record. */
+static void test_chunked_path(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  clr_pcg32 rng = clr_pcg32_sequence(21);
+  for (int r = 0; r < CLR_HALTON_PRIME_RECORDS; ++r) {
+    clr_u32 b = pr[r].base;
+    const clr_u16 *perm = perms + pr[r].perm_offset;
+    clr_u32 values[64 + 40];
+    int n = 0;
+    values[n++] = 0;
+    values[n++] = 0xffffffffu;
+    for (clr_u64 power = b; power <= 0xffffffffull && n < 40; power *= b) {
+      values[n++] = (clr_u32)power;
+      values[n++] = (clr_u32)(power - 1);
+      values[n++] = (clr_u32)(power + 1);
+    }
+    while (n < (int)(sizeof values / sizeof values[0]))
+      values[n++] = clr_pcg32_next(&rng) >> (clr_pcg32_next(&rng) % 32);
+    for (int i = 0; i < n; ++i) {
+      float got = clr_scrambled_radical_inverse32(&pr[r], perms, values[i]);
+      float want = ref_scrambled(b, perm, values[i]);
+      if (float_bits(got) != float_bits(want))
+        fail_msg("record %d a %u: %a != %a", r, values[i], got, want);
+      if (r == CLR_HALTON_BASE3_RECORD) assert_float_bits_equal(got, ref_radical_inverse(3, values[i]));
+    }
+  }
+}
+
+static void test_inverse_radical_inverse(void **state) {
+  (void)state;
+  assert_int_equal(clr_inverse_radical_inverse(2, 1, 3), 4);  /* 001 -> 100 */
+  assert_int_equal(clr_inverse_radical_inverse(2, 6, 3), 3);  /* 110 -> 011 */
+  assert_int_equal(clr_inverse_radical_inverse(3, 5, 2), 7);  /* 12_3 -> 21_3 */
+  assert_int_equal(clr_inverse_radical_inverse(3, 5, 3), 21); /* 012_3 -> 210_3 */
+  assert_int_equal(clr_inverse_radical_inverse(3, 5, 0), 0);
+  assert_int_equal(clr_inverse_radical_inverse(2, 127, 4), 15); /* only the low 4 digits */
+  const clr_u32 bases[] = {2, 3, 5, 7919};
+  const int digits[] = {20, 12, 9, 2};
+  clr_pcg32 rng = clr_pcg32_sequence(9);
+  for (int b = 0; b < 4; ++b) {
+    clr_u64 range = 1;
+    for (int d = 0; d < digits[b]; ++d) range *= bases[b];
+    for (int i = 0; i < 2000; ++i) {
+      clr_u64 v = random_u64(&rng) % range;
+      clr_u64 r = clr_inverse_radical_inverse(bases[b], v, digits[b]);
+      assert_true(r < range);
+      assert_int_equal(clr_inverse_radical_inverse(bases[b], r, digits[b]), v);
+      int n32 = digits[b] < 5 ? digits[b] : 5; /* base^n32 < 2^32 */
+      assert_int_equal(clr_halton_inverse_digits32(bases[b], (clr_u32)(v % 243), n32),
+                       clr_inverse_radical_inverse(bases[b], v % 243, n32));
+      if (bases[b] == 2) /* Phi_2 of the reversed index is v / 2^digits exactly. */
+        assert_float_bits_equal(clr_radical_inverse_base2(r), (float)v * 0x1p-20f);
+    }
+  }
+}
+
+/* ---- sampler ---- */
+
+static clr_u32 mod128(clr_i32 v) { return (clr_u32)(((v % 128) + 128) % 128); }
+
+static clr_sampler_params halton_params(int x0, int y0, int x1, int y1) {
+  clr_sampler_params p;
+  memset(&p, 0, sizeof p);
+  p.type = CLR_SAMPLER_TYPE_HALTON;
+  p.sample_x0 = x0;
+  p.sample_y0 = y0;
+  p.sample_x1 = x1;
+  p.sample_y1 = y1;
+  clr_halton_setup(&p);
+  return p;
+}
+
+static void test_setup(void **state) {
+  (void)state;
+  clr_sampler_params p = halton_params(-2, -2, 66, 34); /* 68 x 36 */
+  assert_int_equal(p.halton_scale[0], 128);
+  assert_int_equal(p.halton_exponent[0], 7);
+  assert_int_equal(p.halton_scale[1], 81);
+  assert_int_equal(p.halton_exponent[1], 4);
+  assert_int_equal(p.halton_stride, 128 * 81);
+  assert_int_equal(p.halton_mult_inverse[0], 49); /* 81 * 49 = 3969 = 31 * 128 + 1 */
+  assert_int_equal(p.halton_mult_inverse[1], 50); /* 128 * 50 = 6400 = 79 * 81 + 1 */
+  p = halton_params(0, 0, 1280, 720);
+  assert_int_equal(p.halton_scale[0], 128);
+  assert_int_equal(p.halton_scale[1], 243);
+  assert_int_equal(p.halton_exponent[1], 5);
+  assert_int_equal(p.halton_mult_inverse[0], 59);
+  assert_int_equal(p.halton_mult_inverse[1], 131);
+  p = halton_params(3, 3, 4, 4);
+  assert_int_equal(p.halton_scale[0], 1);
+  assert_int_equal(p.halton_scale[1], 1);
+  assert_int_equal(p.halton_stride, 1);
+  assert_int_equal(p.halton_mult_inverse[0], 0);
+  assert_int_equal(p.halton_mult_inverse[1], 0);
+  p = halton_params(0, 0, 5, 4); /* 8 x 9: exponents 3 and 2 */
+  assert_int_equal(p.halton_scale[0], 8);
+  assert_int_equal(p.halton_scale[1], 9);
+  assert_int_equal(p.halton_mult_inverse[0], 1); /* 9 = 1 mod 8 */
+  assert_int_equal(p.halton_mult_inverse[1], 8); /* 8 * 8 = 64 = 7 * 9 + 1 */
+  for (int i = 0; i < 2; ++i)
+    assert_int_equal((clr_u64)p.halton_scale[1 - i] * p.halton_mult_inverse[i] % p.halton_scale[i],
+                     1);
+}
+
+/* The cell of the scale0 x scale1 grid that Phi_2(index), Phi_3(index) fall in, from the digits:
+ * floor(Phi_b(index) * b^e) is the e lowest base-b digits of index, reversed. */
+static void index_cell(const clr_sampler_params *p, clr_u64 index, clr_u32 *cx, clr_u32 *cy) {
+  *cx = (clr_u32)clr_inverse_radical_inverse(2, index, p->halton_exponent[0]);
+  *cy = (clr_u32)clr_inverse_radical_inverse(3, index, p->halton_exponent[1]);
+}
+
+/* clr_halton_sampler_index against pbrt-v3's formula written out with 64-bit arithmetic. */
+static void test_index_matches_pbrt_form(void **state) {
+  (void)state;
+  const int bounds[][4] = {{-2, -2, 66, 34}, {0, 0, 1280, 720}, {0, 0, 5, 4}, {10, 10, 11, 40},
+                           {0, 0, 3, 200}, {-7, 3, 1, 4}};
+  clr_pcg32 rng = clr_pcg32_sequence(23);
+  for (int b = 0; b < 6; ++b) {
+    clr_sampler_params p = halton_params(bounds[b][0], bounds[b][1], bounds[b][2], bounds[b][3]);
+    for (int i = 0; i < 3000; ++i) {
+      clr_i32 px = (clr_i32)(clr_pcg32_next(&rng) % 1000) - 500;
+      clr_i32 py = (clr_i32)(clr_pcg32_next(&rng) % 1000) - 500;
+      clr_i64 s = clr_pcg32_next(&rng) % 5000;
+      clr_u64 stride = (clr_u64)p.halton_stride, offset = 0;
+      clr_u64 d0 = clr_inverse_radical_inverse(2, mod128(px), p.halton_exponent[0]);
+      clr_u64 d1 = clr_inverse_radical_inverse(3, mod128(py), p.halton_exponent[1]);
+      offset += d0 * (stride / (clr_u64)p.halton_scale[0]) * p.halton_mult_inverse[0];
+      offset += d1 * (stride / (clr_u64)p.halton_scale[1]) * p.halton_mult_inverse[1];
+      offset %= stride;
+      assert_int_equal(clr_halton_sampler_index(&p, px, py, s), offset + (clr_u64)s * stride);
+    }
+  }
+}
+
+static void test_index_lands_in_pixel(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  clr_sampler_params p = halton_params(-2, -2, 66, 34);
+  const clr_i32 pixels[][2] = {{-2, -2}, {-1, 5}, {0, 0}, {65, 33}, {7, 20},
+                               {130, 200}, {-130, -50}, {127, 127}, {128, -129}};
+  for (size_t k = 0; k < sizeof pixels / sizeof pixels[0]; ++k) {
+    clr_i32 px = pixels[k][0], py = pixels[k][1];
+    for (int i = 0; i < 64; ++i) {
+      clr_u64 index = clr_halton_sampler_index(&p, px, py, i);
+      assert_int_equal(index % (clr_u64)p.halton_stride, clr_halton_sampler_index(&p, px, py, 0));
+      assert_int_equal(index / (clr_u64)p.halton_stride, (clr_u64)i);
+      clr_u32 cx, cy;
+      index_cell(&p, index, &cx, &cy);
+      assert_int_equal(cx, mod128(px) % (clr_u32)p.halton_scale[0]);
+      assert_int_equal(cy, mod128(py) % (clr_u32)p.halton_scale[1]);
+      /* The float values agree: Phi_2(index) * 128 = cx + dim0 value (both exact here). */
+      float u = clr_halton_sampler_value(&p, pr, perms, index, 0);
+      assert_true(u >= 0.0f && u < 1.0f);
+      assert_float_bits_equal(clr_radical_inverse_base2(index) * 128.0f, (float)cx + u);
+      float w = clr_halton_sampler_value(&p, pr, perms, index, 1);
+      assert_true(w >= 0.0f && w < 1.0f);
+      assert_float_equal(clr_radical_inverse(3, CLR_HALTON_INV_3, index) * 81.0f, (float)cy + w,
+                         1e-4f);
+    }
+  }
+  /* Sample numbers past 2^32 / stride take the 64-bit paths. */
+  clr_u64 big = clr_halton_sampler_index(&p, 5, 6, 3000000000ll);
+  assert_true(big > 0xffffffffull);
+  clr_u32 cx, cy;
+  index_cell(&p, big, &cx, &cy);
+  assert_int_equal(cx, 5);
+  assert_int_equal(cy, 6);
+}
+
+static void test_stratification(void **state) {
+  (void)state;
+  const int bounds[][4] = {{-2, -2, 66, 34}, {0, 0, 1280, 720}, {0, 0, 5, 4}, {10, 10, 11, 40}};
+  for (int b = 0; b < 4; ++b) {
+    clr_sampler_params p = halton_params(bounds[b][0], bounds[b][1], bounds[b][2], bounds[b][3]);
+    clr_u32 s0 = (clr_u32)p.halton_scale[0], s1 = (clr_u32)p.halton_scale[1];
+    unsigned char *hits = calloc((size_t)s0 * s1, 1);
+    assert_non_null(hits);
+    for (clr_u64 index = 0; index < (clr_u64)p.halton_stride; ++index) {
+      clr_u32 cx, cy;
+      index_cell(&p, index, &cx, &cy);
+      assert_true(cx < s0 && cy < s1);
+      assert_int_equal(hits[cy * s0 + cx]++, 0);
+    }
+    for (clr_u32 y = 0; y < s1; ++y)
+      for (clr_u32 x = 0; x < s0; ++x) {
+        clr_u64 index = clr_halton_sampler_index(&p, (clr_i32)x, (clr_i32)y, 0);
+        assert_true(index < (clr_u64)p.halton_stride);
+        clr_u32 cx, cy;
+        index_cell(&p, index, &cx, &cy);
+        /* Pixels are taken modulo 128 first: with scale 243, rows 128.. reuse rows 0.. */
+        assert_int_equal(cx, x);
+        assert_int_equal(cy, y % CLR_HALTON_MAX_RESOLUTION);
+      }
+    free(hits);
+  }
+}
+
+static void test_sampler_values(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  clr_sampler_params p = halton_params(0, 0, 1280, 720);
+  clr_pcg32 rng = clr_pcg32_sequence(13);
+  for (int i = 0; i < 2000; ++i) {
+    clr_u64 index = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
+    assert_float_bits_equal(clr_halton_sampler_value(&p, pr, perms, index, 0),
+                            ref_base2_double(index >> 7));
+    assert_float_bits_equal(clr_halton_sampler_value(&p, pr, perms, index, 1),
+                            ref_radical_inverse(3, index / 243));
+    int dim = 2 + (int)(clr_pcg32_next(&rng) % (CLR_HALTON_PRIMES - 2));
+    assert_float_bits_equal(clr_halton_sampler_value(&p, pr, perms, index, dim),
+                            ref_scrambled(pr[dim].base, perms + pr[dim].perm_offset, index));
+    const clr_i32 past[] = {1000, 1001, 5000, -1};
+    for (int k = 0; k < 4; ++k) {
+      float v = clr_halton_sampler_value(&p, pr, perms, index, past[k]);
+      assert_true(v >= 0.0f && v < 1.0f);
+      assert_float_bits_equal(v, clr_halton_sampler_value(&p, pr, perms, index, past[k]));
+    }
+  }
+  assert_true(clr_halton_sampler_value(&p, pr, perms, 1, 1000) !=
+              clr_halton_sampler_value(&p, pr, perms, 1, 1001));
+  assert_true(clr_halton_sampler_value(&p, pr, perms, 1, 1000) !=
+              clr_halton_sampler_value(&p, pr, perms, 2, 1000));
+  p.sample_pixel_center = 1;
+  assert_float_bits_equal(clr_halton_sampler_value(&p, pr, perms, 12345, 0), 0.5f);
+  assert_float_bits_equal(clr_halton_sampler_value(&p, pr, perms, 12345, 1), 0.5f);
+  assert_float_bits_equal(clr_halton_sampler_value(&p, pr, perms, 12345, 2),
+                          clr_scrambled_radical_inverse(&pr[2], perms, 12345));
+}
+
+/* ---- device ---- */
+
+static const char *device_source =
+    "#include \"halton_funcs.h\"\n"
+    "__kernel void values(__global const clr_sampler_params *params,\n"
+    "                     __global const clr_halton_prime *primes, __global const ushort *perms,\n"
+    "                     __global const ulong *indices, int dims, __global float *out) {\n"
+    "  size_t i = get_global_id(0);\n"
+    "  clr_sampler_params p = *params;\n"
+    "  ulong index = indices[i];\n"
+    "  for (int d = 0; d < dims; ++d)\n"
+    "    out[i * dims + d] = clr_halton_sampler_value(&p, primes, perms, index, d);\n"
+    "  out[i * dims] = clr_radical_inverse_base2(index);\n"
+    "}\n"
+    "__kernel void pixel_values(__global const clr_sampler_params *params,\n"
+    "                     __global const clr_halton_prime *primes, __global const ushort *perms,\n"
+    "                     int width, int spp, int dims, __global float *out) {\n"
+    "  int i = (int)get_global_id(0);\n"
+    "  int pixel = i / spp, s = i - pixel * spp;\n"
+    "  clr_sampler_params p = *params;\n"
+    "  ulong index = clr_halton_sampler_index(&p, pixel % width, pixel / width, s);\n"
+    "  for (int d = 0; d < dims; ++d)\n"
+    "    out[(size_t)i * dims + d] = clr_halton_sampler_value(&p, primes, perms, index, d);\n"
+    "}\n"
+    "__kernel void one_value(__global const clr_sampler_params *params,\n"
+    "                     __global const clr_halton_prime *primes, __global const ushort *perms,\n"
+    "                     int width, int spp, int dims, __global float *out) {\n"
+    "  int i = (int)get_global_id(0);\n"
+    "  int sample = i / dims, d = i - sample * dims;\n"
+    "  int pixel = sample / spp, s = sample - pixel * spp;\n"
+    "  clr_sampler_params p = *params;\n"
+    "  ulong index = clr_halton_sampler_index(&p, pixel % width, pixel / width, s);\n"
+    "  out[i] = clr_halton_sampler_value(&p, primes, perms, index, d);\n"
+    "}\n";
+
+typedef struct device_fixture {
+  clr_context ctx;
+  cl_program program;
+  cl_mem params, primes, perms;
+} device_fixture;
+
+static cl_mem make_buffer(cl_context cl, size_t bytes, const void *data) {
+  cl_int err = 0;
+  cl_mem m = clCreateBuffer(cl, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes,
+                            (void *)data, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  return m;
+}
+
+static void device_setup(device_fixture *f, const clr_sampler_params *p, const char *defines) {
+  assert_int_equal(clr_context_create(NULL, &f->ctx), CLR_SUCCESS);
+  cl_context cl = clr_context_cl_context(f->ctx);
+  cl_device_id dev = clr_context_cl_device(f->ctx);
+  cl_int err = 0;
+  f->program = clCreateProgramWithSource(cl, 1, &device_source, NULL, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  char options[1024];
+  snprintf(options, sizeof options, "-cl-std=CL1.2 -I %s/kernels %s", CLR_SOURCE_DIR, defines);
+  err = clBuildProgram(f->program, 1, &dev, options, NULL, NULL);
+  if (err != CL_SUCCESS) {
+    char log[8192] = {0};
+    clGetProgramBuildInfo(f->program, dev, CL_PROGRAM_BUILD_LOG, sizeof log - 1, log, NULL);
+    fail_msg("build failed: %s", log);
+  }
+  size_t count = 0;
+  const clr_u16 *perms = clr_halton_permutations(&count);
+  f->params = make_buffer(cl, sizeof *p, p);
+  f->primes = make_buffer(cl, sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                          clr_halton_primes());
+  f->perms = make_buffer(cl, sizeof(clr_u16) * count, perms);
+}
+
+static void device_teardown(device_fixture *f) {
+  clReleaseMemObject(f->params);
+  clReleaseMemObject(f->primes);
+  clReleaseMemObject(f->perms);
+  clReleaseProgram(f->program);
+  clr_context_release(f->ctx);
+}
+
+static void test_device_matches_host(void **state) {
+  (void)state;
+  clr_sampler_params p = halton_params(-2, -2, 66, 34);
+  device_fixture f;
+  device_setup(&f, &p, "");
+  cl_context cl = clr_context_cl_context(f.ctx);
+  cl_command_queue q = clr_context_cl_queue(f.ctx);
+  const cl_int dims = 40;
+  enum { N = 8192 };
+  static clr_u64 indices[N];
+  static float out[N * 40];
+  clr_pcg32 rng = clr_pcg32_sequence(17);
+  for (int i = 0; i < N; ++i) {
+    if (i < 4096) indices[i] = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
+    else indices[i] = clr_halton_sampler_index(&p, i % 70 - 3, i / 70, i % 37);
+  }
+  cl_mem idx = make_buffer(cl, sizeof indices, indices);
+  cl_mem res = make_buffer(cl, sizeof out, NULL);
+  cl_int err = 0;
+  cl_kernel k = clCreateKernel(f.program, "values", &err);
+  assert_int_equal(err, CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 0, sizeof(cl_mem), &f.params), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 1, sizeof(cl_mem), &f.primes), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 2, sizeof(cl_mem), &f.perms), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 3, sizeof(cl_mem), &idx), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 4, sizeof dims, &dims), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 5, sizeof(cl_mem), &res), CL_SUCCESS);
+  size_t global = N;
+  assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, NULL),
+                   CL_SUCCESS);
+  assert_int_equal(clEnqueueReadBuffer(q, res, CL_TRUE, 0, sizeof out, out, 0, NULL, NULL),
+                   CL_SUCCESS);
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  for (int i = 0; i < N; ++i) {
+    assert_float_bits_equal(out[i * dims], ref_base2_double(indices[i]));
+    for (int d = 1; d < dims; ++d) {
+      float want = clr_halton_sampler_value(&p, pr, perms, indices[i], d);
+      if (float_bits(out[i * dims + d]) != float_bits(want))
+        fail_msg("index 0x%llx dim %d: device %a host %a", (unsigned long long)indices[i], d,
+                 out[i * dims + d], want);
+    }
+  }
+  clReleaseKernel(k);
+  clReleaseMemObject(idx);
+  clReleaseMemObject(res);
+  device_teardown(&f);
+}
+
+/* Runs `kernel` (pixel_values: a work item per sample; one_value: a work item per value) over
+ * 256 x 64 pixels x 16 samples x 16 dims with CLR_HALTON_INDEX32, prints the throughput and checks
+ * a sample of the values against the host. */
+static void run_throughput(const char *kernel, size_t items, cl_int dims) {
+  clr_sampler_params p = halton_params(0, 0, 1280, 720);
+  device_fixture f;
+  device_setup(&f, &p, "-DCLR_HALTON_INDEX32");
+  cl_context cl = clr_context_cl_context(f.ctx);
+  cl_command_queue q = clr_context_cl_queue(f.ctx);
+  const cl_int width = 256, spp = 16;
+  const size_t values = (size_t)width * 64 * spp * (size_t)dims;
+  float *out = malloc(values * sizeof(float));
+  assert_non_null(out);
+  cl_mem res = make_buffer(cl, values * sizeof(float), NULL);
+  cl_int err = 0;
+  cl_kernel k = clCreateKernel(f.program, kernel, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 0, sizeof(cl_mem), &f.params), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 1, sizeof(cl_mem), &f.primes), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 2, sizeof(cl_mem), &f.perms), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 3, sizeof width, &width), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 4, sizeof spp, &spp), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 5, sizeof dims, &dims), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 6, sizeof(cl_mem), &res), CL_SUCCESS);
+  double best = 1e30;
+  for (int rep = 0; rep < 4; ++rep) {
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &items, NULL, 0, NULL, NULL),
+                     CL_SUCCESS);
+    assert_int_equal(clFinish(q), CL_SUCCESS);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    if (rep > 0 && s < best) best = s;
+  }
+  printf("halton %s: %.3f G values/s (%zu values, %.2f ms)\n", kernel,
+         (double)values / best * 1e-9, values, best * 1e3);
+  assert_int_equal(
+      clEnqueueReadBuffer(q, res, CL_TRUE, 0, values * sizeof(float), out, 0, NULL, NULL),
+      CL_SUCCESS);
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  for (size_t v = 0; v < values; v += 31) {
+    size_t sample = v / (size_t)dims;
+    int d = (int)(v % (size_t)dims), pixel = (int)(sample / (size_t)spp);
+    clr_u64 index = clr_halton_sampler_index(&p, pixel % width, pixel / width,
+                                             (clr_i64)(sample % (size_t)spp));
+    assert_float_bits_equal(out[v], clr_halton_sampler_value(&p, pr, perms, index, d));
+  }
+  free(out);
+  clReleaseKernel(k);
+  clReleaseMemObject(res);
+  device_teardown(&f);
+}
+
+static void test_device_throughput(void **state) {
+  (void)state;
+  const size_t samples = (size_t)256 * 64 * 16;
+  run_throughput("pixel_values", samples, 16);
+  run_throughput("one_value", samples * 16, 16);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_primes),
+      cmocka_unit_test(test_permutations),
+      cmocka_unit_test(test_division_magic),
+      cmocka_unit_test(test_base2_exact),
+      cmocka_unit_test(test_base2_matches_double),
+      cmocka_unit_test(test_radical_inverse_values),
+      cmocka_unit_test(test_scrambled_values),
+      cmocka_unit_test(test_chunked_path),
+      cmocka_unit_test(test_inverse_radical_inverse),
+      cmocka_unit_test(test_index_matches_pbrt_form),
+      cmocka_unit_test(test_setup),
+      cmocka_unit_test(test_index_lands_in_pixel),
+      cmocka_unit_test(test_stratification),
+      cmocka_unit_test(test_sampler_values),
+      cmocka_unit_test(test_device_matches_host),
+      cmocka_unit_test(test_device_throughput),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,335 @@
+/* Sampler kernels on the OpenCL device against the host reference built from the same headers:
+ * bit-identical values, order independence, stratification of device output, bad input. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+#include "clrender.h"
+
+static clr_context ctx;
+
+static int setup(void **state) {
+  (void)state;
+  return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  clr_context_release(ctx);
+  return 0;
+}
+
+/* Camera (2,1,2) then an integrator's 1D, 2D, 2D: 10 values. */
+static const clr_sample_request camera10[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}, {2, 0}, {2, 0}};
+/* With arrays, and singles past stratified's 4 dimensions. */
+static const clr_sample_request with_arrays[] = {{2, 0}, {1, 0}, {2, 0}, {1, 5}, {2, 0},
+                                                 {2, 7}, {1, 0}, {1, 0}, {1, 0}, {2, 0},
+                                                 {2, 0}, {2, 3}, {1, 0}};
+
+static clr_sampler make_sampler(clr_sampler_type type, clr_seeding seeding, int res) {
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, type);
+  d.seeding = seeding;
+  d.film.x_resolution = d.film.y_resolution = res;
+  d.film.filter_radius[0] = d.film.filter_radius[1] = 1.5f;
+  clr_sampler s = NULL;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+  return s;
+}
+
+typedef struct generated {
+  float *values;
+  uint64_t *indices;
+  size_t count, items;
+  int32_t per_sample;
+} generated;
+
+static generated generate(clr_sampler s, clr_bounds2i px, int first, int count,
+                          const clr_sample_request *req, int nreq, int device) {
+  generated g;
+  clr_sample_batch b;
+  clr_sample_batch_init(&b);
+  b.pixels = px;
+  b.first_sample = first;
+  b.sample_count = count;
+  b.requests = req;
+  b.request_count = nreq;
+  assert_int_equal(clr_sample_layout_values(req, nreq, &g.per_sample), CLR_SUCCESS);
+  int spp = count ? count : clr_sampler_spp(s);
+  g.items = (size_t)(px.x1 - px.x0) * (px.y1 - px.y0) * spp;
+  g.count = g.items * g.per_sample;
+  g.values = malloc(g.count * sizeof(float));
+  g.indices = malloc(g.items * sizeof(uint64_t));
+  assert_non_null(g.values);
+  assert_non_null(g.indices);
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.host_values = g.values;
+  out.host_indices = g.indices;
+  clr_result r = device ? clr_sampler_generate(s, &b, &out) : clr_sampler_generate_reference(s, &b, &out);
+  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
+  assert_int_equal(r, CLR_SUCCESS);
+  return g;
+}
+
+static void free_generated(generated *g) {
+  free(g->values);
+  free(g->indices);
+}
+
+static void assert_bit_identical(clr_sampler_type type, clr_seeding seeding,
+                                 const clr_sample_request *req, int nreq) {
+  clr_sampler s = make_sampler(type, seeding, 64);
+  clr_bounds2i px = {0, 0, 64, 64};
+  generated dev = generate(s, px, 0, 0, req, nreq, 1);
+  generated ref = generate(s, px, 0, 0, req, nreq, 0);
+  size_t mismatches = 0;
+  for (size_t i = 0; i < dev.count; ++i) {
+    if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && mismatches++ < 5)
+      fprintf(stderr, "%s: value %zu device %.9g reference %.9g\n", clr_sampler_type_name(type), i,
+              (double)dev.values[i], (double)ref.values[i]);
+    assert_true(dev.values[i] >= 0.0f && dev.values[i] < 1.0f);
+  }
+  assert_int_equal(mismatches, 0);
+  assert_memory_equal(dev.indices, ref.indices, dev.items * sizeof(uint64_t));
+  free_generated(&dev);
+  free_generated(&ref);
+  clr_sampler_release(s);
+}
+
+static void test_device_matches_reference(void **state) {
+  (void)state;
+  for (int t = 0; t < 4; ++t) {
+    assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PIXEL, camera10, 6);
+    assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PBRT_V3, camera10, 6);
+  }
+}
+
+static void test_device_matches_reference_with_arrays(void **state) {
+  (void)state;
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  for (int t = 0; t < 4; ++t) {
+    assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PIXEL, with_arrays, n);
+    assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PBRT_V3, with_arrays, n);
+  }
+}
+
+/* The same (pixel, sample, value) gives the same bits whatever batch, sample range or visiting
+ * order produced it. */
+static void test_order_independence(void **state) {
+  (void)state;
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  for (int t = 0; t < 4; ++t) {
+    for (int seeding = 0; seeding < 2; ++seeding) {
+      clr_sampler s = make_sampler((clr_sampler_type)t, (clr_seeding)seeding, 40);
+      clr_bounds2i all = clr_sampler_sample_bounds(s);
+      int spp = clr_sampler_spp(s);
+      generated full = generate(s, all, 0, 0, with_arrays, n, 1);
+      int w = all.x1 - all.x0;
+      /* Visit a few pixels backwards, one sample at a time, on the device and the host. */
+      for (int k = 7; k >= 0; --k) {
+        int x = all.x0 + (k * 13) % w, y = all.y0 + (k * 7) % (all.y1 - all.y0);
+        clr_bounds2i one = {x, y, x + 1, y + 1};
+        for (int sample = spp - 1; sample >= 0; sample -= 3) {
+          generated part = generate(s, one, sample, 1, with_arrays, n, k & 1);
+          size_t item = ((size_t)(y - all.y0) * w + (x - all.x0)) * spp + sample;
+          assert_memory_equal(part.values, full.values + item * full.per_sample,
+                              full.per_sample * sizeof(float));
+          assert_int_equal(part.indices[0], full.indices[item]);
+          free_generated(&part);
+        }
+      }
+      free_generated(&full);
+      clr_sampler_release(s);
+    }
+  }
+}
+
+/* Device output of the stratified sampler: film offsets hit each of the 4x4 strata once per
+ * pixel, the time dimension each of 16 strata once, 2D arrays are Latin hypercubes. */
+static void test_stratified_device_strata(void **state) {
+  (void)state;
+  clr_sampler s = make_sampler(CLR_SAMPLER_STRATIFIED, CLR_SEEDING_PIXEL, 16);
+  clr_bounds2i px = {0, 0, 16, 16};
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  generated g = generate(s, px, 0, 0, with_arrays, n, 1);
+  for (int p = 0; p < 256; ++p) {
+    int cells[16] = {0}, strata[16] = {0};
+    for (int i = 0; i < 16; ++i) {
+      const float *v = g.values + ((size_t)p * 16 + i) * g.per_sample;
+      cells[(int)(v[0] * 4) + 4 * (int)(v[1] * 4)]++;
+      strata[(int)(v[2] * 16)]++;
+      /* 2D array of 7 (request 5) starts after 2+1+2+5+2 values. */
+      int rows[7] = {0}, cols[7] = {0};
+      for (int j = 0; j < 7; ++j) {
+        cols[(int)(v[12 + 2 * j] * 7)]++;
+        rows[(int)(v[12 + 2 * j + 1] * 7)]++;
+      }
+      for (int j = 0; j < 7; ++j) {
+        assert_int_equal(rows[j], 1);
+        assert_int_equal(cols[j], 1);
+      }
+    }
+    for (int c = 0; c < 16; ++c) {
+      assert_int_equal(cells[c], 1);
+      assert_int_equal(strata[c], 1);
+    }
+  }
+  free_generated(&g);
+  clr_sampler_release(s);
+}
+
+/* Past Sobol's 1024 dimensions and Halton's 1000 primes values fall back to a hash: in range,
+ * and not constant. */
+static void test_past_available_dimensions(void **state) {
+  (void)state;
+  static clr_sample_request req[601];
+  req[0] = (clr_sample_request){2, 0};
+  for (int i = 1; i < 601; ++i) req[i] = (clr_sample_request){2, 0}; /* dims up to 1201 */
+  for (int t = CLR_SAMPLER_HALTON; t <= CLR_SAMPLER_SOBOL; ++t) {
+    clr_sampler s = make_sampler((clr_sampler_type)t, CLR_SEEDING_PIXEL, 8);
+    clr_bounds2i px = {0, 0, 2, 2};
+    generated dev = generate(s, px, 0, 0, req, 601, 1);
+    generated ref = generate(s, px, 0, 0, req, 601, 0);
+    assert_true(dev.per_sample == 1202);
+    assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
+    double sum = 0;
+    for (size_t i = 0; i < dev.count; ++i) {
+      assert_true(dev.values[i] >= 0.0f && dev.values[i] < 1.0f);
+      sum += dev.values[i];
+    }
+    assert_true(sum / dev.count > 0.4 && sum / dev.count < 0.6);
+    free_generated(&dev);
+    free_generated(&ref);
+    clr_sampler_release(s);
+  }
+}
+
+static void test_bad_input(void **state) {
+  (void)state;
+  clr_sampler_desc d;
+  clr_sampler s = NULL;
+  clr_sampler_desc_init(&d, CLR_SAMPLER_HALTON);
+  d.pixel_samples = 0;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_SPP);
+  assert_non_null(strstr(clr_last_error_message(), "pixelsamples 0"));
+  d.pixel_samples = -4;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_SPP);
+  clr_sampler_desc_init(&d, CLR_SAMPLER_STRATIFIED);
+  d.x_samples = 0;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_SPP);
+  clr_sampler_desc_init(&d, CLR_SAMPLER_STRATIFIED);
+  d.dimensions = 0;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_DIMENSIONS);
+  clr_sampler_desc_init(&d, CLR_SAMPLER_SOBOL);
+  d.film.x_resolution = 0;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_RESOLUTION);
+  assert_non_null(strstr(clr_last_error_message(), "0x720"));
+  d.film.x_resolution = -5;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_RESOLUTION);
+  clr_sampler_desc_init(&d, CLR_SAMPLER_SOBOL);
+  d.film.filter_radius[0] = -1.0f;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_RADIUS);
+  d.type = (clr_sampler_type)17;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_ERROR_INVALID_SAMPLER);
+  assert_null(s);
+  clr_sampler_type type;
+  assert_int_equal(clr_sampler_type_from_name("zeroTwo", &type), CLR_ERROR_INVALID_SAMPLER);
+  assert_non_null(strstr(clr_last_error_message(), "zeroTwo"));
+  assert_int_equal(clr_sampler_type_from_name("sobol", &type), CLR_SUCCESS);
+  assert_int_equal(type, CLR_SAMPLER_SOBOL);
+
+  s = make_sampler(CLR_SAMPLER_SOBOL, CLR_SEEDING_PIXEL, 16);
+  float buf[64];
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.host_values = buf;
+  clr_sample_batch b;
+  clr_sample_batch_init(&b);
+  b.pixels = (clr_bounds2i){0, 0, 1, 1};
+  b.requests = camera10;
+  b.request_count = 0;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_REQUESTS);
+  clr_sample_request bad_dims[] = {{2, 0}, {3, 0}};
+  b.requests = bad_dims;
+  b.request_count = 2;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_REQUESTS);
+  clr_sample_request no_film[] = {{1, 0}};
+  b.requests = no_film;
+  b.request_count = 1;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_REQUESTS);
+  clr_sample_request huge[] = {{2, 0}, {2, 100000}};
+  b.requests = huge;
+  b.request_count = 2;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_REQUEST_TOO_LARGE);
+  clr_sample_request many[] = {{2, 0}, {2, 2040}, {2, 10}};
+  b.requests = many;
+  b.request_count = 3;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_REQUEST_TOO_LARGE);
+  b.requests = camera10;
+  b.request_count = 6;
+  b.pixels = (clr_bounds2i){-50, 0, 1, 1};
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_PIXEL_RANGE);
+  b.pixels = (clr_bounds2i){3, 3, 3, 4};
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_PIXEL_RANGE);
+  b.pixels = (clr_bounds2i){0, 0, 1, 1};
+  b.first_sample = 10;
+  b.sample_count = 7;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_SPP);
+  b.first_sample = 0;
+  b.sample_count = 0;
+  assert_int_equal(clr_sampler_generate(s, NULL, &out), CLR_ERROR_NULL_POINTER);
+  assert_int_equal(clr_sampler_generate(NULL, &b, &out), CLR_ERROR_NULL_POINTER);
+  out.host_values = NULL;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_NULL_POINTER);
+  clr_sampler_release(s);
+}
+
+/* Device-resident output: values land in the caller's buffer; too small a buffer is refused. */
+static void test_device_buffer_output(void **state) {
+  (void)state;
+  clr_sampler s = make_sampler(CLR_SAMPLER_HALTON, CLR_SEEDING_PIXEL, 16);
+  clr_bounds2i px = {0, 0, 4, 4};
+  generated ref = generate(s, px, 0, 0, camera10, 6, 0);
+  cl_int err;
+  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_WRITE,
+                              ref.count * sizeof(float), NULL, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  clr_sample_batch b;
+  clr_sample_batch_init(&b);
+  b.pixels = px;
+  b.requests = camera10;
+  b.request_count = 6;
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.device_values = buf;
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_SUCCESS);
+  float *back = malloc(ref.count * sizeof(float));
+  assert_int_equal(clEnqueueReadBuffer(clr_context_cl_queue(ctx), buf, CL_TRUE, 0,
+                                       ref.count * sizeof(float), back, 0, NULL, NULL),
+                   CL_SUCCESS);
+  assert_memory_equal(back, ref.values, ref.count * sizeof(float));
+  b.pixels = (clr_bounds2i){0, 0, 8, 8};
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_ARGUMENT);
+  free(back);
+  clReleaseMemObject(buf);
+  free_generated(&ref);
+  clr_sampler_release(s);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_device_matches_reference),
+      cmocka_unit_test(test_device_matches_reference_with_arrays),
+      cmocka_unit_test(test_order_independence),
+      cmocka_unit_test(test_stratified_device_strata),
+      cmocka_unit_test(test_past_available_dimensions),
+      cmocka_unit_test(test_bad_input),
+      cmocka_unit_test(test_device_buffer_output),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
