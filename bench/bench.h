@@ -17,5 +17,6 @@ double bench_median(int reps, int (*fn)(void *user), void *user);
 void bench_json_escape(FILE *f, const char *s);
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count);
+void bench_render(const bench_options *o, const clr_device_info *devices, int device_count);
 
 #endif

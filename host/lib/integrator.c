@@ -142,6 +142,8 @@ struct clr_integrator_scratch {
   int32_t *owner;
   float *beta;
   int32_t *bounces, *active;
+  float *ao_terms;
+  size_t ao_cap;
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
 };
 
@@ -152,7 +154,7 @@ clr_integrator_scratch *clr_integrator_scratch_create(void) {
 void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   if (!s) return;
   free(s->rays); free(s->rays2); free(s->hits); free(s->occluded); free(s->surfaces);
-  free(s->jobs); free(s->owner); free(s->beta); free(s->bounces); free(s->active);
+  free(s->jobs); free(s->owner); free(s->ao_terms); free(s->beta); free(s->bounces); free(s->active);
   free(s);
 }
 
@@ -415,10 +417,16 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
   intersect_visible(sc, s, count, c);
   int n = it->ao_samples;
   CLR_CHECK(reserve_rays(s, (size_t)count * (size_t)n));
-  /* directions first (in rays), then one occlusion query for the whole chunk */
+  /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query */
+  float *term = s->ao_terms;
+  if ((size_t)count * (size_t)n > s->ao_cap) {
+    size_t cap = (size_t)count * (size_t)n;
+    term = realloc(s->ao_terms, cap * sizeof *term);
+    if (!term) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    s->ao_terms = term;
+    s->ao_cap = cap;
+  }
   size_t q = 0;
-  float *cosine = (float *)s->beta; /* unused by AO: reuse is not possible (3 per sample) */
-  (void)cosine;
   for (int i = 0; i < count; ++i) {
     const clr_surface *sf = &s->surfaces[i];
     if (sf->has_material < 0) continue;
@@ -427,12 +435,14 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
     memcpy(ss, sf->dpdu, sizeof ss);
     rs_normalize(ss);
     rs_cross(sf->n_geom, ss, ts);
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < n; ++k, ++q) {
       float w[3], wi[3];
       if (it->ao_cos_sample) cosine_hemisphere(u + 2 * k, w);
       else uniform_hemisphere(u + 2 * k, w);
       for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
-      clr_render_scene_spawn_ray(sf, wi, &s->rays[q++]);
+      float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
+      term[q] = pdf > 0.0f ? rs_dot(wi, sf->ng) / (pdf * (float)n) : 0.0f;
+      clr_render_scene_spawn_ray(sf, wi, &s->rays[q]);
     }
   }
   occlude(sc, s->rays, s->occluded, q, c);
@@ -441,18 +451,9 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
     const clr_surface *sf = &s->surfaces[i];
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
     if (sf->has_material < 0) continue;
-    const float *u = values + (size_t)i * (size_t)it->values_per_sample + it->value_offset;
     float sum = 0.0f;
-    for (int k = 0; k < n; ++k, ++q) {
-      float w[3];
-      if (it->ao_cos_sample) cosine_hemisphere(u + 2 * k, w);
-      else uniform_hemisphere(u + 2 * k, w);
-      float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
-      if (s->occluded[q] || !(pdf > 0.0f)) continue;
-      const clr_ray *r = &s->rays[q];
-      float wi[3] = {r->dx, r->dy, r->dz};
-      sum += rs_dot(wi, sf->ng) / (pdf * (float)n);
-    }
+    for (int k = 0; k < n; ++k, ++q)
+      if (!s->occluded[q]) sum += term[q];
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = sum;
   }
   return CLR_SUCCESS;

@@ -136,6 +136,7 @@ typedef struct render_job {
   const clr_integrator *integrator;
   clr_film film;
   int spp;
+  int host_samples; /* CLRENDER_HOST_SAMPLES=1: host reference generator (comparison) */
   uint32_t seed;
   int nslots;
   tile_slot *slots;
@@ -307,7 +308,8 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
       clr_sample_output_init(&out);
       out.host_values = free_slot->values;
       double t0 = now_seconds();
-      r = clr_sampler_generate(sampler, &batch, &out);
+      r = job->host_samples ? clr_sampler_generate_reference(sampler, &batch, &out)
+                            : clr_sampler_generate(sampler, &batch, &out);
       st->seconds_sample_generation += now_seconds() - t0;
       if (r != CLR_SUCCESS) break;
       pthread_mutex_lock(&job->mutex);
@@ -483,6 +485,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.film = film;
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
+    job.host_samples = getenv("CLRENDER_HOST_SAMPLES") && strcmp(getenv("CLRENDER_HOST_SAMPLES"), "1") == 0;
     st->spp = job.spp;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
