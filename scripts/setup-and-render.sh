@@ -6,5 +6,5 @@ bash scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j "$(nproc)"
 mkdir -p out
-./build/clrender samples --sampler sobol --spp 16 --res 64x64 --pixels 0,0,4,4 --plot out/sobol-samples.png
-echo "wrote out/sobol-samples.png"
+./build/clrender render scenes/cornell-box.pbrt --outfile out/cornell-box.exr
+echo "wrote out/cornell-box.exr and its preview out/cornell-box.png"
