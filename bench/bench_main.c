@@ -1,0 +1,68 @@
+/* clrender_bench: loops over every OpenCL platform and device and runs each benchmark section. */
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "bench.h"
+
+double bench_now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+double bench_median(int reps, int (*fn)(void *user), void *user) {
+  double times[64];
+  if (reps > 64) reps = 64;
+  if (!fn(user)) return -1.0;
+  for (int i = 0; i < reps; ++i) {
+    double t0 = bench_now();
+    if (!fn(user)) return -1.0;
+    times[i] = bench_now() - t0;
+  }
+  qsort(times, (size_t)reps, sizeof times[0], cmp_double);
+  return times[reps / 2];
+}
+
+void bench_json_escape(FILE *f, const char *s) {
+  fputc('"', f);
+  for (; *s; ++s) {
+    if (*s == '"' || *s == '\\') fputc('\\', f);
+    if ((unsigned char)*s < 32) continue;
+    fputc(*s, f);
+  }
+  fputc('"', f);
+}
+
+static void usage(void) {
+  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only film]\n"
+                  "Prints one JSON object per line: each device's figure and the single-thread\n"
+                  "host reference measured in the same run, with their ratio.\n");
+}
+
+int main(int argc, char **argv) {
+  bench_options o = {0, NULL};
+  const char *only = NULL;
+  for (int i = 1; i < argc; ++i) {
+    if (strcmp(argv[i], "--quick") == 0) o.quick = 1;
+    else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc) o.only_device = argv[++i];
+    else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc) only = argv[++i];
+    else {
+      usage();
+      return 2;
+    }
+  }
+  clr_device_info devices[64];
+  int count = 0;
+  if (clr_device_list(devices, 64, &count) != CLR_SUCCESS) {
+    fprintf(stderr, "clrender_bench: %s\n", clr_last_error_message());
+    return 1;
+  }
+  if (count > 64) count = 64;
+  if (!only || strcmp(only, "film") == 0) bench_film(&o, devices, count);
+  return 0;
+}
