@@ -11,7 +11,7 @@
 #define CLR_FILM_BINNED_FLOATS 6
 /* Per-pixel sums a kernel writes: r, g, b, filter weight. */
 #define CLR_FILM_SUM_FLOATS 4
-/* Largest work-group of the gather kernel (pixels of one row). */
+/* Largest work-group of the gather kernel. */
 #define CLR_FILM_GROUP_MAX 256
 /* pbrt-v3's check on radiance: luminance below this is a bad sample. */
 #define CLR_FILM_MIN_LUMINANCE (-1e-5f)
@@ -24,7 +24,7 @@
 typedef struct clr_film_params {
   clr_i32 pixel_x0, pixel_y0, pixel_x1, pixel_y1;     /* cropped pixel bounds, half-open */
   clr_i32 sample_x0, sample_y0, sample_x1, sample_y1; /* pbrt GetSampleBounds, half-open */
-  clr_i32 tile_size;       /* default work-group size of the gather (pixels of one row) */
+  clr_i32 tile_size;       /* pixels of a row one gather work-item accumulates */
   clr_i32 clamp_luminance; /* 1 when max_luminance is finite */
   float max_luminance;
   clr_i32 pad[5];

@@ -2,6 +2,7 @@
  * (a stable counting sort: the canonical order of film.h), the gather kernel sums every reached
  * pixel over its neighbouring bins, the host adds the float sums into the film's double sums.
  * Also the host reference, which adds the binned samples in the same order. */
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include "clr_internal.h"
@@ -12,12 +13,6 @@
 /* Keys count bins from this many pixels left of / above the pixel bounds: a binned sample's x0
  * is at least pixel_x0 - (x1 - x0) >= pixel_x0 - (2 * CLR_FILM_MAX_FILTER_RADIUS + 1). */
 #define KEY_MARGIN 128
-
-static void count_status(clr_film film, clr_i32 status) {
-  if (status == CLR_FILM_SAMPLE_OK) ++film->accepted;
-  else if (status == CLR_FILM_SAMPLE_DROPPED) ++film->dropped;
-  else ++film->outside;
-}
 
 static int grow(void **ptr, size_t *cap, size_t need, size_t elem) {
   if (need <= *cap) return 1;
@@ -40,46 +35,48 @@ static int reaches_film(const clr_film_params *p, const clr_film_prepared *s) {
          s->y0 < p->pixel_y1;
 }
 
-/* Pass 1 of the binning: checks and counts the samples, stores each one's packed bin (KEY_NONE
- * when it reaches no pixel) and fills the grid's bounds; returns the number of binned samples. */
-static size_t key_samples(clr_film film, const clr_film_sample *samples, size_t count,
-                          clr_film_grid *g) {
+/* One thread's share of a chunk's binning: samples [begin, end), its bin counts and cursor. */
+typedef struct bin_part {
+  clr_film film;
+  const clr_film_sample *samples;
+  size_t begin, end;
+  const clr_film_grid *grid; /* passes 2 and 3 */
+  uint32_t *cursor;          /* per bin: count, then fill position */
+  float *dst;                /* pass 3 */
+  int pass;
+  /* pass 1 results */
+  int32_t bx0, by0, bx1, by1, reach_x, reach_y;
+  size_t binned;
+  uint64_t accepted, dropped, outside;
+} bin_part;
+
+/* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
+ * pixel), its bounds and the largest reach. */
+static void key_part(bin_part *t) {
+  clr_film film = t->film;
   const clr_film_params *p = &film->params;
   uint32_t *keys = film->bins.keys;
   const int32_t kx0 = p->pixel_x0 - KEY_MARGIN, ky0 = p->pixel_y0 - KEY_MARGIN;
-  int32_t bx0 = INT32_MAX, by0 = INT32_MAX, bx1 = INT32_MIN, by1 = INT32_MIN;
-  int32_t reach_x = 1, reach_y = 1;
-  size_t binned = 0;
-  for (size_t i = 0; i < count; ++i) {
+  t->bx0 = t->by0 = INT32_MAX;
+  t->bx1 = t->by1 = INT32_MIN;
+  t->reach_x = t->reach_y = 1;
+  for (size_t i = t->begin; i < t->end; ++i) {
     clr_film_prepared s;
-    clr_i32 status = prepare(film, &samples[i], &s);
-    count_status(film, status);
+    clr_i32 status = prepare(film, &t->samples[i], &s);
+    t->accepted += status == CLR_FILM_SAMPLE_OK;
+    t->dropped += status == CLR_FILM_SAMPLE_DROPPED;
+    t->outside += status == CLR_FILM_SAMPLE_OUTSIDE;
     keys[i] = KEY_NONE;
     if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) continue;
     keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
-    bx0 = s.x0 < bx0 ? s.x0 : bx0;
-    bx1 = s.x0 > bx1 ? s.x0 : bx1;
-    by0 = s.y0 < by0 ? s.y0 : by0;
-    by1 = s.y0 > by1 ? s.y0 : by1;
-    reach_x = s.x1 - s.x0 + 1 > reach_x ? s.x1 - s.x0 + 1 : reach_x;
-    reach_y = s.y1 - s.y0 + 1 > reach_y ? s.y1 - s.y0 + 1 : reach_y;
-    ++binned;
+    t->bx0 = s.x0 < t->bx0 ? s.x0 : t->bx0;
+    t->bx1 = s.x0 > t->bx1 ? s.x0 : t->bx1;
+    t->by0 = s.y0 < t->by0 ? s.y0 : t->by0;
+    t->by1 = s.y0 > t->by1 ? s.y0 : t->by1;
+    t->reach_x = s.x1 - s.x0 + 1 > t->reach_x ? s.x1 - s.x0 + 1 : t->reach_x;
+    t->reach_y = s.y1 - s.y0 + 1 > t->reach_y ? s.y1 - s.y0 + 1 : t->reach_y;
+    ++t->binned;
   }
-  memset(g, 0, sizeof *g);
-  if (!binned) return 0;
-  g->bin_x0 = bx0;
-  g->bin_y0 = by0;
-  g->bins_x = bx1 - bx0 + 1;
-  g->bins_y = by1 - by0 + 1;
-  g->reach_x = reach_x;
-  g->reach_y = reach_y;
-  g->out_x0 = bx0 > p->pixel_x0 ? bx0 : p->pixel_x0;
-  g->out_y0 = by0 > p->pixel_y0 ? by0 : p->pixel_y0;
-  int32_t ox1 = bx1 + reach_x < p->pixel_x1 ? bx1 + reach_x : p->pixel_x1;
-  int32_t oy1 = by1 + reach_y < p->pixel_y1 ? by1 + reach_y : p->pixel_y1;
-  g->out_w = ox1 - g->out_x0;
-  g->out_h = oy1 - g->out_y0;
-  return binned;
 }
 
 /* Bin of a key in the grid. */
@@ -89,46 +86,25 @@ static size_t key_bin(const clr_film_params *p, const clr_film_grid *g, uint32_t
   return (size_t)y * (size_t)g->bins_x + (size_t)x;
 }
 
-/* Bins samples[0..count): counts them, fills *g and the per-bin starts; returns the number of
- * binned samples through *binned. Caller holds the lock. */
-static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_t count,
-                            clr_film_grid *g, size_t *binned) {
-  clr_film_bins *b = &film->bins;
-  if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys))
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
-  *binned = key_samples(film, samples, count, g);
-  if (!*binned) return CLR_SUCCESS;
-  size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
-  size_t cap = b->bins_cap;
-  if (!grow((void **)&b->starts, &cap, nbins + 1, sizeof *b->starts) ||
-      !grow((void **)&b->cursor, &b->bins_cap, nbins + 1, sizeof *b->cursor))
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY,
-                    "film_add_samples: no memory for %zu bins", nbins);
-  uint32_t *cursor = b->cursor;
-  memset(cursor, 0, (nbins + 1) * sizeof *cursor);
-  const clr_film_params *p = &film->params;
-  for (size_t i = 0; i < count; ++i)
-    if (b->keys[i] != KEY_NONE) ++cursor[key_bin(p, g, b->keys[i])];
-  uint32_t at = 0;
-  for (size_t k = 0; k <= nbins; ++k) {
-    uint32_t n = cursor[k];
-    b->starts[k] = cursor[k] = at;
-    at += n;
-  }
-  return CLR_SUCCESS;
+/* Pass 2: counts the part's samples per bin. */
+static void count_part(bin_part *t) {
+  const uint32_t *keys = t->film->bins.keys;
+  size_t nbins = (size_t)t->grid->bins_x * (size_t)t->grid->bins_y;
+  memset(t->cursor, 0, (nbins + 1) * sizeof *t->cursor);
+  for (size_t i = t->begin; i < t->end; ++i)
+    if (keys[i] != KEY_NONE) ++t->cursor[key_bin(&t->film->params, t->grid, keys[i])];
 }
 
-/* Pass 2: writes the binned samples (CLR_FILM_BINNED_FLOATS each) in bin order, batch order
- * inside a bin, to dst. Uses the keys and starts of bin_chunk. */
-static void scatter_chunk(clr_film film, const clr_film_sample *samples, size_t count,
-                          const clr_film_grid *g, float *dst) {
-  clr_film_bins *b = &film->bins;
-  for (size_t i = 0; i < count; ++i) {
-    if (b->keys[i] == KEY_NONE) continue;
+/* Pass 3: writes the part's binned samples (CLR_FILM_BINNED_FLOATS each) at their cursors. */
+static void scatter_part(bin_part *t) {
+  clr_film film = t->film;
+  const uint32_t *keys = film->bins.keys;
+  for (size_t i = t->begin; i < t->end; ++i) {
+    if (keys[i] == KEY_NONE) continue;
     clr_film_prepared s;
-    if (prepare(film, &samples[i], &s) != CLR_FILM_SAMPLE_OK) continue; /* keyed: never */
-    float *o = dst + (size_t)b->cursor[key_bin(&film->params, g, b->keys[i])]++ *
-                         CLR_FILM_BINNED_FLOATS;
+    if (prepare(film, &t->samples[i], &s) != CLR_FILM_SAMPLE_OK) continue; /* keyed: never */
+    float *o = t->dst + (size_t)t->cursor[key_bin(&film->params, t->grid, keys[i])]++ *
+                            CLR_FILM_BINNED_FLOATS;
     o[0] = s.dx;
     o[1] = s.dy;
     o[2] = s.r;
@@ -136,6 +112,120 @@ static void scatter_chunk(clr_film film, const clr_film_sample *samples, size_t 
     o[4] = s.b;
     o[5] = s.w;
   }
+}
+
+/* A chunk's parts, from bin_chunk to scatter_chunk. */
+typedef struct bin_set {
+  bin_part parts[CLR_FILM_BIN_THREADS];
+  int count;
+} bin_set;
+
+static void *run_part(void *arg) {
+  bin_part *t = arg;
+  if (t->pass == 1) key_part(t);
+  else if (t->pass == 2) count_part(t);
+  else scatter_part(t);
+  return NULL;
+}
+
+/* Runs `pass` on every part: the last on this thread, the others on helper threads (on this
+ * thread too when a thread cannot start). The parts write disjoint memory. */
+static void run_parts(bin_part *parts, int n, int pass) {
+  pthread_t threads[CLR_FILM_BIN_THREADS];
+  int started[CLR_FILM_BIN_THREADS] = {0};
+  for (int i = 0; i < n; ++i) parts[i].pass = pass;
+  for (int i = 0; i + 1 < n; ++i)
+    started[i] = pthread_create(&threads[i], NULL, run_part, &parts[i]) == 0;
+  run_part(&parts[n - 1]);
+  for (int i = 0; i + 1 < n; ++i) {
+    if (started[i]) pthread_join(threads[i], NULL);
+    else run_part(&parts[i]);
+  }
+}
+
+/* The grid of the parts' pass-1 results; returns the number of binned samples. */
+static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_grid *g) {
+  const clr_film_params *p = &film->params;
+  int32_t bx0 = INT32_MAX, by0 = INT32_MAX, bx1 = INT32_MIN, by1 = INT32_MIN, kx = 1, ky = 1;
+  size_t binned = 0;
+  for (int i = 0; i < n; ++i) {
+    const bin_part *t = &parts[i];
+    film->accepted += t->accepted;
+    film->dropped += t->dropped;
+    film->outside += t->outside;
+    binned += t->binned;
+    if (!t->binned) continue;
+    bx0 = t->bx0 < bx0 ? t->bx0 : bx0;
+    by0 = t->by0 < by0 ? t->by0 : by0;
+    bx1 = t->bx1 > bx1 ? t->bx1 : bx1;
+    by1 = t->by1 > by1 ? t->by1 : by1;
+    kx = t->reach_x > kx ? t->reach_x : kx;
+    ky = t->reach_y > ky ? t->reach_y : ky;
+  }
+  memset(g, 0, sizeof *g);
+  if (!binned) return 0;
+  g->bin_x0 = bx0;
+  g->bin_y0 = by0;
+  g->bins_x = bx1 - bx0 + 1;
+  g->bins_y = by1 - by0 + 1;
+  g->reach_x = kx;
+  g->reach_y = ky;
+  g->out_x0 = bx0 > p->pixel_x0 ? bx0 : p->pixel_x0;
+  g->out_y0 = by0 > p->pixel_y0 ? by0 : p->pixel_y0;
+  int32_t ox1 = bx1 + kx < p->pixel_x1 ? bx1 + kx : p->pixel_x1;
+  int32_t oy1 = by1 + ky < p->pixel_y1 ? by1 + ky : p->pixel_y1;
+  g->out_w = ox1 - g->out_x0;
+  g->out_h = oy1 - g->out_y0;
+  return binned;
+}
+
+/* Bins samples[0..count) with `threads` threads (1..CLR_FILM_BIN_THREADS; the result does not
+ * depend on it): checks and counts them, fills *g, the per-bin starts and the parts' cursors
+ * for scatter_chunk; *binned gets the number of binned samples. Caller holds the lock. */
+static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_t count,
+                            int threads, bin_set *set, clr_film_grid *g, size_t *binned) {
+  clr_film_bins *b = &film->bins;
+  if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys))
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
+  int n = count < 8192 ? 1 : threads; /* threads cost ~50 us */
+  bin_part *parts = set->parts;
+  memset(set, 0, sizeof *set);
+  for (int i = 0; i < n; ++i) {
+    parts[i].film = film;
+    parts[i].samples = samples;
+    parts[i].begin = count * (size_t)i / (size_t)n;
+    parts[i].end = count * (size_t)(i + 1) / (size_t)n;
+    parts[i].grid = g;
+  }
+  set->count = n;
+  run_parts(parts, n, 1);
+  *binned = merge_parts(film, parts, n, g);
+  if (!*binned) return CLR_SUCCESS;
+  size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
+  if (!grow((void **)&b->starts, &b->starts_cap, nbins + 1, sizeof *b->starts) ||
+      !grow((void **)&b->cursor, &b->cursor_cap, (nbins + 1) * CLR_FILM_BIN_THREADS,
+            sizeof *b->cursor))
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY,
+                    "film_add_samples: no memory for %zu bins", nbins);
+  for (int i = 0; i < n; ++i) parts[i].cursor = b->cursor + (nbins + 1) * (size_t)i;
+  run_parts(parts, n, 2);
+  /* Exclusive prefix over bins; inside a bin, part i's samples follow part i - 1's. */
+  uint32_t at = 0;
+  for (size_t k = 0; k <= nbins; ++k) {
+    b->starts[k] = at;
+    for (int i = 0; i < n; ++i) {
+      uint32_t c = parts[i].cursor[k];
+      parts[i].cursor[k] = at;
+      at += c;
+    }
+  }
+  return CLR_SUCCESS;
+}
+
+/* Writes the binned samples in bin order, batch order inside a bin, to dst (after bin_chunk). */
+static void scatter_chunk(bin_set *set, float *dst) {
+  for (int i = 0; i < set->count; ++i) set->parts[i].dst = dst;
+  run_parts(set->parts, set->count, 3);
 }
 
 /* Device buffer of at least `bytes`, replaced when too small. */
@@ -182,7 +272,7 @@ static clr_result ensure_kernel(clr_film film) {
     return clr_fail(film->ctx, CLR_ERROR_OPENCL, "film: work-group size query failed: %s (%d)",
                     clr_cl_error_name(err), (int)err);
   }
-  size_t g = (size_t)film->params.tile_size;
+  size_t g = 8; /* work-items (runs of pixels) per group */
   if (g > kmax) g = kmax;
   if (g > dmax) g = dmax;
   clr_result r = d->table ? CLR_SUCCESS : upload_table(film);
@@ -197,8 +287,8 @@ static clr_result ensure_kernel(clr_film film) {
 
 /* Uploads the chunk's binned samples (scattered straight into the mapped device buffer) and bin
  * starts. */
-static clr_result upload_bins(clr_film film, const clr_film_sample *samples, size_t count,
-                              const clr_film_grid *g, size_t binned) {
+static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *g,
+                              size_t binned) {
   clr_film_device *d = &film->dev;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
@@ -213,7 +303,7 @@ static clr_result upload_bins(clr_film film, const clr_film_sample *samples, siz
   float *dst = clEnqueueMapBuffer(q, d->binned, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes,
                                   0, NULL, NULL, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
-  scatter_chunk(film, samples, count, g, dst);
+  scatter_chunk(set, dst);
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
@@ -233,7 +323,9 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->binned));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->starts));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 6, sizeof(cl_mem), &d->sums));
-  size_t global[2] = {((size_t)g->out_w + group - 1) / group * group, (size_t)g->out_h};
+  size_t tile = (size_t)film->params.tile_size;
+  size_t runs = ((size_t)g->out_w + tile - 1) / tile;
+  size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
   size_t local[2] = {group, 1};
   CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
   cl_int err = CL_SUCCESS;
@@ -248,9 +340,10 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
 static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_t count) {
   clr_film_grid g;
   size_t binned = 0;
-  CLR_CHECK(bin_chunk(film, samples, count, &g, &binned));
+  bin_set set;
+  CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
-  CLR_CHECK(upload_bins(film, samples, count, &g, binned));
+  CLR_CHECK(upload_bins(film, &set, &g, binned));
   return gather(film, &g);
 }
 
@@ -320,13 +413,14 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
   clr_film_bins *b = &film->bins;
   clr_film_grid g;
   size_t binned = 0;
-  CLR_CHECK(bin_chunk(film, samples, count, &g, &binned));
+  bin_set set;
+  CLR_CHECK(bin_chunk(film, samples, count, 1, &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
   size_t pixels = (size_t)g.out_w * (size_t)g.out_h;
   if (!grow((void **)&b->binned, &b->binned_cap, binned * CLR_FILM_BINNED_FLOATS, sizeof(float)) ||
       !grow((void **)&b->sums, &b->sums_cap, pixels * CLR_FILM_SUM_FLOATS, sizeof(float)))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples_reference: no memory");
-  scatter_chunk(film, samples, count, &g, b->binned);
+  scatter_chunk(&set, b->binned);
   memset(b->sums, 0, pixels * CLR_FILM_SUM_FLOATS * sizeof(float));
   const clr_film_params *p = &film->params;
   for (size_t i = 0; i < binned; ++i) {
@@ -378,7 +472,7 @@ size_t clr_film_peak_memory_bytes(clr_film film) {
   const clr_film_bins *b = &film->bins;
   size_t bytes = film->pixel_count * 7 * sizeof(double) + sizeof film->table;
   bytes += d->binned_bytes + d->starts_bytes + d->sums_bytes;
-  bytes += b->keys_cap * sizeof *b->keys + b->bins_cap * 2 * sizeof(uint32_t) +
+  bytes += b->keys_cap * sizeof *b->keys + (b->starts_cap + b->cursor_cap) * sizeof(uint32_t) +
            b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
   return bytes;
 }

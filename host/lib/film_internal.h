@@ -12,20 +12,23 @@
 /* Device resources of the gather kernel, grown on demand (guarded by the film's lock). */
 typedef struct clr_film_device {
   cl_kernel kernel;
-  size_t group_size; /* automatic work-group size (pixels of one row) */
+  size_t group_size; /* automatic work-group size (runs of pixels) */
   cl_mem table;      /* filter table, CLR_FILTER_TABLE_SIZE^2 floats */
   cl_mem binned, starts, sums;
   size_t binned_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
 
+/* Threads of the host binning (a chunk is split into this many consecutive parts). */
+#define CLR_FILM_BIN_THREADS 2
+
 /* Host scratch of the binning (a stable counting sort), grown on demand. */
 typedef struct clr_film_bins {
   uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from key_x0/key_y0), or none */
   uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
-  uint32_t *cursor; /* per bin: fill position */
+  uint32_t *cursor; /* per part and bin: fill position */
   float *binned;    /* host copy of the binned samples (reference path) */
   float *sums;      /* host per-pixel sums (reference path) */
-  size_t keys_cap, bins_cap, binned_cap, sums_cap;
+  size_t keys_cap, starts_cap, cursor_cap, binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
@@ -55,8 +58,8 @@ void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums);
 /* Host reference of film_add_samples: the same chunks, checks, binning and per-pixel float sums in
  * the canonical order, computed by the C build of kernels/film_funcs.h (one thread). */
 clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samples, size_t count);
-/* Forces the gather kernel's work-group size (1..CLR_FILM_GROUP_MAX; 0 = automatic, the
- * accumulation tile size). */
+/* Forces the gather kernel's work-group size in work-items, each a run of tile_size pixels
+ * (1..CLR_FILM_GROUP_MAX; 0 = automatic). */
 clr_result film_set_group_size(clr_film film, size_t group_size);
 /* Bytes the film holds: its double sums plus the accumulation's host and device scratch (which
  * only grows, so this is also the peak). */

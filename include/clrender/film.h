@@ -54,8 +54,8 @@ typedef struct clr_film_desc {
   float scale;                     /* 1 */
   float max_sample_luminance;      /* INFINITY: no clamp; must be > 0 */
   clr_filter_desc filter;          /* pbrt-v3 box, radius 0.5 */
-  int32_t accumulation_tile_size;  /* 4..64, default 16: pixels of a row one work-group gathers;
-                                      performance only, never the result */
+  int32_t accumulation_tile_size;  /* 4..64, default 16: pixels of a row one work-item
+                                      accumulates; performance only, never the result */
 } clr_film_desc;
 
 /* One radiance sample: 24 bytes, six floats, tightly packed (also the layout of device buffers
