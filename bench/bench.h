@@ -18,5 +18,7 @@ void bench_json_escape(FILE *f, const char *s);
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count);
 void bench_render(const bench_options *o, const clr_device_info *devices, int device_count);
+/* Film accumulation samples/s per filter and evaluation mode (--only film). */
+void bench_film(const bench_options *o, const clr_device_info *devices, int device_count);
 
 #endif

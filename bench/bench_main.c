@@ -39,7 +39,7 @@ void bench_json_escape(FILE *f, const char *s) {
 }
 
 static void usage(void) {
-  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only samples|render]\n"
+  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only samples|film|render]\n"
                   "Prints one JSON object per line: each device's figure and the single-thread\n"
                   "host reference measured in the same run, with their ratio.\n");
 }
@@ -64,6 +64,7 @@ int main(int argc, char **argv) {
   }
   if (count > 64) count = 64;
   if (!only || strcmp(only, "samples") == 0) bench_samples(&o, devices, count);
+  if (!only || strcmp(only, "film") == 0) bench_film(&o, devices, count);
   if (!only || strcmp(only, "render") == 0) bench_render(&o, devices, count);
   return 0;
 }

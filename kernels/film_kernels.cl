@@ -1,54 +1,48 @@
-/* Film accumulation: one work-group per accumulation tile. The group loads the tile's samples
- * (binned by the host, in batch order) into local memory chunk by chunk; each work-item owns
- * pixels of the tile and sums their contributions in private registers in batch order. No two
- * work-items write one address, no atomics: every pixel's sums are the same float operations in
- * the same order whatever the tile size or work-group size, and the same as the host reference. */
+/* Film accumulation: a gather over samples binned by the host by their first reached pixel
+ * (y0, x0) (stable, batch order inside a bin). A work-item owns a run of T (the accumulation
+ * tile size) pixels of one row, in private sums. Bin row by bin row (ascending y0) it walks the
+ * samples of the bins x0 in [run_x0 - K + 1, run_x1 - 1] (one contiguous range of the binned
+ * samples per bin row) in their binned order and adds each one to the run's pixels it reaches:
+ * every pixel sees its samples in the canonical order of film.h, whatever T, the work-group size
+ * or the device. No two work-items write one address, no atomics. */
 #include "film_funcs.h"
 
-/* params: film and filter; table: pbrt 16x16 filter table; samples: CLR_FILM_SAMPLE_FLOATS each;
- * tiles[g]: tile index of group g; starts[g]..starts[g+1]: its range in `order` (sample indices);
- * sums: per group, T*T pixels (row-major in the tile) x CLR_FILM_SUM_FLOATS. */
-__kernel void clr_film_accumulate_tiles(clr_film_params fp, clr_filter_params filt,
-                                        __global const float *table,
-                                        __global const float *samples,
-                                        __global const uint *tiles,
-                                        __global const uint *starts,
-                                        __global const uint *order,
-                                        __global float *sums) {
-  __local clr_film_prepared cache[CLR_FILM_GROUP_MAX];
-  const uint group = get_group_id(0);
-  const uint lid = get_local_id(0);
-  const uint gsize = get_local_size(0);
-  const int T = fp.tile_size;
-  const uint tile = tiles[group];
-  const int tile_x0 = fp.pixel_x0 + (int)(tile % (uint)fp.tiles_x) * T;
-  const int tile_y0 = fp.pixel_y0 + (int)(tile / (uint)fp.tiles_x) * T;
-  const uint first = starts[group];
-  const uint count = starts[group + 1] - first;
-  const uint pixels = (uint)(T * T);
-  __global float *out = sums + (size_t)group * pixels * CLR_FILM_SUM_FLOATS;
+#define CLR_FILM_RUN_MAX 64 /* largest accumulation tile size */
 
-  for (uint pass = 0; pass < pixels; pass += gsize) {
-    const uint p = pass + lid;
-    const int px = tile_x0 + (int)(p % (uint)T);
-    const int py = tile_y0 + (int)(p / (uint)T);
-    float acc[CLR_FILM_SUM_FLOATS] = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (uint chunk = 0; chunk < count; chunk += gsize) {
-      barrier(CLK_LOCAL_MEM_FENCE);
-      if (chunk + lid < count) {
-        __global const float *s = samples + (size_t)order[first + chunk + lid] * CLR_FILM_SAMPLE_FLOATS;
-        clr_film_prepared prep;
-        clr_film_prepare(&fp, &filt, s[0], s[1], s[2], s[3], s[4], s[5], &prep);
-        cache[lid] = prep;
-      }
-      barrier(CLK_LOCAL_MEM_FENCE);
-      const uint n = min(gsize, count - chunk);
-      for (uint j = 0; j < n; ++j) {
-        clr_film_prepared s = cache[j];
-        clr_film_accumulate(&filt, table, &s, px, py, acc);
-      }
+/* params: film (tile_size = T); filt: filter; grid: the chunk's bins and output region; table:
+ * pbrt 16x16 filter table; binned: CLR_FILM_BINNED_FLOATS per sample in bin order;
+ * starts[b]..starts[b+1]: bin b's range (bins_x * bins_y + 1 entries); sums: CLR_FILM_SUM_FLOATS
+ * per pixel of the output region, row-major. Global size: (runs per row rounded up to the
+ * work-group size, out_h). */
+__kernel void clr_film_gather(clr_film_params fp, clr_filter_params filt, clr_film_grid grid,
+                              __global const float *table, __global const float *binned,
+                              __global const uint *starts, __global float *sums) {
+  const int out_x1 = grid.out_x0 + grid.out_w;
+  const int run_x0 = grid.out_x0 + (int)get_global_id(0) * fp.tile_size;
+  if (run_x0 >= out_x1) return;
+  const int run_x1 = min(run_x0 + fp.tile_size, out_x1); /* exclusive */
+  const int py = grid.out_y0 + (int)get_global_id(1);
+  float acc[CLR_FILM_RUN_MAX * CLR_FILM_SUM_FLOATS];
+  for (int i = 0; i < (run_x1 - run_x0) * CLR_FILM_SUM_FLOATS; ++i) acc[i] = 0.0f;
+  /* Bin columns whose samples can reach the run, clipped to the grid. */
+  const int cx0 = max(run_x0 - grid.reach_x + 1 - grid.bin_x0, 0);
+  const int cx1 = min(run_x1 - 1 - grid.bin_x0, grid.bins_x - 1);
+  for (int j = 0; j < grid.reach_y; ++j) {
+    const int row = py - grid.reach_y + 1 + j - grid.bin_y0;
+    if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
+    const uint end = starts[row * grid.bins_x + cx1 + 1];
+    for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
+      __global const float *s = binned + (size_t)i * CLR_FILM_BINNED_FLOATS;
+      const float dx = s[0], dy = s[1];
+      if (py > clr_film_last_pixel(dy, filt.radius_y)) continue;
+      const int x0 = max(clr_film_first_pixel(dx, filt.radius_x), run_x0);
+      const int x1 = min(clr_film_last_pixel(dx, filt.radius_x), run_x1 - 1);
+      for (int x = x0; x <= x1; ++x)
+        clr_film_add(s[2], s[3], s[4], s[5], clr_film_filter_weight(&filt, table, dx, dy, x, py),
+                     acc + (x - run_x0) * CLR_FILM_SUM_FLOATS);
     }
-    if (p < pixels)
-      for (int c = 0; c < CLR_FILM_SUM_FLOATS; ++c) out[(size_t)p * CLR_FILM_SUM_FLOATS + c] = acc[c];
   }
+  __global float *out = sums + ((size_t)get_global_id(1) * (size_t)grid.out_w +
+                                (size_t)(run_x0 - grid.out_x0)) * CLR_FILM_SUM_FLOATS;
+  for (int i = 0; i < (run_x1 - run_x0) * CLR_FILM_SUM_FLOATS; ++i) out[i] = acc[i];
 }

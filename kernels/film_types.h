@@ -7,9 +7,11 @@
 
 /* A sample in memory: x, y (raster position), r, g, b, weight: the public clr_film_sample. */
 #define CLR_FILM_SAMPLE_FLOATS 6
+/* A binned sample: dx, dy (pbrt pFilmDiscrete), r, g, b (after the luminance clamp), weight. */
+#define CLR_FILM_BINNED_FLOATS 6
 /* Per-pixel sums a kernel writes: r, g, b, filter weight. */
 #define CLR_FILM_SUM_FLOATS 4
-/* Largest work-group of the accumulation kernel (size of its local sample cache). */
+/* Largest work-group of the gather kernel. */
 #define CLR_FILM_GROUP_MAX 256
 /* pbrt-v3's check on radiance: luminance below this is a bad sample. */
 #define CLR_FILM_MIN_LUMINANCE (-1e-5f)
@@ -22,12 +24,23 @@
 typedef struct clr_film_params {
   clr_i32 pixel_x0, pixel_y0, pixel_x1, pixel_y1;     /* cropped pixel bounds, half-open */
   clr_i32 sample_x0, sample_y0, sample_x1, sample_y1; /* pbrt GetSampleBounds, half-open */
-  clr_i32 tile_size;                                  /* accumulation tile side T */
-  clr_i32 tiles_x, tiles_y;                           /* tiles over the pixel bounds */
-  clr_i32 clamp_luminance;                            /* 1 when max_luminance is finite */
+  clr_i32 tile_size;       /* pixels of a row one gather work-item accumulates */
+  clr_i32 clamp_luminance; /* 1 when max_luminance is finite */
   float max_luminance;
-  clr_i32 pad[3];
+  clr_i32 pad[5];
 } clr_film_params;
+
+/* One chunk's bins: a bin is a pixel (x0, y0) = pbrt's first reached pixel p0 = ceil(d - r) of
+ * its samples; bins [bin_x0, bin_x0 + bins_x) x [bin_y0, bin_y0 + bins_y), row-major; reach_x,
+ * reach_y: the most pixels one of the chunk's samples reaches along x / y (x1 - x0 + 1), so a
+ * pixel px gathers the bins x0 in [px - reach_x + 1, px]; the gather writes the pixels
+ * [out_x0, out_x0 + out_w) x [out_y0, out_y0 + out_h) the samples reach. */
+typedef struct clr_film_grid {
+  clr_i32 bin_x0, bin_y0, bins_x, bins_y;
+  clr_i32 out_x0, out_y0, out_w, out_h;
+  clr_i32 reach_x, reach_y;
+  clr_i32 pad[2];
+} clr_film_grid;
 
 /* A sample ready to be added: pbrt's pFilmDiscrete (d = p - 0.5), radiance after the luminance
  * clamp, weight, and the inclusive range of pixels its filter reaches (before clipping). */

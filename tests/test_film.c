@@ -782,6 +782,34 @@ static void test_brute_force_double_every_filter(void **state) {
 }
 
 
+/* The canonical order (film.h): a pixel adds its samples by bin p0 = ceil(d - r) (row, then
+ * column), batch order only inside a bin. In batch order (1 + 1e8) - 1e8 rounds to 0; in bin order
+ * (-1e8 + 1e8) + 1 = 1. */
+static void test_canonical_order(void **state) {
+  (void)state;
+  film_setup s = basic(12, 12, CLR_FILTER_TYPE_BOX, 2.0f);
+  /* Bins p0.x: 4, 3, 2 (dx = 5.5, 4.5, 3.5); every sample reaches pixel (5, 5). */
+  const clr_film_sample samples[] = {{6.0f, 5.5f, 1.0f, 0, 0, 1},
+                                     {5.0f, 5.5f, 1e8f, 0, 0, 1},
+                                     {4.0f, 5.5f, 1e8f, 0, 0, -1}}; /* weight -1: adds -1e8 */
+  for (int tile = 4; tile <= 8; tile += 4) {
+    s.tile = tile;
+    clr_film film = make_film(&s), ref = make_film(&s);
+    assert_int_equal(film_add_samples(film, samples, 3), CLR_SUCCESS);
+    assert_int_equal(film_add_samples_reference(ref, samples, 3), CLR_SUCCESS);
+    sums a = get_sums(film), b = get_sums(ref);
+    assert_sums_identical(&a, &b);
+    assert_true(a.rgb[3 * (5 * 12 + 5)] == 1.0);
+    assert_true(a.w[5 * 12 + 5] == 3.0);
+    /* Pixel (3, 5) is reached by the second and third samples only: 1e8 - 1e8. */
+    assert_true(a.rgb[3 * (5 * 12 + 3)] == 0.0 && a.w[5 * 12 + 3] == 2.0);
+    free_sums(&a);
+    free_sums(&b);
+    film_release(film);
+    film_release(ref);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_every_filter_invariance),
@@ -792,6 +820,7 @@ int main(void) {
       cmocka_unit_test(test_tile_size_invariance_box),
       cmocka_unit_test(test_tile_size_invariance_triangle),
       cmocka_unit_test(test_split_calls),
+      cmocka_unit_test(test_canonical_order),
       cmocka_unit_test(test_box_pixel_centres_reproduce_image),
       cmocka_unit_test(test_constant_radiance_triangle),
       cmocka_unit_test(test_brute_force_double),

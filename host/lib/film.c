@@ -80,8 +80,6 @@ static clr_result make_params(clr_context ctx, const clr_film_desc *d, const clr
   p->sample_x1 = (clr_i32)ceilf((float)p->pixel_x1 - 0.5f + f->radius_x);
   p->sample_y1 = (clr_i32)ceilf((float)p->pixel_y1 - 0.5f + f->radius_y);
   p->tile_size = d->accumulation_tile_size;
-  p->tiles_x = (p->pixel_x1 - p->pixel_x0 + p->tile_size - 1) / p->tile_size;
-  p->tiles_y = (p->pixel_y1 - p->pixel_y0 + p->tile_size - 1) / p->tile_size;
   p->max_luminance = d->max_sample_luminance;
   p->clamp_luminance = isinf(d->max_sample_luminance) ? 0 : 1;
   return CLR_SUCCESS;

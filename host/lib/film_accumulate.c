@@ -1,37 +1,18 @@
-/* film_add_samples: the host checks the samples and bins them to accumulation tiles (a sample
- * goes to every tile its filter reaches, batch order kept), the kernel sums each tile's pixels,
- * the host adds the read-back float sums into the film's double sums. Also the host reference. */
+/* film_add_samples: the host checks a chunk's samples and bins them by their first reached pixel
+ * (a stable counting sort: the canonical order of film.h), the gather kernel sums every reached
+ * pixel over its neighbouring bins, the host adds the float sums into the film's double sums.
+ * Also the host reference, which adds the binned samples in the same order. */
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include "clr_internal.h"
 #include "film_funcs.h"
 #include "film_internal.h"
 
-/* Tiles of the film that prepared sample s reaches: inclusive ranges; 0 when none. */
-static int sample_tiles(const clr_film_params *p, const clr_film_prepared *s, int32_t *tx0,
-                        int32_t *tx1, int32_t *ty0, int32_t *ty1) {
-  int32_t x0 = s->x0 > p->pixel_x0 ? s->x0 : p->pixel_x0;
-  int32_t x1 = s->x1 < p->pixel_x1 - 1 ? s->x1 : p->pixel_x1 - 1;
-  int32_t y0 = s->y0 > p->pixel_y0 ? s->y0 : p->pixel_y0;
-  int32_t y1 = s->y1 < p->pixel_y1 - 1 ? s->y1 : p->pixel_y1 - 1;
-  if (x0 > x1 || y0 > y1) return 0;
-  *tx0 = (x0 - p->pixel_x0) / p->tile_size;
-  *tx1 = (x1 - p->pixel_x0) / p->tile_size;
-  *ty0 = (y0 - p->pixel_y0) / p->tile_size;
-  *ty1 = (y1 - p->pixel_y0) / p->tile_size;
-  return 1;
-}
-
-static clr_i32 prepare_sample(clr_film film, const clr_film_sample *s, clr_film_prepared *out) {
-  return clr_film_prepare(&film->params, &film->filter, s->x, s->y, s->r, s->g, s->b, s->weight,
-                          out);
-}
-
-static void count_status(clr_film film, clr_i32 status) {
-  if (status == CLR_FILM_SAMPLE_OK) ++film->accepted;
-  else if (status == CLR_FILM_SAMPLE_DROPPED) ++film->dropped;
-  else ++film->outside;
-}
+#define KEY_NONE 0xffffffffu
+/* Keys count bins from this many pixels left of / above the pixel bounds: a binned sample's x0
+ * is at least pixel_x0 - (x1 - x0) >= pixel_x0 - (2 * CLR_FILM_MAX_FILTER_RADIUS + 1). */
+#define KEY_MARGIN 128
 
 static int grow(void **ptr, size_t *cap, size_t need, size_t elem) {
   if (need <= *cap) return 1;
@@ -43,85 +24,208 @@ static int grow(void **ptr, size_t *cap, size_t need, size_t elem) {
   return 1;
 }
 
-/* Makes room for `need` touched tiles (+1 for the final start) in the per-slot arrays. */
-static int grow_slots(clr_film_bins *b, size_t need) {
-  if (need + 1 <= b->tiles_cap) return 1;
-  size_t n = 2 * (need + 1) + 16;
-  uint32_t *tiles = realloc(b->tiles, n * sizeof *tiles);
-  if (!tiles) return 0;
-  b->tiles = tiles;
-  uint32_t *starts = realloc(b->starts, n * sizeof *starts);
-  if (!starts) return 0;
-  b->starts = starts;
-  uint32_t *cursor = realloc(b->cursor, n * sizeof *cursor);
-  if (!cursor) return 0;
-  b->cursor = cursor;
-  b->tiles_cap = n;
-  return 1;
+static clr_i32 prepare(clr_film film, const clr_film_sample *s, clr_film_prepared *out) {
+  return clr_film_prepare(&film->params, &film->filter, s->x, s->y, s->r, s->g, s->b, s->weight,
+                          out);
 }
 
-/* Runs `body` with `tile` set to every film tile prepared sample s reaches (row-major). */
-#define FOR_EACH_TILE(p, s, tile, body)                                              \
-  do {                                                                               \
-    int32_t tx0_, tx1_, ty0_, ty1_;                                                  \
-    if (!sample_tiles((p), (s), &tx0_, &tx1_, &ty0_, &ty1_)) break;                  \
-    for (int32_t ty_ = ty0_; ty_ <= ty1_; ++ty_)                                     \
-      for (int32_t tx_ = tx0_; tx_ <= tx1_; ++tx_) {                                 \
-        uint32_t tile = (uint32_t)ty_ * (uint32_t)(p)->tiles_x + (uint32_t)tx_;      \
-        body                                                                         \
-      }                                                                              \
-  } while (0)
+/* Whether prepared sample s reaches a pixel of the pixel bounds. */
+static int reaches_film(const clr_film_params *p, const clr_film_prepared *s) {
+  return s->x1 >= p->pixel_x0 && s->x0 < p->pixel_x1 && s->y1 >= p->pixel_y0 &&
+         s->y0 < p->pixel_y1;
+}
 
-/* Fills film->bins for samples[0..count): the touched tiles and, per tile, the sample indices
- * (+ index_base) in batch order; counts the samples' outcomes. Caller holds the lock. */
-static clr_result bin_samples(clr_film film, const clr_film_sample *samples, size_t count,
-                              uint32_t index_base, size_t *touched_out) {
+/* One thread's share of a chunk's binning: samples [begin, end), its bin counts and cursor. */
+typedef struct bin_part {
+  clr_film film;
+  const clr_film_sample *samples;
+  size_t begin, end;
+  const clr_film_grid *grid; /* passes 2 and 3 */
+  uint32_t *cursor;          /* per bin: count, then fill position */
+  float *dst;                /* pass 3 */
+  int pass;
+  /* pass 1 results */
+  int32_t bx0, by0, bx1, by1, reach_x, reach_y;
+  size_t binned;
+  uint64_t accepted, dropped, outside;
+} bin_part;
+
+/* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
+ * pixel), its bounds and the largest reach. */
+static void key_part(bin_part *t) {
+  clr_film film = t->film;
   const clr_film_params *p = &film->params;
+  uint32_t *keys = film->bins.keys;
+  const int32_t kx0 = p->pixel_x0 - KEY_MARGIN, ky0 = p->pixel_y0 - KEY_MARGIN;
+  t->bx0 = t->by0 = INT32_MAX;
+  t->bx1 = t->by1 = INT32_MIN;
+  t->reach_x = t->reach_y = 1;
+  for (size_t i = t->begin; i < t->end; ++i) {
+    clr_film_prepared s;
+    clr_i32 status = prepare(film, &t->samples[i], &s);
+    t->accepted += status == CLR_FILM_SAMPLE_OK;
+    t->dropped += status == CLR_FILM_SAMPLE_DROPPED;
+    t->outside += status == CLR_FILM_SAMPLE_OUTSIDE;
+    keys[i] = KEY_NONE;
+    if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) continue;
+    keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
+    t->bx0 = s.x0 < t->bx0 ? s.x0 : t->bx0;
+    t->bx1 = s.x0 > t->bx1 ? s.x0 : t->bx1;
+    t->by0 = s.y0 < t->by0 ? s.y0 : t->by0;
+    t->by1 = s.y0 > t->by1 ? s.y0 : t->by1;
+    t->reach_x = s.x1 - s.x0 + 1 > t->reach_x ? s.x1 - s.x0 + 1 : t->reach_x;
+    t->reach_y = s.y1 - s.y0 + 1 > t->reach_y ? s.y1 - s.y0 + 1 : t->reach_y;
+    ++t->binned;
+  }
+}
+
+/* Bin of a key in the grid. */
+static size_t key_bin(const clr_film_params *p, const clr_film_grid *g, uint32_t key) {
+  int32_t x = (int32_t)(key & 0xffffu) + p->pixel_x0 - KEY_MARGIN - g->bin_x0;
+  int32_t y = (int32_t)(key >> 16) + p->pixel_y0 - KEY_MARGIN - g->bin_y0;
+  return (size_t)y * (size_t)g->bins_x + (size_t)x;
+}
+
+/* Pass 2: counts the part's samples per bin. */
+static void count_part(bin_part *t) {
+  const uint32_t *keys = t->film->bins.keys;
+  size_t nbins = (size_t)t->grid->bins_x * (size_t)t->grid->bins_y;
+  memset(t->cursor, 0, (nbins + 1) * sizeof *t->cursor);
+  for (size_t i = t->begin; i < t->end; ++i)
+    if (keys[i] != KEY_NONE) ++t->cursor[key_bin(&t->film->params, t->grid, keys[i])];
+}
+
+/* Pass 3: writes the part's binned samples (CLR_FILM_BINNED_FLOATS each) at their cursors. */
+static void scatter_part(bin_part *t) {
+  clr_film film = t->film;
+  const uint32_t *keys = film->bins.keys;
+  for (size_t i = t->begin; i < t->end; ++i) {
+    if (keys[i] == KEY_NONE) continue;
+    clr_film_prepared s;
+    if (prepare(film, &t->samples[i], &s) != CLR_FILM_SAMPLE_OK) continue; /* keyed: never */
+    float *o = t->dst + (size_t)t->cursor[key_bin(&film->params, t->grid, keys[i])]++ *
+                            CLR_FILM_BINNED_FLOATS;
+    o[0] = s.dx;
+    o[1] = s.dy;
+    o[2] = s.r;
+    o[3] = s.g;
+    o[4] = s.b;
+    o[5] = s.w;
+  }
+}
+
+/* A chunk's parts, from bin_chunk to scatter_chunk. */
+typedef struct bin_set {
+  bin_part parts[CLR_FILM_BIN_THREADS];
+  int count;
+} bin_set;
+
+static void *run_part(void *arg) {
+  bin_part *t = arg;
+  if (t->pass == 1) key_part(t);
+  else if (t->pass == 2) count_part(t);
+  else scatter_part(t);
+  return NULL;
+}
+
+/* Runs `pass` on every part: the last on this thread, the others on helper threads (on this
+ * thread too when a thread cannot start). The parts write disjoint memory. */
+static void run_parts(bin_part *parts, int n, int pass) {
+  pthread_t threads[CLR_FILM_BIN_THREADS];
+  int started[CLR_FILM_BIN_THREADS] = {0};
+  for (int i = 0; i < n; ++i) parts[i].pass = pass;
+  for (int i = 0; i + 1 < n; ++i)
+    started[i] = pthread_create(&threads[i], NULL, run_part, &parts[i]) == 0;
+  run_part(&parts[n - 1]);
+  for (int i = 0; i + 1 < n; ++i) {
+    if (started[i]) pthread_join(threads[i], NULL);
+    else run_part(&parts[i]);
+  }
+}
+
+/* The grid of the parts' pass-1 results; returns the number of binned samples. */
+static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_grid *g) {
+  const clr_film_params *p = &film->params;
+  int32_t bx0 = INT32_MAX, by0 = INT32_MAX, bx1 = INT32_MIN, by1 = INT32_MIN, kx = 1, ky = 1;
+  size_t binned = 0;
+  for (int i = 0; i < n; ++i) {
+    const bin_part *t = &parts[i];
+    film->accepted += t->accepted;
+    film->dropped += t->dropped;
+    film->outside += t->outside;
+    binned += t->binned;
+    if (!t->binned) continue;
+    bx0 = t->bx0 < bx0 ? t->bx0 : bx0;
+    by0 = t->by0 < by0 ? t->by0 : by0;
+    bx1 = t->bx1 > bx1 ? t->bx1 : bx1;
+    by1 = t->by1 > by1 ? t->by1 : by1;
+    kx = t->reach_x > kx ? t->reach_x : kx;
+    ky = t->reach_y > ky ? t->reach_y : ky;
+  }
+  memset(g, 0, sizeof *g);
+  if (!binned) return 0;
+  g->bin_x0 = bx0;
+  g->bin_y0 = by0;
+  g->bins_x = bx1 - bx0 + 1;
+  g->bins_y = by1 - by0 + 1;
+  g->reach_x = kx;
+  g->reach_y = ky;
+  g->out_x0 = bx0 > p->pixel_x0 ? bx0 : p->pixel_x0;
+  g->out_y0 = by0 > p->pixel_y0 ? by0 : p->pixel_y0;
+  int32_t ox1 = bx1 + kx < p->pixel_x1 ? bx1 + kx : p->pixel_x1;
+  int32_t oy1 = by1 + ky < p->pixel_y1 ? by1 + ky : p->pixel_y1;
+  g->out_w = ox1 - g->out_x0;
+  g->out_h = oy1 - g->out_y0;
+  return binned;
+}
+
+/* Bins samples[0..count) with `threads` threads (1..CLR_FILM_BIN_THREADS; the result does not
+ * depend on it): checks and counts them, fills *g, the per-bin starts and the parts' cursors
+ * for scatter_chunk; *binned gets the number of binned samples. Caller holds the lock. */
+static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_t count,
+                            int threads, bin_set *set, clr_film_grid *g, size_t *binned) {
   clr_film_bins *b = &film->bins;
-  size_t ntiles = (size_t)p->tiles_x * (size_t)p->tiles_y;
-  if (!b->tile_slot && !(b->tile_slot = calloc(ntiles, sizeof *b->tile_slot)))
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for bins");
-  size_t touched = 0, entries = 0;
-  int ok = 1;
-  for (size_t i = 0; i < count && ok; ++i) {
-    clr_film_prepared s;
-    clr_i32 status = prepare_sample(film, &samples[i], &s);
-    count_status(film, status);
-    if (status != CLR_FILM_SAMPLE_OK) continue;
-    FOR_EACH_TILE(p, &s, tile, {
-      if (b->tile_slot[tile] == 0) {
-        if (!(ok = grow_slots(b, touched + 1))) break;
-        b->tiles[touched] = tile;
-        b->cursor[touched] = 0;
-        b->tile_slot[tile] = (int32_t)++touched;
-      }
-      ++b->cursor[b->tile_slot[tile] - 1];
-      ++entries;
-    });
+  if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys))
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
+  int n = count < 8192 ? 1 : threads; /* threads cost ~50 us */
+  bin_part *parts = set->parts;
+  memset(set, 0, sizeof *set);
+  for (int i = 0; i < n; ++i) {
+    parts[i].film = film;
+    parts[i].samples = samples;
+    parts[i].begin = count * (size_t)i / (size_t)n;
+    parts[i].end = count * (size_t)(i + 1) / (size_t)n;
+    parts[i].grid = g;
   }
-  if (ok) ok = grow((void **)&b->order, &b->order_cap, entries ? entries : 1, sizeof *b->order);
-  if (!ok) {
-    for (size_t t = 0; t < touched; ++t) b->tile_slot[b->tiles[t]] = 0;
+  set->count = n;
+  run_parts(parts, n, 1);
+  *binned = merge_parts(film, parts, n, g);
+  if (!*binned) return CLR_SUCCESS;
+  size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
+  if (!grow((void **)&b->starts, &b->starts_cap, nbins + 1, sizeof *b->starts) ||
+      !grow((void **)&b->cursor, &b->cursor_cap, (nbins + 1) * CLR_FILM_BIN_THREADS,
+            sizeof *b->cursor))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY,
-                    "film_add_samples: no memory to bin %zu samples", count);
-  }
+                    "film_add_samples: no memory for %zu bins", nbins);
+  for (int i = 0; i < n; ++i) parts[i].cursor = b->cursor + (nbins + 1) * (size_t)i;
+  run_parts(parts, n, 2);
+  /* Exclusive prefix over bins; inside a bin, part i's samples follow part i - 1's. */
   uint32_t at = 0;
-  for (size_t t = 0; t < touched; ++t) {
-    b->starts[t] = at;
-    at += b->cursor[t];
-    b->cursor[t] = b->starts[t];
+  for (size_t k = 0; k <= nbins; ++k) {
+    b->starts[k] = at;
+    for (int i = 0; i < n; ++i) {
+      uint32_t c = parts[i].cursor[k];
+      parts[i].cursor[k] = at;
+      at += c;
+    }
   }
-  b->starts[touched] = at;
-  for (size_t i = 0; i < count; ++i) {
-    clr_film_prepared s;
-    if (prepare_sample(film, &samples[i], &s) != CLR_FILM_SAMPLE_OK) continue;
-    FOR_EACH_TILE(p, &s, tile, {
-      b->order[b->cursor[b->tile_slot[tile] - 1]++] = index_base + (uint32_t)i;
-    });
-  }
-  for (size_t t = 0; t < touched; ++t) b->tile_slot[b->tiles[t]] = 0;
-  *touched_out = touched;
   return CLR_SUCCESS;
+}
+
+/* Writes the binned samples in bin order, batch order inside a bin, to dst (after bin_chunk). */
+static void scatter_chunk(bin_set *set, float *dst) {
+  for (int i = 0; i < set->count; ++i) set->parts[i].dst = dst;
+  run_parts(set->parts, set->count, 3);
 }
 
 /* Device buffer of at least `bytes`, replaced when too small. */
@@ -143,11 +247,21 @@ static clr_result ensure_buffer(clr_film film, cl_mem *buf, size_t *have, size_t
   return CLR_SUCCESS;
 }
 
+static clr_result upload_table(clr_film film) {
+  clr_film_device *d = &film->dev;
+  size_t have = 0;
+  CLR_CHECK(ensure_buffer(film, &d->table, &have, sizeof film->table, CL_MEM_READ_ONLY,
+                          "filter table"));
+  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->table, CL_TRUE,
+                                               0, sizeof film->table, film->table, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
 static clr_result ensure_kernel(clr_film film) {
   clr_film_device *d = &film->dev;
   if (d->kernel) return CLR_SUCCESS;
   cl_kernel k = NULL;
-  CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_accumulate_tiles", &k));
+  CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather", &k));
   cl_device_id dev = clr_context_cl_device(film->ctx);
   size_t kmax = 0, dmax = 0;
   cl_int err = clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax, NULL);
@@ -158,98 +272,79 @@ static clr_result ensure_kernel(clr_film film) {
     return clr_fail(film->ctx, CLR_ERROR_OPENCL, "film: work-group size query failed: %s (%d)",
                     clr_cl_error_name(err), (int)err);
   }
-  size_t g = (size_t)film->params.tile_size * (size_t)film->params.tile_size;
-  if (g > CLR_FILM_GROUP_MAX) g = CLR_FILM_GROUP_MAX;
+  size_t g = 8; /* work-items (runs of pixels) per group */
   if (g > kmax) g = kmax;
   if (g > dmax) g = dmax;
-  if (!d->table) {
-    size_t have = 0;
-    clr_result r = ensure_buffer(film, &d->table, &have, sizeof film->table, CL_MEM_READ_ONLY,
-                                 "filter table");
-    if (r == CLR_SUCCESS) {
-      err = clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->table, CL_TRUE, 0,
-                                 sizeof film->table, film->table, 0, NULL, NULL);
-      if (err != CL_SUCCESS)
-        r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film: filter table upload failed: %s (%d)",
-                     clr_cl_error_name(err), (int)err);
-    }
-    if (r != CLR_SUCCESS) {
-      clReleaseKernel(k);
-      return r;
-    }
+  clr_result r = d->table ? CLR_SUCCESS : upload_table(film);
+  if (r != CLR_SUCCESS) {
+    clReleaseKernel(k);
+    return r;
   }
   d->kernel = k;
   d->group_size = g ? g : 1;
   return CLR_SUCCESS;
 }
 
-/* Runs the kernel over the binned tiles of `samples` (device) and adds the sums to the film. */
-static clr_result accumulate_binned(clr_film film, cl_mem samples, size_t touched) {
+/* Uploads the chunk's binned samples (scattered straight into the mapped device buffer) and bin
+ * starts. */
+static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *g,
+                              size_t binned) {
   clr_film_device *d = &film->dev;
-  clr_film_bins *b = &film->bins;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
-  const clr_film_params *p = &film->params;
-  size_t group = film->group_size_override ? film->group_size_override : d->group_size;
-  size_t tile_floats = (size_t)p->tile_size * p->tile_size * CLR_FILM_SUM_FLOATS;
-  size_t entries = b->starts[touched];
-  CLR_CHECK(ensure_buffer(film, &d->tiles, &d->tiles_bytes, touched * 4, CL_MEM_READ_ONLY, "tiles"));
-  CLR_CHECK(ensure_buffer(film, &d->starts, &d->starts_bytes, (touched + 1) * 4, CL_MEM_READ_ONLY,
-                          "starts"));
-  CLR_CHECK(ensure_buffer(film, &d->order, &d->order_bytes, (entries ? entries : 1) * 4,
-                          CL_MEM_READ_ONLY, "order"));
-  CLR_CHECK(ensure_buffer(film, &d->sums, &d->sums_bytes, touched * tile_floats * sizeof(float),
-                          CL_MEM_WRITE_ONLY, "sums"));
-  if (!grow((void **)&b->sums, &b->sums_cap, touched * tile_floats, sizeof(float)))
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for sums");
-  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->tiles, CL_FALSE, 0, touched * 4, b->tiles, 0,
-                                               NULL, NULL));
-  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0, (touched + 1) * 4,
-                                               b->starts, 0, NULL, NULL));
-  if (entries)
-    CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->order, CL_FALSE, 0, entries * 4, b->order,
-                                                 0, NULL, NULL));
-  cl_kernel k = d->kernel;
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof film->filter, &film->filter));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->table));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &samples));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->tiles));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->starts));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 6, sizeof(cl_mem), &d->order));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 7, sizeof(cl_mem), &d->sums));
-  size_t global = touched * group;
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &group, 0, NULL, NULL));
-  CLR_CL_CHECK(film->ctx, clEnqueueReadBuffer(q, d->sums, CL_TRUE, 0,
-                                              touched * tile_floats * sizeof(float), b->sums, 0,
-                                              NULL, NULL));
-  for (size_t t = 0; t < touched; ++t) {
-    clr_bounds2i block;
-    block.x0 = p->pixel_x0 + (int32_t)(b->tiles[t] % (uint32_t)p->tiles_x) * p->tile_size;
-    block.y0 = p->pixel_y0 + (int32_t)(b->tiles[t] / (uint32_t)p->tiles_x) * p->tile_size;
-    block.x1 = block.x0 + p->tile_size;
-    block.y1 = block.y0 + p->tile_size;
-    clr_film_add_block(film, block, b->sums + t * tile_floats);
-  }
+  size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
+  size_t bytes = binned * CLR_FILM_BINNED_FLOATS * sizeof(float);
+  CLR_CHECK(ensure_buffer(film, &d->binned, &d->binned_bytes, bytes, CL_MEM_READ_ONLY, "binned"));
+  CLR_CHECK(ensure_buffer(film, &d->starts, &d->starts_bytes, (nbins + 1) * sizeof(uint32_t),
+                          CL_MEM_READ_ONLY, "starts"));
+  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0,
+                                               (nbins + 1) * sizeof(uint32_t), film->bins.starts,
+                                               0, NULL, NULL));
+  cl_int err = CL_SUCCESS;
+  float *dst = clEnqueueMapBuffer(q, d->binned, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes,
+                                  0, NULL, NULL, &err);
+  CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
+  scatter_chunk(set, dst);
+  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
-/* One chunk: bins host copies `samples`; the kernel reads them from `device_samples`, where the
- * chunk starts at sample `index_base`, or from an upload of `samples` when it is NULL. */
-static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_t count,
-                            cl_mem device_samples, uint32_t index_base) {
-  size_t touched = 0;
-  CLR_CHECK(bin_samples(film, samples, count, index_base, &touched));
-  if (touched == 0) return CLR_SUCCESS;
-  if (!device_samples) {
-    clr_film_device *d = &film->dev;
-    size_t bytes = count * sizeof *samples;
-    CLR_CHECK(ensure_buffer(film, &d->samples, &d->samples_bytes, bytes, CL_MEM_READ_ONLY,
-                            "samples"));
-    CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->samples,
-                                                 CL_FALSE, 0, bytes, samples, 0, NULL, NULL));
-    device_samples = d->samples;
-  }
-  return accumulate_binned(film, device_samples, touched);
+/* Runs the gather over the grid's output region and adds its sums into the film. */
+static clr_result gather(clr_film film, const clr_film_grid *g) {
+  clr_film_device *d = &film->dev;
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  size_t group = film->group_size_override ? film->group_size_override : d->group_size;
+  size_t bytes = (size_t)g->out_w * (size_t)g->out_h * CLR_FILM_SUM_FLOATS * sizeof(float);
+  CLR_CHECK(ensure_buffer(film, &d->sums, &d->sums_bytes, bytes, CL_MEM_WRITE_ONLY, "sums"));
+  cl_kernel k = d->kernel;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof film->filter, &film->filter));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->table));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->binned));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 6, sizeof(cl_mem), &d->sums));
+  size_t tile = (size_t)film->params.tile_size;
+  size_t runs = ((size_t)g->out_w + tile - 1) / tile;
+  size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
+  size_t local[2] = {group, 1};
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
+  cl_int err = CL_SUCCESS;
+  float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
+  clr_bounds2i block = {g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
+  clr_film_add_block(film, block, sums);
+  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->sums, sums, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
+static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_t count) {
+  clr_film_grid g;
+  size_t binned = 0;
+  bin_set set;
+  CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
+  if (!binned) return CLR_SUCCESS;
+  CLR_CHECK(upload_bins(film, &set, &g, binned));
+  return gather(film, &g);
 }
 
 static clr_result check_add_args(clr_film film, const void *samples, size_t count,
@@ -265,15 +360,17 @@ static clr_result check_add_args(clr_film film, const void *samples, size_t coun
   return CLR_SUCCESS;
 }
 
+static size_t chunk_length(size_t count, size_t at) {
+  return count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
+}
+
 clr_result film_add_samples(clr_film film, const clr_film_sample *samples, size_t count) {
   clr_clear_error();
   CLR_CHECK(check_add_args(film, samples, count, "film_add_samples"));
   pthread_mutex_lock(&film->lock);
   clr_result r = ensure_kernel(film);
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
-    size_t n = count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
-    r = add_chunk(film, samples + at, n, NULL, 0);
-  }
+  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
+    r = add_chunk(film, samples + at, chunk_length(count, at));
   pthread_mutex_unlock(&film->lock);
   return r;
 }
@@ -287,67 +384,76 @@ clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count) 
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
                     "film_add_samples_buffer: buffer of %zu bytes holds fewer than %zu samples",
                     size, count);
-  clr_film_sample *host = malloc(count * sizeof *host);
-  if (!host)
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY,
-                    "film_add_samples_buffer: no memory for %zu samples", count);
   pthread_mutex_lock(&film->lock);
   clr_result r = ensure_kernel(film);
-  if (r == CLR_SUCCESS) {
-    cl_int err = clEnqueueReadBuffer(clr_context_cl_queue(film->ctx), samples, CL_TRUE, 0,
-                                     count * sizeof *host, host, 0, NULL, NULL);
-    if (err != CL_SUCCESS)
-      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueReadBuffer "
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
+    size_t n = chunk_length(count, at);
+    cl_int err = CL_SUCCESS;
+    clr_film_sample *host = clEnqueueMapBuffer(q, samples, CL_TRUE, CL_MAP_READ, at * sizeof *host,
+                                               n * sizeof *host, 0, NULL, NULL, &err);
+    if (err != CL_SUCCESS) {
+      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueMapBuffer "
+                   "failed: %s (%d)", clr_cl_error_name(err), (int)err);
+      break;
+    }
+    r = add_chunk(film, host, n);
+    err = clEnqueueUnmapMemObject(q, samples, host, 0, NULL, NULL);
+    if (err != CL_SUCCESS && r == CLR_SUCCESS)
+      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueUnmapMemObject "
                    "failed: %s (%d)", clr_cl_error_name(err), (int)err);
   }
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
-    size_t n = count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
-    r = add_chunk(film, host + at, n, samples, (uint32_t)at);
-  }
   pthread_mutex_unlock(&film->lock);
-  free(host);
   return r;
 }
 
-/* Host reference of one chunk: per-pixel float sums in batch order, then added like the device
- * path's tiles. */
-static void reference_chunk(clr_film film, const clr_film_sample *samples, size_t count,
-                            float *sums) {
+/* Host reference of one chunk: the same binning; each binned sample, in bin order, adds to every
+ * pixel it reaches, so every pixel sees its samples in the gather's order. */
+static clr_result reference_chunk(clr_film film, const clr_film_sample *samples, size_t count) {
+  clr_film_bins *b = &film->bins;
+  clr_film_grid g;
+  size_t binned = 0;
+  bin_set set;
+  CLR_CHECK(bin_chunk(film, samples, count, 1, &set, &g, &binned));
+  if (!binned) return CLR_SUCCESS;
+  size_t pixels = (size_t)g.out_w * (size_t)g.out_h;
+  if (!grow((void **)&b->binned, &b->binned_cap, binned * CLR_FILM_BINNED_FLOATS, sizeof(float)) ||
+      !grow((void **)&b->sums, &b->sums_cap, pixels * CLR_FILM_SUM_FLOATS, sizeof(float)))
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples_reference: no memory");
+  scatter_chunk(&set, b->binned);
+  memset(b->sums, 0, pixels * CLR_FILM_SUM_FLOATS * sizeof(float));
   const clr_film_params *p = &film->params;
-  memset(sums, 0, film->pixel_count * CLR_FILM_SUM_FLOATS * sizeof *sums);
-  for (size_t i = 0; i < count; ++i) {
-    clr_film_prepared s;
-    clr_i32 status = prepare_sample(film, &samples[i], &s);
-    count_status(film, status);
-    if (status != CLR_FILM_SAMPLE_OK) continue;
+  for (size_t i = 0; i < binned; ++i) {
+    const float *v = b->binned + i * CLR_FILM_BINNED_FLOATS;
+    clr_film_prepared s = {v[0], v[1], v[2], v[3], v[4], v[5],
+                           clr_film_first_pixel(v[0], film->filter.radius_x),
+                           clr_film_last_pixel(v[0], film->filter.radius_x),
+                           clr_film_first_pixel(v[1], film->filter.radius_y),
+                           clr_film_last_pixel(v[1], film->filter.radius_y)};
     int32_t x0 = s.x0 > p->pixel_x0 ? s.x0 : p->pixel_x0;
     int32_t x1 = s.x1 < p->pixel_x1 - 1 ? s.x1 : p->pixel_x1 - 1;
     int32_t y0 = s.y0 > p->pixel_y0 ? s.y0 : p->pixel_y0;
     int32_t y1 = s.y1 < p->pixel_y1 - 1 ? s.y1 : p->pixel_y1 - 1;
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x) {
-        size_t pix = (size_t)(y - p->pixel_y0) * film->width + (size_t)(x - p->pixel_x0);
-        clr_film_accumulate(&film->filter, film->table, &s, x, y, sums + pix * CLR_FILM_SUM_FLOATS);
+        size_t pix = (size_t)(y - g.out_y0) * (size_t)g.out_w + (size_t)(x - g.out_x0);
+        clr_film_accumulate(&film->filter, film->table, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
       }
   }
-  clr_bounds2i all = film_pixel_bounds(film);
-  clr_film_add_block(film, all, sums);
+  clr_bounds2i block = {g.out_x0, g.out_y0, g.out_x0 + g.out_w, g.out_y0 + g.out_h};
+  clr_film_add_block(film, block, b->sums);
+  return CLR_SUCCESS;
 }
 
 clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samples, size_t count) {
   clr_clear_error();
   CLR_CHECK(check_add_args(film, samples, count, "film_add_samples_reference"));
-  float *sums = malloc(film->pixel_count * CLR_FILM_SUM_FLOATS * sizeof *sums);
-  if (!sums)
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples_reference: no memory");
   pthread_mutex_lock(&film->lock);
-  for (size_t at = 0; at < count; at += CLR_FILM_CHUNK_SAMPLES) {
-    size_t n = count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
-    reference_chunk(film, samples + at, n, sums);
-  }
+  clr_result r = CLR_SUCCESS;
+  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
+    r = reference_chunk(film, samples + at, chunk_length(count, at));
   pthread_mutex_unlock(&film->lock);
-  free(sums);
-  return CLR_SUCCESS;
+  return r;
 }
 
 clr_result film_set_group_size(clr_film film, size_t group_size) {
@@ -361,17 +467,26 @@ clr_result film_set_group_size(clr_film film, size_t group_size) {
   return CLR_SUCCESS;
 }
 
+size_t clr_film_peak_memory_bytes(clr_film film) {
+  const clr_film_device *d = &film->dev;
+  const clr_film_bins *b = &film->bins;
+  size_t bytes = film->pixel_count * 7 * sizeof(double) + sizeof film->table;
+  bytes += d->binned_bytes + d->starts_bytes + d->sums_bytes;
+  bytes += b->keys_cap * sizeof *b->keys + (b->starts_cap + b->cursor_cap) * sizeof(uint32_t) +
+           b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
+  return bytes;
+}
+
 void clr_film_accumulate_release(clr_film film) {
   clr_film_device *d = &film->dev;
-  cl_mem *bufs[] = {&d->table, &d->samples, &d->tiles, &d->starts, &d->order, &d->sums};
+  cl_mem *bufs[] = {&d->table, &d->binned, &d->starts, &d->sums};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; ++i)
     if (*bufs[i]) clReleaseMemObject(*bufs[i]);
   if (d->kernel) clReleaseKernel(d->kernel);
   clr_film_bins *b = &film->bins;
-  free(b->tile_slot);
-  free(b->tiles);
+  free(b->keys);
   free(b->starts);
   free(b->cursor);
-  free(b->order);
+  free(b->binned);
   free(b->sums);
 }

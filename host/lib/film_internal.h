@@ -9,26 +9,26 @@
 #include "film_types.h"
 #include "filter_types.h"
 
-/* Device resources of the accumulation kernel, grown on demand (guarded by the film's lock). */
+/* Device resources of the gather kernel, grown on demand (guarded by the film's lock). */
 typedef struct clr_film_device {
   cl_kernel kernel;
-  size_t group_size;      /* work-items per tile group */
-  cl_mem table;           /* filter table, CLR_FILTER_TABLE_SIZE^2 floats */
-  cl_mem samples;         /* upload buffer for host samples */
-  size_t samples_bytes;
-  cl_mem tiles, starts, order, sums;
-  size_t tiles_bytes, starts_bytes, order_bytes, sums_bytes;
+  size_t group_size; /* automatic work-group size (runs of pixels) */
+  cl_mem table;      /* filter table, CLR_FILTER_TABLE_SIZE^2 floats */
+  cl_mem binned, starts, sums;
+  size_t binned_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
 
-/* Host scratch of the binning, grown on demand. */
+/* Threads of the host binning (a chunk is split into this many consecutive parts). */
+#define CLR_FILM_BIN_THREADS 2
+
+/* Host scratch of the binning (a stable counting sort), grown on demand. */
 typedef struct clr_film_bins {
-  int32_t *tile_slot;  /* per film tile: 0 = untouched in this chunk, else slot + 1 */
-  uint32_t *tiles;     /* touched tiles, in order of first touch */
-  uint32_t *starts;    /* per slot: first entry in order (+ one past the end) */
-  uint32_t *cursor;    /* per slot: fill position */
-  uint32_t *order;     /* sample indices grouped by tile, batch order inside a tile */
-  float *sums;         /* read-back per-slot pixel sums */
-  size_t tiles_cap, order_cap, sums_cap;
+  uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from key_x0/key_y0), or none */
+  uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
+  uint32_t *cursor; /* per part and bin: fill position */
+  float *binned;    /* host copy of the binned samples (reference path) */
+  float *sums;      /* host per-pixel sums (reference path) */
+  size_t keys_cap, starts_cap, cursor_cap, binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
@@ -56,11 +56,15 @@ struct clr_film_t {
  * holds the lock. */
 void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums);
 
-/* Host reference of film_add_samples: the same chunks, checks and per-pixel float sums in batch
- * order, computed by the C build of kernels/film_funcs.h. */
+/* Host reference of film_add_samples: the same chunks, checks, binning and per-pixel float sums in
+ * the canonical order, computed by the C build of kernels/film_funcs.h (one thread). */
 clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samples, size_t count);
-/* Forces the accumulation kernel's work-group size (1..CLR_FILM_GROUP_MAX; 0 = automatic). */
+/* Forces the gather kernel's work-group size in work-items, each a run of tile_size pixels
+ * (1..CLR_FILM_GROUP_MAX; 0 = automatic). */
 clr_result film_set_group_size(clr_film film, size_t group_size);
+/* Bytes the film holds: its double sums plus the accumulation's host and device scratch (which
+ * only grows, so this is also the peak). */
+size_t clr_film_peak_memory_bytes(clr_film film);
 /* Releases the device resources and binning scratch. */
 void clr_film_accumulate_release(clr_film film);
 

@@ -3,15 +3,17 @@
  *
  * Sums and determinism. Each film_add_samples call (or internal chunk of CLR_FILM_CHUNK_SAMPLES
  * samples) first sums, per pixel and in float, the contributions L*(w*f) and filter weights f of
- * the call's samples in BATCH ORDER, exactly as pbrt-v3's FilmTilePixel does; the per-call float
- * sums are then added into the film's double sums. Every pixel's float sum is the same sequence
- * of float operations whatever the accumulation tile size, work-group size or device thread
- * count, so the film is bit-identical across those and to the host reference (given a device
- * with correctly rounded float division, used only by the luminance clamp; PoCL has it).
- * Splitting samples into different calls, or merging film tiles in a different order, changes
- * float/double rounding only (same result to float tolerance); the same calls or merges in the
- * same order give the same bits. Sums merged with film_merge_sums are added in double: exact
- * only when the additions are.
+ * the chunk's samples in the CANONICAL ORDER; the per-chunk float sums are then added into the
+ * film's double sums. Canonical order: a sample's bin is the first pixel its filter reaches,
+ * pbrt's p0 = (ceil(dx - rx), ceil(dy - ry)) with d = pFilm - 0.5; every pixel adds the samples
+ * that reach it sorted by bin row p0.y, then bin column p0.x, then batch order (a stable sort of
+ * the chunk by bin). That order does not depend on the accumulation tile size, work-group size,
+ * thread count or device, so the film is bit-identical across those and to the host reference
+ * (given a device with correctly rounded float division, used only by the luminance clamp; PoCL
+ * has it). Splitting samples into different calls, or merging film tiles in a different order,
+ * changes float/double rounding only (same result to float tolerance); the same calls or merges
+ * in the same order give the same bits. Film tiles (film_tile_add_samples) sum in batch order.
+ * Sums merged with film_merge_sums are added in double: exact only when the additions are.
  *
  * Differences from pbrt-v3, all below float tolerance or documented choices:
  * - sums are kept as RGB, not XYZ: pbrt's XYZToRGB(RGBToXYZ(x)) is the identity to ~1e-6;
@@ -36,8 +38,8 @@ extern "C" {
 /* Resolution limits: each side at most CLR_FILM_MAX_SIDE, at most CLR_FILM_MAX_PIXELS pixels. */
 #define CLR_FILM_MAX_SIDE 32768
 #define CLR_FILM_MAX_PIXELS (1 << 28)
-/* Filter radii above this are rejected (CLR_ERROR_INVALID_RADIUS): the binning duplicates a
- * sample into every accumulation tile its filter reaches. */
+/* Filter radii above this are rejected (CLR_ERROR_INVALID_RADIUS): a pixel gathers the samples
+ * of its (2r + 1)^2 neighbouring bins. */
 #define CLR_FILM_MAX_FILTER_RADIUS 32.0f
 /* film_add_samples processes larger calls in consecutive chunks of this many samples. */
 #define CLR_FILM_CHUNK_SAMPLES (1u << 20)
@@ -52,7 +54,8 @@ typedef struct clr_film_desc {
   float scale;                     /* 1 */
   float max_sample_luminance;      /* INFINITY: no clamp; must be > 0 */
   clr_filter_desc filter;          /* pbrt-v3 box, radius 0.5 */
-  int32_t accumulation_tile_size;  /* 4..64, default 16: performance only, never the result */
+  int32_t accumulation_tile_size;  /* 4..64, default 16: pixels of a row one work-item
+                                      accumulates; performance only, never the result */
 } clr_film_desc;
 
 /* One radiance sample: 24 bytes, six floats, tightly packed (also the layout of device buffers
@@ -85,7 +88,7 @@ clr_bounds2i film_sample_bounds(clr_film film);
  * the sample bounds ignored (film_outside_samples). Thread-safe (serialised per film). */
 clr_result film_add_samples(clr_film film, const clr_film_sample *samples, size_t count);
 /* Same for a device buffer of `count` clr_film_sample on the film's context. The host bins the
- * samples, so it reads the buffer back once; the kernels read the samples from `samples`. */
+ * samples: it maps the buffer for reading chunk by chunk (a copy to the host on a GPU). */
 clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count);
 
 /* pbrt AddSplat: drops NaN/Inf/negative-luminance values (counted as dropped), ignores points

@@ -1,0 +1,158 @@
+/* Film accumulation throughput (samples/s) per filter and evaluation mode on each device, against
+ * the single-thread host reference, with the film's peak memory per pixel. */
+#include <stdlib.h>
+#include <string.h>
+#include "bench.h"
+#include "film_internal.h"
+
+#define FILM_W 1280
+#define FILM_H 720
+#define FILM_RADIUS 2.0f
+
+typedef struct run {
+  clr_film film;
+  const clr_film_sample *samples;
+  cl_mem buffer; /* device copy of samples, or NULL for host samples */
+  size_t count;
+  int reference;
+} run;
+
+static int run_once(void *user) {
+  run *r = user;
+  clr_result res = r->reference ? film_add_samples_reference(r->film, r->samples, r->count)
+                   : r->buffer  ? film_add_samples_buffer(r->film, r->buffer, r->count)
+                                : film_add_samples(r->film, r->samples, r->count);
+  if (res != CLR_SUCCESS) fprintf(stderr, "bench: %s\n", clr_last_error_message());
+  return res == CLR_SUCCESS;
+}
+
+static uint32_t rng_next(uint32_t *s) {
+  *s ^= *s << 13;
+  *s ^= *s >> 17;
+  *s ^= *s << 5;
+  return *s;
+}
+
+/* `spp` random samples per pixel, uniform over the film's sample bounds, in random order. */
+static clr_film_sample *random_samples(clr_film film, size_t count) {
+  clr_film_sample *s = malloc(count * sizeof *s);
+  if (!s) return NULL;
+  clr_bounds2i b = film_sample_bounds(film);
+  float w = (float)(b.x1 - b.x0), h = (float)(b.y1 - b.y0);
+  uint32_t st = 12345u;
+  for (size_t i = 0; i < count; ++i) {
+    s[i].x = (float)b.x0 + (float)(rng_next(&st) >> 8) * 0x1p-24f * w;
+    s[i].y = (float)b.y0 + (float)(rng_next(&st) >> 8) * 0x1p-24f * h;
+    s[i].r = (float)(rng_next(&st) >> 8) * 0x1p-24f;
+    s[i].g = (float)(rng_next(&st) >> 8) * 0x1p-24f;
+    s[i].b = (float)(rng_next(&st) >> 8) * 0x1p-24f;
+    s[i].weight = 1.0f;
+  }
+  return s;
+}
+
+static clr_film make_film(clr_context ctx, int type, int use_table) {
+  clr_film_desc d;
+  clr_film_desc_init(&d);
+  d.x_resolution = FILM_W;
+  d.y_resolution = FILM_H;
+  clr_filter_desc_init(&d.filter, (clr_filter_type)type);
+  d.filter.radius[0] = d.filter.radius[1] = FILM_RADIUS;
+  d.filter.use_table = use_table;
+  clr_film film = NULL;
+  return film_create(ctx, &d, &film) == CLR_SUCCESS ? film : NULL;
+}
+
+/* Samples per second of one path; *bytes_per_pixel gets the film's peak memory per pixel. */
+static double rate(clr_context ctx, int type, int use_table, int path, size_t count, int reps,
+                   const clr_film_sample *samples, double *bytes_per_pixel) {
+  run r = {make_film(ctx, type, use_table), samples, NULL, count, path == 2};
+  if (!r.film) return -1;
+  if (path == 1) {
+    cl_int err;
+    r.buffer = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                              count * sizeof *samples, (void *)samples, &err);
+    if (err != CL_SUCCESS) {
+      film_release(r.film);
+      return -1;
+    }
+  }
+  double t = bench_median(reps, run_once, &r);
+  if (bytes_per_pixel)
+    *bytes_per_pixel = (double)clr_film_peak_memory_bytes(r.film) / ((double)FILM_W * FILM_H);
+  if (r.buffer) clReleaseMemObject(r.buffer);
+  film_release(r.film);
+  return t > 0 ? (double)count / t : -1;
+}
+
+static const char *filter_name(int type) { return type == CLR_FILTER_BOX ? "box" : "triangle"; }
+
+void bench_film(const bench_options *o, const clr_device_info *devices, int device_count) {
+  const char *env = getenv("CLR_BENCH_FILM_SPP");
+  size_t spp = env ? (size_t)atoi(env) : o->quick ? 2 : 16;
+  if (spp < 1) spp = 1;
+  size_t count = spp * FILM_W * FILM_H, ref_count = (size_t)FILM_W * FILM_H;
+  int reps = o->quick ? 1 : 3;
+  clr_context host_ctx = NULL; /* the reference runs on the host; a film needs a context */
+  if (clr_context_create(NULL, &host_ctx) != CLR_SUCCESS) {
+    fprintf(stderr, "bench film: %s\n", clr_last_error_message());
+    return;
+  }
+  clr_film tmp = make_film(host_ctx, CLR_FILTER_BOX, 1);
+  clr_film_sample *samples = tmp ? random_samples(tmp, count) : NULL;
+  film_release(tmp);
+  if (!samples) {
+    fprintf(stderr, "bench film: no memory for %zu samples\n", count);
+    clr_context_release(host_ctx);
+    return;
+  }
+  double baseline[2][2];
+  for (int t = 0; t < 2; ++t)
+    for (int m = 0; m < 2; ++m)
+      baseline[t][m] = rate(host_ctx, t, m, 2, ref_count, reps, samples, NULL);
+  for (int i = 0; i < device_count; ++i) {
+    char index[16];
+    snprintf(index, sizeof index, "%d", i);
+    if (o->only_device && !strstr(devices[i].device_name, o->only_device) &&
+        strcmp(o->only_device, index) != 0)
+      continue;
+    clr_context_desc cd;
+    clr_context_desc_init(&cd);
+    cd.device = index;
+    clr_context ctx = NULL;
+    if (clr_context_create(&cd, &ctx) != CLR_SUCCESS) {
+      printf("{\"bench\":\"film\",\"device\":");
+      bench_json_escape(stdout, devices[i].device_name);
+      printf(",\"error\":");
+      bench_json_escape(stdout, clr_last_error_message());
+      printf("}\n");
+      continue;
+    }
+    for (int t = 0; t < 2; ++t)
+      for (int m = 0; m < 2; ++m)
+        for (int path = 0; path < 2; ++path) {
+          double bpp = 0;
+          double v = rate(ctx, t, m, path, count, reps, samples, &bpp);
+          printf("{\"bench\":\"film\",\"device\":");
+          bench_json_escape(stdout, clr_context_device_name(ctx));
+          printf(",\"filter\":\"%s\",\"radius\":%g,\"mode\":\"%s\",\"input\":\"%s\","
+                 "\"resolution\":\"%dx%d\",\"spp\":%zu",
+                 filter_name(t), (double)FILM_RADIUS, m ? "table" : "exact",
+                 path ? "device_buffer" : "host", FILM_W, FILM_H, spp);
+          if (v < 0) {
+            printf(",\"error\":");
+            bench_json_escape(stdout, clr_last_error_message());
+          } else {
+            printf(",\"samples_per_s\":%.4g,\"peak_bytes_per_pixel\":%.1f,"
+                   "\"baseline\":\"host reference, 1 thread\",\"baseline_samples_per_s\":%.4g,"
+                   "\"ratio\":%.2f",
+                   v, bpp, baseline[t][m], baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
+          }
+          printf("}\n");
+          fflush(stdout);
+        }
+    clr_context_release(ctx);
+  }
+  free(samples);
+  clr_context_release(host_ctx);
+}
