@@ -35,7 +35,7 @@ static void usage(FILE *f) {
           "  --help                  this text\n"
           "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error.\n"
           "SIGINT/SIGTERM stop after the tiles in flight and write a partial image (EXR\n"
-          "attribute partial=1).\n");
+          "attribute clrender.partial = 1).\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out) {
