@@ -34,6 +34,7 @@ static clr_sampler make_sampler(clr_sampler_type type, clr_seeding seeding, int 
   clr_sampler_desc d;
   clr_sampler_desc_init(&d, type);
   d.seeding = seeding;
+  d.pixel_samples = 16; /* random's default is 4; the issue asks 16 spp for every sampler */
   d.film.x_resolution = d.film.y_resolution = res;
   d.film.filter_radius[0] = d.film.filter_radius[1] = 1.5f;
   clr_sampler s = NULL;
