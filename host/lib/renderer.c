@@ -118,18 +118,27 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
 
 /* ---------- tiles ---------- */
 
-enum { SLOT_FREE, SLOT_READY, SLOT_BUSY, SLOT_DONE };
+/* Sample values of one generation call: consecutive tiles of one tile row, so the values are
+ * those of the band's pixel rectangle (row-major pixels, samples, values). */
+#define BATCH_VALUES_BUDGET ((size_t)8 << 20) /* floats per batch, at least one tile */
 
-typedef struct tile_slot {
-  int tile;
-  int state;
-  clr_bounds2i pixels;
-  int32_t sample_count;
+enum { TILE_PENDING, TILE_READY, TILE_BUSY, TILE_DONE, TILE_MERGED };
+
+typedef struct sample_band {
   float *values;
   size_t values_cap;
+  clr_bounds2i pixels; /* the band's pixel rectangle */
+  int unfinished;      /* tiles of the band not yet shaded; the band is free at 0 */
+  int in_use;
+} sample_band;
+
+typedef struct tile_info {
+  int state;
+  int band;
+  clr_bounds2i pixels;
   clr_film_tile film_tile;
   clr_result result;
-} tile_slot;
+} tile_info;
 
 typedef struct render_job {
   const clr_render_scene *scene;
@@ -138,93 +147,117 @@ typedef struct render_job {
   int spp;
   int host_samples; /* CLRENDER_HOST_SAMPLES=1: host reference generator (comparison) */
   uint32_t seed;
-  int nslots;
-  tile_slot *slots;
+  tile_info *tiles;
+  sample_band *bands;
+  int nbands;
+  int next_take, ready_end; /* tiles [next_take, ready_end) wait for a worker, in tile order */
+  int busy;                 /* tiles being shaded */
   pthread_mutex_t mutex;
   pthread_cond_t cond;
-  int next_ready; /* lowest tile index that may be READY */
   int stop;
   /* per-thread phase sums, merged under the mutex */
   double trace_s, shade_s, recon_s;
   uint64_t rays;
 } render_job;
 
+/* A worker's buffers, reused from tile to tile. */
+typedef struct worker_buffers {
+  clr_film_sample *fs;
+  size_t fs_cap;
+  clr_ray rays[CHUNK_SAMPLES];
+  uint64_t keys[CHUNK_SAMPLES];
+  float L[3 * CHUNK_SAMPLES], weights[CHUNK_SAMPLES];
+} worker_buffers;
+
 static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
   return clr_mix64(((uint64_t)seed << 32) ^ clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
          (uint64_t)s * 0x9E3779B97F4A7C15ull;
 }
 
-/* Traces, shades and filters one tile's samples into a new film tile. */
-static clr_result shade_tile(render_job *job, tile_slot *slot, clr_integrator_scratch *scratch,
-                             clr_integrator_counters *counters, double *recon_s) {
+/* Traces and shades `n` consecutive samples of pixel row py starting at column px0, sample s0;
+ * values: their sample vectors; fs: their film samples. */
+static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_scratch *scratch,
+                            clr_integrator_counters *counters, int px0, int py, int s0, int n,
+                            const float *values, clr_film_sample *fs) {
   const clr_integrator *it = job->integrator;
-  int w = slot->pixels.x1 - slot->pixels.x0, spp = slot->sample_count;
-  size_t total = (size_t)w * (size_t)(slot->pixels.y1 - slot->pixels.y0) * (size_t)spp;
-  clr_film_sample *fs = malloc(total * sizeof *fs);
-  clr_ray *rays = malloc(CHUNK_SAMPLES * sizeof *rays);
-  uint64_t *keys = malloc(CHUNK_SAMPLES * sizeof *keys);
-  float *L = malloc(CHUNK_SAMPLES * 3 * sizeof *L), *weights = malloc(CHUNK_SAMPLES * sizeof *weights);
-  clr_result r = (fs && rays && keys && L && weights) ? CLR_SUCCESS
-                 : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tile");
-  for (size_t base = 0; r == CLR_SUCCESS && base < total; base += CHUNK_SAMPLES) {
-    int n = (int)(total - base < CHUNK_SAMPLES ? total - base : CHUNK_SAMPLES);
-    for (int k = 0; k < n; ++k) {
-      size_t idx = base + (size_t)k;
-      int pixel = (int)(idx / (size_t)spp), s = (int)(idx % (size_t)spp);
-      int px = slot->pixels.x0 + pixel % w, py = slot->pixels.y0 + pixel / w;
-      const float *v = slot->values + idx * (size_t)it->values_per_sample;
-      fs[idx].x = (float)px + v[0];
-      fs[idx].y = (float)py + v[1];
-      weights[k] = clr_render_scene_camera_ray(job->scene, fs[idx].x, fs[idx].y, v[2], v[3], v[4], &rays[k]);
-      keys[k] = sample_key(job->seed, px, py, s);
-    }
-    r = clr_integrator_li(it, job->scene, scratch, rays,
-                          slot->values + base * (size_t)it->values_per_sample, keys, n, L, counters);
-    for (int k = 0; r == CLR_SUCCESS && k < n; ++k) {
-      clr_film_sample *f = &fs[base + (size_t)k];
-      f->r = L[3 * k];
-      f->g = L[3 * k + 1];
-      f->b = L[3 * k + 2];
-      f->weight = weights[k];
+  int spp = job->spp;
+  for (int k = 0, px = px0, s = s0; k < n; ++k) {
+    const float *v = values + (size_t)k * (size_t)it->values_per_sample;
+    fs[k].x = (float)px + v[0];
+    fs[k].y = (float)py + v[1];
+    b->weights[k] = clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
+    b->keys[k] = sample_key(job->seed, px, py, s);
+    if (++s == spp) { s = 0; ++px; }
+  }
+  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, values, b->keys, n, b->L, counters));
+  for (int k = 0; k < n; ++k) {
+    fs[k].r = b->L[3 * k];
+    fs[k].g = b->L[3 * k + 1];
+    fs[k].b = b->L[3 * k + 2];
+    fs[k].weight = b->weights[k];
+  }
+  return CLR_SUCCESS;
+}
+
+/* Traces, shades and filters one tile's samples (read from its band) into a new film tile. */
+static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b,
+                             clr_integrator_scratch *scratch, clr_integrator_counters *counters,
+                             double *recon_s) {
+  const sample_band *band = &job->bands[tile->band];
+  size_t vps = (size_t)job->integrator->values_per_sample, spp = (size_t)job->spp;
+  int w = tile->pixels.x1 - tile->pixels.x0, h = tile->pixels.y1 - tile->pixels.y0;
+  int band_w = band->pixels.x1 - band->pixels.x0;
+  size_t row = (size_t)w * spp, total = row * (size_t)h;
+  if (total > b->fs_cap) {
+    clr_film_sample *fs = realloc(b->fs, total * sizeof *fs);
+    if (!fs) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tile");
+    b->fs = fs;
+    b->fs_cap = total;
+  }
+  for (int ly = 0; ly < h; ++ly) {
+    int py = tile->pixels.y0 + ly;
+    size_t first = ((size_t)(py - band->pixels.y0) * (size_t)band_w +
+                    (size_t)(tile->pixels.x0 - band->pixels.x0)) * spp;
+    for (size_t base = 0; base < row; base += CHUNK_SAMPLES) {
+      int n = (int)(row - base < CHUNK_SAMPLES ? row - base : CHUNK_SAMPLES);
+      CLR_CHECK(shade_run(job, b, scratch, counters, tile->pixels.x0 + (int)(base / spp), py,
+                          (int)(base % spp), n, band->values + (first + base) * vps,
+                          b->fs + (size_t)ly * row + base));
     }
   }
-  if (r == CLR_SUCCESS) {
-    double t0 = now_seconds();
-    r = film_get_tile(job->film, slot->pixels, &slot->film_tile);
-    if (r == CLR_SUCCESS) r = film_tile_add_samples(slot->film_tile, fs, total);
-    *recon_s += now_seconds() - t0;
-  }
-  free(fs); free(rays); free(keys); free(L); free(weights);
+  double t0 = now_seconds();
+  clr_result r = film_get_tile(job->film, tile->pixels, &tile->film_tile);
+  if (r == CLR_SUCCESS) r = film_tile_add_samples(tile->film_tile, b->fs, total);
+  *recon_s += now_seconds() - t0;
   return r;
 }
 
 static void *worker_main(void *arg) {
   render_job *job = arg;
   clr_integrator_scratch *scratch = clr_integrator_scratch_create();
+  worker_buffers *buffers = calloc(1, sizeof *buffers);
   clr_integrator_counters counters = {0, 0.0, CLR_SUCCESS};
   double busy = 0.0, recon = 0.0;
   pthread_mutex_lock(&job->mutex);
   for (;;) {
-    tile_slot *slot = NULL;
-    /* the lowest READY tile keeps merges flowing */
-    for (int i = 0; i < job->nslots; ++i) {
-      tile_slot *c = &job->slots[i];
-      if (c->state == SLOT_READY && (!slot || c->tile < slot->tile)) slot = c;
-    }
-    if (!slot) {
+    if (job->next_take == job->ready_end) { /* the lowest READY tile keeps merges flowing */
       if (job->stop) break;
       pthread_cond_wait(&job->cond, &job->mutex);
       continue;
     }
-    slot->state = SLOT_BUSY;
+    tile_info *tile = &job->tiles[job->next_take++];
+    tile->state = TILE_BUSY;
+    job->busy++;
     pthread_mutex_unlock(&job->mutex);
     double t0 = now_seconds();
-    clr_result r = scratch ? shade_tile(job, slot, scratch, &counters, &recon)
-                           : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render worker");
+    clr_result r = scratch && buffers ? shade_tile(job, tile, buffers, scratch, &counters, &recon)
+                                      : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render worker");
     busy += now_seconds() - t0;
     pthread_mutex_lock(&job->mutex);
-    slot->result = r;
-    slot->state = SLOT_DONE;
+    tile->result = r;
+    tile->state = TILE_DONE;
+    job->busy--;
+    if (--job->bands[tile->band].unfinished == 0) job->bands[tile->band].in_use = 0;
     pthread_cond_broadcast(&job->cond);
   }
   job->trace_s += counters.trace_seconds;
@@ -232,6 +265,8 @@ static void *worker_main(void *arg) {
   job->shade_s += busy - counters.trace_seconds - recon;
   job->rays += counters.rays;
   pthread_mutex_unlock(&job->mutex);
+  if (buffers) free(buffers->fs);
+  free(buffers);
   clr_integrator_scratch_free(scratch);
   return NULL;
 }
@@ -252,84 +287,94 @@ static void progress_bar(int done, int total, double elapsed) {
   fflush(stderr);
 }
 
-/* Runs the tile pipeline; *partial set when cancelled. */
-static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
-                               int nthreads, clr_render_stats *st) {
-  clr_bounds2i sb = clr_sampler_sample_bounds(sampler);
-  int ts = o->tile_size > 0 ? o->tile_size : 16;
-  int ntx = (sb.x1 - sb.x0 + ts - 1) / ts, nty = (sb.y1 - sb.y0 + ts - 1) / ts;
-  int ntiles = ntx * nty;
-  st->tiles_total = ntiles;
-  job->nslots = 2 * nthreads + 2;
-  job->slots = calloc((size_t)job->nslots, sizeof *job->slots);
-  pthread_t *threads = calloc((size_t)nthreads, sizeof *threads);
-  if (!job->slots || !threads) {
-    free(job->slots);
-    free(threads);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tiles");
+/* Tile grid over the sample bounds and the bands generation works in. */
+typedef struct tile_grid {
+  clr_bounds2i bounds;
+  int size, ntx, nty, ntiles;
+  int band_tiles; /* tiles per band (the last band of a row may have fewer) */
+} tile_grid;
+
+static clr_bounds2i tile_pixels(const tile_grid *g, int tile) {
+  int tx = tile % g->ntx, ty = tile / g->ntx, ts = g->size;
+  clr_bounds2i px = {g->bounds.x0 + tx * ts, g->bounds.y0 + ty * ts, g->bounds.x0 + (tx + 1) * ts,
+                     g->bounds.y0 + (ty + 1) * ts};
+  if (px.x1 > g->bounds.x1) px.x1 = g->bounds.x1;
+  if (px.y1 > g->bounds.y1) px.y1 = g->bounds.y1;
+  return px;
+}
+
+/* Generates the band starting at tile `first` into band `bi`; returns its tile count in *count. */
+static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
+                                const tile_grid *g, int first, int bi, int *count) {
+  sample_band *band = &job->bands[bi];
+  int row_left = g->ntx - first % g->ntx;
+  int n = row_left < g->band_tiles ? row_left : g->band_tiles;
+  clr_bounds2i a = tile_pixels(g, first), z = tile_pixels(g, first + n - 1);
+  clr_bounds2i px = {a.x0, a.y0, z.x1, a.y1};
+  size_t need = (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp *
+                (size_t)job->integrator->values_per_sample;
+  if (need > band->values_cap) {
+    free(band->values);
+    band->values = malloc(need * sizeof *band->values);
+    band->values_cap = band->values ? need : 0;
+    if (!band->values) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
-  pthread_mutex_init(&job->mutex, NULL);
-  pthread_cond_init(&job->cond, NULL);
-  int started = 0;
-  for (; started < nthreads; ++started)
-    if (pthread_create(&threads[started], NULL, worker_main, job) != 0) break;
-  clr_result r = started ? CLR_SUCCESS : clr_fail(NULL, CLR_ERROR_INTERNAL, "pthread_create failed");
+  batch->pixels = px;
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.host_values = band->values;
+  CLR_CHECK(job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
+                              : clr_sampler_generate(sampler, batch, &out));
+  band->pixels = px;
+  for (int t = first; t < first + n; ++t) {
+    job->tiles[t].band = bi;
+    job->tiles[t].pixels = tile_pixels(g, t);
+  }
+  *count = n;
+  return CLR_SUCCESS;
+}
+
+static int free_band(const render_job *job) {
+  for (int i = 0; i < job->nbands; ++i)
+    if (!job->bands[i].in_use) return i;
+  return -1;
+}
+
+/* Main thread: generates bands ahead of the workers and merges finished tiles in tile order. */
+static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_grid *g,
+                               const clr_render_options *o, clr_render_stats *st) {
   clr_sample_batch batch;
   clr_sample_batch_init(&batch);
   batch.requests = job->integrator->requests;
   batch.request_count = job->integrator->request_count;
-  int next_gen = 0, next_merge = 0, cancelled = 0;
+  int next_gen = 0, next_merge = 0;
+  clr_result r = CLR_SUCCESS;
   double t_start = now_seconds();
-  while (r == CLR_SUCCESS && next_merge < ntiles) {
-    if (o->cancel && *o->cancel) cancelled = 1;
-    /* generate ahead while a slot is free */
-    tile_slot *free_slot = NULL;
-    if (!cancelled && next_gen < ntiles) {
-      pthread_mutex_lock(&job->mutex);
-      for (int i = 0; i < job->nslots && !free_slot; ++i)
-        if (job->slots[i].state == SLOT_FREE) free_slot = &job->slots[i];
+  pthread_mutex_lock(&job->mutex);
+  while (r == CLR_SUCCESS && next_merge < g->ntiles) {
+    int cancelled = o->cancel && *o->cancel;
+    int bi = free_band(job);
+    if (!cancelled && next_gen < g->ntiles && bi >= 0) {
+      job->bands[bi].in_use = 1;
       pthread_mutex_unlock(&job->mutex);
-    }
-    if (free_slot) {
-      int tx = next_gen % ntx, ty = next_gen / ntx;
-      clr_bounds2i px = {sb.x0 + tx * ts, sb.y0 + ty * ts, sb.x0 + (tx + 1) * ts, sb.y0 + (ty + 1) * ts};
-      if (px.x1 > sb.x1) px.x1 = sb.x1;
-      if (px.y1 > sb.y1) px.y1 = sb.y1;
-      size_t need = (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp *
-                    (size_t)job->integrator->values_per_sample;
-      if (need > free_slot->values_cap) {
-        float *v = realloc(free_slot->values, need * sizeof *v);
-        if (!v) { r = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "sample values"); break; }
-        free_slot->values = v;
-        free_slot->values_cap = need;
-      }
-      batch.pixels = px;
-      clr_sample_output out;
-      clr_sample_output_init(&out);
-      out.host_values = free_slot->values;
+      int n = 0;
       double t0 = now_seconds();
-      r = job->host_samples ? clr_sampler_generate_reference(sampler, &batch, &out)
-                            : clr_sampler_generate(sampler, &batch, &out);
+      r = generate_band(job, sampler, &batch, g, next_gen, bi, &n);
       st->seconds_sample_generation += now_seconds() - t0;
-      if (r != CLR_SUCCESS) break;
       pthread_mutex_lock(&job->mutex);
-      free_slot->tile = next_gen++;
-      free_slot->pixels = px;
-      free_slot->sample_count = job->spp;
-      free_slot->state = SLOT_READY;
+      if (r != CLR_SUCCESS) { job->bands[bi].in_use = 0; break; }
+      job->bands[bi].unfinished = n;
+      for (int t = next_gen; t < next_gen + n; ++t) job->tiles[t].state = TILE_READY;
+      next_gen += n;
+      job->ready_end = next_gen;
       pthread_cond_broadcast(&job->cond);
-      pthread_mutex_unlock(&job->mutex);
       continue;
     }
-    if (next_merge >= next_gen) break; /* cancelled with nothing in flight */
-    /* merge the next tile in order */
-    tile_slot *m = NULL;
-    pthread_mutex_lock(&job->mutex);
-    for (;;) {
-      for (int i = 0; i < job->nslots && !m; ++i)
-        if (job->slots[i].state == SLOT_DONE && job->slots[i].tile == next_merge) m = &job->slots[i];
-      if (m) break;
+    tile_info *m = &job->tiles[next_merge];
+    if (m->state != TILE_DONE) {
+      if (next_merge >= next_gen) break; /* cancelled with nothing in flight */
       pthread_cond_wait(&job->cond, &job->mutex);
+      continue;
     }
     pthread_mutex_unlock(&job->mutex);
     r = m->result;
@@ -341,37 +386,64 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
     film_tile_release(m->film_tile);
     m->film_tile = NULL;
     pthread_mutex_lock(&job->mutex);
-    m->state = SLOT_FREE;
-    pthread_mutex_unlock(&job->mutex);
+    m->state = TILE_MERGED;
     ++next_merge;
     st->tiles_done = next_merge;
-    if (o->progress) progress_bar(next_merge, ntiles, now_seconds() - t_start);
+    if (o->progress) progress_bar(next_merge, g->ntiles, now_seconds() - t_start);
   }
   /* stop the workers; wait for tiles in flight when failing */
-  pthread_mutex_lock(&job->mutex);
-  for (;;) {
-    int busy = 0;
-    for (int i = 0; i < job->nslots; ++i) {
-      if (job->slots[i].state == SLOT_READY) job->slots[i].state = SLOT_FREE;
-      busy |= job->slots[i].state == SLOT_BUSY;
-    }
-    if (!busy) break;
-    pthread_cond_wait(&job->cond, &job->mutex);
-  }
+  job->ready_end = job->next_take;
+  while (job->busy) pthread_cond_wait(&job->cond, &job->mutex);
   job->stop = 1;
   pthread_cond_broadcast(&job->cond);
   pthread_mutex_unlock(&job->mutex);
-  for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
-  for (int i = 0; i < job->nslots; ++i) {
-    if (job->slots[i].film_tile) film_tile_release(job->slots[i].film_tile);
-    free(job->slots[i].values);
+  return r;
+}
+
+/* Runs the tile pipeline; *partial set when cancelled. */
+static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
+                               int nthreads, clr_render_stats *st) {
+  tile_grid g;
+  g.bounds = clr_sampler_sample_bounds(sampler);
+  g.size = o->tile_size > 0 ? o->tile_size : 16;
+  g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
+  g.nty = (g.bounds.y1 - g.bounds.y0 + g.size - 1) / g.size;
+  g.ntiles = g.ntx * g.nty;
+  size_t tile_values = (size_t)g.size * (size_t)g.size * (size_t)job->spp *
+                       (size_t)job->integrator->values_per_sample;
+  size_t fit = BATCH_VALUES_BUDGET / (tile_values ? tile_values : 1);
+  g.band_tiles = fit < 1 ? 1 : fit > (size_t)g.ntx ? g.ntx : (int)fit;
+  st->tiles_total = g.ntiles;
+  /* one band being generated, enough being shaded to keep every worker busy */
+  job->nbands = 2 + (nthreads + g.band_tiles - 1) / g.band_tiles;
+  job->tiles = calloc((size_t)(g.ntiles ? g.ntiles : 1), sizeof *job->tiles);
+  job->bands = calloc((size_t)job->nbands, sizeof *job->bands);
+  pthread_t *threads = calloc((size_t)nthreads, sizeof *threads);
+  if (!job->tiles || !job->bands || !threads) {
+    free(job->tiles);
+    free(job->bands);
+    free(threads);
+    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tiles");
   }
-  if (o->progress && st->tiles_done < ntiles) fputc('\n', stderr);
+  pthread_mutex_init(&job->mutex, NULL);
+  pthread_cond_init(&job->cond, NULL);
+  int started = 0;
+  for (; started < nthreads; ++started)
+    if (pthread_create(&threads[started], NULL, worker_main, job) != 0) break;
+  clr_result r = started ? run_pipeline(job, sampler, &g, o, st)
+                         : clr_fail(NULL, CLR_ERROR_INTERNAL, "pthread_create failed");
+  if (!started) job->stop = 1;
+  for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
+  for (int i = 0; i < g.ntiles; ++i)
+    if (job->tiles[i].film_tile) film_tile_release(job->tiles[i].film_tile);
+  for (int i = 0; i < job->nbands; ++i) free(job->bands[i].values);
+  if (o->progress && st->tiles_done < g.ntiles) fputc('\n', stderr);
   pthread_cond_destroy(&job->cond);
   pthread_mutex_destroy(&job->mutex);
-  free(job->slots);
+  free(job->tiles);
+  free(job->bands);
   free(threads);
-  st->partial = st->tiles_done < ntiles;
+  st->partial = st->tiles_done < g.ntiles;
   return r;
 }
 

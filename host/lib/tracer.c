@@ -519,6 +519,7 @@ static int ray_is_valid(const clr_ray *r) {
          isfinite(r->tnear) && r->tnear >= 0.0f && !isnan(r->tfar);
 }
 
+/* Checks the handles and count; the rays themselves are checked as they are loaded. */
 static clr_result check_query(clr_tracer t, const clr_ray *rays, const void *out, int32_t count,
                               const char *fn) {
   if (!t || !rays || !out)
@@ -527,12 +528,30 @@ static clr_result check_query(clr_tracer t, const clr_ray *rays, const void *out
   if (count < 0) return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: count %ld < 0", fn, (long)count);
   if (!t->committed)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is not committed", fn);
-  for (int32_t i = 0; i < count; ++i)
-    if (!ray_is_valid(&rays[i]))
-      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: ray %ld is invalid (o = (%g, %g, %g), "
-                      "d = (%g, %g, %g), tnear = %g, tfar = %g)", fn, (long)i, (double)rays[i].ox,
-                      (double)rays[i].oy, (double)rays[i].oz, (double)rays[i].dx, (double)rays[i].dy,
-                      (double)rays[i].dz, (double)rays[i].tnear, (double)rays[i].tfar);
+  return CLR_SUCCESS;
+}
+
+static clr_result invalid_ray(const clr_ray *r, int32_t i, const char *fn) {
+  return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: ray %ld is invalid (o = (%g, %g, %g), "
+                  "d = (%g, %g, %g), tnear = %g, tfar = %g)", fn, (long)i, (double)r->ox,
+                  (double)r->oy, (double)r->oz, (double)r->dx, (double)r->dy, (double)r->dz,
+                  (double)r->tnear, (double)r->tfar);
+}
+
+/* Checks every ray before any is traced (the outputs stay untouched on failure): a branch-free
+ * pass (x - x is 0 exactly for finite x), then the slow search only when one is bad. */
+static clr_result check_rays(const clr_ray *rays, int32_t count, const char *fn) {
+  int bad = 0;
+  for (int32_t i = 0; i < count; ++i) {
+    const clr_ray *r = &rays[i];
+    float f = (r->ox - r->ox) + (r->oy - r->oy) + (r->oz - r->oz) + (r->dx - r->dx) +
+              (r->dy - r->dy) + (r->dz - r->dz) + (r->tnear - r->tnear);
+    bad |= !(f == 0.0f) | !(r->tnear >= 0.0f) | (r->tfar != r->tfar) |
+           ((r->dx == 0.0f) & (r->dy == 0.0f) & (r->dz == 0.0f));
+  }
+  if (bad)
+    for (int32_t i = 0; i < count; ++i)
+      if (!ray_is_valid(&rays[i])) return invalid_ray(&rays[i], i, fn);
   return CLR_SUCCESS;
 }
 
@@ -579,6 +598,7 @@ static void load_packet(const clr_ray *rays, int32_t lanes, struct RTCRay16 *ray
 
 clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
   CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect"));
+  CLR_CHECK(check_rays(rays, count, "clr_tracer_intersect"));
   for (int32_t base = 0; base < count; base += 16) {
     int32_t lanes = count - base < 16 ? count - base : 16;
     alignas(64) int valid[16];
@@ -602,6 +622,7 @@ clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits
 
 clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
   CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect_single"));
+  CLR_CHECK(check_rays(rays, count, "clr_tracer_intersect_single"));
   for (int32_t i = 0; i < count; ++i) {
     const clr_ray *r = &rays[i];
     struct RTCRayHit rh = {.ray = {.org_x = r->ox, .org_y = r->oy, .org_z = r->oz, .tnear = r->tnear,
@@ -620,6 +641,7 @@ clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hi
 
 clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occluded, int32_t count) {
   CLR_CHECK(check_query(t, rays, occluded, count, "clr_tracer_occluded"));
+  CLR_CHECK(check_rays(rays, count, "clr_tracer_occluded"));
   for (int32_t base = 0; base < count; base += 16) {
     int32_t lanes = count - base < 16 ? count - base : 16;
     alignas(64) int valid[16];
