@@ -59,4 +59,24 @@ CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
   }
 }
 
+/* ---- Device layout (kernels/global_sampler_simd.h): the values of a sample vector are made in
+ * the order of a plan built on the host, grouped by index slot: slot 0 is the item's own sample,
+ * the other slots the elements of arrays (sample numbers s * scale + offset). */
+
+/* One value of the sample vector: its offset in the vector, its dimension, its index slot. */
+typedef struct clr_value_plan {
+  clr_i32 value, dim, index_slot, pad;
+} clr_value_plan;
+
+/* One index slot: the sample number of the item's sample s is s * scale + offset. */
+typedef struct clr_index_plan {
+  clr_i32 scale, offset;
+} clr_index_plan;
+
+/* Constants that divide by one batch's sample count and width (clr_udiv31 magic and shift, from
+ * the host's division_magic31). */
+typedef struct clr_item_divisors {
+  clr_u32 sample_magic, sample_shift, width_magic, width_shift;
+} clr_item_divisors;
+
 #endif
