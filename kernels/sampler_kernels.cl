@@ -88,28 +88,40 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
 #endif
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
-/* One work-item per pixel of the batch, each with its own RNG stream: random, stratified. */
-__kernel void clr_generate_pixel(__global const clr_sampler_params *params,
-                                 __global const clr_request_slot *slots, __global float *values,
-                                 __global float *scratch, int pixel_count) {
-  int pixel = (int)get_global_id(0);
-  if (pixel >= pixel_count) return;
-  clr_sampler_params p = *params;
-  int px = p.batch_x0 + pixel % p.batch_width;
-  int py = p.batch_y0 + pixel / p.batch_width;
+#include "pixel_sampler_simd.h"
+
+/* CLR_SEEDING_TYPE_PIXEL: one work-item per 8 pixels of the batch (past the end the last pixel
+ * repeats), one lane and RNG stream per pixel. */
+__kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+                                 __global float *restrict values, __global float *restrict scratch,
+                                 int pixel_count) {
+  size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
-  clr_pixel_sampler_pixel(&p, slots, px, py, values + (size_t)pixel * per_pixel,
-                          scratch + (size_t)pixel * (size_t)p.scratch_floats);
+  ulong out[CLR_PIXEL_LANES], state[CLR_PIXEL_LANES], inc[CLR_PIXEL_LANES];
+  for (int j = 0; j < CLR_PIXEL_LANES; ++j) {
+    uint pixel = min((uint)(group * CLR_PIXEL_LANES) + (uint)j, (uint)pixel_count - 1u);
+    int row = (int)(pixel / (uint)p.batch_width);
+    clr_pcg32 r = clr_pixel_stream(&p, p.batch_x0 + (int)pixel - row * p.batch_width,
+                                   p.batch_y0 + row);
+    state[j] = r.state;
+    inc[j] = r.inc;
+    out[j] = (ulong)pixel * per_pixel;
+  }
+  clr_pcg32x8 rng;
+  rng.state_lo = vload4(0, state);
+  rng.state_hi = vload4(1, state);
+  rng.inc_lo = vload4(0, inc);
+  rng.inc_hi = vload4(1, inc);
+  clr_pixel_sampler_start_pixel8(&p, slots, &rng, values, out,
+                                 scratch + group * (size_t)p.scratch_floats * CLR_PIXEL_LANES);
 }
 
-/* One work-item per pbrt-v3 16x16 tile touching the batch (pbrt-v3 seeding). */
-__kernel void clr_generate_tiles(__global const clr_sampler_params *params,
-                                 __global const clr_request_slot *slots, __global float *values,
-                                 __global float *scratch, int tile_x0, int tile_y0,
-                                 int tiles_wide, int tile_count) {
+/* CLR_SEEDING_TYPE_PBRT_V3: one work-item per pbrt-v3 16x16 tile touching the batch. */
+__kernel void clr_generate_tiles(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+                                 __global float *restrict values, __global float *restrict scratch,
+                                 int tile_x0, int tile_y0, int tiles_wide, int tile_count) {
   int t = (int)get_global_id(0);
   if (t >= tile_count) return;
-  clr_sampler_params p = *params;
   clr_pixel_sampler_tile(&p, slots, tile_x0 + t % tiles_wide, tile_y0 + t / tiles_wide, values,
                          scratch + (size_t)t * (size_t)p.scratch_floats);
 }

@@ -17,6 +17,9 @@
 #define GROUP_SIZE 64
 /* Batch items per work-item of the global samplers (CLR_LANES in global_sampler_simd.h). */
 #define CLR_GLOBAL_LANES 8
+/* Pixels per work-item of the pixel samplers with per-pixel seeding (CLR_PIXEL_LANES in
+ * pixel_sampler_simd.h). */
+#define CLR_PIXEL_LANES 8
 
 typedef struct cached_kernel {
   char name[48];
@@ -35,12 +38,11 @@ struct clr_sampler_device {
   pthread_mutex_t lock;
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
-  grow_buffer plan, index_plan, indices, scratch, params, slots;
+  grow_buffer plan, index_plan, indices, scratch, slots;
   /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
   clr_value_plan values[CLR_MAX_VALUES_PER_SAMPLE], scratch_plan[CLR_MAX_VALUES_PER_SAMPLE];
   clr_index_plan index_slots[CLR_MAX_VALUES_PER_SAMPLE + 1];
   int slot_first[CLR_MAX_VALUES_PER_SAMPLE + 2];
-  clr_sampler_params params_copy;
   clr_request_slot slots_copy[CLR_MAX_REQUESTS];
 };
 
@@ -64,8 +66,7 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan, &d->index_plan, &d->indices, &d->scratch, &d->params,
-                            &d->slots};
+  grow_buffer *buffers[] = {&d->plan, &d->index_plan, &d->indices, &d->scratch, &d->slots};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
@@ -319,32 +320,35 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   char defines[64];
   snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
   int tiled = p->seeding == CLR_SEEDING_TYPE_PBRT_V3;
-  const char *name = tiled ? "clr_generate_tiles" : "clr_generate_pixel";
+  const char *name = tiled ? "clr_generate_tiles" : "clr_pixel_generate";
   cl_kernel k;
   CLR_CHECK(get_kernel(d, name, defines, &k));
   int tx0 = 0, ty0 = 0, wide = 0, high = 0;
+  size_t pixels = (size_t)p->batch_width * (size_t)p->batch_height;
+  /* Work-items: one per tile, or one per 8 pixels, each with its own scratch. */
   size_t items = tiled ? (size_t)pbrt_tiles(p, &tx0, &ty0, &wide, &high)
-                       : (size_t)p->batch_width * (size_t)p->batch_height;
-  d->params_copy = *p;
+                       : (pixels + CLR_PIXEL_LANES - 1) / CLR_PIXEL_LANES;
+  size_t scratch_floats = (size_t)p->scratch_floats * (tiled ? 1 : CLR_PIXEL_LANES);
   memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
-  CLR_CHECK(upload(ctx, &d->params, &d->params_copy, sizeof *p, "sampler params"));
   CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
                    sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
-  CLR_CHECK(grow(ctx, &d->scratch, items * (size_t)p->scratch_floats * 4, CL_MEM_READ_WRITE,
+  size_t padded = (items + GROUP_SIZE - 1) / GROUP_SIZE * GROUP_SIZE; /* as launch() */
+  CLR_CHECK(grow(ctx, &d->scratch, padded * scratch_floats * sizeof(float), CL_MEM_READ_WRITE,
                  "sampler scratch"));
-  cl_int count = (cl_int)items;
-  SET_ARG(ctx, k, 0, d->params.mem);
-  SET_ARG(ctx, k, 1, d->slots.mem);
-  SET_ARG(ctx, k, 2, values);
-  SET_ARG(ctx, k, 3, d->scratch.mem);
+  int a = 0;
+  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, d->slots.mem);
+  SET_ARG(ctx, k, a++, values);
+  SET_ARG(ctx, k, a++, d->scratch.mem);
   if (tiled) {
-    cl_int a = tx0, b = ty0, w = wide;
-    SET_ARG(ctx, k, 4, a);
-    SET_ARG(ctx, k, 5, b);
-    SET_ARG(ctx, k, 6, w);
-    SET_ARG(ctx, k, 7, count);
+    cl_int x0 = tx0, y0 = ty0, w = wide, count = (cl_int)items;
+    SET_ARG(ctx, k, a++, x0);
+    SET_ARG(ctx, k, a++, y0);
+    SET_ARG(ctx, k, a++, w);
+    SET_ARG(ctx, k, a++, count);
   } else {
-    SET_ARG(ctx, k, 4, count);
+    cl_int count = (cl_int)pixels;
+    SET_ARG(ctx, k, a++, count);
   }
   return launch(ctx, k, items, name);
 }
