@@ -13,24 +13,27 @@
 
 #define CLR_PIXEL_LANES 8
 
+/* Small hot functions stay in registers only when inlined. */
+#define CLR_LANE_INLINE inline __attribute__((always_inline))
+
 /* 8 PCG32 generators, 64-bit state in two halves of 4 lanes (AVX2-sized vectors). */
 typedef struct clr_pcg32x8 {
   ulong4 state_lo, state_hi, inc_lo, inc_hi;
 } clr_pcg32x8;
 
-inline float8 clr_below_one_x8(float8 f) {
+CLR_LANE_INLINE float8 clr_below_one_x8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
 /* PCG32's XSH-RR output of the old states (clr_pcg32_next). */
-inline uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
+CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
   uint8 xorshifted = (uint8)(convert_uint4(((lo >> (ulong)18) ^ lo) >> (ulong)27),
                              convert_uint4(((hi >> (ulong)18) ^ hi) >> (ulong)27));
   uint8 rot = (uint8)(convert_uint4(lo >> (ulong)59), convert_uint4(hi >> (ulong)59));
   return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
 }
 
-inline uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
+CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
   ulong4 lo = r->state_lo, hi = r->state_hi;
   r->state_lo = lo * CLR_PCG32_MULT + r->inc_lo;
   r->state_hi = hi * CLR_PCG32_MULT + r->inc_hi;
@@ -38,20 +41,20 @@ inline uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
 }
 
 /* Draws only in the lanes of `mask` (others keep their state; their result is meaningless). */
-inline uint8 clr_pcg32x8_next_masked(clr_pcg32x8 *r, int8 mask) {
+CLR_LANE_INLINE uint8 clr_pcg32x8_next_masked(clr_pcg32x8 *r, int8 mask) {
   ulong4 lo = r->state_lo, hi = r->state_hi;
   r->state_lo = select(lo, lo * CLR_PCG32_MULT + r->inc_lo, convert_long4(mask.lo));
   r->state_hi = select(hi, hi * CLR_PCG32_MULT + r->inc_hi, convert_long4(mask.hi));
   return clr_pcg32x8_output(lo, hi);
 }
 
-inline float8 clr_pcg32x8_float(clr_pcg32x8 *r) {
+CLR_LANE_INLINE float8 clr_pcg32x8_float(clr_pcg32x8 *r) {
   return clr_below_one_x8(convert_float8(clr_pcg32x8_next(r)) * 0x1p-32f);
 }
 
 /* clr_pcg32_advance by the same delta in every lane. Its increment term is linear in inc, so it
  * is formed once for inc = 1 and multiplied by each lane's inc. */
-inline void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
+CLR_LANE_INLINE void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
   ulong cur_mult = CLR_PCG32_MULT, cur_plus = 1u, acc_mult = 1u, acc_plus = 0u;
   while (delta > 0) {
     if (delta & 1u) {
@@ -67,9 +70,11 @@ inline void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
 }
 
 /* clr_pcg32_bounded(b) in every lane: rejection redraws only the rejecting lanes; v % b by
- * Granlund-Montgomery multiplication (exact for every 32-bit v; no vector division). */
-inline uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b) {
-  uint threshold = (~b + 1u) % b;
+ * Granlund-Montgomery multiplication (exact for every 32-bit v; no vector division).
+ * bounded[b - 1] = (threshold (-b) % b, magic, shift1, shift2) from the host. */
+CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const uint4 *bounded) {
+  uint4 k = bounded[b - 1u];
+  uint threshold = k.x;
   uint8 v = clr_pcg32x8_next(r);
   int8 rejected = v < threshold;
   while (any(rejected)) {
@@ -77,26 +82,23 @@ inline uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b) {
     v = select(v, w, rejected);
     rejected = rejected & (v < threshold);
   }
-  uint l = 32u - clz(b - 1u); /* ceil(log2 b); 0 for b == 1 */
-  uint magic = (uint)((((ulong)((1u << l) - b)) << 32) / b + 1u);
-  uint shift1 = l ? 1u : 0u, shift2 = l ? l - 1u : 0u;
-  ulong4 plo = convert_ulong4(v.lo) * (ulong)magic, phi = convert_ulong4(v.hi) * (ulong)magic;
+  ulong4 plo = convert_ulong4(v.lo) * (ulong)k.y, phi = convert_ulong4(v.hi) * (ulong)k.y;
   uint8 t = (uint8)(convert_uint4(plo >> (ulong)32), convert_uint4(phi >> (ulong)32));
-  uint8 q = (t + ((v - t) >> shift1)) >> shift2;
+  uint8 q = (t + ((v - t) >> k.z)) >> k.w;
   return v - q * b;
 }
 
 /* Scratch rows: float c of item i (of `dims` floats) is row i * dims + c. */
-inline uint8 clr_scratch_rows8(uint8 item, int dims, int c) {
+CLR_LANE_INLINE uint8 clr_scratch_rows8(uint8 item, int dims, int c) {
   return (item * (uint)dims + (uint)c) * CLR_PIXEL_LANES + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u);
 }
 
-inline float8 clr_gather8(__global const float *scratch, uint8 at) {
+CLR_LANE_INLINE float8 clr_gather8(__global const float *scratch, uint8 at) {
   return (float8)(scratch[at.s0], scratch[at.s1], scratch[at.s2], scratch[at.s3], scratch[at.s4],
                   scratch[at.s5], scratch[at.s6], scratch[at.s7]);
 }
 
-inline void clr_scatter8(__global float *scratch, uint8 at, float8 v) {
+CLR_LANE_INLINE void clr_scatter8(__global float *scratch, uint8 at, float8 v) {
   scratch[at.s0] = v.s0;
   scratch[at.s1] = v.s1;
   scratch[at.s2] = v.s2;
@@ -108,7 +110,7 @@ inline void clr_scatter8(__global float *scratch, uint8 at, float8 v) {
 }
 
 /* The lanes' pixels: values of lane j go to values[out[j] + offset]. */
-inline void clr_store_lanes8(__global float *values, const ulong *out, size_t offset, float8 v) {
+CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, size_t offset, float8 v) {
   values[out[0] + offset] = v.s0;
   values[out[1] + offset] = v.s1;
   values[out[2] + offset] = v.s2;
@@ -120,9 +122,10 @@ inline void clr_store_lanes8(__global float *values, const ulong *out, size_t of
 }
 
 /* clr_shuffle of `count` items of `dims` floats in scratch. */
-inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng) {
+inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng,
+                         __global const uint4 *bounded) {
   for (int i = 0; i < count; ++i) {
-    uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i));
+    uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
     for (int c = 0; c < dims; ++c) {
       uint8 at = clr_scratch_rows8(other, dims, c);
       float8 t = vload8(i * dims + c, buf);
@@ -132,8 +135,8 @@ inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *
   }
 }
 
-inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng) {
-  for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i));
+inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+  for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
 }
 
 /* clr_stratified_sample_1d into scratch rows 0..n-1. */
@@ -159,12 +162,13 @@ inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float
 }
 
 /* clr_latin_hypercube_2d into scratch rows 0..2n-1. */
-inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr_pcg32x8 *rng) {
+inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr_pcg32x8 *rng,
+                                    __global const uint4 *bounded) {
   for (int i = 0; i < 2 * n; ++i)
     vstore8(clr_below_one_x8(((float)(i >> 1) + clr_pcg32x8_float(rng)) * inv_n), i, buf);
   for (int c = 0; c < 2; ++c)
     for (int j = 0; j < n; ++j) {
-      uint8 other = (uint)j + clr_pcg32x8_bounded(rng, (uint)(n - j));
+      uint8 other = (uint)j + clr_pcg32x8_bounded(rng, (uint)(n - j), bounded);
       uint8 at = clr_scratch_rows8(other, 2, c);
       float8 t = vload8(2 * j + c, buf);
       vstore8(clr_gather8(buf, at), 2 * j + c, buf);
@@ -172,21 +176,22 @@ inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr
     }
 }
 
-inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng) {
+inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng, __global const uint4 *bounded) {
   clr_pcg32x8_advance(rng, 2u * (ulong)n);
-  clr_shuffle_draws8(n, rng);
-  clr_shuffle_draws8(n, rng);
+  clr_shuffle_draws8(n, rng, bounded);
+  clr_shuffle_draws8(n, rng, bounded);
 }
 
 /* clr_stratified_streams: a used stream's points go straight from scratch to every slot fed. */
 inline void clr_stratified_streams8(const clr_sampler_params *p, __global const clr_request_slot *slots,
                                     int dims, clr_pcg32x8 *rng, __global float *values,
-                                    const ulong *out, __global float *buf) {
+                                    const ulong *out, __global float *buf,
+                                    __global const uint4 *bounded) {
   int n = p->x_samples * p->y_samples;
   for (int d = 0; d < p->dimensions; ++d) {
     if (!clr_slots_use(p, slots, dims, 0, d)) {
       if (p->jitter) clr_pcg32x8_advance(rng, (ulong)n * (ulong)dims);
-      clr_shuffle_draws8(n, rng);
+      clr_shuffle_draws8(n, rng, bounded);
       continue;
     }
     if (dims == 1)
@@ -194,7 +199,7 @@ inline void clr_stratified_streams8(const clr_sampler_params *p, __global const 
     else
       clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples,
                                 p->inv_y_samples, p->jitter, rng);
-    clr_shuffle8(buf, n, dims, rng);
+    clr_shuffle8(buf, n, dims, rng, bounded);
     for (int k = 0; k < p->request_count; ++k) {
       if (!clr_slot_is(&slots[k], dims, 0, d)) continue;
       for (int s = 0; s < p->sample_count; ++s)
@@ -209,7 +214,8 @@ inline void clr_stratified_streams8(const clr_sampler_params *p, __global const 
 /* clr_stratified_arrays. */
 inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const clr_request_slot *slots,
                                    int dims, clr_pcg32x8 *rng, __global float *values,
-                                   const ulong *out, __global float *buf) {
+                                   const ulong *out, __global float *buf,
+                                   __global const uint4 *bounded) {
   int arrays = clr_slots_array_count(p, slots, dims);
   for (int a = 0; a < arrays; ++a) {
     int size = clr_slots_array_size(p, slots, dims, a);
@@ -222,9 +228,9 @@ inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const c
       if (used && s >= 0 && s < p->sample_count) {
         if (dims == 1) {
           clr_stratified_sample_1d8(buf, size, inv_size, p->jitter, rng);
-          clr_shuffle8(buf, size, 1, rng);
+          clr_shuffle8(buf, size, 1, rng, bounded);
         } else {
-          clr_latin_hypercube_2d8(buf, size, inv_size, rng);
+          clr_latin_hypercube_2d8(buf, size, inv_size, rng, bounded);
         }
         for (int k = 0; k < p->request_count; ++k) {
           if (!clr_slot_is(&slots[k], dims, 1, a)) continue;
@@ -234,9 +240,9 @@ inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const c
         }
       } else if (dims == 1) {
         if (p->jitter) clr_pcg32x8_advance(rng, (ulong)size);
-        clr_shuffle_draws8(size, rng);
+        clr_shuffle_draws8(size, rng, bounded);
       } else {
-        clr_latin_hypercube_2d_draws8(size, rng);
+        clr_latin_hypercube_2d_draws8(size, rng, bounded);
       }
     }
   }
@@ -283,12 +289,13 @@ inline void clr_random_array8(const clr_sampler_params *p, __global const clr_re
 inline void clr_pixel_sampler_start_pixel8(const clr_sampler_params *p,
                                            __global const clr_request_slot *slots,
                                            clr_pcg32x8 *rng, __global float *values,
-                                           const ulong *out, __global float *buf) {
+                                           const ulong *out, __global float *buf,
+                                           __global const uint4 *bounded) {
   if (p->type == CLR_SAMPLER_TYPE_STRATIFIED) {
-    clr_stratified_streams8(p, slots, 1, rng, values, out, buf);
-    clr_stratified_streams8(p, slots, 2, rng, values, out, buf);
-    clr_stratified_arrays8(p, slots, 1, rng, values, out, buf);
-    clr_stratified_arrays8(p, slots, 2, rng, values, out, buf);
+    clr_stratified_streams8(p, slots, 1, rng, values, out, buf, bounded);
+    clr_stratified_streams8(p, slots, 2, rng, values, out, buf, bounded);
+    clr_stratified_arrays8(p, slots, 1, rng, values, out, buf, bounded);
+    clr_stratified_arrays8(p, slots, 2, rng, values, out, buf, bounded);
   } else {
     for (int dims = 1; dims <= 2; ++dims) {
       int arrays = clr_slots_array_count(p, slots, dims);

@@ -94,7 +94,7 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
  * repeats), one lane and RNG stream per pixel. */
 __kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
                                  __global float *restrict values, __global float *restrict scratch,
-                                 int pixel_count) {
+                                 __global const uint4 *restrict bounded, int pixel_count) {
   size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
   ulong out[CLR_PIXEL_LANES], state[CLR_PIXEL_LANES], inc[CLR_PIXEL_LANES];
@@ -113,7 +113,8 @@ __kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_reques
   rng.inc_lo = vload4(0, inc);
   rng.inc_hi = vload4(1, inc);
   clr_pixel_sampler_start_pixel8(&p, slots, &rng, values, out,
-                                 scratch + group * (size_t)p.scratch_floats * CLR_PIXEL_LANES);
+                                 scratch + group * (size_t)p.scratch_floats * CLR_PIXEL_LANES,
+                                 bounded);
 }
 
 /* CLR_SEEDING_TYPE_PBRT_V3: one work-item per pbrt-v3 16x16 tile touching the batch. */

@@ -38,7 +38,9 @@ struct clr_sampler_device {
   pthread_mutex_t lock;
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
-  grow_buffer plan, index_plan, indices, scratch, slots;
+  grow_buffer plan, index_plan, indices, scratch, slots, bounded;
+  cl_uint *bounded_host; /* 4 per bound b = 1..bounded_count (clr_pcg32x8_bounded) */
+  int bounded_count;
   /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
   clr_value_plan values[CLR_MAX_VALUES_PER_SAMPLE], scratch_plan[CLR_MAX_VALUES_PER_SAMPLE];
   clr_index_plan index_slots[CLR_MAX_VALUES_PER_SAMPLE + 1];
@@ -66,10 +68,12 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan, &d->index_plan, &d->indices, &d->scratch, &d->slots};
+  grow_buffer *buffers[] = {&d->plan, &d->index_plan, &d->indices, &d->scratch, &d->slots,
+                            &d->bounded};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
+  free(d->bounded_host);
   free(d);
 }
 
@@ -314,6 +318,29 @@ static int pbrt_tiles(const clr_sampler_params *p, int *tx0, int *ty0, int *wide
   return *wide * *high;
 }
 
+/* Device constants of UniformUInt32(b) for b = 1..most: the rejection threshold (-b) % b and
+ * Granlund-Montgomery's magic and shifts for v / b (exact for every 32-bit v), uploaded. */
+static clr_result upload_bounded_table(clr_sampler_device *d, int most) {
+  if (most < 1) most = 1;
+  if (most > d->bounded_count) {
+    cl_uint *t = realloc(d->bounded_host, sizeof(cl_uint) * 4 * (size_t)most);
+    if (!t) return clr_fail(d->ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_generate: out of memory");
+    d->bounded_host = t;
+    for (int b = d->bounded_count + 1; b <= most; ++b) {
+      uint32_t l = 0;
+      while (((uint64_t)1 << l) < (uint64_t)b) ++l;
+      cl_uint *k = &t[4 * (b - 1)];
+      k[0] = (uint32_t)(0u - (uint32_t)b) % (uint32_t)b;
+      k[1] = (uint32_t)(((((uint64_t)1 << l) - (uint64_t)b) << 32) / (uint64_t)b + 1u);
+      k[2] = l ? 1u : 0u;
+      k[3] = l ? l - 1u : 0u;
+    }
+    d->bounded_count = most;
+  }
+  return upload(d->ctx, &d->bounded, d->bounded_host, sizeof(cl_uint) * 4 * (size_t)most,
+                "bounded draw constants");
+}
+
 static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
                             const clr_request_slot *slots, cl_mem values) {
   clr_context ctx = d->ctx;
@@ -340,6 +367,10 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   SET_ARG(ctx, k, a++, d->slots.mem);
   SET_ARG(ctx, k, a++, values);
   SET_ARG(ctx, k, a++, d->scratch.mem);
+  if (!tiled) { /* bounds of UniformUInt32: shuffles of spp points and of array elements */
+    CLR_CHECK(upload_bounded_table(d, p->scratch_floats / 2));
+    SET_ARG(ctx, k, a++, d->bounded.mem);
+  }
   if (tiled) {
     cl_int x0 = tx0, y0 = ty0, w = wide, count = (cl_int)items;
     SET_ARG(ctx, k, a++, x0);
