@@ -12,8 +12,9 @@
  *   CLR_SOBOL_M            sobol: log2 resolution m;
  *   CLR_SOBOL_FRAME_BITS   sobol: sample numbers are below 2^it (<= 52 - 2m);
  *   CLR_SOBOL_BITS         sobol: 2m + frame bits, indices are below 2^it (<= 52);
- *   CLR_HALTON_INDEX32     halton: with CLR_INDEX32;
- *   CLR_HALTON_CHUNKS      halton: every radical inverse's argument is below chunk_base^it. */
+ *   CLR_HALTON_INDEX32     halton: with CLR_INDEX32.
+ * Halton plan entries carry in `pad` the chunks that cover the dimension's largest argument and
+ * (bit 8) whether its reversed digits fit 32 bits (host/lib/sampler_device.c). */
 #ifndef CLR_GLOBAL_SAMPLER_SIMD_H
 #define CLR_GLOBAL_SAMPLER_SIMD_H
 
@@ -21,11 +22,13 @@
 
 #define CLR_LANES 8
 
+#define CLR_SIMD_INLINE inline __attribute__((always_inline))
+
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
 
 /* (a * m) >> shift per lane, the product in 64 bits (shift >= 32 keeps it in 32). */
-inline uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
+CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
   ulong4 lo = convert_ulong4(a.lo) * (ulong)m, hi = convert_ulong4(a.hi) * (ulong)m;
   return (uint8)(convert_uint4(lo >> (ulong)shift), convert_uint4(hi >> (ulong)shift));
 }
@@ -144,11 +147,11 @@ inline float8 clr_sobol_value8(const clr_sampler_params *p, __global const uint 
 #endif
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON && defined(CLR_INDEX32)
-inline uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
+CLR_SIMD_INLINE uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
   return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
 }
 
-inline float8 clr_gather_f32(__global const float *t, uint8 i) {
+CLR_SIMD_INLINE float8 clr_gather_f32(__global const float *t, uint8 i) {
   return (float8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
 }
 
@@ -160,40 +163,58 @@ inline uint8 clr_halton_div_pow3x8(uint8 v, int n) {
   return v;
 }
 
-/* clr_scrambled_radical_inverse32, CLR_HALTON_CHUNKS chunks (the later ones of the scalar loop
- * see a == 0 and change nothing). */
+/* The lowest chunk of each lane's a (clr_scrambled_radical_inverse32's loop body): its digits
+ * permuted and reversed (`value`), base^(their count) (`scale`), their count, and a / chunk_base. */
+CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
+                                        __global const ushort *perms, uint8 a, uint8 *value,
+                                        uint8 *scale, uint8 *count) {
+  uint base = pr->base, base2 = base * base, base4 = base2 * base2;
+  uint tail_shift = pr->tail_shift;
+  uint8 t = clr_mul_shift8(a, pr->chunk_magic, 32u); /* clr_halton_mulhi32 */
+  uint8 next = (t + ((a - t) >> 1u)) >> pr->chunk_shift;
+  uint8 d = a - next * pr->chunk_base;
+  int8 top = next == 0u;
+  uint8 entry = clr_gather_u16(perms, select((uint8)pr->chunk_offset, (uint8)pr->tail_offset, top) + d);
+  *count = select((uint8)pr->chunk_digits, (entry >> tail_shift) + 1u, top);
+  *value = entry & ((1u << tail_shift) - 1u);
+  *scale = select((uint8)1u, (uint8)base, (*count & 1u) != 0u) *
+           select((uint8)1u, (uint8)base2, (*count & 2u) != 0u) *
+           select((uint8)1u, (uint8)base4, (*count & 4u) != 0u);
+  return next;
+}
+
+/* clr_scrambled_radical_inverse32 over `chunks` chunks (the scalar loop's later chunks see
+ * a == 0 and change nothing). reversed32: the host knows every reversed value is below 2^32
+ * (base^digits of the largest argument), so it is formed in 32 bits; else in 64. */
 inline float8 clr_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
-                                             __global const ushort *perms, uint8 a) {
-  uint base = pr->base, chunk_base = pr->chunk_base, chunk_digits = pr->chunk_digits;
-  uint magic = pr->chunk_magic, shift = pr->chunk_shift;
-  uint chunk_offset = pr->chunk_offset, tail_offset = pr->tail_offset;
-  uint tail_shift = pr->tail_shift, value_mask = (1u << tail_shift) - 1u;
-  uint base2 = base * base, base4 = base2 * base2;
-  ulong4 reversed_lo = (ulong4)0u, reversed_hi = (ulong4)0u; /* lanes 0-3, 4-7 */
-  uint8 digits = (uint8)0u;
-  CLR_UNROLL
-  for (int chunk = 0; chunk < CLR_HALTON_CHUNKS; ++chunk) {
-    uint8 t = clr_mul_shift8(a, magic, 32u); /* clr_halton_mulhi32 */
-    uint8 next = (t + ((a - t) >> 1u)) >> shift;
-    uint8 d = a - next * chunk_base;
-    int8 top = next == 0u;
-    uint8 entry = clr_gather_u16(perms, select((uint8)chunk_offset, (uint8)tail_offset, top) + d);
-    uint8 count = select((uint8)chunk_digits, (entry >> tail_shift) + 1u, top);
-    uint8 value = entry & value_mask;
-    uint8 scale = select((uint8)1u, (uint8)base, (count & 1u) != 0u) *
-                  select((uint8)1u, (uint8)base2, (count & 2u) != 0u) *
-                  select((uint8)1u, (uint8)base4, (count & 4u) != 0u);
-    int8 active = a != 0u;
-    reversed_lo = select(reversed_lo,
-                         reversed_lo * convert_ulong4(scale.lo) + convert_ulong4(value.lo),
-                         convert_long4(active.lo));
-    reversed_hi = select(reversed_hi,
-                         reversed_hi * convert_ulong4(scale.hi) + convert_ulong4(value.hi),
-                         convert_long4(active.hi));
-    digits += select((uint8)0u, count, active);
-    a = next;
+                                             __global const ushort *perms, uint8 a, int chunks,
+                                             int reversed32) {
+  uint8 value, scale, count, digits = (uint8)0u;
+  float8 reversed;
+  if (reversed32) {
+    uint8 r = (uint8)0u;
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      uint8 next = clr_halton_chunk8(pr, perms, a, &value, &scale, &count);
+      int8 active = a != 0u;
+      r = select(r, r * scale + value, active);
+      digits += select((uint8)0u, count, active);
+      a = next;
+    }
+    reversed = convert_float8(r);
+  } else {
+    ulong4 r_lo = (ulong4)0u, r_hi = (ulong4)0u; /* lanes 0-3, 4-7 */
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      uint8 next = clr_halton_chunk8(pr, perms, a, &value, &scale, &count);
+      int8 active = a != 0u;
+      r_lo = select(r_lo, r_lo * convert_ulong4(scale.lo) + convert_ulong4(value.lo),
+                    convert_long4(active.lo));
+      r_hi = select(r_hi, r_hi * convert_ulong4(scale.hi) + convert_ulong4(value.hi),
+                    convert_long4(active.hi));
+      digits += select((uint8)0u, count, active);
+      a = next;
+    }
+    reversed = (float8)(convert_float4(r_lo), convert_float4(r_hi));
   }
-  float8 reversed = (float8)(convert_float4(reversed_lo), convert_float4(reversed_hi));
   float8 v = clr_gather_f32(pr->inv_base_pow, digits) * (reversed + pr->scramble_tail);
   return clr_below_one8(v);
 }
@@ -224,15 +245,18 @@ inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, ui
 /* clr_halton_sampler_value for indices below 2^32. */
 inline float8 clr_halton_value8(const clr_sampler_params *p,
                                 __global const clr_halton_prime *primes,
-                                __global const ushort *perms, uint8 index, int dim) {
+                                __global const ushort *perms, uint8 index, int dim, int chunks,
+                                int reversed32) {
   uint udim = (uint)dim;
   if (udim <= 1u && p->sample_pixel_center) return (float8)0.5f;
   if (udim == 0u)
     return convert_float8(clr_reverse_bits32x8(index >> (uint)p->halton_exponent[0])) * 0x1p-32f;
   if (udim == 1u)
     return clr_scrambled_radical_inverse8(primes + CLR_HALTON_BASE3_RECORD, perms,
-                                          clr_halton_div_pow3x8(index, p->halton_exponent[1]));
-  if (udim < CLR_HALTON_PRIMES) return clr_scrambled_radical_inverse8(primes + udim, perms, index);
+                                          clr_halton_div_pow3x8(index, p->halton_exponent[1]),
+                                          chunks, reversed32);
+  if (udim < CLR_HALTON_PRIMES)
+    return clr_scrambled_radical_inverse8(primes + udim, perms, index, chunks, reversed32);
   uint lanes[CLR_LANES];
   float out[CLR_LANES];
   vstore8(index, 0, lanes);

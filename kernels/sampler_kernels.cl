@@ -16,7 +16,7 @@
 typedef __global const uint *clr_table0_t; /* generator matrices */
 typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and inverses */
 #define clr_index8(number) clr_sobol_index8(number, rel_x, rel_y, t1, t2)
-#define clr_value8(index, dim) clr_sobol_value8(&p, t0, index, dim, it.px, it.py)
+#define clr_value8(index, e) clr_sobol_value8(&p, t0, index, e.dim, it.px, it.py)
 #define clr_index1(j, number) \
   clr_sobol_sampler_index(&p, t1, t2, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_sobol_sampler_value(&p, t0, index, dim, pxs[j], pys[j])
@@ -25,7 +25,8 @@ typedef __global const clr_halton_prime *clr_table0_t; /* one record per prime *
 typedef __global const ushort *clr_table1_t;            /* permutations and chunk tables */
 typedef __global const uint *clr_table2_t;              /* unused */
 #define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number)
-#define clr_value8(index, dim) clr_halton_value8(&p, t0, t1, index, dim)
+#define clr_value8(index, e) \
+  clr_halton_value8(&p, t0, t1, index, e.dim, e.pad & 0xff, e.pad >> 8)
 #define clr_index1(j, number) clr_halton_sampler_index(&p, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_halton_sampler_value(&p, t0, t1, index, dim)
 #endif
@@ -57,7 +58,7 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
       current = e.index_slot;
       index = clr_index8(clr_sample_numbers8(it.sample, slots[current]));
     }
-    clr_store8(values, it.item, p.values_per_sample, e.value, clr_value8(index, e.dim));
+    clr_store8(values, it.item, p.values_per_sample, e.value, clr_value8(index, e));
   }
 #else
   (void)rel_x;

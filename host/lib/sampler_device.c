@@ -215,26 +215,30 @@ static int bits_for(uint64_t limit) { /* bits of the values below `limit` */
   return b;
 }
 
-/* Halton chunks (clr_scrambled_radical_inverse8) that cover every argument below `limit`. */
-static int halton_chunks(const clr_sampler_device *d, int value_count, uint64_t limit) {
+/* Halton plan entries' pad: the chunks of clr_scrambled_radical_inverse8 that cover every
+ * argument below `limit`, and (bit 8) whether base^(digits of limit - 1) <= 2^32, i.e. whether
+ * the reversed digits fit 32 bits. */
+static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t limit) {
   const clr_halton_prime *primes = clr_halton_primes();
-  int most = 1;
   for (int i = 0; i < value_count; ++i) {
     int dim = d->values[i].dim;
     if (dim < 1 || dim >= CLR_HALTON_PRIMES) continue;
-    uint64_t base = primes[dim == 1 ? CLR_HALTON_BASE3_RECORD : dim].chunk_base, reach = base;
+    const clr_halton_prime *pr = &primes[dim == 1 ? CLR_HALTON_BASE3_RECORD : dim];
+    uint64_t reach = pr->chunk_base;
     int chunks = 1;
     while (reach < limit && chunks < CLR_HALTON_MAX_CHUNKS32) {
-      reach *= base;
+      reach *= pr->chunk_base;
       ++chunks;
     }
-    if (chunks > most) most = chunks;
+    uint64_t power = 1; /* base^digits(limit - 1), stopped past 2^32 */
+    for (uint64_t rest = limit - 1; rest != 0 && power <= ((uint64_t)1 << 32); rest /= pr->base)
+      power *= pr->base;
+    d->values[i].pad = chunks | (power <= ((uint64_t)1 << 32) ? 1 << 8 : 0);
   }
-  return most;
 }
 
 /* Build defines of the global samplers (every loop's trip count); whether indices fit 32 bits. */
-static int global_defines(const clr_sampler_device *d, const clr_sampler_params *p,
+static int global_defines(clr_sampler_device *d, const clr_sampler_params *p,
                           const global_plan *g, char *out, size_t size) {
   if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
     int m = p->sobol_log2_resolution;
@@ -252,8 +256,8 @@ static int global_defines(const clr_sampler_device *d, const clr_sampler_params 
     snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
     return 0;
   }
-  snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d -DCLR_INDEX32 -DCLR_HALTON_INDEX32 "
-           "-DCLR_HALTON_CHUNKS=%d", (int)p->type, halton_chunks(d, p->values_per_sample, limit));
+  halton_value_shapes(d, p->values_per_sample, limit);
+  snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d -DCLR_INDEX32 -DCLR_HALTON_INDEX32", (int)p->type);
   return 1;
 }
 
