@@ -73,6 +73,13 @@ typedef struct clr_index_plan {
   clr_i32 scale, offset;
 } clr_index_plan;
 
+/* Sobol generator matrices regrouped for the device: per dimension, CLR_SOBOL_GROUPS groups of 3
+ * index bits, each a table of the 8 XORs of its columns (entry x: columns 3g + b over the bits b
+ * of x; columns past the 52 count as 0). Built by the host from clr_sobol_matrices32. */
+#define CLR_SOBOL_GROUPS ((CLR_SOBOL_MATRIX_SIZE + 2) / 3)
+#define CLR_SOBOL_GROUP_ENTRIES 8
+#define CLR_SOBOL_GROUP_TABLE (CLR_SOBOL_GROUPS * CLR_SOBOL_GROUP_ENTRIES)
+
 /* Constants that divide by one batch's sample count and width (clr_udiv31 magic and shift, from
  * the host's division_magic31). */
 typedef struct clr_item_divisors {

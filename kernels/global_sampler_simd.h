@@ -33,7 +33,7 @@ CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
   return (uint8)(convert_uint4(lo >> (ulong)shift), convert_uint4(hi >> (ulong)shift));
 }
 
-inline float8 clr_below_one8(float8 f) {
+CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
@@ -67,7 +67,7 @@ inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_
 }
 
 /* Writes lane j's value to values[item_j * values_per_sample + value]. */
-inline void clr_store8(__global float *values, uint8 item, int values_per_sample, int value,
+CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_per_sample, int value,
                        float8 v) {
   size_t stride = (size_t)values_per_sample, at = (size_t)value;
   values[(size_t)item.s0 * stride + at] = v.s0;
@@ -86,14 +86,6 @@ inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
 }
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL && defined(CLR_INDEX32)
-/* XOR of cols[i] over the bits i < count of each lane (clr_sobol_xor_columns32). */
-inline uint8 clr_xor_columns32x8(uint8 bits, __global const uint *cols, int count) {
-  uint8 v = (uint8)0u;
-  CLR_UNROLL
-  for (int i = 0; i < count; ++i) v ^= (uint8)cols[i] & (0u - ((bits >> (uint)i) & 1u));
-  return v;
-}
-
 /* Same over the 64-bit VdC columns (clr_sobol_xor_columns64) taken mod 2^32: AND, XOR and left
  * shifts commute with that, so the low 32 index bits are exact, and those are all the bits (the
  * columns of row m - 1 are below 2^2m, and indices below 2^32). */
@@ -119,14 +111,29 @@ inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulon
 #endif
 }
 
-/* clr_sobol_sample_float for a table dimension's columns `cols`. */
-inline float8 clr_sobol_float8(uint8 index, __global const uint *cols) {
-  return clr_below_one8(convert_float8(clr_xor_columns32x8(index, cols, CLR_SOBOL_BITS)) * 0x1p-32f);
+/* Table lookup in every lane: table[index & 7] (one vpermd on AVX2). */
+CLR_SIMD_INLINE uint8 clr_permute8(uint8 table, uint8 index) {
+#if defined(__AVX2__)
+  return as_uint8(__builtin_ia32_permvarsi256(as_int8(table), as_int8(index)));
+#else
+  return shuffle(table, index & 7u);
+#endif
+}
+
+/* clr_sobol_sample_float for a table dimension, from its 3-bit group tables `groups`
+ * (CLR_SOBOL_GROUP_ENTRIES per group: entry x of group g is the XOR of the columns 3g + b over
+ * the bits b of x), one lookup per 3 index bits. */
+CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups) {
+  uint8 v = (uint8)0u;
+  CLR_UNROLL
+  for (int g = 0; g < (CLR_SOBOL_BITS + 2) / 3; ++g)
+    v ^= clr_permute8(vload8(g, groups), index >> (uint)(3 * g));
+  return clr_below_one8(convert_float8(v) * 0x1p-32f);
 }
 
 /* clr_sobol_sampler_value: dims 0 and 1 become the offset inside the pixel; dims past the
  * tables the hash of clr_sobol_fallback_float. */
-inline float8 clr_sobol_value8(const clr_sampler_params *p, __global const uint *matrices32,
+CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global const uint *groups,
                                uint8 index, int dim, int8 px, int8 py) {
   if ((uint)dim >= CLR_SOBOL_DIMENSIONS) {
     uint lanes[CLR_LANES];
@@ -135,7 +142,7 @@ inline float8 clr_sobol_value8(const clr_sampler_params *p, __global const uint 
     for (int j = 0; j < CLR_LANES; ++j) out[j] = clr_sobol_fallback_float((ulong)lanes[j], dim);
     return vload8(0, out);
   }
-  float8 s = clr_sobol_float8(index, matrices32 + (uint)dim * CLR_SOBOL_MATRIX_SIZE);
+  float8 s = clr_sobol_float8(index, groups + (uint)dim * CLR_SOBOL_GROUP_TABLE);
   if (dim > 1) return s;
   float pmin = (float)(dim == 0 ? p->sample_x0 : p->sample_y0);
   float8 pixel = convert_float8(dim == 0 ? px : py);

@@ -13,7 +13,9 @@
 #include "global_sampler_simd.h"
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL
-typedef __global const uint *clr_table0_t; /* generator matrices */
+/* Generator matrices: with CLR_INDEX32 as 3-bit group tables (CLR_SOBOL_GROUP_TABLE per
+ * dimension), else as columns (CLR_SOBOL_MATRIX_SIZE per dimension). */
+typedef __global const uint *clr_table0_t;
 typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and inverses */
 #define clr_index8(number) clr_sobol_index8(number, rel_x, rel_y, t1, t2)
 #define clr_value8(index, e) clr_sobol_value8(&p, t0, index, e.dim, it.px, it.py)

@@ -261,20 +261,51 @@ static int global_defines(clr_sampler_device *d, const clr_sampler_params *p,
   return 1;
 }
 
+static clr_u32 sobol_groups[CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE];
+static pthread_once_t sobol_groups_once = PTHREAD_ONCE_INIT;
+
+static void build_sobol_groups(void) {
+  for (int d = 0; d < CLR_SOBOL_DIMENSIONS; ++d)
+    for (int g = 0; g < CLR_SOBOL_GROUPS; ++g)
+      for (int x = 0; x < CLR_SOBOL_GROUP_ENTRIES; ++x) {
+        clr_u32 v = 0;
+        for (int b = 0; b < 3; ++b) {
+          int column = 3 * g + b;
+          if ((x >> b & 1) && column < CLR_SOBOL_MATRIX_SIZE)
+            v ^= clr_sobol_matrices32[d * CLR_SOBOL_MATRIX_SIZE + column];
+        }
+        sobol_groups[(d * CLR_SOBOL_GROUPS + g) * CLR_SOBOL_GROUP_ENTRIES + x] = v;
+      }
+}
+
+/* The generator matrices as 3-bit group tables (CLR_SOBOL_GROUPS in global_sampler_funcs.h),
+ * built once. */
+static const clr_u32 *sobol_group_tables(void) {
+  pthread_once(&sobol_groups_once, build_sobol_groups);
+  return sobol_groups;
+}
+
 static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
                              const clr_request_slot *slots, cl_mem values, int write_indices) {
   clr_context ctx = d->ctx;
   global_plan g;
   build_global_plan(d, p, slots, &g);
   char defines[224];
-  global_defines(d, p, &g, defines, sizeof defines);
+  int index32 = global_defines(d, p, &g, defines, sizeof defines);
   size_t items = batch_items(p);
   int sobol = p->type == CLR_SAMPLER_TYPE_SOBOL;
   cl_mem tables[3] = {NULL, NULL, NULL};
   if (sobol) {
-    CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
-                                        sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE,
-                                        &tables[0]));
+    if (index32)
+      CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_groups", sobol_group_tables(),
+                                          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
+                                              CLR_SOBOL_GROUP_TABLE,
+                                          &tables[0]));
+    else
+      CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
+                                          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
+                                              CLR_SOBOL_MATRIX_SIZE,
+                                          &tables[0]));
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
                                         sizeof clr_vdc_sobol_matrices, &tables[1]));
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
