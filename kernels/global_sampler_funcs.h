@@ -63,9 +63,10 @@ CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
  * the order of a plan built on the host, grouped by index slot: slot 0 is the item's own sample,
  * the other slots the elements of arrays (sample numbers s * scale + offset). */
 
-/* One value of the sample vector: its offset in the vector, its dimension, its index slot. */
+/* One value of the sample vector: its offset in the vector, its dimension, its index slot, and
+ * per-family shape bits (halton: chunks | reversed-fits-32-bits << 8; see global_sampler_simd.h). */
 typedef struct clr_value_plan {
-  clr_i32 value, dim, index_slot, pad;
+  clr_i32 value, dim, index_slot, shape;
 } clr_value_plan;
 
 /* One index slot: the sample number of the item's sample s is s * scale + offset. */
@@ -80,8 +81,8 @@ typedef struct clr_index_plan {
 #define CLR_SOBOL_GROUP_ENTRIES 8
 #define CLR_SOBOL_GROUP_TABLE (CLR_SOBOL_GROUPS * CLR_SOBOL_GROUP_ENTRIES)
 
-/* Constants that divide by one batch's sample count and width (clr_udiv31 magic and shift, from
- * the host's division_magic31). */
+/* Constants that divide item numbers (< 2^31) by one batch's sample count and width:
+ * n / d = (n * magic) >> shift (udiv31_magic in host/lib/sampler_device.c). */
 typedef struct clr_item_divisors {
   clr_u32 sample_magic, sample_shift, width_magic, width_shift;
 } clr_item_divisors;

@@ -13,7 +13,7 @@
  *   CLR_SOBOL_FRAME_BITS   sobol: sample numbers are below 2^it (<= 52 - 2m);
  *   CLR_SOBOL_BITS         sobol: 2m + frame bits, indices are below 2^it (<= 52);
  *   CLR_HALTON_INDEX32     halton: with CLR_INDEX32.
- * Halton plan entries carry in `pad` the chunks that cover the dimension's largest argument and
+ * Halton plan entries carry in `shape` the chunks that cover the dimension's largest argument and
  * (bit 8) whether its reversed digits fit 32 bits (host/lib/sampler_device.c). */
 #ifndef CLR_GLOBAL_SAMPLER_SIMD_H
 #define CLR_GLOBAL_SAMPLER_SIMD_H
@@ -58,7 +58,7 @@ inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_
   clr_items8 it;
   uint first = (uint)get_global_id(0) * CLR_LANES;
   it.item = min(first + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u), (uint)item_count - 1u);
-  uint8 pixel = clr_mul_shift8(it.item, d->sample_magic, d->sample_shift); /* clr_udiv31 */
+  uint8 pixel = clr_mul_shift8(it.item, d->sample_magic, d->sample_shift); /* divisors */
   uint8 row = clr_mul_shift8(pixel, d->width_magic, d->width_shift);
   it.sample = (uint)p->first_sample + it.item - pixel * (uint)p->sample_count;
   it.px = p->batch_x0 + as_int8(pixel - row * (uint)p->batch_width);
@@ -193,7 +193,7 @@ CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
 /* clr_scrambled_radical_inverse32 over `chunks` chunks (the scalar loop's later chunks see
  * a == 0 and change nothing). reversed32: the host knows every reversed value is below 2^32
  * (base^digits of the largest argument), so it is formed in 32 bits; else in 64. */
-inline float8 clr_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
+CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
                                              __global const ushort *perms, uint8 a, int chunks,
                                              int reversed32) {
   uint8 value, scale, count, digits = (uint8)0u;

@@ -28,7 +28,7 @@ typedef __global const ushort *clr_table1_t;            /* permutations and chun
 typedef __global const uint *clr_table2_t;              /* unused */
 #define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number)
 #define clr_value8(index, e) \
-  clr_halton_value8(&p, t0, t1, index, e.dim, e.pad & 0xff, e.pad >> 8)
+  clr_halton_value8(&p, t0, t1, index, e.dim, e.shape & 0xff, e.shape >> 8)
 #define clr_index1(j, number) clr_halton_sampler_index(&p, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_halton_sampler_value(&p, t0, t1, index, dim)
 #endif

@@ -144,8 +144,8 @@ static size_t batch_items(const clr_sampler_params *p) {
   return (size_t)p->batch_width * (size_t)p->batch_height * (size_t)p->sample_count;
 }
 
-/* Constants of clr_udiv31 for divisor 1 <= dv < 2^31: magic = ceil(2^(31+l) / dv), l = ceil(log2 dv),
- * exact for every dividend below 2^31 (Granlund-Montgomery). */
+/* Constants of n / dv = (n * magic) >> shift for 1 <= dv < 2^31: magic = ceil(2^(31+l) / dv),
+ * l = ceil(log2 dv), shift = 31 + l; exact for every n below 2^31 (Granlund-Montgomery). */
 static void udiv31_magic(uint32_t dv, uint32_t *magic, uint32_t *shift) {
   uint32_t l = 0;
   while (((uint64_t)1 << l) < dv) ++l;
@@ -198,7 +198,7 @@ static void build_global_plan(clr_sampler_device *d, const clr_sampler_params *p
         e->value = sl->first_value + j * sl->dims + c;
         e->dim = sl->source + c;
         e->index_slot = sl->array_size ? array_slot(d, g, sl->array_size, j) : 0;
-        e->pad = 0;
+        e->shape = 0;
       }
   }
   /* Stable counting sort by slot. */
@@ -215,7 +215,7 @@ static int bits_for(uint64_t limit) { /* bits of the values below `limit` */
   return b;
 }
 
-/* Halton plan entries' pad: the chunks of clr_scrambled_radical_inverse8 that cover every
+/* Halton plan entries' shape: the chunks of clr_scrambled_radical_inverse8 that cover every
  * argument below `limit`, and (bit 8) whether base^(digits of limit - 1) <= 2^32, i.e. whether
  * the reversed digits fit 32 bits. */
 static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t limit) {
@@ -233,7 +233,7 @@ static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t
     uint64_t power = 1; /* base^digits(limit - 1), stopped past 2^32 */
     for (uint64_t rest = limit - 1; rest != 0 && power <= ((uint64_t)1 << 32); rest /= pr->base)
       power *= pr->base;
-    d->values[i].pad = chunks | (power <= ((uint64_t)1 << 32) ? 1 << 8 : 0);
+    d->values[i].shape = chunks | (power <= ((uint64_t)1 << 32) ? 1 << 8 : 0);
   }
 }
 
