@@ -59,4 +59,32 @@ CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
   }
 }
 
+/* ---- Device layout (kernels/global_sampler_simd.h): the values of a sample vector are made in
+ * the order of a plan built on the host, grouped by index slot: slot 0 is the item's own sample,
+ * the other slots the elements of arrays (sample numbers s * scale + offset). */
+
+/* One value of the sample vector: its offset in the vector, its dimension, its index slot, and
+ * per-family shape bits (halton: chunks | reversed-fits-32-bits << 8; see global_sampler_simd.h). */
+typedef struct clr_value_plan {
+  clr_i32 value, dim, index_slot, shape;
+} clr_value_plan;
+
+/* One index slot: the sample number of the item's sample s is s * scale + offset. */
+typedef struct clr_index_plan {
+  clr_i32 scale, offset;
+} clr_index_plan;
+
+/* Sobol generator matrices regrouped for the device: per dimension, CLR_SOBOL_GROUPS groups of 3
+ * index bits, each a table of the 8 XORs of its columns (entry x: columns 3g + b over the bits b
+ * of x; columns past the 52 count as 0). Built by the host from clr_sobol_matrices32. */
+#define CLR_SOBOL_GROUPS ((CLR_SOBOL_MATRIX_SIZE + 2) / 3)
+#define CLR_SOBOL_GROUP_ENTRIES 8
+#define CLR_SOBOL_GROUP_TABLE (CLR_SOBOL_GROUPS * CLR_SOBOL_GROUP_ENTRIES)
+
+/* Constants that divide item numbers (< 2^31) by one batch's sample count and width:
+ * n / d = (n * magic) >> shift (udiv31_magic in host/lib/sampler_device.c). */
+typedef struct clr_item_divisors {
+  clr_u32 sample_magic, sample_shift, width_magic, width_shift;
+} clr_item_divisors;
+
 #endif

@@ -1,46 +1,132 @@
-/* Sample-vector generation kernels for every sampler family; the same per-item functions run
- * on the host as the reference. */
+/* Sample-vector generation kernels for every sampler family; the same math runs on the host as
+ * the reference. Built per sampler with -DCLR_SAMPLER_TYPE=n (only that family's kernels) and the
+ * family's specialisation defines (see sampler_defines() in host/lib/sampler.c). */
 #include "sampler_types.h"
 #include "global_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
 
-/* One work-item per (pixel, sample) of the batch: halton, sobol. */
-__kernel void clr_generate_global(__global const clr_sampler_params *params,
-                                  __global const clr_request_slot *slots,
-                                  __global const uint *sobol32, __global const ulong *vdc,
-                                  __global const ulong *vdc_inv,
-                                  __global const clr_halton_prime *primes,
-                                  __global const ushort *perms, __global float *values,
-                                  __global ulong *indices, int item_count) {
-  int item = (int)get_global_id(0);
-  if (item >= item_count) return;
-  clr_sampler_params p = *params;
-  clr_global_sample_vector(&p, slots, sobol32, vdc, vdc_inv, primes, perms, item,
-                           values + (size_t)item * (size_t)p.values_per_sample, indices + item);
-}
+#ifndef CLR_SAMPLER_TYPE
+#define CLR_SAMPLER_TYPE CLR_SAMPLER_TYPE_SOBOL
+#endif
 
-/* One work-item per pixel of the batch, each with its own RNG stream: random, stratified. */
-__kernel void clr_generate_pixel(__global const clr_sampler_params *params,
-                                 __global const clr_request_slot *slots, __global float *values,
-                                 __global float *scratch, int pixel_count) {
-  int pixel = (int)get_global_id(0);
-  if (pixel >= pixel_count) return;
-  clr_sampler_params p = *params;
-  int px = p.batch_x0 + pixel % p.batch_width;
-  int py = p.batch_y0 + pixel / p.batch_width;
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON
+#include "global_sampler_simd.h"
+
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL
+/* Generator matrices: with CLR_INDEX32 as 3-bit group tables (CLR_SOBOL_GROUP_TABLE per
+ * dimension), else as columns (CLR_SOBOL_MATRIX_SIZE per dimension). */
+typedef __global const uint *clr_table0_t;
+typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and inverses */
+#define clr_index8(number) clr_sobol_index8(number, rel_x, rel_y, t1, t2)
+#define clr_value8(index, e) clr_sobol_value8(&p, t0, index, e.dim, it.px, it.py)
+#define clr_index1(j, number) \
+  clr_sobol_sampler_index(&p, t1, t2, pxs[j], pys[j], (long)(number))
+#define clr_value1(j, index, dim) clr_sobol_sampler_value(&p, t0, index, dim, pxs[j], pys[j])
+#else
+typedef __global const clr_halton_prime *clr_table0_t; /* one record per prime */
+typedef __global const ushort *clr_table1_t;            /* permutations and chunk tables */
+typedef __global const uint *clr_table2_t;              /* unused */
+#define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number)
+#define clr_value8(index, e) \
+  clr_halton_value8(&p, t0, t1, index, e.dim, e.shape & 0xff, e.shape >> 8)
+#define clr_index1(j, number) clr_halton_sampler_index(&p, pxs[j], pys[j], (long)(number))
+#define clr_value1(j, index, dim) clr_halton_sampler_value(&p, t0, t1, index, dim)
+#endif
+
+/* One work-item per 8 batch items: their sample vectors in plan order (grouped by index slot, so
+ * that each slot's index is computed once), and with write_indices their global indices. Without
+ * CLR_INDEX32 lane by lane with the scalar functions. */
+__kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
+                                  __global const clr_value_plan *restrict plan,
+                                  __global const clr_index_plan *restrict slots,
+                                  clr_table0_t restrict t0, clr_table1_t restrict t1,
+                                  clr_table2_t restrict t2, __global float *restrict values,
+                                  __global ulong *restrict indices_out, int write_indices,
+                                  int item_count) {
+  clr_items8 it = clr_items_of_work_item(&p, &d, item_count);
+  int8 rel_x = it.px - p.sample_x0, rel_y = it.py - p.sample_y0; /* from the sample bounds */
+#ifdef CLR_INDEX32
+  uint8 index = clr_index8(clr_sample_numbers8(it.sample, slots[0]));
+  if (write_indices) {
+    uint lanes[CLR_LANES], items[CLR_LANES];
+    vstore8(index, 0, lanes);
+    vstore8(it.item, 0, items);
+    for (int j = 0; j < CLR_LANES; ++j) indices_out[items[j]] = lanes[j];
+  }
+  int current = 0;
+  for (int k = 0; k < p.values_per_sample; ++k) {
+    clr_value_plan e = plan[k];
+    if (e.index_slot != current) {
+      current = e.index_slot;
+      index = clr_index8(clr_sample_numbers8(it.sample, slots[current]));
+    }
+    clr_store8(values, it.item, p.values_per_sample, e.value, clr_value8(index, e));
+  }
+#else
+  (void)rel_x;
+  (void)rel_y;
+  uint items[CLR_LANES], samples[CLR_LANES];
+  int pxs[CLR_LANES], pys[CLR_LANES];
+  vstore8(it.item, 0, items);
+  vstore8(it.sample, 0, samples);
+  vstore8(it.px, 0, pxs);
+  vstore8(it.py, 0, pys);
+  for (int j = 0; j < CLR_LANES; ++j) {
+    ulong index = clr_index1(j, samples[j]);
+    if (write_indices) indices_out[items[j]] = index;
+    int current = 0;
+    for (int k = 0; k < p.values_per_sample; ++k) {
+      clr_value_plan e = plan[k];
+      if (e.index_slot != current) {
+        current = e.index_slot;
+        clr_index_plan ip = slots[current];
+        index = clr_index1(j, (long)samples[j] * ip.scale + ip.offset);
+      }
+      values[(size_t)items[j] * (size_t)p.values_per_sample + (size_t)e.value] =
+          clr_value1(j, index, e.dim);
+    }
+  }
+#endif
+}
+#endif
+
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
+#include "pixel_sampler_simd.h"
+
+/* CLR_SEEDING_TYPE_PIXEL: one work-item per 8 pixels of the batch (past the end the last pixel
+ * repeats), one lane and RNG stream per pixel. */
+__kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+                                 __global float *restrict values, __global float *restrict scratch,
+                                 __global const uint4 *restrict bounded, int pixel_count) {
+  size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
-  clr_pixel_sampler_pixel(&p, slots, px, py, values + (size_t)pixel * per_pixel,
-                          scratch + (size_t)pixel * (size_t)p.scratch_floats);
+  ulong out[CLR_PIXEL_LANES], state[CLR_PIXEL_LANES], inc[CLR_PIXEL_LANES];
+  for (int j = 0; j < CLR_PIXEL_LANES; ++j) {
+    uint pixel = min((uint)(group * CLR_PIXEL_LANES) + (uint)j, (uint)pixel_count - 1u);
+    int row = (int)(pixel / (uint)p.batch_width);
+    clr_pcg32 r = clr_pixel_stream(&p, p.batch_x0 + (int)pixel - row * p.batch_width,
+                                   p.batch_y0 + row);
+    state[j] = r.state;
+    inc[j] = r.inc;
+    out[j] = (ulong)pixel * per_pixel;
+  }
+  clr_pcg32x8 rng;
+  rng.state_lo = vload4(0, state);
+  rng.state_hi = vload4(1, state);
+  rng.inc_lo = vload4(0, inc);
+  rng.inc_hi = vload4(1, inc);
+  clr_pixel_sampler_start_pixel8(&p, slots, &rng, values, out,
+                                 scratch + group * (size_t)p.scratch_floats * CLR_PIXEL_LANES,
+                                 bounded);
 }
 
-/* One work-item per pbrt-v3 16x16 tile touching the batch (pbrt-v3 seeding). */
-__kernel void clr_generate_tiles(__global const clr_sampler_params *params,
-                                 __global const clr_request_slot *slots, __global float *values,
-                                 __global float *scratch, int tile_x0, int tile_y0,
-                                 int tiles_wide, int tile_count) {
+/* CLR_SEEDING_TYPE_PBRT_V3: one work-item per pbrt-v3 16x16 tile touching the batch. */
+__kernel void clr_generate_tiles(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+                                 __global float *restrict values, __global float *restrict scratch,
+                                 int tile_x0, int tile_y0, int tiles_wide, int tile_count) {
   int t = (int)get_global_id(0);
   if (t >= tile_count) return;
-  clr_sampler_params p = *params;
   clr_pixel_sampler_tile(&p, slots, tile_x0 + t % tiles_wide, tile_y0 + t / tiles_wide, values,
                          scratch + (size_t)t * (size_t)p.scratch_floats);
 }
+#endif

@@ -210,6 +210,45 @@ static void test_past_available_dimensions(void **state) {
   }
 }
 
+/* Large global indices take the device's other paths: halton indices past 2^32 and sobol indices
+ * of more than 32 bits (lane-by-lane scalar code), and halton digits whose reversal exceeds 2^32
+ * (64-bit accumulation). Each must still match the reference bit for bit. */
+static void test_large_indices_match_reference(void **state) {
+  (void)state;
+  static clr_sample_request req[201];
+  for (int i = 0; i < 201; ++i) req[i] = (clr_sample_request){2, 0}; /* dims up to 401 */
+  static const clr_sample_request arrays[] = {{2, 0}, {1, 0}, {2, 3}, {1, 2}};
+  struct {
+    clr_sampler_type type;
+    int spp, first, count;
+    const clr_sample_request *req;
+    int nreq;
+  } cases[] = {
+      {CLR_SAMPLER_HALTON, 1 << 18, (1 << 18) - 4, 4, camera10, 6}, /* stride 31104 << 18 */
+      {CLR_SAMPLER_HALTON, 4096, 4090, 6, req, 201}, /* indices past 7919^2: 3 digits */
+      {CLR_SAMPLER_HALTON, 4096, 200, 8, arrays, 4},
+      {CLR_SAMPLER_SOBOL, 1 << 16, (1 << 16) - 5, 5, camera10, 6}, /* 20 + 16 index bits */
+      {CLR_SAMPLER_SOBOL, 1 << 16, 100, 3, arrays, 4},
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, cases[c].type);
+    d.pixel_samples = cases[c].spp;
+    d.film.x_resolution = d.film.y_resolution = 512;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    clr_bounds2i px = {300, 301, 303, 303};
+    generated dev = generate(s, px, cases[c].first, cases[c].count, cases[c].req, cases[c].nreq, 1);
+    generated ref = generate(s, px, cases[c].first, cases[c].count, cases[c].req, cases[c].nreq, 0);
+    assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
+    assert_memory_equal(dev.indices, ref.indices, dev.items * sizeof(uint64_t));
+    if (c == 0) assert_true(dev.indices[0] > UINT32_MAX);
+    free_generated(&dev);
+    free_generated(&ref);
+    clr_sampler_release(s);
+  }
+}
+
 static void test_bad_input(void **state) {
   (void)state;
   clr_sampler_desc d;
@@ -329,6 +368,7 @@ int main(void) {
       cmocka_unit_test(test_order_independence),
       cmocka_unit_test(test_stratified_device_strata),
       cmocka_unit_test(test_past_available_dimensions),
+      cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_device_buffer_output),
   };

@@ -12,6 +12,7 @@
 #include "global_sampler_funcs.h"
 #include "halton_tables.h"
 #include "pixel_sampler_funcs.h"
+#include "sampler_device.h"
 #include "sobol_tables.h"
 
 /* Upper bound on one batch: values are addressed with 32-bit item indices on the device. */
@@ -23,6 +24,7 @@ struct clr_sampler_t {
   clr_sampler_desc desc;
   clr_sampler_params base; /* everything but the batch fields */
   clr_bounds2i pixel_bounds, sample_bounds, index_bounds;
+  clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
 };
 
 static const char *const sampler_names[] = {"random", "stratified", "halton", "sobol"};
@@ -175,7 +177,14 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
                     "give at this resolution",
                     (int)desc->pixel_samples, (long long)most);
   }
-  if (ctx) clr_context_retain(ctx);
+  if (ctx) {
+    clr_result r = clr_sampler_device_create(ctx, &s->device);
+    if (r != CLR_SUCCESS) {
+      free(s);
+      return r;
+    }
+    clr_context_retain(ctx);
+  }
   s->ctx = ctx;
   *out = s;
   return CLR_SUCCESS;
@@ -187,6 +196,7 @@ void clr_sampler_retain(clr_sampler s) {
 
 void clr_sampler_release(clr_sampler s) {
   if (!s || atomic_fetch_sub(&s->refcount, 1) != 1) return;
+  clr_sampler_device_release(s->device);
   clr_context_release(s->ctx);
   free(s);
 }
@@ -414,155 +424,6 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
   return CLR_SUCCESS;
 }
 
-/* Device buffers of one generate call, released together. */
-typedef struct device_call {
-  cl_mem params, slots, values, indices, scratch;
-  cl_kernel kernel;
-} device_call;
-
-static void release_call(device_call *c) {
-  cl_mem *mems[] = {&c->params, &c->slots, &c->values, &c->indices, &c->scratch};
-  for (size_t i = 0; i < sizeof mems / sizeof mems[0]; ++i)
-    if (*mems[i]) clReleaseMemObject(*mems[i]);
-  if (c->kernel) clReleaseKernel(c->kernel);
-}
-
-static clr_result create_buffer(clr_context ctx, cl_mem_flags flags, size_t bytes, void *host,
-                                const char *what, cl_mem *out) {
-  cl_int err = CL_SUCCESS;
-  *out = clCreateBuffer(clr_context_cl_context(ctx), flags, bytes ? bytes : 4, host, &err);
-  if (err != CL_SUCCESS)
-    return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(%s, %zu bytes) failed: %s (%d)", what,
-                    bytes, clr_cl_error_name(err), (int)err);
-  return CLR_SUCCESS;
-}
-
-static clr_result global_tables(clr_context ctx, cl_mem tables[5]) {
-  size_t nperm = 0;
-  const clr_u16 *perms = clr_halton_permutations(&nperm);
-  CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
-                                      sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE,
-                                      &tables[0]));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
-                                      sizeof clr_vdc_sobol_matrices, &tables[1]));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
-                                      sizeof clr_vdc_sobol_matrices_inv, &tables[2]));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
-                                      sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS, &tables[3]));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_perms", perms, sizeof(clr_u16) * nperm,
-                                      &tables[4]));
-  return CLR_SUCCESS;
-}
-
-#define SET_ARG(ctx, k, i, v) CLR_CL_CHECK(ctx, clSetKernelArg(k, i, sizeof(v), &(v)))
-
-static clr_result launch(clr_context ctx, cl_kernel k, size_t items, const char *name) {
-  size_t local = 64;
-  size_t global = (items + local - 1) / local * local;
-  cl_int err = clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, &local, 0,
-                                      NULL, NULL);
-  if (err != CL_SUCCESS)
-    return clr_fail(ctx, CLR_ERROR_OPENCL, "clEnqueueNDRangeKernel(%s, %zu items) failed: %s (%d)",
-                    name, items, clr_cl_error_name(err), (int)err);
-  return CLR_SUCCESS;
-}
-
-static void sampler_defines(const clr_sampler_params *p, char *out, size_t size) {
-  snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
-}
-
-static clr_result run_global(clr_sampler s, const clr_sampler_params *p, device_call *c) {
-  cl_mem tables[5];
-  CLR_CHECK(global_tables(s->ctx, tables));
-  char defines[64];
-  sampler_defines(p, defines, sizeof defines);
-  CLR_CHECK(clr_context_kernel(s->ctx, "sampler_kernels.cl", defines, "clr_generate_global",
-                               &c->kernel));
-  size_t items = batch_items(p);
-  CLR_CHECK(create_buffer(s->ctx, CL_MEM_WRITE_ONLY, items * sizeof(cl_ulong), NULL, "indices",
-                          &c->indices));
-  cl_int count = (cl_int)items;
-  SET_ARG(s->ctx, c->kernel, 0, c->params);
-  SET_ARG(s->ctx, c->kernel, 1, c->slots);
-  for (int i = 0; i < 5; ++i) SET_ARG(s->ctx, c->kernel, 2 + i, tables[i]);
-  SET_ARG(s->ctx, c->kernel, 7, c->values);
-  SET_ARG(s->ctx, c->kernel, 8, c->indices);
-  SET_ARG(s->ctx, c->kernel, 9, count);
-  return launch(s->ctx, c->kernel, items, "clr_generate_global");
-}
-
-static clr_result run_pixel(clr_sampler s, const clr_sampler_params *p, device_call *c) {
-  char defines[64];
-  sampler_defines(p, defines, sizeof defines);
-  int tiled = p->seeding == CLR_SEEDING_TYPE_PBRT_V3;
-  CLR_CHECK(clr_context_kernel(s->ctx, "sampler_kernels.cl", defines,
-                               tiled ? "clr_generate_tiles" : "clr_generate_pixel", &c->kernel));
-  int tx0 = 0, ty0 = 0, wide = 0, high = 0;
-  size_t items = tiled ? (size_t)pbrt_tiles(p, &tx0, &ty0, &wide, &high)
-                       : (size_t)p->batch_width * (size_t)p->batch_height;
-  CLR_CHECK(create_buffer(s->ctx, CL_MEM_READ_WRITE, items * (size_t)p->scratch_floats * 4,
-                          NULL, "sampler scratch", &c->scratch));
-  cl_int count = (cl_int)items;
-  SET_ARG(s->ctx, c->kernel, 0, c->params);
-  SET_ARG(s->ctx, c->kernel, 1, c->slots);
-  SET_ARG(s->ctx, c->kernel, 2, c->values);
-  SET_ARG(s->ctx, c->kernel, 3, c->scratch);
-  if (tiled) {
-    cl_int a = tx0, b = ty0, w = wide;
-    SET_ARG(s->ctx, c->kernel, 4, a);
-    SET_ARG(s->ctx, c->kernel, 5, b);
-    SET_ARG(s->ctx, c->kernel, 6, w);
-    SET_ARG(s->ctx, c->kernel, 7, count);
-  } else {
-    SET_ARG(s->ctx, c->kernel, 4, count);
-  }
-  return launch(s->ctx, c->kernel, items, tiled ? "clr_generate_tiles" : "clr_generate_pixel");
-}
-
-static clr_result generate_on_device(clr_sampler s, const clr_sampler_params *p,
-                                     const clr_request_slot *slots, const clr_sample_output *out,
-                                     device_call *c) {
-  clr_context ctx = s->ctx;
-  size_t value_bytes = batch_items(p) * (size_t)p->values_per_sample * sizeof(float);
-  CLR_CHECK(create_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof *p, (void *)p,
-                          "sampler params", &c->params));
-  CLR_CHECK(create_buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          sizeof(clr_request_slot) * (size_t)p->request_count, (void *)slots,
-                          "request slots", &c->slots));
-  if (out->device_values) {
-    size_t have = 0;
-    CLR_CL_CHECK(ctx, clGetMemObjectInfo(out->device_values, CL_MEM_SIZE, sizeof have, &have, NULL));
-    if (have < value_bytes)
-      return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
-                      "clr_sampler_generate: device_values holds %zu bytes, the batch needs %zu",
-                      have, value_bytes);
-    CLR_CL_CHECK(ctx, clRetainMemObject(out->device_values));
-    c->values = out->device_values;
-  } else {
-    CLR_CHECK(create_buffer(ctx, CL_MEM_WRITE_ONLY, value_bytes, NULL, "sample values",
-                            &c->values));
-  }
-  if (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL)
-    CLR_CHECK(run_global(s, p, c));
-  else
-    CLR_CHECK(run_pixel(s, p, c));
-  cl_command_queue q = clr_context_cl_queue(ctx);
-  if (out->host_values)
-    CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, c->values, CL_TRUE, 0, value_bytes, out->host_values,
-                                          0, NULL, NULL));
-  if (out->host_indices) {
-    size_t n = batch_items(p);
-    if (c->indices) {
-      CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, c->indices, CL_TRUE, 0, n * sizeof(cl_ulong),
-                                            out->host_indices, 0, NULL, NULL));
-    } else {
-      for (size_t i = 0; i < n; ++i) out->host_indices[i] = UINT64_MAX;
-    }
-  }
-  CLR_CL_CHECK(ctx, clFinish(q));
-  return CLR_SUCCESS;
-}
-
 clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
                                 const clr_sample_output *out) {
   clr_clear_error();
@@ -580,9 +441,5 @@ clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
   clr_sampler_params p;
   clr_request_slot slots[CLR_MAX_REQUESTS];
   CLR_CHECK(prepare_batch(s, batch, &p, slots));
-  device_call call;
-  memset(&call, 0, sizeof call);
-  clr_result r = generate_on_device(s, &p, slots, out, &call);
-  release_call(&call);
-  return r;
+  return clr_sampler_device_generate(s->device, &p, slots, out);
 }

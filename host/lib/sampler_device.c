@@ -1,0 +1,477 @@
+/* Device side of clr_sampler_generate: kernels specialised per sampler with -D and cached with the
+ * small buffers they use, the global samplers' split index/value passes, the pixel samplers'
+ * per-pixel and per-tile launches. */
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "clr_internal.h"
+#include "global_sampler_funcs.h"
+#include "halton_tables.h"
+#include "pixel_sampler_funcs.h"
+#include "sampler_device.h"
+#include "sobol_tables.h"
+
+#define MAX_KERNELS 24
+/* Work-items per work-group. */
+#define GROUP_SIZE 64
+/* Batch items per work-item of the global samplers (CLR_LANES in global_sampler_simd.h). */
+#define CLR_GLOBAL_LANES 8
+/* Pixels per work-item of the pixel samplers with per-pixel seeding (CLR_PIXEL_LANES in
+ * pixel_sampler_simd.h). */
+#define CLR_PIXEL_LANES 8
+
+typedef struct cached_kernel {
+  char name[48];
+  char defines[224];
+  cl_kernel kernel;
+} cached_kernel;
+
+/* A device buffer that is reused and grows on demand. */
+typedef struct grow_buffer {
+  cl_mem mem;
+  size_t bytes;
+} grow_buffer;
+
+struct clr_sampler_device {
+  clr_context ctx;
+  pthread_mutex_t lock;
+  cached_kernel kernels[MAX_KERNELS];
+  int kernel_count;
+  grow_buffer plan, index_plan, indices, scratch, slots, bounded;
+  cl_uint *bounded_host; /* 4 per bound b = 1..bounded_count (clr_pcg32x8_bounded) */
+  int bounded_count;
+  /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
+  clr_value_plan values[CLR_MAX_VALUES_PER_SAMPLE], scratch_plan[CLR_MAX_VALUES_PER_SAMPLE];
+  clr_index_plan index_slots[CLR_MAX_VALUES_PER_SAMPLE + 1];
+  int slot_first[CLR_MAX_VALUES_PER_SAMPLE + 2];
+  clr_request_slot slots_copy[CLR_MAX_REQUESTS];
+};
+
+clr_result clr_sampler_device_create(clr_context ctx, clr_sampler_device **out) {
+  clr_sampler_device *d = calloc(1, sizeof *d);
+  if (!d) return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_create: out of memory");
+  if (pthread_mutex_init(&d->lock, NULL) != 0) {
+    free(d);
+    return clr_fail(ctx, CLR_ERROR_INTERNAL, "clr_sampler_create: pthread_mutex_init failed");
+  }
+  d->ctx = ctx;
+  *out = d;
+  return CLR_SUCCESS;
+}
+
+static void release_kernels(clr_sampler_device *d) {
+  for (int i = 0; i < d->kernel_count; ++i) clReleaseKernel(d->kernels[i].kernel);
+  d->kernel_count = 0;
+}
+
+void clr_sampler_device_release(clr_sampler_device *d) {
+  if (!d) return;
+  release_kernels(d);
+  grow_buffer *buffers[] = {&d->plan, &d->index_plan, &d->indices, &d->scratch, &d->slots,
+                            &d->bounded};
+  for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
+    if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
+  pthread_mutex_destroy(&d->lock);
+  free(d->bounded_host);
+  free(d);
+}
+
+/* The kernel `name` of sampler_kernels.cl built with `defines`, created once per sampler. */
+static clr_result get_kernel(clr_sampler_device *d, const char *name, const char *defines,
+                             cl_kernel *out) {
+  for (int i = 0; i < d->kernel_count; ++i)
+    if (strcmp(d->kernels[i].name, name) == 0 && strcmp(d->kernels[i].defines, defines) == 0) {
+      *out = d->kernels[i].kernel;
+      return CLR_SUCCESS;
+    }
+  if (strlen(name) >= sizeof d->kernels[0].name || strlen(defines) >= sizeof d->kernels[0].defines)
+    return clr_fail(d->ctx, CLR_ERROR_INTERNAL, "sampler kernel %s: defines \"%s\" too long", name,
+                    defines);
+  if (d->kernel_count == MAX_KERNELS) release_kernels(d);
+  CLR_CHECK(clr_context_kernel(d->ctx, "sampler_kernels.cl", defines, name, out));
+  cached_kernel *c = &d->kernels[d->kernel_count++];
+  snprintf(c->name, sizeof c->name, "%s", name);
+  snprintf(c->defines, sizeof c->defines, "%s", defines);
+  c->kernel = *out;
+  return CLR_SUCCESS;
+}
+
+/* Makes b hold at least `bytes`, keeping it when it already does. */
+static clr_result grow(clr_context ctx, grow_buffer *b, size_t bytes, cl_mem_flags flags,
+                       const char *what) {
+  if (bytes == 0) bytes = 4;
+  if (b->mem && b->bytes >= bytes) return CLR_SUCCESS;
+  if (b->mem) clReleaseMemObject(b->mem);
+  b->mem = NULL;
+  b->bytes = 0;
+  cl_int err = CL_SUCCESS;
+  b->mem = clCreateBuffer(clr_context_cl_context(ctx), flags, bytes, NULL, &err);
+  if (err != CL_SUCCESS) {
+    b->mem = NULL;
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(%s, %zu bytes) failed: %s (%d)", what,
+                    bytes, clr_cl_error_name(err), (int)err);
+  }
+  b->bytes = bytes;
+  return CLR_SUCCESS;
+}
+
+/* Copies host data (alive until the call's end) into b, growing it first. */
+static clr_result upload(clr_context ctx, grow_buffer *b, const void *data, size_t bytes,
+                         const char *what) {
+  CLR_CHECK(grow(ctx, b, bytes, CL_MEM_READ_ONLY, what));
+  if (bytes == 0) return CLR_SUCCESS;
+  CLR_CL_CHECK(ctx, clEnqueueWriteBuffer(clr_context_cl_queue(ctx), b->mem, CL_FALSE, 0, bytes,
+                                         data, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
+#define SET_ARG(ctx, k, i, v) CLR_CL_CHECK(ctx, clSetKernelArg(k, i, sizeof(v), &(v)))
+
+/* `items` work-items, padded to whole groups (the kernels clamp their item ids). */
+static clr_result launch(clr_context ctx, cl_kernel k, size_t items, const char *name) {
+  if (items == 0) return CLR_SUCCESS;
+  size_t local = GROUP_SIZE, global = (items + GROUP_SIZE - 1) / GROUP_SIZE * GROUP_SIZE;
+  cl_int err = clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, &local, 0,
+                                      NULL, NULL);
+  if (err != CL_SUCCESS)
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clEnqueueNDRangeKernel(%s, %zu work-items) failed: %s (%d)",
+                    name, items, clr_cl_error_name(err), (int)err);
+  return CLR_SUCCESS;
+}
+
+static size_t batch_items(const clr_sampler_params *p) {
+  return (size_t)p->batch_width * (size_t)p->batch_height * (size_t)p->sample_count;
+}
+
+/* Constants of n / dv = (n * magic) >> shift for 1 <= dv < 2^31: magic = ceil(2^(31+l) / dv),
+ * l = ceil(log2 dv), shift = 31 + l; exact for every n below 2^31 (Granlund-Montgomery). */
+static void udiv31_magic(uint32_t dv, uint32_t *magic, uint32_t *shift) {
+  uint32_t l = 0;
+  while (((uint64_t)1 << l) < dv) ++l;
+  uint64_t one = (uint64_t)1 << (31 + l);
+  *magic = (uint32_t)((one + dv - 1) / dv);
+  *shift = 31 + l;
+}
+
+static clr_item_divisors item_divisors(const clr_sampler_params *p) {
+  clr_item_divisors d;
+  udiv31_magic((uint32_t)p->sample_count, &d.sample_magic, &d.sample_shift);
+  udiv31_magic((uint32_t)p->batch_width, &d.width_magic, &d.width_shift);
+  return d;
+}
+
+typedef struct global_plan {
+  int slot_count;      /* index slots */
+  int64_t frame_limit; /* sample numbers are below it */
+} global_plan;
+
+/* Index slot of element j of an array of n (slot 0: the sample itself). Slots of one array size
+ * are shared by every array of that size. */
+static int array_slot(clr_sampler_device *d, global_plan *g, int n, int j) {
+  for (int s = 1; s < g->slot_count; ++s)
+    if (d->index_slots[s].scale == n && d->index_slots[s].offset == 0) return s + j;
+  int base = g->slot_count;
+  for (int k = 0; k < n; ++k) d->index_slots[base + k] = (clr_index_plan){n, k};
+  g->slot_count += n;
+  return base + j;
+}
+
+/* Fills d->values, every value of the sample vector sorted by index slot (kernels compute each
+ * slot's index once), and d->index_slots. */
+static void build_global_plan(clr_sampler_device *d, const clr_sampler_params *p,
+                              const clr_request_slot *slots, global_plan *g) {
+  d->index_slots[0] = (clr_index_plan){1, 0};
+  g->slot_count = 1;
+  int64_t end = (int64_t)p->first_sample + p->sample_count;
+  g->frame_limit = end;
+  clr_value_plan *unsorted = d->scratch_plan;
+  int n = 0;
+  for (int r = 0; r < p->request_count; ++r) {
+    const clr_request_slot *sl = &slots[r];
+    int elements = sl->array_size ? sl->array_size : 1;
+    if (sl->array_size && end * sl->array_size > g->frame_limit)
+      g->frame_limit = end * sl->array_size;
+    for (int j = 0; j < elements; ++j)
+      for (int c = 0; c < sl->dims; ++c) {
+        clr_value_plan *e = &unsorted[n++];
+        e->value = sl->first_value + j * sl->dims + c;
+        e->dim = sl->source + c;
+        e->index_slot = sl->array_size ? array_slot(d, g, sl->array_size, j) : 0;
+        e->shape = 0;
+      }
+  }
+  /* Stable counting sort by slot. */
+  int *first = d->slot_first;
+  memset(first, 0, sizeof(int) * (size_t)(g->slot_count + 1));
+  for (int i = 0; i < n; ++i) ++first[unsorted[i].index_slot + 1];
+  for (int s = 0; s < g->slot_count; ++s) first[s + 1] += first[s];
+  for (int i = 0; i < n; ++i) d->values[first[unsorted[i].index_slot]++] = unsorted[i];
+}
+
+static int bits_for(uint64_t limit) { /* bits of the values below `limit` */
+  int b = 0;
+  while (b < 64 && ((uint64_t)1 << b) < limit) ++b;
+  return b;
+}
+
+/* Halton plan entries' shape: the chunks of clr_scrambled_radical_inverse8 that cover every
+ * argument below `limit`, and (bit 8) whether base^(digits of limit - 1) <= 2^32, i.e. whether
+ * the reversed digits fit 32 bits. */
+static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t limit) {
+  const clr_halton_prime *primes = clr_halton_primes();
+  for (int i = 0; i < value_count; ++i) {
+    int dim = d->values[i].dim;
+    if (dim < 1 || dim >= CLR_HALTON_PRIMES) continue;
+    const clr_halton_prime *pr = &primes[dim == 1 ? CLR_HALTON_BASE3_RECORD : dim];
+    uint64_t reach = pr->chunk_base;
+    int chunks = 1;
+    while (reach < limit && chunks < CLR_HALTON_MAX_CHUNKS32) {
+      reach *= pr->chunk_base;
+      ++chunks;
+    }
+    uint64_t power = 1; /* base^digits(limit - 1), stopped past 2^32 */
+    for (uint64_t rest = limit - 1; rest != 0 && power <= ((uint64_t)1 << 32); rest /= pr->base)
+      power *= pr->base;
+    d->values[i].shape = chunks | (power <= ((uint64_t)1 << 32) ? 1 << 8 : 0);
+  }
+}
+
+/* Build defines of the global samplers (every loop's trip count); whether indices fit 32 bits. */
+static int global_defines(clr_sampler_device *d, const clr_sampler_params *p,
+                          const global_plan *g, char *out, size_t size) {
+  if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
+    int m = p->sobol_log2_resolution;
+    /* Rounded up (fewer program variants): frame bits past the limit are zero. */
+    int frame_bits = (bits_for((uint64_t)g->frame_limit) + 3) / 4 * 4;
+    if (frame_bits > CLR_SOBOL_INDEX_BITS - 2 * m) frame_bits = CLR_SOBOL_INDEX_BITS - 2 * m;
+    int bits = 2 * m + frame_bits;
+    snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d -DCLR_SOBOL_M=%d -DCLR_SOBOL_FRAME_BITS=%d "
+             "-DCLR_SOBOL_BITS=%d%s", (int)p->type, m, frame_bits, bits,
+             bits <= 32 ? " -DCLR_INDEX32" : "");
+    return bits <= 32;
+  }
+  uint64_t limit = (uint64_t)p->halton_stride * (uint64_t)g->frame_limit; /* indices below it */
+  if (limit > ((uint64_t)1 << 32)) {
+    snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
+    return 0;
+  }
+  halton_value_shapes(d, p->values_per_sample, limit);
+  snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d -DCLR_INDEX32 -DCLR_HALTON_INDEX32", (int)p->type);
+  return 1;
+}
+
+static clr_u32 sobol_groups[CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE];
+static pthread_once_t sobol_groups_once = PTHREAD_ONCE_INIT;
+
+static void build_sobol_groups(void) {
+  for (int d = 0; d < CLR_SOBOL_DIMENSIONS; ++d)
+    for (int g = 0; g < CLR_SOBOL_GROUPS; ++g)
+      for (int x = 0; x < CLR_SOBOL_GROUP_ENTRIES; ++x) {
+        clr_u32 v = 0;
+        for (int b = 0; b < 3; ++b) {
+          int column = 3 * g + b;
+          if ((x >> b & 1) && column < CLR_SOBOL_MATRIX_SIZE)
+            v ^= clr_sobol_matrices32[d * CLR_SOBOL_MATRIX_SIZE + column];
+        }
+        sobol_groups[(d * CLR_SOBOL_GROUPS + g) * CLR_SOBOL_GROUP_ENTRIES + x] = v;
+      }
+}
+
+/* The generator matrices as 3-bit group tables (CLR_SOBOL_GROUPS in global_sampler_funcs.h),
+ * built once. */
+static const clr_u32 *sobol_group_tables(void) {
+  pthread_once(&sobol_groups_once, build_sobol_groups);
+  return sobol_groups;
+}
+
+static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
+                             const clr_request_slot *slots, cl_mem values, int write_indices) {
+  clr_context ctx = d->ctx;
+  global_plan g;
+  build_global_plan(d, p, slots, &g);
+  char defines[224];
+  int index32 = global_defines(d, p, &g, defines, sizeof defines);
+  size_t items = batch_items(p);
+  int sobol = p->type == CLR_SAMPLER_TYPE_SOBOL;
+  cl_mem tables[3] = {NULL, NULL, NULL};
+  if (sobol) {
+    if (index32)
+      CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_groups", sobol_group_tables(),
+                                          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
+                                              CLR_SOBOL_GROUP_TABLE,
+                                          &tables[0]));
+    else
+      CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
+                                          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
+                                              CLR_SOBOL_MATRIX_SIZE,
+                                          &tables[0]));
+    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
+                                        sizeof clr_vdc_sobol_matrices, &tables[1]));
+    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
+                                        sizeof clr_vdc_sobol_matrices_inv, &tables[2]));
+  } else {
+    size_t nperm = 0;
+    const clr_u16 *perms = clr_halton_permutations(&nperm);
+    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+                                        sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                                        &tables[0]));
+    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_perms", perms, sizeof(clr_u16) * nperm,
+                                        &tables[1]));
+  }
+  CLR_CHECK(upload(ctx, &d->plan, d->values, sizeof(clr_value_plan) * (size_t)p->values_per_sample,
+                   "sample value plan"));
+  CLR_CHECK(upload(ctx, &d->index_plan, d->index_slots,
+                   sizeof(clr_index_plan) * (size_t)g.slot_count, "sample index plan"));
+  CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8,
+                 CL_MEM_READ_WRITE, "sample indices"));
+  const char *name = "clr_global_generate";
+  cl_kernel k;
+  CLR_CHECK(get_kernel(d, name, defines, &k));
+  clr_item_divisors div = item_divisors(p);
+  cl_int count = (cl_int)items, write = write_indices;
+  int a = 0;
+  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, div);
+  SET_ARG(ctx, k, a++, d->plan.mem);
+  SET_ARG(ctx, k, a++, d->index_plan.mem);
+  for (int t = 0; t < 3; ++t) SET_ARG(ctx, k, a++, tables[t]);
+  SET_ARG(ctx, k, a++, values);
+  SET_ARG(ctx, k, a++, d->indices.mem);
+  SET_ARG(ctx, k, a++, write);
+  SET_ARG(ctx, k, a++, count);
+  return launch(ctx, k, (items + CLR_GLOBAL_LANES - 1) / CLR_GLOBAL_LANES, name);
+}
+
+static int pbrt_tiles(const clr_sampler_params *p, int *tx0, int *ty0, int *wide, int *high) {
+  *tx0 = (p->batch_x0 - p->sample_x0) / CLR_PBRT_TILE_SIZE;
+  *ty0 = (p->batch_y0 - p->sample_y0) / CLR_PBRT_TILE_SIZE;
+  int tx1 = (p->batch_x0 + p->batch_width - 1 - p->sample_x0) / CLR_PBRT_TILE_SIZE;
+  int ty1 = (p->batch_y0 + p->batch_height - 1 - p->sample_y0) / CLR_PBRT_TILE_SIZE;
+  *wide = tx1 - *tx0 + 1;
+  *high = ty1 - *ty0 + 1;
+  return *wide * *high;
+}
+
+/* Device constants of UniformUInt32(b) for b = 1..most: the rejection threshold (-b) % b and
+ * Granlund-Montgomery's magic and shifts for v / b (exact for every 32-bit v), uploaded. */
+static clr_result upload_bounded_table(clr_sampler_device *d, int most) {
+  if (most < 1) most = 1;
+  if (most > d->bounded_count) {
+    cl_uint *t = realloc(d->bounded_host, sizeof(cl_uint) * 4 * (size_t)most);
+    if (!t) return clr_fail(d->ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_generate: out of memory");
+    d->bounded_host = t;
+    for (int b = d->bounded_count + 1; b <= most; ++b) {
+      uint32_t l = 0;
+      while (((uint64_t)1 << l) < (uint64_t)b) ++l;
+      cl_uint *k = &t[4 * (b - 1)];
+      k[0] = (uint32_t)(0u - (uint32_t)b) % (uint32_t)b;
+      k[1] = (uint32_t)(((((uint64_t)1 << l) - (uint64_t)b) << 32) / (uint64_t)b + 1u);
+      k[2] = l ? 1u : 0u;
+      k[3] = l ? l - 1u : 0u;
+    }
+    d->bounded_count = most;
+  }
+  return upload(d->ctx, &d->bounded, d->bounded_host, sizeof(cl_uint) * 4 * (size_t)most,
+                "bounded draw constants");
+}
+
+static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
+                            const clr_request_slot *slots, cl_mem values) {
+  clr_context ctx = d->ctx;
+  char defines[64];
+  snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
+  int tiled = p->seeding == CLR_SEEDING_TYPE_PBRT_V3;
+  const char *name = tiled ? "clr_generate_tiles" : "clr_pixel_generate";
+  cl_kernel k;
+  CLR_CHECK(get_kernel(d, name, defines, &k));
+  int tx0 = 0, ty0 = 0, wide = 0, high = 0;
+  size_t pixels = (size_t)p->batch_width * (size_t)p->batch_height;
+  /* Work-items: one per tile, or one per 8 pixels, each with its own scratch. */
+  size_t items = tiled ? (size_t)pbrt_tiles(p, &tx0, &ty0, &wide, &high)
+                       : (pixels + CLR_PIXEL_LANES - 1) / CLR_PIXEL_LANES;
+  size_t scratch_floats = (size_t)p->scratch_floats * (tiled ? 1 : CLR_PIXEL_LANES);
+  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
+  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
+                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  size_t padded = (items + GROUP_SIZE - 1) / GROUP_SIZE * GROUP_SIZE; /* as launch() */
+  CLR_CHECK(grow(ctx, &d->scratch, padded * scratch_floats * sizeof(float), CL_MEM_READ_WRITE,
+                 "sampler scratch"));
+  int a = 0;
+  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, d->slots.mem);
+  SET_ARG(ctx, k, a++, values);
+  SET_ARG(ctx, k, a++, d->scratch.mem);
+  if (!tiled) { /* bounds of UniformUInt32: shuffles of spp points and of array elements */
+    CLR_CHECK(upload_bounded_table(d, p->scratch_floats / 2));
+    SET_ARG(ctx, k, a++, d->bounded.mem);
+  }
+  if (tiled) {
+    cl_int x0 = tx0, y0 = ty0, w = wide, count = (cl_int)items;
+    SET_ARG(ctx, k, a++, x0);
+    SET_ARG(ctx, k, a++, y0);
+    SET_ARG(ctx, k, a++, w);
+    SET_ARG(ctx, k, a++, count);
+  } else {
+    cl_int count = (cl_int)pixels;
+    SET_ARG(ctx, k, a++, count);
+  }
+  return launch(ctx, k, items, name);
+}
+
+static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_params *p,
+                                  const clr_request_slot *slots, const clr_sample_output *out,
+                                  cl_mem *temp) {
+  clr_context ctx = d->ctx;
+  size_t items = batch_items(p);
+  size_t value_bytes = items * (size_t)p->values_per_sample * sizeof(float);
+  cl_mem values = out->device_values;
+  if (values) {
+    size_t have = 0;
+    CLR_CL_CHECK(ctx, clGetMemObjectInfo(values, CL_MEM_SIZE, sizeof have, &have, NULL));
+    if (have < value_bytes)
+      return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
+                      "clr_sampler_generate: device_values holds %zu bytes, the batch needs %zu",
+                      have, value_bytes);
+  } else {
+    cl_int err = CL_SUCCESS;
+    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY, value_bytes, NULL, &err);
+    if (err != CL_SUCCESS) {
+      *temp = NULL;
+      return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(sample values, %zu bytes) failed: %s (%d)",
+                      value_bytes, clr_cl_error_name(err), (int)err);
+    }
+    values = *temp;
+  }
+  cl_command_queue q = clr_context_cl_queue(ctx);
+  if (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL) {
+    CLR_CHECK(run_global(d, p, slots, values, out->host_indices != NULL));
+  } else {
+    CLR_CHECK(run_pixel(d, p, slots, values));
+    if (out->host_indices)
+      for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
+  }
+  if (out->host_values)
+    CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, values, CL_TRUE, 0, value_bytes, out->host_values, 0,
+                                          NULL, NULL));
+  if (out->host_indices && (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL))
+    CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, d->indices.mem, CL_TRUE, 0, items * sizeof(cl_ulong),
+                                          out->host_indices, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
+clr_result clr_sampler_device_generate(clr_sampler_device *d, const clr_sampler_params *p,
+                                       const clr_request_slot *slots,
+                                       const clr_sample_output *out) {
+  cl_mem temp = NULL;
+  pthread_mutex_lock(&d->lock);
+  clr_result r = generate_locked(d, p, slots, out, &temp);
+  /* Also after a failure: queued work may still read the plans and buffers. */
+  cl_int err = clFinish(clr_context_cl_queue(d->ctx));
+  pthread_mutex_unlock(&d->lock);
+  if (temp) clReleaseMemObject(temp);
+  if (r == CLR_SUCCESS && err != CL_SUCCESS)
+    r = clr_fail(d->ctx, CLR_ERROR_OPENCL, "clFinish failed: %s (%d)", clr_cl_error_name(err),
+                 (int)err);
+  return r;
+}

@@ -1,0 +1,276 @@
+/* Device-only, 8 items per work-item: the global samplers (halton, sobol) in OpenCL vector types,
+ * so that the code is SIMD whatever the runtime's work-item vectoriser does. Every function
+ * mirrors a scalar one of sobol_funcs.h / halton_funcs.h step for step (the host reference
+ * runs those): same integer operations, same float operations in the same order, so the bits
+ * are the same.
+ *
+ * Only for launches whose global indices are all below 2^32 (CLR_INDEX32): lanes are 32-bit, and
+ * 64-bit products are formed in halves of 4 lanes (8 x 64 bits would not fit the AVX2 ABI).
+ *
+ * Build defines (host/lib/sampler_device.c):
+ *   CLR_INDEX32            every global index of the launch is below 2^32;
+ *   CLR_SOBOL_M            sobol: log2 resolution m;
+ *   CLR_SOBOL_FRAME_BITS   sobol: sample numbers are below 2^it (<= 52 - 2m);
+ *   CLR_SOBOL_BITS         sobol: 2m + frame bits, indices are below 2^it (<= 52);
+ *   CLR_HALTON_INDEX32     halton: with CLR_INDEX32.
+ * Halton plan entries carry in `shape` the chunks that cover the dimension's largest argument and
+ * (bit 8) whether its reversed digits fit 32 bits (host/lib/sampler_device.c). */
+#ifndef CLR_GLOBAL_SAMPLER_SIMD_H
+#define CLR_GLOBAL_SAMPLER_SIMD_H
+
+#include "global_sampler_funcs.h"
+
+#define CLR_LANES 8
+
+#define CLR_SIMD_INLINE inline __attribute__((always_inline))
+
+/* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
+#define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
+
+/* (a * m) >> shift per lane, the product in 64 bits (shift >= 32 keeps it in 32). */
+CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
+  ulong4 lo = convert_ulong4(a.lo) * (ulong)m, hi = convert_ulong4(a.hi) * (ulong)m;
+  return (uint8)(convert_uint4(lo >> (ulong)shift), convert_uint4(hi >> (ulong)shift));
+}
+
+CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
+  return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
+}
+
+inline uint8 clr_reverse_bits32x8(uint8 n) {
+  n = (n << 16u) | (n >> 16u);
+  n = ((n & 0x00ff00ffu) << 8u) | ((n & 0xff00ff00u) >> 8u);
+  n = ((n & 0x0f0f0f0fu) << 4u) | ((n & 0xf0f0f0f0u) >> 4u);
+  n = ((n & 0x33333333u) << 2u) | ((n & 0xccccccccu) >> 2u);
+  n = ((n & 0x55555555u) << 1u) | ((n & 0xaaaaaaaau) >> 1u);
+  return n;
+}
+
+/* The batch items of this work-item (8 consecutive ones; past the end the last one repeats, so
+ * that padding lanes write the same value to the same place) and their pixels and samples. */
+typedef struct clr_items8 {
+  uint8 item, sample;
+  int8 px, py;
+} clr_items8;
+
+inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_item_divisors *d,
+                                         int item_count) {
+  clr_items8 it;
+  uint first = (uint)get_global_id(0) * CLR_LANES;
+  it.item = min(first + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u), (uint)item_count - 1u);
+  uint8 pixel = clr_mul_shift8(it.item, d->sample_magic, d->sample_shift); /* divisors */
+  uint8 row = clr_mul_shift8(pixel, d->width_magic, d->width_shift);
+  it.sample = (uint)p->first_sample + it.item - pixel * (uint)p->sample_count;
+  it.px = p->batch_x0 + as_int8(pixel - row * (uint)p->batch_width);
+  it.py = p->batch_y0 + as_int8(row);
+  return it;
+}
+
+/* Writes lane j's value to values[item_j * values_per_sample + value]. */
+CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_per_sample, int value,
+                       float8 v) {
+  size_t stride = (size_t)values_per_sample, at = (size_t)value;
+  values[(size_t)item.s0 * stride + at] = v.s0;
+  values[(size_t)item.s1 * stride + at] = v.s1;
+  values[(size_t)item.s2 * stride + at] = v.s2;
+  values[(size_t)item.s3 * stride + at] = v.s3;
+  values[(size_t)item.s4 * stride + at] = v.s4;
+  values[(size_t)item.s5 * stride + at] = v.s5;
+  values[(size_t)item.s6 * stride + at] = v.s6;
+  values[(size_t)item.s7 * stride + at] = v.s7;
+}
+
+/* Sample numbers s * scale + offset of an index slot. */
+inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
+  return sample * (uint)ip.scale + (uint)ip.offset;
+}
+
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL && defined(CLR_INDEX32)
+/* Same over the 64-bit VdC columns (clr_sobol_xor_columns64) taken mod 2^32: AND, XOR and left
+ * shifts commute with that, so the low 32 index bits are exact, and those are all the bits (the
+ * columns of row m - 1 are below 2^2m, and indices below 2^32). */
+inline uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *cols, int count) {
+  uint8 v = (uint8)0u;
+  CLR_UNROLL
+  for (int i = 0; i < count; ++i) v ^= (uint8)(uint)cols[i] & (0u - ((bits >> (uint)i) & 1u));
+  return v;
+}
+
+/* clr_sobol_interval_to_index for sample numbers below 2^CLR_SOBOL_FRAME_BITS: higher frame
+ * bits are zero and the pixel bits b span 2m. */
+inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulong *vdc,
+                              __global const ulong *vdc_inv) {
+#if CLR_SOBOL_M == 0
+  return frame;
+#else
+  const uint row = (CLR_SOBOL_M - 1) * CLR_SOBOL_MATRIX_SIZE;
+  uint8 delta = clr_xor_columns_low8(frame, vdc + row, CLR_SOBOL_FRAME_BITS);
+  const uint mask = (1u << CLR_SOBOL_M) - 1u;
+  uint8 b = (((as_uint8(px) & mask) << (uint)CLR_SOBOL_M) | (as_uint8(py) & mask)) ^ delta;
+  return (frame << (uint)(2 * CLR_SOBOL_M)) ^ clr_xor_columns_low8(b, vdc_inv + row, 2 * CLR_SOBOL_M);
+#endif
+}
+
+/* Table lookup in every lane: table[index & 7] (one vpermd on AVX2). */
+CLR_SIMD_INLINE uint8 clr_permute8(uint8 table, uint8 index) {
+#if defined(__AVX2__)
+  return as_uint8(__builtin_ia32_permvarsi256(as_int8(table), as_int8(index)));
+#else
+  return shuffle(table, index & 7u);
+#endif
+}
+
+/* clr_sobol_sample_float for a table dimension, from its 3-bit group tables `groups`
+ * (CLR_SOBOL_GROUP_ENTRIES per group: entry x of group g is the XOR of the columns 3g + b over
+ * the bits b of x), one lookup per 3 index bits. */
+CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups) {
+  uint8 v = (uint8)0u;
+  CLR_UNROLL
+  for (int g = 0; g < (CLR_SOBOL_BITS + 2) / 3; ++g)
+    v ^= clr_permute8(vload8(g, groups), index >> (uint)(3 * g));
+  return clr_below_one8(convert_float8(v) * 0x1p-32f);
+}
+
+/* clr_sobol_sampler_value: dims 0 and 1 become the offset inside the pixel; dims past the
+ * tables the hash of clr_sobol_fallback_float. */
+CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global const uint *groups,
+                               uint8 index, int dim, int8 px, int8 py) {
+  if ((uint)dim >= CLR_SOBOL_DIMENSIONS) {
+    uint lanes[CLR_LANES];
+    float out[CLR_LANES];
+    vstore8(index, 0, lanes);
+    for (int j = 0; j < CLR_LANES; ++j) out[j] = clr_sobol_fallback_float((ulong)lanes[j], dim);
+    return vload8(0, out);
+  }
+  float8 s = clr_sobol_float8(index, groups + (uint)dim * CLR_SOBOL_GROUP_TABLE);
+  if (dim > 1) return s;
+  float pmin = (float)(dim == 0 ? p->sample_x0 : p->sample_y0);
+  float8 pixel = convert_float8(dim == 0 ? px : py);
+  s = s * p->sobol_resolution + pmin;
+  s = s - pixel;
+  s = select(s, (float8)0.0f, s < 0.0f);
+  return select(s, (float8)CLR_ONE_MINUS_EPSILON, s > CLR_ONE_MINUS_EPSILON);
+}
+#endif
+
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON && defined(CLR_INDEX32)
+CLR_SIMD_INLINE uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
+  return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
+}
+
+CLR_SIMD_INLINE float8 clr_gather_f32(__global const float *t, uint8 i) {
+  return (float8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
+}
+
+/* v / 3^n (clr_halton_div_pow3). */
+inline uint8 clr_halton_div_pow3x8(uint8 v, int n) {
+  CLR_UNROLL
+  for (int i = 0; i < 5; ++i)
+    if (i < n) v = v / 3u;
+  return v;
+}
+
+/* The lowest chunk of each lane's a (clr_scrambled_radical_inverse32's loop body): its digits
+ * permuted and reversed (`value`), base^(their count) (`scale`), their count, and a / chunk_base. */
+CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
+                                        __global const ushort *perms, uint8 a, uint8 *value,
+                                        uint8 *scale, uint8 *count) {
+  uint base = pr->base, base2 = base * base, base4 = base2 * base2;
+  uint tail_shift = pr->tail_shift;
+  uint8 t = clr_mul_shift8(a, pr->chunk_magic, 32u); /* clr_halton_mulhi32 */
+  uint8 next = (t + ((a - t) >> 1u)) >> pr->chunk_shift;
+  uint8 d = a - next * pr->chunk_base;
+  int8 top = next == 0u;
+  uint8 entry = clr_gather_u16(perms, select((uint8)pr->chunk_offset, (uint8)pr->tail_offset, top) + d);
+  *count = select((uint8)pr->chunk_digits, (entry >> tail_shift) + 1u, top);
+  *value = entry & ((1u << tail_shift) - 1u);
+  *scale = select((uint8)1u, (uint8)base, (*count & 1u) != 0u) *
+           select((uint8)1u, (uint8)base2, (*count & 2u) != 0u) *
+           select((uint8)1u, (uint8)base4, (*count & 4u) != 0u);
+  return next;
+}
+
+/* clr_scrambled_radical_inverse32 over `chunks` chunks (the scalar loop's later chunks see
+ * a == 0 and change nothing). reversed32: the host knows every reversed value is below 2^32
+ * (base^digits of the largest argument), so it is formed in 32 bits; else in 64. */
+CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
+                                             __global const ushort *perms, uint8 a, int chunks,
+                                             int reversed32) {
+  uint8 value, scale, count, digits = (uint8)0u;
+  float8 reversed;
+  if (reversed32) {
+    uint8 r = (uint8)0u;
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      uint8 next = clr_halton_chunk8(pr, perms, a, &value, &scale, &count);
+      int8 active = a != 0u;
+      r = select(r, r * scale + value, active);
+      digits += select((uint8)0u, count, active);
+      a = next;
+    }
+    reversed = convert_float8(r);
+  } else {
+    ulong4 r_lo = (ulong4)0u, r_hi = (ulong4)0u; /* lanes 0-3, 4-7 */
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      uint8 next = clr_halton_chunk8(pr, perms, a, &value, &scale, &count);
+      int8 active = a != 0u;
+      r_lo = select(r_lo, r_lo * convert_ulong4(scale.lo) + convert_ulong4(value.lo),
+                    convert_long4(active.lo));
+      r_hi = select(r_hi, r_hi * convert_ulong4(scale.hi) + convert_ulong4(value.hi),
+                    convert_long4(active.hi));
+      digits += select((uint8)0u, count, active);
+      a = next;
+    }
+    reversed = (float8)(convert_float4(r_lo), convert_float4(r_hi));
+  }
+  float8 v = clr_gather_f32(pr->inv_base_pow, digits) * (reversed + pr->scramble_tail);
+  return clr_below_one8(v);
+}
+
+/* clr_halton_sampler_index for indices below 2^32. */
+inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number) {
+  uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
+  uint stride = (uint)p->halton_stride;
+  int exponent1 = p->halton_exponent[1];
+  uint8 mx = as_uint8(px) & (CLR_HALTON_MAX_RESOLUTION - 1u);
+  uint8 my = as_uint8(py) & (CLR_HALTON_MAX_RESOLUTION - 1u);
+  uint8 d0 = (clr_reverse_bits32x8(mx) >> (31u - (uint)p->halton_exponent[0])) >> 1u;
+  uint8 d1 = (uint8)0u;
+  CLR_UNROLL
+  for (int i = 0; i < 5; ++i) {
+    uint8 next = my / 3u;
+    if (i < exponent1) d1 = d1 * 3u + (my - next * 3u);
+    my = next;
+  }
+  uint8 x0 = (d0 * (uint)p->halton_mult_inverse[0]) & (scale0 - 1u);
+  uint8 y1 = d1 * (uint)p->halton_mult_inverse[1];
+  uint8 x1 = y1 - clr_halton_div_pow3x8(y1, exponent1) * scale1;
+  uint8 offset = x0 * scale1 + x1 * scale0;
+  offset = select(offset, offset - stride, offset >= stride);
+  return offset + number * stride;
+}
+
+/* clr_halton_sampler_value for indices below 2^32. */
+inline float8 clr_halton_value8(const clr_sampler_params *p,
+                                __global const clr_halton_prime *primes,
+                                __global const ushort *perms, uint8 index, int dim, int chunks,
+                                int reversed32) {
+  uint udim = (uint)dim;
+  if (udim <= 1u && p->sample_pixel_center) return (float8)0.5f;
+  if (udim == 0u)
+    return convert_float8(clr_reverse_bits32x8(index >> (uint)p->halton_exponent[0])) * 0x1p-32f;
+  if (udim == 1u)
+    return clr_scrambled_radical_inverse8(primes + CLR_HALTON_BASE3_RECORD, perms,
+                                          clr_halton_div_pow3x8(index, p->halton_exponent[1]),
+                                          chunks, reversed32);
+  if (udim < CLR_HALTON_PRIMES)
+    return clr_scrambled_radical_inverse8(primes + udim, perms, index, chunks, reversed32);
+  uint lanes[CLR_LANES];
+  float out[CLR_LANES];
+  vstore8(index, 0, lanes);
+  for (int j = 0; j < CLR_LANES; ++j)
+    out[j] = clr_hash_float(clr_mix64((ulong)lanes[j]) ^ (ulong)udim);
+  return vload8(0, out);
+}
+#endif
+
+#endif

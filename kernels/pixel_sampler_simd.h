@@ -1,0 +1,308 @@
+/* Device-only, 8 pixels per work-item (CLR_SEEDING_TYPE_PIXEL): the pixel samplers (stratified,
+ * random) with one PCG32 stream per lane in OpenCL vector types. Every lane runs the same
+ * sequence of operations as clr_pixel_sampler_pixel (stratified_funcs.h, random_funcs.h), which
+ * the host reference runs: same draws in the same order, same float operations, so the same bits.
+ * Lanes differ only where UniformUInt32 rejects a draw: those lanes alone draw again.
+ *
+ * Scratch: each work-item owns p->scratch_floats rows of 8 floats; row r holds float r of every
+ * lane's scratch (lane j in column j), so that rows are vectors. */
+#ifndef CLR_PIXEL_SAMPLER_SIMD_H
+#define CLR_PIXEL_SAMPLER_SIMD_H
+
+#include "pixel_sampler_funcs.h"
+
+#define CLR_PIXEL_LANES 8
+
+/* Small hot functions stay in registers only when inlined. */
+#define CLR_LANE_INLINE inline __attribute__((always_inline))
+
+/* 8 PCG32 generators, 64-bit state in two halves of 4 lanes (AVX2-sized vectors). */
+typedef struct clr_pcg32x8 {
+  ulong4 state_lo, state_hi, inc_lo, inc_hi;
+} clr_pcg32x8;
+
+CLR_LANE_INLINE float8 clr_below_one_x8(float8 f) {
+  return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
+}
+
+/* PCG32's XSH-RR output of the old states (clr_pcg32_next). */
+CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
+  uint8 xorshifted = (uint8)(convert_uint4(((lo >> (ulong)18) ^ lo) >> (ulong)27),
+                             convert_uint4(((hi >> (ulong)18) ^ hi) >> (ulong)27));
+  uint8 rot = (uint8)(convert_uint4(lo >> (ulong)59), convert_uint4(hi >> (ulong)59));
+  return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+}
+
+CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
+  ulong4 lo = r->state_lo, hi = r->state_hi;
+  r->state_lo = lo * CLR_PCG32_MULT + r->inc_lo;
+  r->state_hi = hi * CLR_PCG32_MULT + r->inc_hi;
+  return clr_pcg32x8_output(lo, hi);
+}
+
+/* Draws only in the lanes of `mask` (others keep their state; their result is meaningless). */
+CLR_LANE_INLINE uint8 clr_pcg32x8_next_masked(clr_pcg32x8 *r, int8 mask) {
+  ulong4 lo = r->state_lo, hi = r->state_hi;
+  r->state_lo = select(lo, lo * CLR_PCG32_MULT + r->inc_lo, convert_long4(mask.lo));
+  r->state_hi = select(hi, hi * CLR_PCG32_MULT + r->inc_hi, convert_long4(mask.hi));
+  return clr_pcg32x8_output(lo, hi);
+}
+
+CLR_LANE_INLINE float8 clr_pcg32x8_float(clr_pcg32x8 *r) {
+  return clr_below_one_x8(convert_float8(clr_pcg32x8_next(r)) * 0x1p-32f);
+}
+
+/* clr_pcg32_advance by the same delta in every lane. Its increment term is linear in inc, so it
+ * is formed once for inc = 1 and multiplied by each lane's inc. */
+CLR_LANE_INLINE void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
+  ulong cur_mult = CLR_PCG32_MULT, cur_plus = 1u, acc_mult = 1u, acc_plus = 0u;
+  while (delta > 0) {
+    if (delta & 1u) {
+      acc_mult *= cur_mult;
+      acc_plus = acc_plus * cur_mult + cur_plus;
+    }
+    cur_plus = (cur_mult + 1u) * cur_plus;
+    cur_mult *= cur_mult;
+    delta >>= 1u;
+  }
+  r->state_lo = acc_mult * r->state_lo + acc_plus * r->inc_lo;
+  r->state_hi = acc_mult * r->state_hi + acc_plus * r->inc_hi;
+}
+
+/* clr_pcg32_bounded(b) in every lane: rejection redraws only the rejecting lanes; v % b by
+ * Granlund-Montgomery multiplication (exact for every 32-bit v; no vector division).
+ * bounded[b - 1] = (threshold (-b) % b, magic, shift1, shift2) from the host. */
+CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const uint4 *bounded) {
+  uint4 k = bounded[b - 1u];
+  uint threshold = k.x;
+  uint8 v = clr_pcg32x8_next(r);
+  int8 rejected = v < threshold;
+  while (any(rejected)) {
+    uint8 w = clr_pcg32x8_next_masked(r, rejected);
+    v = select(v, w, rejected);
+    rejected = rejected & (v < threshold);
+  }
+  ulong4 plo = convert_ulong4(v.lo) * (ulong)k.y, phi = convert_ulong4(v.hi) * (ulong)k.y;
+  uint8 t = (uint8)(convert_uint4(plo >> (ulong)32), convert_uint4(phi >> (ulong)32));
+  uint8 q = (t + ((v - t) >> k.z)) >> k.w;
+  return v - q * b;
+}
+
+/* Scratch rows: float c of item i (of `dims` floats) is row i * dims + c. */
+CLR_LANE_INLINE uint8 clr_scratch_rows8(uint8 item, int dims, int c) {
+  return (item * (uint)dims + (uint)c) * CLR_PIXEL_LANES + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u);
+}
+
+CLR_LANE_INLINE float8 clr_gather8(__global const float *scratch, uint8 at) {
+  return (float8)(scratch[at.s0], scratch[at.s1], scratch[at.s2], scratch[at.s3], scratch[at.s4],
+                  scratch[at.s5], scratch[at.s6], scratch[at.s7]);
+}
+
+CLR_LANE_INLINE void clr_scatter8(__global float *scratch, uint8 at, float8 v) {
+  scratch[at.s0] = v.s0;
+  scratch[at.s1] = v.s1;
+  scratch[at.s2] = v.s2;
+  scratch[at.s3] = v.s3;
+  scratch[at.s4] = v.s4;
+  scratch[at.s5] = v.s5;
+  scratch[at.s6] = v.s6;
+  scratch[at.s7] = v.s7;
+}
+
+/* The lanes' pixels: values of lane j go to values[out[j] + offset]. */
+CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, size_t offset, float8 v) {
+  values[out[0] + offset] = v.s0;
+  values[out[1] + offset] = v.s1;
+  values[out[2] + offset] = v.s2;
+  values[out[3] + offset] = v.s3;
+  values[out[4] + offset] = v.s4;
+  values[out[5] + offset] = v.s5;
+  values[out[6] + offset] = v.s6;
+  values[out[7] + offset] = v.s7;
+}
+
+/* clr_shuffle of `count` items of `dims` floats in scratch. */
+inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng,
+                         __global const uint4 *bounded) {
+  for (int i = 0; i < count; ++i) {
+    uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
+    for (int c = 0; c < dims; ++c) {
+      uint8 at = clr_scratch_rows8(other, dims, c);
+      float8 t = vload8(i * dims + c, buf);
+      vstore8(clr_gather8(buf, at), i * dims + c, buf);
+      clr_scatter8(buf, at, t);
+    }
+  }
+}
+
+inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+  for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
+}
+
+/* clr_stratified_sample_1d into scratch rows 0..n-1. */
+inline void clr_stratified_sample_1d8(__global float *buf, int n, float inv_n, int jitter,
+                                      clr_pcg32x8 *rng) {
+  for (int i = 0; i < n; ++i) {
+    float8 delta = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
+    vstore8(clr_below_one_x8(((float)i + delta) * inv_n), i, buf);
+  }
+}
+
+/* clr_stratified_sample_2d into scratch rows 0..2n-1. */
+inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float inv_nx,
+                                      float inv_ny, int jitter, clr_pcg32x8 *rng) {
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      float8 jx = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
+      float8 jy = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
+      int i = 2 * (y * nx + x);
+      vstore8(clr_below_one_x8(((float)x + jx) * inv_nx), i, buf);
+      vstore8(clr_below_one_x8(((float)y + jy) * inv_ny), i + 1, buf);
+    }
+}
+
+/* clr_latin_hypercube_2d into scratch rows 0..2n-1. */
+inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr_pcg32x8 *rng,
+                                    __global const uint4 *bounded) {
+  for (int i = 0; i < 2 * n; ++i)
+    vstore8(clr_below_one_x8(((float)(i >> 1) + clr_pcg32x8_float(rng)) * inv_n), i, buf);
+  for (int c = 0; c < 2; ++c)
+    for (int j = 0; j < n; ++j) {
+      uint8 other = (uint)j + clr_pcg32x8_bounded(rng, (uint)(n - j), bounded);
+      uint8 at = clr_scratch_rows8(other, 2, c);
+      float8 t = vload8(2 * j + c, buf);
+      vstore8(clr_gather8(buf, at), 2 * j + c, buf);
+      clr_scatter8(buf, at, t);
+    }
+}
+
+inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+  clr_pcg32x8_advance(rng, 2u * (ulong)n);
+  clr_shuffle_draws8(n, rng, bounded);
+  clr_shuffle_draws8(n, rng, bounded);
+}
+
+/* clr_stratified_streams: a used stream's points go straight from scratch to every slot fed. */
+inline void clr_stratified_streams8(const clr_sampler_params *p, __global const clr_request_slot *slots,
+                                    int dims, clr_pcg32x8 *rng, __global float *values,
+                                    const ulong *out, __global float *buf,
+                                    __global const uint4 *bounded) {
+  int n = p->x_samples * p->y_samples;
+  for (int d = 0; d < p->dimensions; ++d) {
+    if (!clr_slots_use(p, slots, dims, 0, d)) {
+      if (p->jitter) clr_pcg32x8_advance(rng, (ulong)n * (ulong)dims);
+      clr_shuffle_draws8(n, rng, bounded);
+      continue;
+    }
+    if (dims == 1)
+      clr_stratified_sample_1d8(buf, n, p->inv_spp, p->jitter, rng);
+    else
+      clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples,
+                                p->inv_y_samples, p->jitter, rng);
+    clr_shuffle8(buf, n, dims, rng, bounded);
+    for (int k = 0; k < p->request_count; ++k) {
+      if (!clr_slot_is(&slots[k], dims, 0, d)) continue;
+      for (int s = 0; s < p->sample_count; ++s)
+        for (int c = 0; c < dims; ++c)
+          clr_store_lanes8(values, out,
+                           (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c),
+                           vload8((p->first_sample + s) * dims + c, buf));
+    }
+  }
+}
+
+/* clr_stratified_arrays. */
+inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const clr_request_slot *slots,
+                                   int dims, clr_pcg32x8 *rng, __global float *values,
+                                   const ulong *out, __global float *buf,
+                                   __global const uint4 *bounded) {
+  int arrays = clr_slots_array_count(p, slots, dims);
+  for (int a = 0; a < arrays; ++a) {
+    int size = clr_slots_array_size(p, slots, dims, a);
+    float inv_size = 0.0f;
+    for (int k = 0; k < p->request_count; ++k)
+      if (clr_slot_is(&slots[k], dims, 1, a)) inv_size = slots[k].inv_array_size;
+    int used = clr_slots_use(p, slots, dims, 1, a);
+    for (int j = 0; j < p->spp; ++j) {
+      int s = j - p->first_sample;
+      if (used && s >= 0 && s < p->sample_count) {
+        if (dims == 1) {
+          clr_stratified_sample_1d8(buf, size, inv_size, p->jitter, rng);
+          clr_shuffle8(buf, size, 1, rng, bounded);
+        } else {
+          clr_latin_hypercube_2d8(buf, size, inv_size, rng, bounded);
+        }
+        for (int k = 0; k < p->request_count; ++k) {
+          if (!clr_slot_is(&slots[k], dims, 1, a)) continue;
+          size_t at = (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value;
+          for (int v = 0; v < size * dims; ++v)
+            clr_store_lanes8(values, out, at + (size_t)v, vload8(v, buf));
+        }
+      } else if (dims == 1) {
+        if (p->jitter) clr_pcg32x8_advance(rng, (ulong)size);
+        clr_shuffle_draws8(size, rng, bounded);
+      } else {
+        clr_latin_hypercube_2d_draws8(size, rng, bounded);
+      }
+    }
+  }
+}
+
+/* clr_pixel_store_fallbacks: the single values past the streams, drawn in order (their
+ * rng_offsets number the fallback_draws_per_sample draws of a sample in slot order). */
+inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
+                                       __global const clr_request_slot *slots, clr_pcg32x8 rng,
+                                       __global float *values, const ulong *out) {
+  if (p->fallback_draws_per_sample == 0) return;
+  clr_pcg32x8_advance(&rng, (ulong)p->first_sample * (ulong)p->fallback_draws_per_sample);
+  for (int s = 0; s < p->sample_count; ++s) {
+    size_t sample = (size_t)s * (size_t)p->values_per_sample;
+    for (int k = 0; k < p->request_count; ++k) {
+      if (slots[k].array_size != 0 || slots[k].source >= 0) continue;
+      for (int c = 0; c < slots[k].dims; ++c)
+        clr_store_lanes8(values, out, sample + (size_t)(slots[k].first_value + c),
+                         clr_pcg32x8_float(&rng));
+    }
+  }
+}
+
+/* clr_random_array. */
+inline void clr_random_array8(const clr_sampler_params *p, __global const clr_request_slot *slots,
+                              int dims, int source, clr_pcg32x8 *rng, __global float *values,
+                              const ulong *out) {
+  int size = clr_slots_array_size(p, slots, dims, source);
+  ulong draws_per_sample = (ulong)size * (ulong)dims;
+  for (int k = 0; k < p->request_count; ++k) {
+    if (!clr_slot_is(&slots[k], dims, 1, source)) continue;
+    clr_pcg32x8 r = *rng;
+    clr_pcg32x8_advance(&r, (ulong)p->first_sample * draws_per_sample);
+    for (int s = 0; s < p->sample_count; ++s) {
+      size_t at = (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value;
+      for (int v = 0; v < size * dims; ++v)
+        clr_store_lanes8(values, out, at + (size_t)v, clr_pcg32x8_float(&r));
+    }
+  }
+  clr_pcg32x8_advance(rng, (ulong)p->spp * draws_per_sample);
+}
+
+/* StartPixel of p->type for the 8 lanes, then the fallback values. */
+inline void clr_pixel_sampler_start_pixel8(const clr_sampler_params *p,
+                                           __global const clr_request_slot *slots,
+                                           clr_pcg32x8 *rng, __global float *values,
+                                           const ulong *out, __global float *buf,
+                                           __global const uint4 *bounded) {
+  if (p->type == CLR_SAMPLER_TYPE_STRATIFIED) {
+    clr_stratified_streams8(p, slots, 1, rng, values, out, buf, bounded);
+    clr_stratified_streams8(p, slots, 2, rng, values, out, buf, bounded);
+    clr_stratified_arrays8(p, slots, 1, rng, values, out, buf, bounded);
+    clr_stratified_arrays8(p, slots, 2, rng, values, out, buf, bounded);
+  } else {
+    for (int dims = 1; dims <= 2; ++dims) {
+      int arrays = clr_slots_array_count(p, slots, dims);
+      for (int a = 0; a < arrays; ++a) clr_random_array8(p, slots, dims, a, rng, values, out);
+    }
+  }
+  clr_pixel_store_fallbacks8(p, slots, *rng, values, out);
+}
+
+#endif
