@@ -176,6 +176,7 @@ static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_
   int32_t oy1 = by1 + ky < p->pixel_y1 ? by1 + ky : p->pixel_y1;
   g->out_w = ox1 - g->out_x0;
   g->out_h = oy1 - g->out_y0;
+  g->weighed_floats = (CLR_FILM_WEIGHED_HEAD + kx + ky + 3) / 4 * 4;
   return binned;
 }
 
@@ -250,10 +251,11 @@ static clr_result ensure_buffer(clr_film film, cl_mem *buf, size_t *have, size_t
 static clr_result upload_table(clr_film film) {
   clr_film_device *d = &film->dev;
   size_t have = 0;
-  CLR_CHECK(ensure_buffer(film, &d->table, &have, sizeof film->table, CL_MEM_READ_ONLY,
-                          "filter table"));
+  CLR_CHECK(ensure_buffer(film, &d->table, &have, sizeof film->factors, CL_MEM_READ_ONLY,
+                          "filter table factors"));
   CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->table, CL_TRUE,
-                                               0, sizeof film->table, film->table, 0, NULL, NULL));
+                                               0, sizeof film->factors, film->factors, 0, NULL,
+                                               NULL));
   return CLR_SUCCESS;
 }
 
@@ -275,11 +277,15 @@ static clr_result ensure_kernel(clr_film film) {
   size_t g = 8; /* work-items (runs of pixels) per group */
   if (g > kmax) g = kmax;
   if (g > dmax) g = dmax;
-  clr_result r = d->table ? CLR_SUCCESS : upload_table(film);
+  cl_kernel weigh = NULL;
+  clr_result r = clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_weigh", &weigh);
+  if (r == CLR_SUCCESS && !d->table) r = upload_table(film);
   if (r != CLR_SUCCESS) {
+    if (weigh) clReleaseKernel(weigh);
     clReleaseKernel(k);
     return r;
   }
+  d->weigh = weigh;
   d->kernel = k;
   d->group_size = g ? g : 1;
   return CLR_SUCCESS;
@@ -308,6 +314,26 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   return CLR_SUCCESS;
 }
 
+/* Runs the weigh kernel over the chunk's binned samples. */
+static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
+  clr_film_device *d = &film->dev;
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  size_t bytes = binned * (size_t)g->weighed_floats * sizeof(float);
+  CLR_CHECK(ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE,
+                          "weighed"));
+  cl_kernel k = d->weigh;
+  cl_uint n = (cl_uint)binned;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->filter, &film->filter));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->table));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->binned));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof n, &n));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weighed));
+  size_t local = 64, global = (binned + local - 1) / local * local;
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
 /* Runs the gather over the grid's output region and adds its sums into the film. */
 static clr_result gather(clr_film film, const clr_film_grid *g) {
   clr_film_device *d = &film->dev;
@@ -317,12 +343,10 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   CLR_CHECK(ensure_buffer(film, &d->sums, &d->sums_bytes, bytes, CL_MEM_WRITE_ONLY, "sums"));
   cl_kernel k = d->kernel;
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof film->filter, &film->filter));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof *g, g));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->table));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->binned));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->starts));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 6, sizeof(cl_mem), &d->sums));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->weighed));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->sums));
   size_t tile = (size_t)film->params.tile_size;
   size_t runs = ((size_t)g->out_w + tile - 1) / tile;
   size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
@@ -344,6 +368,7 @@ static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_
   CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
   CLR_CHECK(upload_bins(film, &set, &g, binned));
+  CLR_CHECK(weigh(film, &g, binned));
   return gather(film, &g);
 }
 
@@ -437,7 +462,7 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x) {
         size_t pix = (size_t)(y - g.out_y0) * (size_t)g.out_w + (size_t)(x - g.out_x0);
-        clr_film_accumulate(&film->filter, film->table, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
+        clr_film_accumulate(&film->filter, film->factors, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
       }
   }
   clr_bounds2i block = {g.out_x0, g.out_y0, g.out_x0 + g.out_w, g.out_y0 + g.out_h};
@@ -471,7 +496,7 @@ size_t clr_film_peak_memory_bytes(clr_film film) {
   const clr_film_device *d = &film->dev;
   const clr_film_bins *b = &film->bins;
   size_t bytes = film->pixel_count * 7 * sizeof(double) + sizeof film->table;
-  bytes += d->binned_bytes + d->starts_bytes + d->sums_bytes;
+  bytes += d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
   bytes += b->keys_cap * sizeof *b->keys + (b->starts_cap + b->cursor_cap) * sizeof(uint32_t) +
            b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
   return bytes;
@@ -479,10 +504,11 @@ size_t clr_film_peak_memory_bytes(clr_film film) {
 
 void clr_film_accumulate_release(clr_film film) {
   clr_film_device *d = &film->dev;
-  cl_mem *bufs[] = {&d->table, &d->binned, &d->starts, &d->sums};
+  cl_mem *bufs[] = {&d->table, &d->binned, &d->weighed, &d->starts, &d->sums};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; ++i)
     if (*bufs[i]) clReleaseMemObject(*bufs[i]);
   if (d->kernel) clReleaseKernel(d->kernel);
+  if (d->weigh) clReleaseKernel(d->weigh);
   clr_film_bins *b = &film->bins;
   free(b->keys);
   free(b->starts);

@@ -9,13 +9,14 @@
 #include "film_types.h"
 #include "filter_types.h"
 
-/* Device resources of the gather kernel, grown on demand (guarded by the film's lock). */
+/* Device resources of the weigh and gather kernels, grown on demand (guarded by the film's
+ * lock). */
 typedef struct clr_film_device {
-  cl_kernel kernel;
+  cl_kernel kernel, weigh;
   size_t group_size; /* automatic work-group size (runs of pixels) */
-  cl_mem table;      /* filter table, CLR_FILTER_TABLE_SIZE^2 floats */
-  cl_mem binned, starts, sums;
-  size_t binned_bytes, starts_bytes, sums_bytes;
+  cl_mem table;      /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
+  cl_mem binned, weighed, starts, sums;
+  size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
 
 /* Threads of the host binning (a chunk is split into this many consecutive parts). */
@@ -36,7 +37,8 @@ struct clr_film_t {
   clr_context ctx;
   clr_film_params params;
   clr_filter_params filter;
-  float table[CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE];
+  float table[CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE]; /* pbrt's 16x16 table */
+  float factors[2 * CLR_FILTER_TABLE_SIZE]; /* its separable factors: 16 x, then 16 y */
   float scale;
   clr_film_desc desc; /* as created */
   int32_t width, height; /* of the pixel bounds */
