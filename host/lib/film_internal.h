@@ -22,14 +22,17 @@ typedef struct clr_film_device {
 /* Threads of the host binning (a chunk is split into this many consecutive parts). */
 #define CLR_FILM_BIN_THREADS 2
 
-/* Host scratch of the binning (a stable counting sort), grown on demand. */
+/* Host scratch of the binning (stable counting sorts by bin row, then by bin column), grown on
+ * demand. */
 typedef struct clr_film_bins {
-  uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from key_x0/key_y0), or none */
-  uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
-  uint32_t *cursor; /* per part and bin: fill position */
-  float *binned;    /* host copy of the binned samples (reference path) */
-  float *sums;      /* host per-pixel sums (reference path) */
-  size_t keys_cap, starts_cap, cursor_cap, binned_cap, sums_cap;
+  uint32_t *keys;    /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
+  uint32_t *starts;  /* per bin: first binned sample (+ one past the end) */
+  uint32_t *cursor;  /* per part and bin row: count, then fill position */
+  struct row_entry *rowed; /* binned samples sorted by bin row only, with their bin column */
+  uint32_t *columns; /* per part and bin column: fill position of the row sort */
+  float *binned;     /* host copy of the binned samples (reference path) */
+  float *sums;       /* host per-pixel sums (reference path) */
+  size_t keys_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
