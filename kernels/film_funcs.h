@@ -58,8 +58,9 @@ CLR_INLINE clr_i32 clr_film_prepare(const clr_film_params *fp, const clr_filter_
 
 /* One separable factor of the film's filter weight: the x (axis 0) or y (axis 1) factor for
  * pixel coordinate p of a sample at d. factors: the 2 x 16 table factors (table mode). */
-CLR_INLINE float clr_film_filter_factor(const clr_filter_params *f, CLR_GLOBAL const float *factors,
-                                        clr_i32 axis, float d, clr_i32 p) {
+CLR_ALWAYS_INLINE float clr_film_filter_factor(const clr_filter_params *f,
+                                               CLR_GLOBAL const float *factors, clr_i32 axis,
+                                               float d, clr_i32 p) {
   return clr_filter_eval_1d(f, axis, (float)p - d, factors);
 }
 

@@ -133,8 +133,8 @@ CLR_INLINE float clr_blackman_harris_1d(float u) {
 }
 
 /* One factor of the separable filter at a = |x| <= radius. */
-CLR_INLINE float clr_filter_1d(const clr_filter_params *f, float a, float radius, float inv_radius,
-                               float exp_edge) {
+CLR_ALWAYS_INLINE float clr_filter_1d(const clr_filter_params *f, float a, float radius,
+                                      float inv_radius, float exp_edge) {
   switch (f->type) {
   case CLR_FILTER_TYPE_BOX:
     return 1.0f;
@@ -195,7 +195,7 @@ CLR_INLINE float clr_filter_table_factor(const clr_filter_params *f, clr_i32 axi
  * filter and mode clr_filter_eval(f, x, y, table) ==
  * clr_flush_subnormal(clr_filter_eval_1d(f, 0, x, factors) * clr_filter_eval_1d(f, 1, y, factors))
  * bit for bit. */
-CLR_INLINE float clr_filter_eval_1d(const clr_filter_params *f, clr_i32 axis, float d,
+CLR_ALWAYS_INLINE float clr_filter_eval_1d(const clr_filter_params *f, clr_i32 axis, float d,
                                     CLR_GLOBAL const float *factors) {
   float radius = axis ? f->radius_y : f->radius_x;
   float inv_radius = axis ? f->inv_radius_y : f->inv_radius_x;
