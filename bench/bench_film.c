@@ -85,7 +85,13 @@ static double rate(clr_context ctx, int type, int use_table, int path, size_t co
   return t > 0 ? (double)count / t : -1;
 }
 
-static const char *filter_name(int type) { return type == CLR_FILTER_BOX ? "box" : "triangle"; }
+/* Filters measured: box, triangle and mitchell (the target case), all radius FILM_RADIUS. */
+#define FILTER_COUNT 3
+static const int filter_types[FILTER_COUNT] = {CLR_FILTER_BOX, CLR_FILTER_TRIANGLE,
+                                               CLR_FILTER_MITCHELL};
+static const char *filter_name(int type) {
+  return type == CLR_FILTER_BOX ? "box" : type == CLR_FILTER_TRIANGLE ? "triangle" : "mitchell";
+}
 
 void bench_film(const bench_options *o, const clr_device_info *devices, int device_count) {
   const char *env = getenv("CLR_BENCH_FILM_SPP");
@@ -106,10 +112,10 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     clr_context_release(host_ctx);
     return;
   }
-  double baseline[2][2];
-  for (int t = 0; t < 2; ++t)
+  double baseline[FILTER_COUNT][2];
+  for (int t = 0; t < FILTER_COUNT; ++t)
     for (int m = 0; m < 2; ++m)
-      baseline[t][m] = rate(host_ctx, t, m, 2, ref_count, reps, samples, NULL);
+      baseline[t][m] = rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL);
   for (int i = 0; i < device_count; ++i) {
     char index[16];
     snprintf(index, sizeof index, "%d", i);
@@ -128,16 +134,16 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
       printf("}\n");
       continue;
     }
-    for (int t = 0; t < 2; ++t)
+    for (int t = 0; t < FILTER_COUNT; ++t)
       for (int m = 0; m < 2; ++m)
         for (int path = 0; path < 2; ++path) {
           double bpp = 0;
-          double v = rate(ctx, t, m, path, count, reps, samples, &bpp);
+          double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &bpp);
           printf("{\"bench\":\"film\",\"device\":");
           bench_json_escape(stdout, clr_context_device_name(ctx));
           printf(",\"filter\":\"%s\",\"radius\":%g,\"mode\":\"%s\",\"input\":\"%s\","
                  "\"resolution\":\"%dx%d\",\"spp\":%zu",
-                 filter_name(t), (double)FILM_RADIUS, m ? "table" : "exact",
+                 filter_name(filter_types[t]), (double)FILM_RADIUS, m ? "table" : "exact",
                  path ? "device_buffer" : "host", FILM_W, FILM_H, spp);
           if (v < 0) {
             printf(",\"error\":");

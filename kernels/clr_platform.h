@@ -15,6 +15,8 @@ typedef ulong clr_u64;
 #define CLR_CONSTANT __constant
 #define CLR_LOCAL __local
 #define CLR_INLINE inline
+/* For hot helpers with a switch the device compiler would keep out of line. */
+#define CLR_ALWAYS_INLINE inline __attribute__((always_inline))
 #define CLR_DEVICE 1
 #define clr_as_float(u) as_float(u)
 #define clr_as_uint(f) as_uint(f)
@@ -42,6 +44,7 @@ typedef uint64_t clr_u64;
 #define CLR_CONSTANT const
 #define CLR_LOCAL
 #define CLR_INLINE static inline
+#define CLR_ALWAYS_INLINE static inline
 #define CLR_DEVICE 0
 static inline float clr_as_float(clr_u32 u) { float f; memcpy(&f, &u, 4); return f; }
 static inline clr_u32 clr_as_uint(float f) { clr_u32 u; memcpy(&u, &f, 4); return u; }

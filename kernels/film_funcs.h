@@ -41,6 +41,8 @@ CLR_INLINE clr_i32 clr_film_prepare(const clr_film_params *fp, const clr_filter_
     g *= s;
     b *= s;
   }
+  if (!clr_film_is_finite(r * w) || !clr_film_is_finite(g * w) || !clr_film_is_finite(b * w))
+    return CLR_FILM_SAMPLE_DROPPED; /* L * w overflows */
   out->dx = x - 0.5f;
   out->dy = y - 0.5f;
   out->r = r;
@@ -54,31 +56,44 @@ CLR_INLINE clr_i32 clr_film_prepare(const clr_film_params *fp, const clr_filter_
   return CLR_FILM_SAMPLE_OK;
 }
 
-/* The filter weight of a sample at d for pixel (px, py). Every supported filter is separable,
- * f = fx(px - dx) fy(py - dy): a per-axis evaluation can replace this one call (precomputing a
- * sample's reach_x x-weights and reach_y y-weights once) without changing the bits. */
-CLR_INLINE float clr_film_filter_weight(const clr_filter_params *f, CLR_GLOBAL const float *table,
-                                        float dx, float dy, clr_i32 px, clr_i32 py) {
-  return clr_filter_eval(f, (float)px - dx, (float)py - dy, table);
+/* One separable factor of the film's filter weight: the x (axis 0) or y (axis 1) factor for
+ * pixel coordinate p of a sample at d. factors: the 2 x 16 table factors (table mode). */
+CLR_ALWAYS_INLINE float clr_film_filter_factor(const clr_filter_params *f,
+                                               CLR_GLOBAL const float *factors, clr_i32 axis,
+                                               float d, clr_i32 p) {
+  return clr_filter_eval_1d(f, axis, (float)p - d, factors);
 }
 
-/* Adds the contribution of a sample (radiance r g b, weight w) with filter weight fw to the sums
- * acc (r, g, b, weight): L * (w * fw) and fw, as pbrt-v3. A zero fw adds zeros, which never
- * changes a sum that starts at +0 (so masked lanes may add them). */
-CLR_INLINE void clr_film_add(float r, float g, float b, float w, float fw, float *acc) {
-  float wt = w * fw;
-  acc[0] += r * wt;
-  acc[1] += g * wt;
-  acc[2] += b * wt;
+/* The filter weight from its two factors: equal bit for bit to clr_filter_eval at
+ * (px - dx, py - dy) with pbrt's 16x16 table in table mode (clr_filter_eval_1d). */
+CLR_INLINE float clr_film_weight(float fx, float fy) { return clr_flush_subnormal(fx * fy); }
+
+/* The filter weight of a sample at d for pixel (px, py). */
+CLR_INLINE float clr_film_filter_weight(const clr_filter_params *f, CLR_GLOBAL const float *factors,
+                                        float dx, float dy, clr_i32 px, clr_i32 py) {
+  return clr_film_weight(clr_film_filter_factor(f, factors, 0, dx, px),
+                         clr_film_filter_factor(f, factors, 1, dy, py));
+}
+
+/* Adds the contribution of a sample (radiance times camera weight: rw gw bw) with filter weight
+ * fw to the sums acc (r, g, b, weight): (L * w) * fw and fw, pbrt-v3's L * sampleWeight *
+ * filterWeight. A zero fw adds zeros, which never changes a sum that starts at +0 (so masked
+ * lanes may add them). */
+CLR_INLINE void clr_film_add(float rw, float gw, float bw, float fw, float *acc) {
+  acc[0] += rw * fw;
+  acc[1] += gw * fw;
+  acc[2] += bw * fw;
   acc[3] += fw;
 }
 
-/* Adds prepared sample s to the sums acc of pixel (px, py) if its filter reaches the pixel. */
-CLR_INLINE void clr_film_accumulate(const clr_filter_params *f, CLR_GLOBAL const float *table,
+/* Adds prepared sample s to the sums acc of pixel (px, py) if its filter reaches the pixel.
+ * factors: clr_filter_table_factor's 2 x 16 table (table mode). */
+CLR_INLINE void clr_film_accumulate(const clr_filter_params *f, CLR_GLOBAL const float *factors,
                                     const clr_film_prepared *s, clr_i32 px, clr_i32 py,
                                     float *acc) {
   if (px < s->x0 || px > s->x1 || py < s->y0 || py > s->y1) return;
-  clr_film_add(s->r, s->g, s->b, s->w, clr_film_filter_weight(f, table, s->dx, s->dy, px, py), acc);
+  clr_film_add(s->r * s->w, s->g * s->w, s->b * s->w,
+               clr_film_filter_weight(f, factors, s->dx, s->dy, px, py), acc);
 }
 
 #endif

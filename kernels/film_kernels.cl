@@ -1,48 +1,85 @@
-/* Film accumulation: a gather over samples binned by the host by their first reached pixel
- * (y0, x0) (stable, batch order inside a bin). A work-item owns a run of T (the accumulation
- * tile size) pixels of one row, in private sums. Bin row by bin row (ascending y0) it walks the
- * samples of the bins x0 in [run_x0 - K + 1, run_x1 - 1] (one contiguous range of the binned
- * samples per bin row) in their binned order and adds each one to the run's pixels it reaches:
- * every pixel sees its samples in the canonical order of film.h, whatever T, the work-group size
- * or the device. No two work-items write one address, no atomics. */
+/* Film accumulation in two kernels over samples binned by the host by their first reached pixel
+ * (y0, x0) (stable, batch order inside a bin).
+ * clr_film_weigh: per binned sample, once, L * w and the separable filter factors of every pixel
+ * it can reach (reach_x along x, reach_y along y).
+ * clr_film_gather: a work-item owns a run of T (the accumulation tile size) pixels of one row, in
+ * private sums. Bin row by bin row (ascending y0) it walks the samples of the bins x0 in
+ * [run_x0 - K + 1, run_x1 - 1] (one contiguous range per bin row) in their binned order and adds
+ * each one to the K pixels x0 .. x0 + K - 1 with fixed trip counts (factors past the sample's
+ * reach are 0 and add zeros; pixels outside the run land in padding): every pixel sees its
+ * samples in the canonical order of film.h, whatever T, the work-group size or the device. No two
+ * work-items write one address, no atomics. */
 #include "film_funcs.h"
 
 #define CLR_FILM_RUN_MAX 64 /* largest accumulation tile size */
+#define CLR_FILM_ACC_MAX (CLR_FILM_RUN_MAX + 2 * (CLR_FILM_REACH_MAX - 1))
 
-/* params: film (tile_size = T); filt: filter; grid: the chunk's bins and output region; table:
- * pbrt 16x16 filter table; binned: CLR_FILM_BINNED_FLOATS per sample in bin order;
- * starts[b]..starts[b+1]: bin b's range (bins_x * bins_y + 1 entries); sums: CLR_FILM_SUM_FLOATS
- * per pixel of the output region, row-major. Global size: (runs per row rounded up to the
- * work-group size, out_h). */
-__kernel void clr_film_gather(clr_film_params fp, clr_filter_params filt, clr_film_grid grid,
-                              __global const float *table, __global const float *binned,
-                              __global const uint *starts, __global float *sums) {
+/* factors: 2 x 16 table factors (table mode); binned: CLR_FILM_BINNED_FLOATS per sample;
+ * weighed: grid.weighed_floats per sample. Global size: count (rounded up). */
+__kernel void clr_film_weigh(clr_filter_params filt, clr_film_grid grid,
+                             __global const float *factors, __global const float *binned,
+                             uint count, __global float *weighed) {
+  const size_t i = get_global_id(0);
+  if (i >= count) return;
+  __global const float *s = binned + i * CLR_FILM_BINNED_FLOATS;
+  __global float *o = weighed + i * (size_t)grid.weighed_floats;
+  const float dx = s[0], dy = s[1], w = s[5];
+  const int x0 = clr_film_first_pixel(dx, filt.radius_x);
+  const int y0 = clr_film_first_pixel(dy, filt.radius_y);
+  const int nx = clr_film_last_pixel(dx, filt.radius_x) - x0;
+  const int ny = clr_film_last_pixel(dy, filt.radius_y) - y0;
+  o[0] = s[2] * w;
+  o[1] = s[3] * w;
+  o[2] = s[4] * w;
+  o[3] = 1.0f;
+  o[4] = as_float(x0);
+  o[5] = as_float(y0);
+  __global float *wx = o + CLR_FILM_WEIGHED_HEAD, *wy = wx + grid.reach_x;
+  for (int k = 0; k < grid.reach_x; ++k)
+    wx[k] = k <= nx ? clr_film_filter_factor(&filt, factors, 0, dx, x0 + k) : 0.0f;
+  for (int k = 0; k < grid.reach_y; ++k)
+    wy[k] = k <= ny ? clr_film_filter_factor(&filt, factors, 1, dy, y0 + k) : 0.0f;
+}
+
+/* Adds a weighed sample at acc (its pixel x0) with y-factor fy: kx fixed-count updates. */
+inline void clr_film_add_row(__global const float *s, float fy, int kx, float4 *acc) {
+  const float4 c = vload4(0, s);
+  __global const float *wx = s + CLR_FILM_WEIGHED_HEAD;
+  for (int k = 0; k < kx; ++k) acc[k] += c * clr_film_weight(wx[k], fy);
+}
+
+/* params: film (tile_size = T); grid: the chunk's bins and output region; weighed: the weighed
+ * samples in bin order; starts[b]..starts[b+1]: bin b's range (bins_x * bins_y + 1 entries);
+ * sums: CLR_FILM_SUM_FLOATS per pixel of the output region, row-major. Global size: (runs per
+ * row rounded up to the work-group size, out_h). */
+__kernel void clr_film_gather(clr_film_params fp, clr_film_grid grid,
+                              __global const float *weighed, __global const uint *starts,
+                              __global float *sums) {
   const int out_x1 = grid.out_x0 + grid.out_w;
   const int run_x0 = grid.out_x0 + (int)get_global_id(0) * fp.tile_size;
   if (run_x0 >= out_x1) return;
   const int run_x1 = min(run_x0 + fp.tile_size, out_x1); /* exclusive */
   const int py = grid.out_y0 + (int)get_global_id(1);
-  float acc[CLR_FILM_RUN_MAX * CLR_FILM_SUM_FLOATS];
-  for (int i = 0; i < (run_x1 - run_x0) * CLR_FILM_SUM_FLOATS; ++i) acc[i] = 0.0f;
+  const int kx = grid.reach_x, ky = grid.reach_y, stride = grid.weighed_floats;
+  /* acc[i] is pixel run_x0 - (kx - 1) + i */
+  float4 acc[CLR_FILM_ACC_MAX];
+  const int acc_n = (run_x1 - run_x0) + 2 * (kx - 1);
+  for (int i = 0; i < acc_n; ++i) acc[i] = (float4)(0.0f);
   /* Bin columns whose samples can reach the run, clipped to the grid. */
-  const int cx0 = max(run_x0 - grid.reach_x + 1 - grid.bin_x0, 0);
+  const int cx0 = max(run_x0 - kx + 1 - grid.bin_x0, 0);
   const int cx1 = min(run_x1 - 1 - grid.bin_x0, grid.bins_x - 1);
-  for (int j = 0; j < grid.reach_y; ++j) {
-    const int row = py - grid.reach_y + 1 + j - grid.bin_y0;
+  for (int j = 0; j < ky; ++j) {
+    const int row = py - ky + 1 + j - grid.bin_y0;
     if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
+    const int fy_at = CLR_FILM_WEIGHED_HEAD + kx + (ky - 1 - j); /* this row's py - y0 */
     const uint end = starts[row * grid.bins_x + cx1 + 1];
     for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
-      __global const float *s = binned + (size_t)i * CLR_FILM_BINNED_FLOATS;
-      const float dx = s[0], dy = s[1];
-      if (py > clr_film_last_pixel(dy, filt.radius_y)) continue;
-      const int x0 = max(clr_film_first_pixel(dx, filt.radius_x), run_x0);
-      const int x1 = min(clr_film_last_pixel(dx, filt.radius_x), run_x1 - 1);
-      for (int x = x0; x <= x1; ++x)
-        clr_film_add(s[2], s[3], s[4], s[5], clr_film_filter_weight(&filt, table, dx, dy, x, py),
-                     acc + (x - run_x0) * CLR_FILM_SUM_FLOATS);
+      __global const float *s = weighed + (size_t)i * (size_t)stride;
+      const int at = as_int(s[4]) - run_x0 + kx - 1;
+      clr_film_add_row(s, s[fy_at], kx, acc + at);
     }
   }
   __global float *out = sums + ((size_t)get_global_id(1) * (size_t)grid.out_w +
                                 (size_t)(run_x0 - grid.out_x0)) * CLR_FILM_SUM_FLOATS;
-  for (int i = 0; i < (run_x1 - run_x0) * CLR_FILM_SUM_FLOATS; ++i) out[i] = acc[i];
+  for (int i = 0; i < run_x1 - run_x0; ++i) vstore4(acc[i + kx - 1], i, out);
 }

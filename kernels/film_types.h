@@ -9,6 +9,12 @@
 #define CLR_FILM_SAMPLE_FLOATS 6
 /* A binned sample: dx, dy (pbrt pFilmDiscrete), r, g, b (after the luminance clamp), weight. */
 #define CLR_FILM_BINNED_FLOATS 6
+/* A weighed sample (clr_film_weigh): rw, gw, bw, 1 (radiance times camera weight, and the
+ * weight sum's factor), x0 and y0 (as int bits), then reach_x x-factors (pixels x0, x0 + 1, ...)
+ * and reach_y y-factors, 0 past the sample's last reached pixel. */
+#define CLR_FILM_WEIGHED_HEAD 6
+/* Most pixels a sample reaches along an axis: 2 * CLR_FILM_MAX_FILTER_RADIUS + 1. */
+#define CLR_FILM_REACH_MAX 65
 /* Per-pixel sums a kernel writes: r, g, b, filter weight. */
 #define CLR_FILM_SUM_FLOATS 4
 /* Largest work-group of the gather kernel. */
@@ -39,7 +45,9 @@ typedef struct clr_film_grid {
   clr_i32 bin_x0, bin_y0, bins_x, bins_y;
   clr_i32 out_x0, out_y0, out_w, out_h;
   clr_i32 reach_x, reach_y;
-  clr_i32 pad[2];
+  clr_i32 weighed_floats; /* floats per weighed sample: CLR_FILM_WEIGHED_HEAD + reach_x +
+                             reach_y, rounded up to a multiple of 4 */
+  clr_i32 pad;
 } clr_film_grid;
 
 /* A sample ready to be added: pbrt's pFilmDiscrete (d = p - 0.5), radiance after the luminance

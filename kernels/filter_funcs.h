@@ -133,8 +133,8 @@ CLR_INLINE float clr_blackman_harris_1d(float u) {
 }
 
 /* One factor of the separable filter at a = |x| <= radius. */
-CLR_INLINE float clr_filter_1d(const clr_filter_params *f, float a, float radius, float inv_radius,
-                               float exp_edge) {
+CLR_ALWAYS_INLINE float clr_filter_1d(const clr_filter_params *f, float a, float radius,
+                                      float inv_radius, float exp_edge) {
   switch (f->type) {
   case CLR_FILTER_TYPE_BOX:
     return 1.0f;
@@ -177,6 +177,35 @@ CLR_INLINE float clr_filter_table_entry(const clr_filter_params *f, clr_i32 ix, 
   float px = ((float)ix + 0.5f) * f->radius_x * inv_size;
   float py = ((float)iy + 0.5f) * f->radius_y * inv_size;
   return clr_filter_eval_exact(f, px, py);
+}
+
+/* pbrt-v3's separable table factor i of `axis` (0: x, 1: y): the exact 1D filter at
+ * ((i + .5) r / 16), subnormals flushed. Table entry (ix, iy) is exactly
+ * flush(factor(0, ix) * factor(1, iy)). */
+CLR_INLINE float clr_filter_table_factor(const clr_filter_params *f, clr_i32 axis, clr_i32 i) {
+  float radius = axis ? f->radius_y : f->radius_x;
+  float p = ((float)i + 0.5f) * radius * 0.0625f;
+  return clr_flush_subnormal(clr_filter_1d(f, p, radius, axis ? f->inv_radius_y : f->inv_radius_x,
+                                           axis ? f->exp_y : f->exp_x));
+}
+
+/* One separable factor of the filter as the film uses it, at offset d along `axis` (0: x, 1: y);
+ * exactly 0 outside the radius. Table mode reads `factors`: CLR_FILTER_TABLE_SIZE x factors then
+ * CLR_FILTER_TABLE_SIZE y factors (clr_filter_table_factor; unused in exact mode). For every
+ * filter and mode clr_filter_eval(f, x, y, table) ==
+ * clr_flush_subnormal(clr_filter_eval_1d(f, 0, x, factors) * clr_filter_eval_1d(f, 1, y, factors))
+ * bit for bit. */
+CLR_ALWAYS_INLINE float clr_filter_eval_1d(const clr_filter_params *f, clr_i32 axis, float d,
+                                    CLR_GLOBAL const float *factors) {
+  float radius = axis ? f->radius_y : f->radius_x;
+  float inv_radius = axis ? f->inv_radius_y : f->inv_radius_x;
+  if (f->use_table) {
+    if (!(clr_fabsf(d) <= radius)) return 0.0f;
+    return factors[axis * CLR_FILTER_TABLE_SIZE + clr_filter_table_index(d, inv_radius)];
+  }
+  float a = clr_fabsf(clr_flush_subnormal(d));
+  if (!(a <= radius)) return 0.0f;
+  return clr_flush_subnormal(clr_filter_1d(f, a, radius, inv_radius, axis ? f->exp_y : f->exp_x));
 }
 
 /* The filter as the film uses it: exact, or the nearest entry of the 16x16 table (row-major,

@@ -503,6 +503,14 @@ static void test_bad_samples_dropped(void **state) {
   assert_int_equal(film_dropped_samples(clean), 7);
   sums c = get_sums(clean);
   assert_sums_identical(&c, &b);
+  /* L * w overflowing float is dropped too (its sums would be inf, and inf * 0 NaN). */
+  const clr_film_sample overflow[] = {{3, 3, 1e30f, 1, 1, 1e30f}, {3, 3, 1, 1, 1e20f, 1e20f}};
+  assert_int_equal(film_add_samples(clean, overflow, 2), CLR_SUCCESS);
+  assert_int_equal(film_dropped_samples(clean), 9);
+  assert_int_equal(film_sample_count(clean), 4);
+  free_sums(&c);
+  c = get_sums(clean);
+  assert_sums_identical(&c, &b);
   free_sums(&a);
   free_sums(&b);
   free_sums(&c);

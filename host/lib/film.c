@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "clr_internal.h"
+#include "filter_funcs.h"
 #include "film_internal.h"
 
 void clr_film_desc_init(clr_film_desc *desc) {
@@ -111,6 +112,9 @@ clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out
   film->pixel_count = (size_t)film->width * (size_t)film->height;
   pthread_mutex_init(&film->lock, NULL);
   clr_result r = clr_filter_make_table(&filter, film->table);
+  for (int axis = 0; axis < 2; ++axis)
+    for (int i = 0; i < CLR_FILTER_TABLE_SIZE; ++i)
+      film->factors[axis * CLR_FILTER_TABLE_SIZE + i] = clr_filter_table_factor(&filter, axis, i);
   if (r != CLR_SUCCESS) {
     film_release(film);
     return r;

@@ -1,5 +1,5 @@
 /* film_add_samples: the host checks a chunk's samples and bins them by their first reached pixel
- * (a stable counting sort: the canonical order of film.h), the gather kernel sums every reached
+ * (a stable sort by bin row, then by bin column: the canonical order of film.h), the gather kernel sums every reached
  * pixel over its neighbouring bins, the host adds the float sums into the film's double sums.
  * Also the host reference, which adds the binned samples in the same order. */
 #include <pthread.h>
@@ -35,14 +35,23 @@ static int reaches_film(const clr_film_params *p, const clr_film_prepared *s) {
          s->y0 < p->pixel_y1;
 }
 
-/* One thread's share of a chunk's binning: samples [begin, end), its bin counts and cursor. */
+/* A sample between the two binning passes: its bin column (key) and binned values. */
+typedef struct row_entry {
+  uint32_t column;
+  float v[CLR_FILM_BINNED_FLOATS];
+} row_entry;
+
+/* One thread's share of a chunk's binning: samples [begin, end) (passes 1 and 2) and grid rows
+ * [row_begin, row_end) (pass 3). */
 typedef struct bin_part {
   clr_film film;
   const clr_film_sample *samples;
   size_t begin, end;
-  const clr_film_grid *grid; /* passes 2 and 3 */
-  uint32_t *cursor;          /* per bin: count, then fill position */
-  float *dst;                /* pass 3 */
+  const clr_film_grid *grid;
+  uint32_t *rows;     /* per key row: count (pass 1), then fill position (pass 2) */
+  uint32_t *columns;  /* pass 3: per bin column, bins_x + 1 */
+  int32_t row_begin, row_end;
+  float *dst;         /* pass 3 */
   int pass;
   /* pass 1 results */
   int32_t bx0, by0, bx1, by1, reach_x, reach_y;
@@ -50,13 +59,19 @@ typedef struct bin_part {
   uint64_t accepted, dropped, outside;
 } bin_part;
 
+/* Key rows: y0 - (pixel_y0 - KEY_MARGIN) for y0 in [pixel_y0 - KEY_MARGIN, pixel_y1). */
+static size_t key_rows(const clr_film_params *p) {
+  return (size_t)(p->pixel_y1 - p->pixel_y0) + KEY_MARGIN;
+}
+
 /* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
- * pixel), its bounds and the largest reach. */
+ * pixel), counts them per bin row, records their bounds and the largest reach. */
 static void key_part(bin_part *t) {
   clr_film film = t->film;
   const clr_film_params *p = &film->params;
   uint32_t *keys = film->bins.keys;
   const int32_t kx0 = p->pixel_x0 - KEY_MARGIN, ky0 = p->pixel_y0 - KEY_MARGIN;
+  memset(t->rows, 0, key_rows(p) * sizeof *t->rows);
   t->bx0 = t->by0 = INT32_MAX;
   t->bx1 = t->by1 = INT32_MIN;
   t->reach_x = t->reach_y = 1;
@@ -69,6 +84,7 @@ static void key_part(bin_part *t) {
     keys[i] = KEY_NONE;
     if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) continue;
     keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
+    ++t->rows[s.y0 - ky0];
     t->bx0 = s.x0 < t->bx0 ? s.x0 : t->bx0;
     t->bx1 = s.x0 > t->bx1 ? s.x0 : t->bx1;
     t->by0 = s.y0 < t->by0 ? s.y0 : t->by0;
@@ -79,38 +95,51 @@ static void key_part(bin_part *t) {
   }
 }
 
-/* Bin of a key in the grid. */
-static size_t key_bin(const clr_film_params *p, const clr_film_grid *g, uint32_t key) {
-  int32_t x = (int32_t)(key & 0xffffu) + p->pixel_x0 - KEY_MARGIN - g->bin_x0;
-  int32_t y = (int32_t)(key >> 16) + p->pixel_y0 - KEY_MARGIN - g->bin_y0;
-  return (size_t)y * (size_t)g->bins_x + (size_t)x;
-}
-
-/* Pass 2: counts the part's samples per bin. */
-static void count_part(bin_part *t) {
-  const uint32_t *keys = t->film->bins.keys;
-  size_t nbins = (size_t)t->grid->bins_x * (size_t)t->grid->bins_y;
-  memset(t->cursor, 0, (nbins + 1) * sizeof *t->cursor);
-  for (size_t i = t->begin; i < t->end; ++i)
-    if (keys[i] != KEY_NONE) ++t->cursor[key_bin(&t->film->params, t->grid, keys[i])];
-}
-
-/* Pass 3: writes the part's binned samples (CLR_FILM_BINNED_FLOATS each) at their cursors. */
-static void scatter_part(bin_part *t) {
+/* Pass 2: moves the part's keyed samples to their bin row's range of bins.rowed (stable). */
+static void row_part(bin_part *t) {
   clr_film film = t->film;
   const uint32_t *keys = film->bins.keys;
+  row_entry *rowed = film->bins.rowed;
+  const uint32_t column0 = (uint32_t)(t->grid->bin_x0 - (film->params.pixel_x0 - KEY_MARGIN));
   for (size_t i = t->begin; i < t->end; ++i) {
-    if (keys[i] == KEY_NONE) continue;
+    uint32_t key = keys[i];
+    if (key == KEY_NONE) continue;
     clr_film_prepared s;
     if (prepare(film, &t->samples[i], &s) != CLR_FILM_SAMPLE_OK) continue; /* keyed: never */
-    float *o = t->dst + (size_t)t->cursor[key_bin(&film->params, t->grid, keys[i])]++ *
-                            CLR_FILM_BINNED_FLOATS;
-    o[0] = s.dx;
-    o[1] = s.dy;
-    o[2] = s.r;
-    o[3] = s.g;
-    o[4] = s.b;
-    o[5] = s.w;
+    row_entry *e = &rowed[t->rows[key >> 16]++];
+    e->column = (key & 0xffffu) - column0;
+    e->v[0] = s.dx;
+    e->v[1] = s.dy;
+    e->v[2] = s.r;
+    e->v[3] = s.g;
+    e->v[4] = s.b;
+    e->v[5] = s.w;
+  }
+}
+
+/* Pass 3: sorts each of the part's grid rows by bin column (stable) into dst
+ * (CLR_FILM_BINNED_FLOATS per sample) and fills the rows' bin starts. */
+static void column_part(bin_part *t) {
+  clr_film_bins *b = &t->film->bins;
+  const clr_film_grid *g = t->grid;
+  const size_t bins_x = (size_t)g->bins_x;
+  for (int32_t row = t->row_begin; row < t->row_end; ++row) {
+    uint32_t *starts = b->starts + (size_t)row * bins_x;
+    const uint32_t first = starts[0], last = b->starts[(size_t)(row + 1) * bins_x];
+    memset(t->columns, 0, bins_x * sizeof *t->columns);
+    for (uint32_t i = first; i < last; ++i) ++t->columns[b->rowed[i].column];
+    uint32_t at = first; /* starts[0] is set (and read by the previous row's part) already */
+    for (size_t c = 0; c < bins_x; ++c) {
+      uint32_t n = t->columns[c];
+      if (c) starts[c] = at;
+      t->columns[c] = at;
+      at += n;
+    }
+    for (uint32_t i = first; i < last; ++i) {
+      const row_entry *e = &b->rowed[i];
+      memcpy(t->dst + (size_t)t->columns[e->column]++ * CLR_FILM_BINNED_FLOATS, e->v,
+             sizeof e->v);
+    }
   }
 }
 
@@ -123,8 +152,8 @@ typedef struct bin_set {
 static void *run_part(void *arg) {
   bin_part *t = arg;
   if (t->pass == 1) key_part(t);
-  else if (t->pass == 2) count_part(t);
-  else scatter_part(t);
+  else if (t->pass == 2) row_part(t);
+  else column_part(t);
   return NULL;
 }
 
@@ -176,16 +205,20 @@ static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_
   int32_t oy1 = by1 + ky < p->pixel_y1 ? by1 + ky : p->pixel_y1;
   g->out_w = ox1 - g->out_x0;
   g->out_h = oy1 - g->out_y0;
+  g->weighed_floats = (CLR_FILM_WEIGHED_HEAD + kx + ky + 3) / 4 * 4;
   return binned;
 }
 
 /* Bins samples[0..count) with `threads` threads (1..CLR_FILM_BIN_THREADS; the result does not
- * depend on it): checks and counts them, fills *g, the per-bin starts and the parts' cursors
- * for scatter_chunk; *binned gets the number of binned samples. Caller holds the lock. */
+ * depend on it), a stable sort by bin row then by bin column: checks and counts the samples,
+ * fills *g, moves them to their bin rows (bins.rowed) and sets every row's first bin start, for
+ * scatter_chunk; *binned gets the number of binned samples. Caller holds the lock. */
 static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                             int threads, bin_set *set, clr_film_grid *g, size_t *binned) {
   clr_film_bins *b = &film->bins;
-  if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys))
+  const size_t rows = key_rows(&film->params);
+  if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys) ||
+      !grow((void **)&b->cursor, &b->cursor_cap, rows * CLR_FILM_BIN_THREADS, sizeof *b->cursor))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
   int n = count < 8192 ? 1 : threads; /* threads cost ~50 us */
   bin_part *parts = set->parts;
@@ -196,6 +229,7 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
     parts[i].begin = count * (size_t)i / (size_t)n;
     parts[i].end = count * (size_t)(i + 1) / (size_t)n;
     parts[i].grid = g;
+    parts[i].rows = b->cursor + rows * (size_t)i;
   }
   set->count = n;
   run_parts(parts, n, 1);
@@ -203,26 +237,35 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
   if (!*binned) return CLR_SUCCESS;
   size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
   if (!grow((void **)&b->starts, &b->starts_cap, nbins + 1, sizeof *b->starts) ||
-      !grow((void **)&b->cursor, &b->cursor_cap, (nbins + 1) * CLR_FILM_BIN_THREADS,
-            sizeof *b->cursor))
+      !grow((void **)&b->rowed, &b->rowed_cap, *binned, sizeof *b->rowed) ||
+      !grow((void **)&b->columns, &b->columns_cap, ((size_t)g->bins_x + 1) * CLR_FILM_BIN_THREADS,
+            sizeof *b->columns))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY,
                     "film_add_samples: no memory for %zu bins", nbins);
-  for (int i = 0; i < n; ++i) parts[i].cursor = b->cursor + (nbins + 1) * (size_t)i;
-  run_parts(parts, n, 2);
-  /* Exclusive prefix over bins; inside a bin, part i's samples follow part i - 1's. */
+  /* Exclusive prefix over key rows; inside a row, part i's samples follow part i - 1's. */
+  const size_t row0 = (size_t)(g->bin_y0 - (film->params.pixel_y0 - KEY_MARGIN));
   uint32_t at = 0;
-  for (size_t k = 0; k <= nbins; ++k) {
-    b->starts[k] = at;
+  for (size_t r = 0; r < rows; ++r) {
+    if (r >= row0 && r < row0 + (size_t)g->bins_y)
+      b->starts[(r - row0) * (size_t)g->bins_x] = at;
     for (int i = 0; i < n; ++i) {
-      uint32_t c = parts[i].cursor[k];
-      parts[i].cursor[k] = at;
+      uint32_t c = parts[i].rows[r];
+      parts[i].rows[r] = at;
       at += c;
     }
+  }
+  b->starts[nbins] = at;
+  run_parts(parts, n, 2);
+  for (int i = 0; i < n; ++i) {
+    parts[i].columns = b->columns + ((size_t)g->bins_x + 1) * (size_t)i;
+    parts[i].row_begin = (int32_t)((size_t)g->bins_y * (size_t)i / (size_t)n);
+    parts[i].row_end = (int32_t)((size_t)g->bins_y * (size_t)(i + 1) / (size_t)n);
   }
   return CLR_SUCCESS;
 }
 
-/* Writes the binned samples in bin order, batch order inside a bin, to dst (after bin_chunk). */
+/* Writes the binned samples in bin order, batch order inside a bin, to dst and fills the bin
+ * starts (after bin_chunk). */
 static void scatter_chunk(bin_set *set, float *dst) {
   for (int i = 0; i < set->count; ++i) set->parts[i].dst = dst;
   run_parts(set->parts, set->count, 3);
@@ -250,10 +293,11 @@ static clr_result ensure_buffer(clr_film film, cl_mem *buf, size_t *have, size_t
 static clr_result upload_table(clr_film film) {
   clr_film_device *d = &film->dev;
   size_t have = 0;
-  CLR_CHECK(ensure_buffer(film, &d->table, &have, sizeof film->table, CL_MEM_READ_ONLY,
-                          "filter table"));
+  CLR_CHECK(ensure_buffer(film, &d->table, &have, sizeof film->factors, CL_MEM_READ_ONLY,
+                          "filter table factors"));
   CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->table, CL_TRUE,
-                                               0, sizeof film->table, film->table, 0, NULL, NULL));
+                                               0, sizeof film->factors, film->factors, 0, NULL,
+                                               NULL));
   return CLR_SUCCESS;
 }
 
@@ -275,11 +319,15 @@ static clr_result ensure_kernel(clr_film film) {
   size_t g = 8; /* work-items (runs of pixels) per group */
   if (g > kmax) g = kmax;
   if (g > dmax) g = dmax;
-  clr_result r = d->table ? CLR_SUCCESS : upload_table(film);
+  cl_kernel weigh = NULL;
+  clr_result r = clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_weigh", &weigh);
+  if (r == CLR_SUCCESS && !d->table) r = upload_table(film);
   if (r != CLR_SUCCESS) {
+    if (weigh) clReleaseKernel(weigh);
     clReleaseKernel(k);
     return r;
   }
+  d->weigh = weigh;
   d->kernel = k;
   d->group_size = g ? g : 1;
   return CLR_SUCCESS;
@@ -296,15 +344,35 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   CLR_CHECK(ensure_buffer(film, &d->binned, &d->binned_bytes, bytes, CL_MEM_READ_ONLY, "binned"));
   CLR_CHECK(ensure_buffer(film, &d->starts, &d->starts_bytes, (nbins + 1) * sizeof(uint32_t),
                           CL_MEM_READ_ONLY, "starts"));
-  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0,
-                                               (nbins + 1) * sizeof(uint32_t), film->bins.starts,
-                                               0, NULL, NULL));
   cl_int err = CL_SUCCESS;
   float *dst = clEnqueueMapBuffer(q, d->binned, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, bytes,
                                   0, NULL, NULL, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
   scatter_chunk(set, dst);
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
+  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0,
+                                               (nbins + 1) * sizeof(uint32_t), film->bins.starts,
+                                               0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
+/* Runs the weigh kernel over the chunk's binned samples. */
+static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
+  clr_film_device *d = &film->dev;
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  size_t bytes = binned * (size_t)g->weighed_floats * sizeof(float);
+  CLR_CHECK(ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE,
+                          "weighed"));
+  cl_kernel k = d->weigh;
+  cl_uint n = (cl_uint)binned;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->filter, &film->filter));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->table));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->binned));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof n, &n));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weighed));
+  size_t local = 64, global = (binned + local - 1) / local * local;
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
@@ -317,12 +385,10 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   CLR_CHECK(ensure_buffer(film, &d->sums, &d->sums_bytes, bytes, CL_MEM_WRITE_ONLY, "sums"));
   cl_kernel k = d->kernel;
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof film->filter, &film->filter));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof *g, g));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->table));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->binned));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->starts));
-  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 6, sizeof(cl_mem), &d->sums));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->weighed));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->sums));
   size_t tile = (size_t)film->params.tile_size;
   size_t runs = ((size_t)g->out_w + tile - 1) / tile;
   size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
@@ -344,6 +410,7 @@ static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_
   CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
   CLR_CHECK(upload_bins(film, &set, &g, binned));
+  CLR_CHECK(weigh(film, &g, binned));
   return gather(film, &g);
 }
 
@@ -437,7 +504,7 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x) {
         size_t pix = (size_t)(y - g.out_y0) * (size_t)g.out_w + (size_t)(x - g.out_x0);
-        clr_film_accumulate(&film->filter, film->table, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
+        clr_film_accumulate(&film->filter, film->factors, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
       }
   }
   clr_bounds2i block = {g.out_x0, g.out_y0, g.out_x0 + g.out_w, g.out_y0 + g.out_h};
@@ -471,22 +538,26 @@ size_t clr_film_peak_memory_bytes(clr_film film) {
   const clr_film_device *d = &film->dev;
   const clr_film_bins *b = &film->bins;
   size_t bytes = film->pixel_count * 7 * sizeof(double) + sizeof film->table;
-  bytes += d->binned_bytes + d->starts_bytes + d->sums_bytes;
-  bytes += b->keys_cap * sizeof *b->keys + (b->starts_cap + b->cursor_cap) * sizeof(uint32_t) +
+  bytes += d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
+  bytes += b->keys_cap * sizeof *b->keys + b->rowed_cap * sizeof(row_entry) +
+           (b->starts_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
            b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
   return bytes;
 }
 
 void clr_film_accumulate_release(clr_film film) {
   clr_film_device *d = &film->dev;
-  cl_mem *bufs[] = {&d->table, &d->binned, &d->starts, &d->sums};
+  cl_mem *bufs[] = {&d->table, &d->binned, &d->weighed, &d->starts, &d->sums};
   for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; ++i)
     if (*bufs[i]) clReleaseMemObject(*bufs[i]);
   if (d->kernel) clReleaseKernel(d->kernel);
+  if (d->weigh) clReleaseKernel(d->weigh);
   clr_film_bins *b = &film->bins;
   free(b->keys);
   free(b->starts);
   free(b->cursor);
+  free(b->rowed);
+  free(b->columns);
   free(b->binned);
   free(b->sums);
 }

@@ -9,26 +9,30 @@
 #include "film_types.h"
 #include "filter_types.h"
 
-/* Device resources of the gather kernel, grown on demand (guarded by the film's lock). */
+/* Device resources of the weigh and gather kernels, grown on demand (guarded by the film's
+ * lock). */
 typedef struct clr_film_device {
-  cl_kernel kernel;
+  cl_kernel kernel, weigh;
   size_t group_size; /* automatic work-group size (runs of pixels) */
-  cl_mem table;      /* filter table, CLR_FILTER_TABLE_SIZE^2 floats */
-  cl_mem binned, starts, sums;
-  size_t binned_bytes, starts_bytes, sums_bytes;
+  cl_mem table;      /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
+  cl_mem binned, weighed, starts, sums;
+  size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
 
 /* Threads of the host binning (a chunk is split into this many consecutive parts). */
 #define CLR_FILM_BIN_THREADS 2
 
-/* Host scratch of the binning (a stable counting sort), grown on demand. */
+/* Host scratch of the binning (stable counting sorts by bin row, then by bin column), grown on
+ * demand. */
 typedef struct clr_film_bins {
-  uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from key_x0/key_y0), or none */
-  uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
-  uint32_t *cursor; /* per part and bin: fill position */
-  float *binned;    /* host copy of the binned samples (reference path) */
-  float *sums;      /* host per-pixel sums (reference path) */
-  size_t keys_cap, starts_cap, cursor_cap, binned_cap, sums_cap;
+  uint32_t *keys;    /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
+  uint32_t *starts;  /* per bin: first binned sample (+ one past the end) */
+  uint32_t *cursor;  /* per part and bin row: count, then fill position */
+  struct row_entry *rowed; /* binned samples sorted by bin row only, with their bin column */
+  uint32_t *columns; /* per part and bin column: fill position of the row sort */
+  float *binned;     /* host copy of the binned samples (reference path) */
+  float *sums;       /* host per-pixel sums (reference path) */
+  size_t keys_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
@@ -36,7 +40,8 @@ struct clr_film_t {
   clr_context ctx;
   clr_film_params params;
   clr_filter_params filter;
-  float table[CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE];
+  float table[CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE]; /* pbrt's 16x16 table */
+  float factors[2 * CLR_FILTER_TABLE_SIZE]; /* its separable factors: 16 x, then 16 y */
   float scale;
   clr_film_desc desc; /* as created */
   int32_t width, height; /* of the pixel bounds */

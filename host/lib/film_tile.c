@@ -81,7 +81,7 @@ clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samp
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x) {
         size_t pix = (size_t)(y - b.y0) * w + (size_t)(x - b.x0);
-        clr_film_accumulate(&film->filter, film->table, &s, x, y,
+        clr_film_accumulate(&film->filter, film->factors, &s, x, y,
                             tile->sums + pix * CLR_FILM_SUM_FLOATS);
       }
   }

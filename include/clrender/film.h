@@ -2,8 +2,10 @@
  * window) with the sample accumulation as OpenCL kernels.
  *
  * Sums and determinism. Each film_add_samples call (or internal chunk of CLR_FILM_CHUNK_SAMPLES
- * samples) first sums, per pixel and in float, the contributions L*(w*f) and filter weights f of
- * the chunk's samples in the CANONICAL ORDER; the per-chunk float sums are then added into the
+ * samples) first sums, per pixel and in float, the contributions (L*w)*f and filter weights f of
+ * the chunk's samples in the CANONICAL ORDER (f = fx*fy, the product of the filter's separable
+ * 1D factors with subnormals flushed, clr_filter_eval_1d; in table mode the factors are pbrt's
+ * 16-entry tables per axis, whose products are exactly pbrt's 16x16 table entries); the per-chunk float sums are then added into the
  * film's double sums. Canonical order: a sample's bin is the first pixel its filter reaches,
  * pbrt's p0 = (ceil(dx - rx), ceil(dy - ry)) with d = pFilm - 0.5; every pixel adds the samples
  * that reach it sorted by bin row p0.y, then bin column p0.x, then batch order (a stable sort of
@@ -17,8 +19,9 @@
  *
  * Differences from pbrt-v3, all below float tolerance or documented choices:
  * - sums are kept as RGB, not XYZ: pbrt's XYZToRGB(RGBToXYZ(x)) is the identity to ~1e-6;
- * - samples with a NaN/Inf component, non-finite luminance or luminance < -1e-5 are DROPPED and
- *   counted (pbrt's integrator replaces the radiance by black and still adds the filter weight);
+ * - samples with a NaN/Inf component, non-finite luminance or luminance < -1e-5, or whose L*w
+ *   overflows, are DROPPED and counted (pbrt's integrator replaces the radiance by black and
+ *   still adds the filter weight);
  * - a splat lands in pixel floor(p) (pbrt truncates toward zero);
  * - the resolve divides in double (pbrt multiplies by a float reciprocal). */
 #ifndef CLRENDER_FILM_H
