@@ -1,10 +1,12 @@
 /* Film lifetime, pbrt-v3 bounds (crop window, sample bounds), splats, raw sums, merges and the
  * resolve to RGB (pbrt WriteImage). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "clr_internal.h"
 #include "filter_funcs.h"
+#include "film_geometry.h"
 #include "film_internal.h"
 
 void clr_film_desc_init(clr_film_desc *desc) {
@@ -25,19 +27,6 @@ static clr_result check_desc(clr_context ctx, const clr_film_desc *d) {
     return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
                     "film_create: desc->struct_size is %zu, expected %zu (call clr_film_desc_init)",
                     d->struct_size, sizeof *d);
-  if (d->x_resolution < 1 || d->y_resolution < 1 || d->x_resolution > CLR_FILM_MAX_SIDE ||
-      d->y_resolution > CLR_FILM_MAX_SIDE ||
-      (int64_t)d->x_resolution * d->y_resolution > CLR_FILM_MAX_PIXELS)
-    return clr_fail(ctx, CLR_ERROR_INVALID_RESOLUTION,
-                    "film_create: resolution %d x %d (each side 1..%d, at most %d pixels)",
-                    (int)d->x_resolution, (int)d->y_resolution, CLR_FILM_MAX_SIDE,
-                    CLR_FILM_MAX_PIXELS);
-  for (int i = 0; i < 4; ++i)
-    if (!(d->crop_window[i] >= 0.0f && d->crop_window[i] <= 1.0f))
-      return clr_fail(ctx, CLR_ERROR_INVALID_CROP_WINDOW,
-                      "film_create: crop_window = [%g %g %g %g], value %d outside [0,1]",
-                      (double)d->crop_window[0], (double)d->crop_window[1],
-                      (double)d->crop_window[2], (double)d->crop_window[3], i);
   for (int i = 0; i < 2; ++i)
     if (!(d->filter.radius[i] > 0.0f && d->filter.radius[i] <= CLR_FILM_MAX_FILTER_RADIUS))
       return clr_fail(ctx, CLR_ERROR_INVALID_RADIUS,
@@ -57,29 +46,31 @@ static clr_result check_desc(clr_context ctx, const clr_film_desc *d) {
   return CLR_SUCCESS;
 }
 
-/* pbrt-v3 Film constructor and GetSampleBounds, in float like pbrt. */
+/* pbrt-v3 Film constructor and GetSampleBounds (shared with the samplers: film_geometry.c). */
 static clr_result make_params(clr_context ctx, const clr_film_desc *d, const clr_filter_params *f,
                               clr_film_params *p) {
-  float cx0 = fminf(d->crop_window[0], d->crop_window[1]);
-  float cx1 = fmaxf(d->crop_window[0], d->crop_window[1]);
-  float cy0 = fminf(d->crop_window[2], d->crop_window[3]);
-  float cy1 = fmaxf(d->crop_window[2], d->crop_window[3]);
-  float xres = (float)d->x_resolution, yres = (float)d->y_resolution;
+  clr_film_geometry g;
+  g.x_resolution = d->x_resolution;
+  g.y_resolution = d->y_resolution;
+  memcpy(g.crop_window, d->crop_window, sizeof g.crop_window);
+  g.filter_radius[0] = f->radius_x;
+  g.filter_radius[1] = f->radius_y;
+  clr_bounds2i pixels, samples;
+  clr_result r = clr_film_geometry_bounds(&g, "film_create", &pixels, &samples);
+  if (r != CLR_SUCCESS) {
+    char message[512];
+    snprintf(message, sizeof message, "%s", clr_last_error_message());
+    return clr_fail(ctx, r, "%s", message); /* reaches the context's error callback too */
+  }
   memset(p, 0, sizeof *p);
-  p->pixel_x0 = (clr_i32)ceilf(xres * cx0);
-  p->pixel_x1 = (clr_i32)ceilf(xres * cx1);
-  p->pixel_y0 = (clr_i32)ceilf(yres * cy0);
-  p->pixel_y1 = (clr_i32)ceilf(yres * cy1);
-  if (p->pixel_x1 <= p->pixel_x0 || p->pixel_y1 <= p->pixel_y0)
-    return clr_fail(ctx, CLR_ERROR_INVALID_CROP_WINDOW,
-                    "film_create: crop_window = [%g %g %g %g] leaves no pixel of %d x %d",
-                    (double)d->crop_window[0], (double)d->crop_window[1],
-                    (double)d->crop_window[2], (double)d->crop_window[3], (int)d->x_resolution,
-                    (int)d->y_resolution);
-  p->sample_x0 = (clr_i32)floorf((float)p->pixel_x0 + 0.5f - f->radius_x);
-  p->sample_y0 = (clr_i32)floorf((float)p->pixel_y0 + 0.5f - f->radius_y);
-  p->sample_x1 = (clr_i32)ceilf((float)p->pixel_x1 - 0.5f + f->radius_x);
-  p->sample_y1 = (clr_i32)ceilf((float)p->pixel_y1 - 0.5f + f->radius_y);
+  p->pixel_x0 = pixels.x0;
+  p->pixel_y0 = pixels.y0;
+  p->pixel_x1 = pixels.x1;
+  p->pixel_y1 = pixels.y1;
+  p->sample_x0 = samples.x0;
+  p->sample_y0 = samples.y0;
+  p->sample_x1 = samples.x1;
+  p->sample_y1 = samples.y1;
   p->tile_size = d->accumulation_tile_size;
   p->max_luminance = d->max_sample_luminance;
   p->clamp_luminance = isinf(d->max_sample_luminance) ? 0 : 1;

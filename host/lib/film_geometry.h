@@ -2,11 +2,12 @@
 #ifndef CLR_FILM_GEOMETRY_H
 #define CLR_FILM_GEOMETRY_H
 
+#include "clrender/film.h"
 #include "clrender/sampler.h"
 
-/* Largest accepted film side and pixel count (documented limits). */
-#define CLR_MAX_RESOLUTION 32768
-#define CLR_MAX_PIXELS (1 << 28)
+/* Largest accepted film side and pixel count (documented in film.h). */
+#define CLR_MAX_RESOLUTION CLR_FILM_MAX_SIDE
+#define CLR_MAX_PIXELS CLR_FILM_MAX_PIXELS
 #define CLR_MAX_FILTER_RADIUS 64.0f
 
 /* Validates resolution, crop window and radius (messages name `who` and the bad value) and
