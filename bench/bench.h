@@ -15,6 +15,10 @@ double bench_now(void);
 /* Median seconds of `reps` runs of fn(user) after one warm-up run; negative on failure. */
 double bench_median(int reps, int (*fn)(void *user), void *user);
 void bench_json_escape(FILE *f, const char *s);
+/* Context on device i, or NULL when --device excludes it or it fails to open (then a JSON line
+ * with the error is printed for section `bench` and the caller skips the device). */
+clr_context bench_open_device(const bench_options *o, const clr_device_info *devices, int i,
+                              const char *bench);
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count);
 void bench_render(const bench_options *o, const clr_device_info *devices, int device_count);

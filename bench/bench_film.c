@@ -117,23 +117,8 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     for (int m = 0; m < 2; ++m)
       baseline[t][m] = rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL);
   for (int i = 0; i < device_count; ++i) {
-    char index[16];
-    snprintf(index, sizeof index, "%d", i);
-    if (o->only_device && !strstr(devices[i].device_name, o->only_device) &&
-        strcmp(o->only_device, index) != 0)
-      continue;
-    clr_context_desc cd;
-    clr_context_desc_init(&cd);
-    cd.device = index;
-    clr_context ctx = NULL;
-    if (clr_context_create(&cd, &ctx) != CLR_SUCCESS) {
-      printf("{\"bench\":\"film\",\"device\":");
-      bench_json_escape(stdout, devices[i].device_name);
-      printf(",\"error\":");
-      bench_json_escape(stdout, clr_last_error_message());
-      printf("}\n");
-      continue;
-    }
+    clr_context ctx = bench_open_device(o, devices, i, "film");
+    if (!ctx) continue;
     for (int t = 0; t < FILTER_COUNT; ++t)
       for (int m = 0; m < 2; ++m)
         for (int path = 0; path < 2; ++path) {

@@ -38,6 +38,26 @@ void bench_json_escape(FILE *f, const char *s) {
   fputc('"', f);
 }
 
+clr_context bench_open_device(const bench_options *o, const clr_device_info *devices, int i,
+                              const char *bench) {
+  char index[16];
+  snprintf(index, sizeof index, "%d", i);
+  if (o->only_device && !strstr(devices[i].device_name, o->only_device) &&
+      strcmp(o->only_device, index) != 0)
+    return NULL;
+  clr_context_desc cd;
+  clr_context_desc_init(&cd);
+  cd.device = index;
+  clr_context ctx = NULL;
+  if (clr_context_create(&cd, &ctx) == CLR_SUCCESS) return ctx;
+  printf("{\"bench\":\"%s\",\"device\":", bench);
+  bench_json_escape(stdout, devices[i].device_name);
+  printf(",\"error\":");
+  bench_json_escape(stdout, clr_last_error_message());
+  printf("}\n");
+  return NULL;
+}
+
 static void usage(void) {
   fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only samples|film|render]\n"
                   "Prints one JSON object per line: each device's figure and the single-thread\n"

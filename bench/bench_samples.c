@@ -73,23 +73,8 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
   double baseline[4];
   for (int t = 0; t < 4; ++t) baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
   for (int i = 0; i < device_count; ++i) {
-    char index[16];
-    snprintf(index, sizeof index, "%d", i);
-    if (o->only_device && !strstr(devices[i].device_name, o->only_device) &&
-        strcmp(o->only_device, index) != 0)
-      continue;
-    clr_context_desc cd;
-    clr_context_desc_init(&cd);
-    cd.device = index;
-    clr_context ctx = NULL;
-    if (clr_context_create(&cd, &ctx) != CLR_SUCCESS) {
-      printf("{\"bench\":\"samples\",\"device\":");
-      bench_json_escape(stdout, devices[i].device_name);
-      printf(",\"error\":");
-      bench_json_escape(stdout, clr_last_error_message());
-      printf("}\n");
-      continue;
-    }
+    clr_context ctx = bench_open_device(o, devices, i, "samples");
+    if (!ctx) continue;
     for (int t = 0; t < 4; ++t) {
       double rate = device_rate(ctx, (clr_sampler_type)t, o->quick);
       printf("{\"bench\":\"samples\",\"device\":");
