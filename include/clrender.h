@@ -2,11 +2,12 @@
 #ifndef CLRENDER_H
 #define CLRENDER_H
 
+#include "clrender/version.h"
 #include "clrender/result.h"
 #include "clrender/context.h"
 #include "clrender/sampler.h"
-#include "clrender/render.h"
 #include "clrender/filter.h"
 #include "clrender/film.h"
+#include "clrender/image.h"
 
 #endif

@@ -94,6 +94,7 @@ CLR_INLINE void clr_random_array(const clr_sampler_params *p, CLR_GLOBAL const c
 CLR_INLINE void clr_random_start_pixel(const clr_sampler_params *p,
                                        CLR_GLOBAL const clr_request_slot *slots, clr_pcg32 *rng,
                                        CLR_GLOBAL float *out_pixel, CLR_GLOBAL float *scratch) {
+  (void)scratch;
   for (clr_i32 dims = 1; dims <= 2; ++dims) {
     clr_i32 arrays = clr_slots_array_count(p, slots, dims);
     for (clr_i32 a = 0; a < arrays; ++a) clr_random_array(p, slots, dims, a, rng, out_pixel);

@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 #include "atomic_file.h"
+#include "clrender/image.h"
 #include "exr_io.h"
 #include "png_io.h"
 
@@ -461,42 +462,46 @@ static void test_image_read_dispatch(void **state) {
   clr_exr_channel rgb[3] = {{"B", b, 0}, {"G", g, 0}, {"R", r, 0}};
   const clr_bounds2i dw = {1, 1, 4, 3};
   assert_int_equal(clr_exr_write(in_dir("rgb.EXR"), 5, 4, dw, rgb, 3, NULL, 0), CLR_SUCCESS);
-  float *out = NULL;
-  int32_t w = 0, h = 0;
-  assert_int_equal(clr_image_read(in_dir("rgb.EXR"), &w, &h, &out), CLR_SUCCESS);
-  assert_int_equal(w, 3);
-  assert_int_equal(h, 2);
+  clr_image image;
+  assert_int_equal(clr_image_read(in_dir("rgb.EXR"), &image), CLR_SUCCESS);
+  const float *out = image.rgb;
+  assert_int_equal(image.width, 3);
+  assert_int_equal(image.height, 2);
   for (int i = 0; i < 6; ++i) {
     assert_true(out[3 * i] == r[i]);
     assert_true(out[3 * i + 1] == g[i]);
     assert_true(out[3 * i + 2] == b[i]);
   }
-  free(out);
+  clr_image_free(&image);
+  assert_null(image.rgb);
 
   clr_exr_channel gray = {"Y", g, 1};
   assert_int_equal(clr_exr_write(in_dir("y.exr"), 3, 2, (clr_bounds2i){0, 0, 3, 2}, &gray, 1,
                                  NULL, 0),
                    CLR_SUCCESS);
-  assert_int_equal(clr_image_read(in_dir("y.exr"), &w, &h, &out), CLR_SUCCESS);
+  assert_int_equal(clr_image_read(in_dir("y.exr"), &image), CLR_SUCCESS);
+  out = image.rgb;
   for (int i = 0; i < 6; ++i)
     for (int c = 0; c < 3; ++c) assert_true(out[3 * i + c] == g[i]);
-  free(out);
+  clr_image_free(&image);
 
   clr_exr_channel other = {"depth", g, 0};
   assert_int_equal(clr_exr_write(in_dir("z.exr"), 3, 2, (clr_bounds2i){0, 0, 3, 2}, &other, 1,
                                  NULL, 0),
                    CLR_SUCCESS);
-  assert_int_equal(clr_image_read(in_dir("z.exr"), &w, &h, &out), CLR_ERROR_FILE_FORMAT);
+  assert_int_equal(clr_image_read(in_dir("z.exr"), &image), CLR_ERROR_FILE_FORMAT);
+  assert_null(image.rgb);
   assert_non_null(strstr(clr_last_error_message(), "depth"));
 
   float px[6] = {0.f, 0.5f, 1.f, 1.f, 0.5f, 0.f};
   assert_int_equal(clr_png_write_srgb(in_dir("t.png"), 2, 1, px), CLR_SUCCESS);
-  assert_int_equal(clr_image_read(in_dir("t.png"), &w, &h, &out), CLR_SUCCESS);
-  assert_int_equal(w, 2);
+  assert_int_equal(clr_image_read(in_dir("t.png"), &image), CLR_SUCCESS);
+  out = image.rgb;
+  assert_int_equal(image.width, 2);
   assert_true(out[0] == 0.f && out[2] == 1.f);
   assert_true(out[1] == clr_inverse_gamma_correct(188.f / 255.f));
-  free(out);
-  assert_int_equal(clr_image_read(in_dir("t.tga"), &w, &h, &out), CLR_ERROR_FILE_FORMAT);
+  clr_image_free(&image);
+  assert_int_equal(clr_image_read(in_dir("t.tga"), &image), CLR_ERROR_FILE_FORMAT);
   assert_non_null(strstr(clr_last_error_message(), "t.tga"));
   empty_dir();
 }

@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include "cli.h"
 #include "clrender.h"
+#include "render.h"
 
 static volatile int render_cancel;
 static void on_signal(int sig) {

@@ -4,7 +4,8 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include <CL/cl.h>
+#include "clrender/opencl.h"
+#include "clrender/export.h"
 #include "clrender/result.h"
 
 #ifdef __cplusplus
@@ -25,17 +26,17 @@ typedef struct clr_context_desc {
   void *error_user;
 } clr_context_desc;
 
-void clr_context_desc_init(clr_context_desc *desc);
-clr_result clr_context_create(const clr_context_desc *desc, clr_context *out);
-void clr_context_retain(clr_context ctx);
-void clr_context_release(clr_context ctx);
+CLR_API void clr_context_desc_init(clr_context_desc *desc);
+CLR_API clr_result clr_context_create(const clr_context_desc *desc, clr_context *out);
+CLR_API void clr_context_retain(clr_context ctx);
+CLR_API void clr_context_release(clr_context ctx);
 
 /* Description of the chosen device, e.g. "Portable Computing Language: pthread-haswell". */
-const char *clr_context_device_name(clr_context ctx);
-int clr_context_device_is_gpu(clr_context ctx);
-cl_context clr_context_cl_context(clr_context ctx);
-cl_command_queue clr_context_cl_queue(clr_context ctx);
-cl_device_id clr_context_cl_device(clr_context ctx);
+CLR_API const char *clr_context_device_name(clr_context ctx);
+CLR_API int clr_context_device_is_gpu(clr_context ctx);
+CLR_API cl_context clr_context_cl_context(clr_context ctx);
+CLR_API cl_command_queue clr_context_cl_queue(clr_context ctx);
+CLR_API cl_device_id clr_context_cl_device(clr_context ctx);
 
 typedef struct clr_device_info {
   int index; /* index for the device selector */
@@ -50,7 +51,7 @@ typedef struct clr_device_info {
 
 /* Fills up to `capacity` entries (all platforms, all devices, in selector order); *count gets the
  * total number of devices. */
-clr_result clr_device_list(clr_device_info *infos, int capacity, int *count);
+CLR_API clr_result clr_device_list(clr_device_info *infos, int capacity, int *count);
 
 #ifdef __cplusplus
 }

@@ -29,7 +29,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include <CL/cl.h>
+#include "clrender/opencl.h"
 #include "clrender/context.h"
 #include "clrender/filter.h"
 #include "clrender/sampler.h"
@@ -70,63 +70,63 @@ typedef struct clr_film_sample {
   float weight;
 } clr_film_sample;
 
-void clr_film_desc_init(clr_film_desc *desc);
+CLR_API void clr_film_desc_init(clr_film_desc *desc);
 
 /* Errors: NULL pointers; struct_size mismatch or tile size outside 4..64 or bad scale/max
  * luminance -> CLR_ERROR_INVALID_ARGUMENT; resolution < 1 or beyond the limits ->
  * CLR_ERROR_INVALID_RESOLUTION; crop values NaN or outside [0,1], or an empty cropped image ->
  * CLR_ERROR_INVALID_CROP_WINDOW; radius not in (0, CLR_FILM_MAX_FILTER_RADIUS] ->
  * CLR_ERROR_INVALID_RADIUS; filter errors from clr_filter_params_make. */
-clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out);
-void film_retain(clr_film film);
-void film_release(clr_film film);
+CLR_API clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out);
+CLR_API void film_retain(clr_film film);
+CLR_API void film_release(clr_film film);
 
 /* pbrt croppedPixelBounds: [ceil(W*cx0), ceil(H*cy0)) to [ceil(W*cx1), ceil(H*cy1)) in float. */
-clr_bounds2i film_pixel_bounds(clr_film film);
+CLR_API clr_bounds2i film_pixel_bounds(clr_film film);
 /* pbrt GetSampleBounds: [floor(pMin + .5 - r), ceil(pMax - .5 + r)). */
-clr_bounds2i film_sample_bounds(clr_film film);
+CLR_API clr_bounds2i film_sample_bounds(clr_film film);
 
 /* Adds samples (host memory) through the accumulation kernels. count 0 ->
  * CLR_ERROR_INVALID_ARGUMENT. Bad samples are dropped (film_dropped_samples), samples outside
  * the sample bounds ignored (film_outside_samples). Thread-safe (serialised per film). */
-clr_result film_add_samples(clr_film film, const clr_film_sample *samples, size_t count);
+CLR_API clr_result film_add_samples(clr_film film, const clr_film_sample *samples, size_t count);
 /* Same for a device buffer of `count` clr_film_sample on the film's context. The host bins the
  * samples: it maps the buffer for reading chunk by chunk (a copy to the host on a GPU). */
-clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count);
+CLR_API clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count);
 
 /* pbrt AddSplat: drops NaN/Inf/negative-luminance values (counted as dropped), ignores points
  * outside the pixel bounds, clamps the luminance, adds to pixel floor(x), floor(y). Thread-safe;
  * deterministic for a fixed call order. */
-clr_result film_add_splat(clr_film film, float x, float y, float r, float g, float b);
+CLR_API clr_result film_add_splat(clr_film film, float x, float y, float r, float g, float b);
 
 /* Host-thread film tiles (pbrt GetFilmTile/MergeFilmTile). The tile covers the pixels samples
  * in `sample_region` reach: [ceil(s0 - .5 - r), floor(s1 - .5 + r) + 1) clipped to the pixel
  * bounds. An empty or inverted region -> CLR_ERROR_INVALID_PIXEL_RANGE. */
-clr_result film_get_tile(clr_film film, clr_bounds2i sample_region, clr_film_tile *out);
-clr_bounds2i film_tile_pixel_bounds(clr_film_tile tile);
+CLR_API clr_result film_get_tile(clr_film film, clr_bounds2i sample_region, clr_film_tile *out);
+CLR_API clr_bounds2i film_tile_pixel_bounds(clr_film_tile tile);
 /* Same math and checks as film_add_samples, on the host, into the tile's float sums. */
-clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samples, size_t count);
+CLR_API clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samples, size_t count);
 /* Adds the tile's per-pixel sums (float, into the film's double sums) and counters under the
  * film's mutex. A tile merges once (again -> CLR_ERROR_INVALID_TILE), into its own film only.
  * Merging tiles in a fixed order is deterministic; the result equals one film_add_samples call
  * with the same samples to float tolerance. */
-clr_result film_merge_tile(clr_film film, clr_film_tile tile);
-void film_tile_release(clr_film_tile tile);
+CLR_API clr_result film_merge_tile(clr_film film, clr_film_tile tile);
+CLR_API void film_tile_release(clr_film_tile tile);
 
 /* pbrt WriteImage: per pixel of the pixel bounds (row-major, w*h*3 floats):
  * rgb = max(0, sum/weight) (sum itself where weight is 0), += splat_scale * splat, *= scale. */
-clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale);
+CLR_API clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale);
 /* Raw sums over the pixel bounds (row-major): rgb_sum and splat_rgb 3 per pixel, weight_sum 1;
  * any may be NULL (not all). */
-clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb);
+CLR_API clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb);
 /* Adds sums laid out over `region` (row-major, region-sized, same layout as film_get_sums) into
  * dst; the region must lie inside dst's pixel bounds (else CLR_ERROR_INVALID_PIXEL_RANGE). Any
  * array may be NULL (not all). */
-clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
+CLR_API clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
                            const double *weight_sum, const double *splat_rgb);
 
 /* The description the film was created with. */
-const clr_film_desc *film_get_desc(clr_film film);
+CLR_API const clr_film_desc *film_get_desc(clr_film film);
 
 /* Film output. The EXR holds R, G, B (float32, or half with `half`) over the film's pixel
  * bounds as data window inside the full-resolution display window, and metadata: software
@@ -149,20 +149,24 @@ typedef struct clr_film_write_options {
   int32_t metadata_count;
 } clr_film_write_options;
 
-void clr_film_write_options_init(clr_film_write_options *opts);
-clr_result film_write(clr_film film, const char *path, const clr_film_write_options *opts);
+CLR_API void clr_film_write_options_init(clr_film_write_options *opts);
+CLR_API clr_result film_write(clr_film film, const char *path, const clr_film_write_options *opts);
+/* Checks, before any work, that film_write / film_write_png could write `path`: its folder exists
+ * and is writable, and the name is new or an existing regular file. CLR_ERROR_IO naming the path
+ * and the reason otherwise. */
+CLR_API clr_result film_check_output_path(const char *path);
 /* 8-bit sRGB preview with pbrt-v3's gamma and rounding. */
-clr_result film_write_png(clr_film film, const char *path, float splat_scale);
+CLR_API clr_result film_write_png(clr_film film, const char *path, float splat_scale);
 
 /* Merges films written with include_sums (crops of one frame, or independent passes of the same
  * frame) into the image a single render would have produced and writes it (with sums) to
  * `out_path`. Refuses mismatched resolutions or filters and files without sum channels. */
-clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t count,
+CLR_API clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t count,
                             const char *out_path);
 
-uint64_t film_sample_count(clr_film film);   /* accepted samples */
-uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */
-uint64_t film_outside_samples(clr_film film); /* samples outside the sample bounds */
+CLR_API uint64_t film_sample_count(clr_film film);   /* accepted samples */
+CLR_API uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */
+CLR_API uint64_t film_outside_samples(clr_film film); /* samples outside the sample bounds */
 
 #ifdef __cplusplus
 }

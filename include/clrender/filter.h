@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include "clrender/export.h"
 #include "clrender/result.h"
 
 #ifdef __cplusplus
@@ -50,12 +51,12 @@ typedef struct clr_filter_desc {
 typedef struct clr_filter_params clr_filter_params;
 
 /* pbrt-v3's defaults for `type` (the defaults listed above). */
-void clr_filter_desc_init(clr_filter_desc *desc, clr_filter_type type);
+CLR_API void clr_filter_desc_init(clr_filter_desc *desc, clr_filter_type type);
 /* pbrt-v3 scene names: "box", "triangle", "gaussian", "mitchell", "sinc", plus "blackmanharris"
  * and "catmullrom" (case-sensitive). CLR_ERROR_INVALID_FILTER for any other name. */
-clr_result clr_filter_type_from_name(const char *name, clr_filter_type *type);
+CLR_API clr_result clr_filter_type_from_name(const char *name, clr_filter_type *type);
 /* The scene name of `type`, "unknown" for values outside the enum. */
-const char *clr_filter_type_name(clr_filter_type type);
+CLR_API const char *clr_filter_type_name(clr_filter_type type);
 
 /* Validates `desc` and fills the kernels' parameter block (1/radius, 1/tau and the gaussian's
  * e^(-alpha r^2) precomputed). *out is written only on success. Errors:
@@ -64,16 +65,16 @@ const char *clr_filter_type_name(clr_filter_type type);
  * C non-finite or beyond CLR_FILTER_MAX_BC; tau outside its range or NaN),
  * CLR_ERROR_INVALID_RADIUS (radius NaN, infinite or outside its range). Parameters a type does
  * not use are ignored. */
-clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params *out);
+CLR_API clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params *out);
 
 /* pbrt-v3's filter table for `params` (whatever its use_table): entry iy*16 + ix is the exact
  * filter at ((ix + .5) rx / 16, (iy + .5) ry / 16), bit-identical to the device's. */
-clr_result clr_filter_make_table(const clr_filter_params *params,
+CLR_API clr_result clr_filter_make_table(const clr_filter_params *params,
                                  float table[CLR_FILTER_TABLE_ENTRIES]);
 
 /* Host evaluation with the kernels' code: clr_filter_eval (table mode when params->use_table,
  * reading `table`, or computing the entry itself when table is NULL). 0 for a NULL params. */
-float clr_filter_evaluate(const clr_filter_params *params, const float *table, float x, float y);
+CLR_API float clr_filter_evaluate(const clr_filter_params *params, const float *table, float x, float y);
 
 #ifdef __cplusplus
 }

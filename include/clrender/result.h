@@ -1,6 +1,14 @@
-/* clrender result codes: one fixed-size enum with a table of messages (X-macro). */
+/* clrender result codes: a fixed-size (int32_t) code with a table of messages (X-macro), and the
+ * per-thread detailed message of the last failure.
+ *
+ * Stability: the codes' values never change; new codes are only appended before
+ * CLR_RESULT_COUNT. Thread safety: every call here is thread-safe; the last-error message is
+ * per thread. */
 #ifndef CLRENDER_RESULT_H
 #define CLRENDER_RESULT_H
+
+#include <stdint.h>
+#include "clrender/export.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -36,20 +44,31 @@ extern "C" {
   X(CLR_ERROR_INTERRUPTED, "interrupted")                                              \
   X(CLR_ERROR_INTERNAL, "internal error")
 
-typedef enum clr_result {
+/* Every call that can fail returns a clr_result: CLR_SUCCESS (0) or one of the codes below. */
+typedef int32_t clr_result;
+
+enum clr_result_code {
 #define CLR_RESULT_ENUM(name, message) name,
   CLR_RESULT_MAP(CLR_RESULT_ENUM)
 #undef CLR_RESULT_ENUM
   CLR_RESULT_COUNT
-} clr_result;
+};
 
 /* Static description of a result code ("unknown result code" for out-of-range values). */
-const char *clr_result_string(clr_result result);
+CLR_API const char *clr_result_string(clr_result result);
 /* Name of the enumerator, e.g. "CLR_ERROR_INVALID_SPP". */
-const char *clr_result_name(clr_result result);
+CLR_API const char *clr_result_name(clr_result result);
 /* Detailed message of the last failing clrender call on this thread ("" if none). It names the
  * call, parameter or file and the offending value. */
-const char *clr_last_error_message(void);
+CLR_API const char *clr_last_error_message(void);
+/* Records a printf-style message as this thread's last error and returns `code`: for layers
+ * built on clrender (the renderer) that report through the same channel. The arguments may
+ * include clr_last_error_message() itself (the message is formatted before it is stored). */
+CLR_API clr_result clr_set_last_error(clr_result code, const char *fmt, ...)
+#if defined(__GNUC__) || defined(__clang__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 #ifdef __cplusplus
 }

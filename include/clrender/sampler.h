@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include <CL/cl.h>
+#include "clrender/opencl.h"
 #include "clrender/context.h"
 
 #ifdef __cplusplus
@@ -53,10 +53,10 @@ typedef struct clr_sampler_desc {
 } clr_sampler_desc;
 
 /* Defaults of pbrt-v3's scene format for `type`. */
-void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type);
+CLR_API void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type);
 /* "random", "stratified", "halton", "sobol" -> type; CLR_ERROR_INVALID_SAMPLER otherwise. */
-clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type);
-const char *clr_sampler_type_name(clr_sampler_type type);
+CLR_API clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type);
+CLR_API const char *clr_sampler_type_name(clr_sampler_type type);
 
 /* One request of the layout. The camera's requests come first: 2D film offset, 1D time, 2D lens;
  * then the integrator's 1D/2D requests and arrays in the order it makes them. */
@@ -70,16 +70,16 @@ typedef struct clr_sample_request {
 
 typedef struct clr_sampler_t *clr_sampler;
 
-clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr_sampler *out);
-void clr_sampler_retain(clr_sampler sampler);
-void clr_sampler_release(clr_sampler sampler);
+CLR_API clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr_sampler *out);
+CLR_API void clr_sampler_retain(clr_sampler sampler);
+CLR_API void clr_sampler_release(clr_sampler sampler);
 
 /* Effective samples per pixel (after rounding: stratified x*y, sobol power of two). */
-int32_t clr_sampler_spp(clr_sampler sampler);
-clr_bounds2i clr_sampler_sample_bounds(clr_sampler sampler);
-clr_bounds2i clr_sampler_pixel_bounds(clr_sampler sampler);
+CLR_API int32_t clr_sampler_spp(clr_sampler sampler);
+CLR_API clr_bounds2i clr_sampler_sample_bounds(clr_sampler sampler);
+CLR_API clr_bounds2i clr_sampler_pixel_bounds(clr_sampler sampler);
 /* 1 if the sampler has a global sample index (halton, sobol). */
-int clr_sampler_has_global_index(clr_sampler sampler);
+CLR_API int clr_sampler_has_global_index(clr_sampler sampler);
 
 /* A batch: the pixels of `pixels` (must lie inside the sample bounds) x samples
  * [first_sample, first_sample + sample_count) x the request layout. */
@@ -92,9 +92,9 @@ typedef struct clr_sample_batch {
   int32_t request_count;
 } clr_sample_batch;
 
-void clr_sample_batch_init(clr_sample_batch *batch);
+CLR_API void clr_sample_batch_init(clr_sample_batch *batch);
 /* Values per sample vector: sum of dims * max(1, array_size). */
-clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
+CLR_API clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
                                     int32_t *values_per_sample);
 
 /* Output layout, for pixel (px,py), sample s (relative to first_sample) and value k:
@@ -108,15 +108,15 @@ typedef struct clr_sample_output {
   uint64_t *host_indices;  /* optional host copy of global indices (halton, sobol only) */
 } clr_sample_output;
 
-void clr_sample_output_init(clr_sample_output *out);
+CLR_API void clr_sample_output_init(clr_sample_output *out);
 
 /* Generate on the context's device. If device_values is NULL a temporary buffer is used (needs
  * host_values). */
-clr_result clr_sampler_generate(clr_sampler sampler, const clr_sample_batch *batch,
+CLR_API clr_result clr_sampler_generate(clr_sampler sampler, const clr_sample_batch *batch,
                                 const clr_sample_output *out);
 /* Same values computed on the host by the C build of the kernel headers (single thread): the
  * reference the device output is compared against. device_values is ignored. */
-clr_result clr_sampler_generate_reference(clr_sampler sampler, const clr_sample_batch *batch,
+CLR_API clr_result clr_sampler_generate_reference(clr_sampler sampler, const clr_sample_batch *batch,
                                           const clr_sample_output *out);
 
 #ifdef __cplusplus

@@ -4,10 +4,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "atomic_file.h"
 #include "clr_internal.h"
 #include "exr_io.h"
 #include "film_internal.h"
 #include "png_io.h"
+#include "clrender/version.h"
 
 #define SUM_PLANES 7 /* sum.R sum.G sum.B weight splat.R splat.G splat.B */
 static const char *const sum_names[SUM_PLANES] = {"sum.R",   "sum.G",   "sum.B",  "weight",
@@ -174,4 +176,9 @@ clr_result film_write_png(clr_film film, const char *path, float splat_scale) {
   if (r == CLR_SUCCESS) r = clr_png_write_srgb(path, film->width, film->height, rgb);
   free(rgb);
   return r;
+}
+
+clr_result film_check_output_path(const char *path) {
+  if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "film_check_output_path: path is NULL");
+  return clr_check_writable(path);
 }

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "clr_internal.h"
+#include "render_error.h"
 #include "integrator.h"
 #include "pcg32.h"
 #include "render_scene_internal.h"
@@ -29,7 +29,7 @@ static int add_request(clr_integrator *it, int dims, int array_size) {
 
 static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *scene, int power) {
   it->light_cdf = calloc((size_t)it->light_count + 1, sizeof *it->light_cdf);
-  if (!it->light_cdf) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator");
+  if (!it->light_cdf) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
   double total = 0.0;
   for (int i = 0; i < it->light_count; ++i) total += power ? fmax(0.0, scene->lights[i].power) : 1.0;
   if (!(total > 0.0) || !isfinite(total)) { power = 0; total = it->light_count; }
@@ -60,7 +60,7 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
     it->ao_cos_sample = clr_params_find_bool(p, "cossample", true);
     if (it->ao_samples < 1) it->ao_samples = 1;
     if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2)
-      return clr_fail(NULL, CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d", p->file,
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d", p->file,
                       p->line, it->ao_samples, (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
     add_request(it, 2, it->ao_samples);
     return CLR_SUCCESS;
@@ -72,7 +72,7 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
     if (it->direct_all) {
       it->light_samples = calloc((size_t)it->light_count + 1, sizeof(int));
       it->light_offsets = calloc((size_t)it->light_count + 1, sizeof(int));
-      if (!it->light_samples || !it->light_offsets) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator");
+      if (!it->light_samples || !it->light_offsets) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
       for (int j = 0; j < it->light_count; ++j) {
         it->light_samples[j] = scene->lights[j].nsamples;
         /* depth-0 arrays only: matte surfaces never recurse */
@@ -175,7 +175,7 @@ static clr_result reserve_rays(clr_integrator_scratch *s, size_t n) {
   if (grow((void **)&s->rays, &cap, n, sizeof *s->rays) ||
       grow((void **)&s->hits, &cap2, n, sizeof *s->hits) ||
       grow((void **)&s->occluded, &cap3, n, 1))
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
   s->ray_cap = cap;
   return CLR_SUCCESS;
 }
@@ -189,7 +189,7 @@ static clr_result reserve_samples(clr_integrator_scratch *s, size_t n) {
       grow((void **)&s->active, &c4, n, sizeof(int32_t)) ||
       grow((void **)&s->owner, &c5, n, sizeof(int32_t)) ||
       grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)))
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
   s->sample_cap = c1;
   s->ray2_cap = c6;
   return CLR_SUCCESS;
@@ -408,7 +408,7 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
 
 static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
   if (grow((void **)&s->jobs, &s->job_cap, n, sizeof *s->jobs))
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
   return CLR_SUCCESS;
 }
 
@@ -438,7 +438,7 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
   if ((size_t)count * (size_t)n > s->ao_cap) {
     size_t cap = (size_t)count * (size_t)n;
     term = realloc(s->ao_terms, cap * sizeof *term);
-    if (!term) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    if (!term) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
     s->ao_terms = term;
     s->ao_cap = cap;
   }
@@ -569,7 +569,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   if (!wos || !idx) {
     free(wos);
     free(idx);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "path integrator");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
   for (int i = 0; i < count; ++i) {
     beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;

@@ -1,5 +1,6 @@
 /* OpenCL runtime: device enumeration and choice, context and queue, the program cache with
  * build options made in one place, and shared constant buffers. */
+#include <stdarg.h>
 #include <ctype.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -42,8 +43,13 @@ struct clr_context_t {
   int shared_count;
 };
 
-void clr_context_report_error(clr_context ctx, clr_result code, const char *message) {
-  if (ctx->callback) ctx->callback(ctx->callback_user, code, message);
+clr_result clr_fail(clr_context ctx, clr_result code, const char *fmt, ...) {
+  va_list args;
+  va_start(args, fmt);
+  const char *message = clr_error_vrecord(fmt, args);
+  va_end(args);
+  if (ctx && ctx->callback) ctx->callback(ctx->callback_user, code, message);
+  return code;
 }
 
 void clr_context_desc_init(clr_context_desc *desc) {

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 
 #define PLY_MAX_ELEMENTS 32
 #define PLY_MAX_PROPERTIES 64
@@ -66,18 +66,18 @@ static size_t type_size(ply_type type) {
 
 static clr_result load_file(ply_file *f) {
   FILE *fp = fopen(f->path, "rb");
-  if (!fp) return clr_fail(NULL, CLR_ERROR_IO, "clr_ply_read: cannot open \"%s\": %s", f->path, strerror(errno));
+  if (!fp) return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: cannot open \"%s\": %s", f->path, strerror(errno));
   long size = -1;
   if (fseek(fp, 0, SEEK_END) == 0) size = ftell(fp);
   if (size < 0 || fseek(fp, 0, SEEK_SET) != 0) {
     fclose(fp);
-    return clr_fail(NULL, CLR_ERROR_IO, "clr_ply_read: cannot determine the size of \"%s\"", f->path);
+    return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: cannot determine the size of \"%s\"", f->path);
   }
   f->size = (size_t)size;
   f->data = malloc(f->size + 1);
   if (!f->data) {
     fclose(fp);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\" (%zu bytes)", f->path, f->size);
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\" (%zu bytes)", f->path, f->size);
   }
   size_t got = fread(f->data, 1, f->size, fp);
   int read_error = ferror(fp);
@@ -85,7 +85,7 @@ static clr_result load_file(ply_file *f) {
   if (got != f->size || read_error) {
     free(f->data);
     f->data = NULL;
-    return clr_fail(NULL, CLR_ERROR_IO, "clr_ply_read: reading \"%s\" failed after %zu of %zu bytes", f->path, got, f->size);
+    return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: reading \"%s\" failed after %zu of %zu bytes", f->path, got, f->size);
   }
   f->data[f->size] = 0;
   return CLR_SUCCESS;
@@ -102,7 +102,7 @@ static clr_result header_fail(const ply_file *f, int line, const char *fmt, ...)
   va_start(args, fmt);
   vsnprintf(detail, sizeof detail, fmt, args);
   va_end(args);
-  return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": malformed header, line %d: %s",
+  return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": malformed header, line %d: %s",
                   f->path, line, detail);
 }
 
@@ -190,7 +190,7 @@ static clr_result parse_header(ply_file *f) {
   char buf[512], *words[8];
   int line = 1, n = next_header_line(f, buf, sizeof buf, words);
   if (n != 1 || strcmp(words[0], "ply"))
-    return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\" is not a PLY file (no \"ply\" "
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\" is not a PLY file (no \"ply\" "
                     "magic line)", f->path);
   int have_format = 0;
   for (;;) {
@@ -243,7 +243,7 @@ static clr_result assign_vertex_roles(ply_file *f, ply_element *v, int *has_norm
   static const char *const uv_names[4][2] = {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
   static const ply_role p_roles[3] = {ROLE_X, ROLE_Y, ROLE_Z}, n_roles[3] = {ROLE_NX, ROLE_NY, ROLE_NZ}, uv_roles[2] = {ROLE_U, ROLE_V};
   if (!assign_roles(v, xyz, p_roles, 3))
-    return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"vertex\" lacks one of "
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"vertex\" lacks one of "
                     "the scalar properties x, y, z", f->path);
   *has_normals = assign_roles(v, nxyz, n_roles, 3);
   *has_uv = 0;
@@ -259,7 +259,7 @@ static clr_result assign_face_roles(ply_file *f, ply_element *face) {
       return CLR_SUCCESS;
     }
   }
-  return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" has no list "
+  return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" has no list "
                   "property \"vertex_indices\"", f->path);
 }
 
@@ -317,7 +317,7 @@ static int read_list_count(ply_file *f, ply_type type, long long *count) {
 
 static clr_result data_error(ply_file *f, const ply_element *e, long long instance, const ply_property *p) {
   const char *what = f->truncated ? "truncated data" : "bad value";
-  return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": %s in element \"%s\" instance %lld "
+  return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": %s in element \"%s\" instance %lld "
                   "of %lld, property \"%s\" (byte offset %zu)", f->path, what, e->name, instance, e->count,
                   p->name, f->pos);
 }
@@ -335,7 +335,7 @@ static clr_result check_counts_fit(ply_file *f) {
       else per_instance += type_size(p->count_type != PLY_NONE ? p->count_type : p->type);
     }
     if (per_instance && (unsigned long long)e->count > remaining / per_instance)
-      return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": truncated data: element \"%s\" "
+      return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": truncated data: element \"%s\" "
                       "declares %lld instances but only %zu bytes of data remain", f->path, e->name,
                       e->count, remaining - 1);
     remaining -= (size_t)e->count * per_instance;
@@ -376,14 +376,14 @@ static clr_result read_face_indices(ply_file *f, const ply_element *e, long long
   long long count;
   if (!read_list_count(f, p->count_type, &count)) return data_error(f, e, i, p);
   if (count > PLY_MAX_LIST_LENGTH)
-    return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" instance %lld "
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" instance %lld "
                     "has %lld vertex indices (at most %d supported)", f->path, i, count, PLY_MAX_LIST_LENGTH);
   uint32_t face[4];
   for (long long j = 0; j < count; ++j) {
     double value;
     if (!read_value(f, p->type, &value)) return data_error(f, e, i, p);
     if (!(value >= 0 && value < mesh->vertex_count) || value != floor(value))
-      return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" instance %lld, "
+      return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" instance %lld, "
                       "vertex_indices[%lld] = %g is outside [0, %ld)", f->path, i, j, value, (long)mesh->vertex_count);
     if (j < 4) face[j] = (uint32_t)value;
   }
@@ -436,14 +436,14 @@ static clr_result skip_element(ply_file *f, const ply_element *e) {
 static clr_result read_body(ply_file *f, clr_mesh *mesh) {
   ply_element *vertex = find_element(f, "vertex"), *face = find_element(f, "face");
   if (!vertex || !face || vertex->count == 0 || face->count == 0)
-    return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": no \"vertex\" and \"face\" "
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": no \"vertex\" and \"face\" "
                     "elements with instances", f->path);
   int has_normals = 0, has_uv = 0;
   CLR_CHECK(assign_vertex_roles(f, vertex, &has_normals, &has_uv));
   CLR_CHECK(assign_face_roles(f, face));
   CLR_CHECK(check_counts_fit(f));
   if (vertex->count > INT32_MAX / 3 || face->count > INT32_MAX / 6)
-    return clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": too many vertices (%lld) or "
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": too many vertices (%lld) or "
                     "faces (%lld)", f->path, vertex->count, face->count);
   CLR_CHECK(clr_mesh_alloc(mesh, (int32_t)vertex->count, (int32_t)(2 * face->count), has_normals, has_uv, f->path));
   mesh->triangle_count = 0; /* counts the triangles actually read */
@@ -457,11 +457,11 @@ static clr_result read_body(ply_file *f, clr_mesh *mesh) {
 }
 
 clr_result clr_ply_read(const char *path, clr_mesh *out) {
-  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_ply_read: out is NULL");
+  if (!out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_ply_read: out is NULL");
   memset(out, 0, sizeof *out);
-  if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_ply_read: path is NULL");
+  if (!path) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_ply_read: path is NULL");
   ply_file *f = calloc(1, sizeof *f);
-  if (!f) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\"", path);
+  if (!f) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\"", path);
   f->path = path;
   clr_result r = load_file(f);
   if (r == CLR_SUCCESS) r = parse_header(f);

@@ -1,8 +1,7 @@
-/* 8-bit sRGB PNG output/input through libpng's simplified API, and image loading by extension. */
+/* 8-bit sRGB PNG output/input through libpng's simplified API. */
 #define _POSIX_C_SOURCE 200809L
 #include "png_io.h"
 
-#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <png.h>
@@ -11,7 +10,6 @@
 #include <string.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
-#include "exr_io.h"
 
 float clr_gamma_correct(float v) {
   if (v <= 0.0031308f) return 12.92f * v;
@@ -31,7 +29,7 @@ uint8_t clr_to_srgb8(float v) {
 }
 
 /* Byte count of an interleaved RGB image, 0 if the size is invalid or overflows. */
-static size_t rgb_bytes(int32_t width, int32_t height, size_t element) {
+size_t clr_rgb_bytes(int32_t width, int32_t height, size_t element) {
   if (width <= 0 || height <= 0) return 0;
   size_t pixels = (size_t)width * (size_t)height;
   if (pixels / (size_t)width != (size_t)height || pixels > SIZE_MAX / 3 / element) return 0;
@@ -41,7 +39,7 @@ static size_t rgb_bytes(int32_t width, int32_t height, size_t element) {
 clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, const float *rgb) {
   if (!path || !rgb)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_png_write_srgb: NULL path or rgb");
-  size_t bytes = rgb_bytes(width, height, 1);
+  size_t bytes = clr_rgb_bytes(width, height, 1);
   if (!bytes)
     return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION, "clr_png_write_srgb '%s': bad size %dx%d",
                     path, (int)width, (int)height);
@@ -89,7 +87,7 @@ clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float
   } else {
     image.format = PNG_FORMAT_RGB;
     size_t bytes = image.width <= INT32_MAX && image.height <= INT32_MAX
-                       ? rgb_bytes((int32_t)image.width, (int32_t)image.height, 1) : 0;
+                       ? clr_rgb_bytes((int32_t)image.width, (int32_t)image.height, 1) : 0;
     srgb = bytes ? calloc(bytes, 1) : NULL; /* zeros: alpha is composited onto black */
     if (!bytes) result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "PNG '%s' is too large", path);
     else if (!srgb)
@@ -110,54 +108,5 @@ clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float
   png_image_free(&image);
   fclose(stream);
   free(srgb);
-  return result;
-}
-
-static int has_extension(const char *path, const char *ext) {
-  size_t n = strlen(path), e = strlen(ext);
-  if (n < e) return 0;
-  for (size_t i = 0; i < e; ++i)
-    if (tolower((unsigned char)path[n - e + i]) != ext[i]) return 0;
-  return 1;
-}
-
-/* Interleaves R, G, B (or Y three times) of an EXR image. */
-static clr_result exr_to_rgb(const char *path, const clr_exr_image *image, float **rgb) {
-  const float *planes[3] = {clr_exr_image_channel(image, "R"), clr_exr_image_channel(image, "G"),
-                            clr_exr_image_channel(image, "B")};
-  if (!planes[0] || !planes[1] || !planes[2]) {
-    const float *y = clr_exr_image_channel(image, "Y");
-    if (!y)
-      return clr_fail(NULL, CLR_ERROR_FILE_FORMAT,
-                      "EXR '%s' has neither R, G and B channels nor a Y channel (first channel "
-                      "'%s')", path, image->channel_names[0]);
-    planes[0] = planes[1] = planes[2] = y;
-  }
-  size_t bytes = rgb_bytes(image->width, image->height, sizeof(float));
-  float *out = bytes ? malloc(bytes) : NULL;
-  if (!out) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "EXR '%s': out of memory", path);
-  size_t pixels = (size_t)image->width * (size_t)image->height;
-  for (size_t i = 0; i < pixels; ++i)
-    for (int c = 0; c < 3; ++c) out[3 * i + (size_t)c] = planes[c][i];
-  *rgb = out;
-  return CLR_SUCCESS;
-}
-
-clr_result clr_image_read(const char *path, int32_t *width, int32_t *height, float **rgb) {
-  if (!path || !width || !height || !rgb)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_image_read: NULL argument");
-  *rgb = NULL;
-  if (has_extension(path, ".png")) return clr_png_read(path, width, height, rgb);
-  if (!has_extension(path, ".exr"))
-    return clr_fail(NULL, CLR_ERROR_FILE_FORMAT,
-                    "cannot read image '%s': unknown extension (expected .exr or .png)", path);
-  clr_exr_image *image = NULL;
-  CLR_CHECK(clr_exr_read(path, &image));
-  clr_result result = exr_to_rgb(path, image, rgb);
-  if (result == CLR_SUCCESS) {
-    *width = image->width;
-    *height = image->height;
-  }
-  clr_exr_image_free(image);
   return result;
 }

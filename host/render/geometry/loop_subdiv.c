@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 
 #define NEXT(i) (((i) + 1) % 3)
 #define PREV(i) (((i) + 2) % 3)
@@ -40,7 +40,7 @@ static void sd_free(sd_mesh *m) {
 static clr_result sd_alloc(sd_mesh *m, int64_t nv, int64_t nf) {
   memset(m, 0, sizeof *m);
   if (nv > SD_MAX_COUNT || nf > SD_MAX_COUNT)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "clr_loop_subdivide: subdivided mesh too large (%lld "
+    return clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: subdivided mesh too large (%lld "
                     "vertices, %lld triangles)", (long long)nv, (long long)nf);
   m->nv = (int32_t)nv;
   m->nf = (int32_t)nf;
@@ -48,7 +48,7 @@ static clr_result sd_alloc(sd_mesh *m, int64_t nv, int64_t nf) {
   m->f = calloc((size_t)(nf ? nf : 1), sizeof *m->f);
   if (!m->v || !m->f) {
     sd_free(m);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for %lld vertices "
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for %lld vertices "
                     "and %lld triangles", (long long)nv, (long long)nf);
   }
   return CLR_SUCCESS;
@@ -89,7 +89,7 @@ static int32_t one_ring(sd_mesh *m, int32_t vert, clr_result *result) {
   if (n > m->ring_capacity) {
     float(*grown)[3] = realloc(m->ring, (size_t)n * sizeof *grown);
     if (!grown) {
-      *result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for a one-ring");
+      *result = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for a one-ring");
       return 0;
     }
     m->ring = grown;
@@ -214,7 +214,7 @@ static void build_children(const sd_mesh *m, const int32_t *edge_vertex, sd_mesh
 
 static clr_result subdivide_once(sd_mesh *m, sd_mesh *c) {
   int32_t *edge_vertex = malloc(3 * (size_t)(m->nf ? m->nf : 1) * sizeof *edge_vertex);
-  if (!edge_vertex) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for edges");
+  if (!edge_vertex) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for edges");
   int64_t edges = number_edge_vertices(m, edge_vertex);
   clr_result r = sd_alloc(c, (int64_t)m->nv + edges, 4 * (int64_t)m->nf);
   for (int32_t i = 0; r == CLR_SUCCESS && i < m->nv; ++i) { /* even vertices */
@@ -327,7 +327,7 @@ static clr_result link_faces(sd_mesh *m, const uint32_t *orig) {
   if (!map.keys || !map.values) {
     free(map.keys);
     free(map.values);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for the edge map");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for the edge map");
   }
   memset(map.keys, 0xff, size * sizeof *map.keys);
   clr_result r = CLR_SUCCESS;
@@ -336,7 +336,7 @@ static clr_result link_faces(sd_mesh *m, const uint32_t *orig) {
       uint32_t a = (uint32_t)m->f[i].v[k], b = (uint32_t)m->f[i].v[NEXT(k)];
       size_t slot = edge_slot(&map, edge_key(a, b));
       if (map.keys[slot] != UINT64_MAX)
-        r = clr_fail(NULL, CLR_ERROR_SCENE, "clr_loop_subdivide: non-manifold mesh: edge (%u, %u) of "
+        r = clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: non-manifold mesh: edge (%u, %u) of "
                      "triangle %ld is in more than two triangles or in two of opposite winding (also "
                      "triangle %ld)", orig[a], orig[b], (long)i, (long)(map.values[slot] / 3));
       map.keys[slot] = edge_key(a, b);
@@ -364,7 +364,7 @@ static clr_result classify_vertices(sd_mesh *m, const int32_t *incident, const u
     v->boundary = face < 0;
     int32_t fan = valence(m, i) - v->boundary;
     if (fan != incident[i])
-      return clr_fail(NULL, CLR_ERROR_SCENE, "clr_loop_subdivide: non-manifold mesh: vertex %u joins "
+      return clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: non-manifold mesh: vertex %u joins "
                       "%ld triangles that do not form a single fan", orig[i], (long)incident[i]);
   }
   return CLR_SUCCESS;
@@ -377,12 +377,12 @@ static clr_result build_base(const clr_mesh *in, sd_mesh *m, uint32_t **orig_out
   int32_t *incident = calloc((size_t)(in->vertex_count ? in->vertex_count : 1), sizeof *incident);
   uint32_t *orig = malloc((size_t)(in->vertex_count ? in->vertex_count : 1) * sizeof *orig);
   clr_result r = remap && incident && orig ? CLR_SUCCESS
-               : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for %ld vertices",
+               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for %ld vertices",
                           (long)in->vertex_count);
   for (int32_t t = 0; r == CLR_SUCCESS && t < in->triangle_count; ++t) {
     const uint32_t *tri = in->indices + 3 * (size_t)t;
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
-      r = clr_fail(NULL, CLR_ERROR_SCENE, "clr_loop_subdivide: triangle %ld repeats a vertex (%u %u %u)",
+      r = clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: triangle %ld repeats a vertex (%u %u %u)",
                    (long)t, tri[0], tri[1], tri[2]);
     for (int k = 0; k < 3; ++k) ++incident[tri[k]];
   }
@@ -415,11 +415,11 @@ static clr_result build_base(const clr_mesh *in, sd_mesh *m, uint32_t **orig_out
 }
 
 clr_result clr_loop_subdivide(const clr_mesh *in, int32_t nlevels, clr_mesh *out) {
-  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_loop_subdivide: out is NULL");
+  if (!out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_loop_subdivide: out is NULL");
   memset(out, 0, sizeof *out);
-  if (!in) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_loop_subdivide: in is NULL");
+  if (!in) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_loop_subdivide: in is NULL");
   if (nlevels < 0)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_loop_subdivide: nlevels is %ld, must be >= 0",
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_loop_subdivide: nlevels is %ld, must be >= 0",
                     (long)nlevels);
   CLR_CHECK(clr_mesh_validate(in, "clr_loop_subdivide: input mesh"));
   sd_mesh level = {0};

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 #include "render_scene_internal.h"
 
 void rs_normalize(float v[3]) {
@@ -33,7 +33,7 @@ static void coordinate_system(const float v1[3], float v2[3], float v3[3]) {
 
 static clr_result push_light(clr_render_scene *s, const rs_light *l) {
   rs_light *n = realloc(s->lights, (size_t)(s->light_count + 1) * sizeof *n);
-  if (!n) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "lights");
+  if (!n) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
   s->lights = n;
   s->lights[s->light_count++] = *l;
   return CLR_SUCCESS;

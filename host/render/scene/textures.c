@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
-#include "png_io.h"
+#include "render_error.h"
+#include "clrender/image.h"
 #include "render_scene_internal.h"
 
 void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
@@ -52,9 +52,13 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
     snprintf(m, sizeof m, "%s:%d: imagemap wrap \"%s\" not supported: using repeat", p->file, p->line, wrap);
     warn(wu, m);
   }
-  clr_result r = clr_image_read(path, &t->width, &t->height, &t->rgb);
+  clr_image image;
+  clr_result r = clr_image_read(path, &image);
+  t->width = image.width;
+  t->height = image.height;
+  t->rgb = image.rgb;
   if (r != CLR_SUCCESS)
-    return clr_fail(NULL, r, "%s:%d: imagemap \"%s\": %s", p->file, p->line, path,
+    return clr_set_last_error(r, "%s:%d: imagemap \"%s\": %s", p->file, p->line, path,
                     clr_last_error_message());
   return CLR_SUCCESS;
 }
@@ -71,7 +75,7 @@ clr_result rs_textures_build(clr_render_scene *s, const clr_scene_desc *d, clr_w
                              void *wu) {
   s->texture_count = d->texture_count;
   s->textures = calloc((size_t)(d->texture_count ? d->texture_count : 1), sizeof *s->textures);
-  if (!s->textures) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "textures");
+  if (!s->textures) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "textures");
   for (int i = 0; i < d->texture_count; ++i) {
     const clr_texture_desc *td = &d->textures[i];
     const clr_param_list *p = &td->params;

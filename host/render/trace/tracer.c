@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <embree3/rtcore.h>
-#include "clr_internal.h"
+#include "render_error.h"
 
 #define PI_D 3.14159265358979323846
 
@@ -85,7 +85,7 @@ static clr_result embree_check(struct clr_tracer_t *t, const char *call) {
   pthread_mutex_lock(&t->error_lock);
   memcpy(message, t->error_message, sizeof message);
   pthread_mutex_unlock(&t->error_lock);
-  return clr_fail(NULL, CLR_ERROR_EMBREE, "%s failed: %s (%d): %s", call, embree_error_name(code),
+  return clr_set_last_error(CLR_ERROR_EMBREE, "%s failed: %s (%d): %s", call, embree_error_name(code),
                   (int)code, message);
 }
 
@@ -259,10 +259,10 @@ void clr_tracer_release(clr_tracer t) {
 static clr_result add_group(struct clr_tracer_t *t, const char *fn) {
   if (t->group_count == t->group_capacity) {
     if (t->group_capacity > INT32_MAX / 2)
-      return clr_fail(NULL, CLR_ERROR_SCENE, "%s: too many groups (%ld)", fn, (long)t->group_count);
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: too many groups (%ld)", fn, (long)t->group_count);
     int32_t capacity = t->group_capacity ? 2 * t->group_capacity : 4;
     group *groups = realloc(t->groups, (size_t)capacity * sizeof *groups);
-    if (!groups) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow the group table", fn);
+    if (!groups) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow the group table", fn);
     t->groups = groups;
     t->group_capacity = capacity;
   }
@@ -280,25 +280,25 @@ static clr_result add_group(struct clr_tracer_t *t, const char *fn) {
 }
 
 clr_result clr_tracer_create(clr_tracer *out) {
-  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_create: out is NULL");
+  if (!out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_create: out is NULL");
   *out = NULL;
   struct clr_tracer_t *t = calloc(1, sizeof *t);
-  if (!t) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_create: out of memory");
+  if (!t) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_create: out of memory");
   if (pthread_mutex_init(&t->error_lock, NULL) != 0) {
     free(t);
-    return clr_fail(NULL, CLR_ERROR_INTERNAL, "clr_tracer_create: pthread_mutex_init failed");
+    return clr_set_last_error(CLR_ERROR_INTERNAL, "clr_tracer_create: pthread_mutex_init failed");
   }
   t->device = rtcNewDevice(NULL);
   if (!t->device) {
     enum RTCError code = rtcGetDeviceError(NULL);
     clr_tracer_release(t);
-    return clr_fail(NULL, CLR_ERROR_EMBREE, "rtcNewDevice failed: %s (%d)", embree_error_name(code),
+    return clr_set_last_error(CLR_ERROR_EMBREE, "rtcNewDevice failed: %s (%d)", embree_error_name(code),
                     (int)code);
   }
   rtcSetDeviceErrorFunction(t->device, record_embree_error, t);
   clr_result r = embree_check(t, "rtcSetDeviceErrorFunction");
   if (r == CLR_SUCCESS && rtcGetDeviceProperty(t->device, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
-    r = clr_fail(NULL, CLR_ERROR_EMBREE, "clr_tracer_create: this Embree build culls back faces; "
+    r = clr_set_last_error(CLR_ERROR_EMBREE, "clr_tracer_create: this Embree build culls back faces; "
                  "pbrt needs two-sided triangles");
   if (r == CLR_SUCCESS) r = add_group(t, "clr_tracer_create");
   if (r != CLR_SUCCESS) {
@@ -311,9 +311,9 @@ clr_result clr_tracer_create(clr_tracer *out) {
 
 clr_result clr_tracer_new_group(clr_tracer t, int32_t *group_id) {
   if (!t || !group_id)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_new_group: %s is NULL", t ? "group_id" : "tracer");
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_new_group: %s is NULL", t ? "group_id" : "tracer");
   if (t->committed)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_new_group: the tracer is already committed");
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_new_group: the tracer is already committed");
   CLR_CHECK(add_group(t, "clr_tracer_new_group"));
   *group_id = t->group_count - 1;
   return CLR_SUCCESS;
@@ -322,20 +322,20 @@ clr_result clr_tracer_new_group(clr_tracer t, int32_t *group_id) {
 /* Common checks of the building calls. */
 static clr_result check_building(clr_tracer t, int32_t g, const void *arg, const char *arg_name,
                                  const char *fn) {
-  if (!t) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: tracer is NULL", fn);
-  if (!arg) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, arg_name);
+  if (!t) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: tracer is NULL", fn);
+  if (!arg) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, arg_name);
   if (t->committed)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is already committed", fn);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is already committed", fn);
   if (g < 0 || g >= t->group_count)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [0, %ld)", fn,
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [0, %ld)", fn,
                     (long)g, (long)t->group_count);
   if (t->groups[g].count == t->groups[g].capacity) {
     group *gr = &t->groups[g];
     if (gr->capacity > UINT32_MAX / 4)
-      return clr_fail(NULL, CLR_ERROR_SCENE, "%s: too many geometries in group %ld", fn, (long)g);
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: too many geometries in group %ld", fn, (long)g);
     uint32_t capacity = gr->capacity ? 2 * gr->capacity : 8;
     geom_record *records = realloc(gr->records, (size_t)capacity * sizeof *records);
-    if (!records) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow group %ld", fn, (long)g);
+    if (!records) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow group %ld", fn, (long)g);
     gr->records = records;
     gr->capacity = capacity;
   }
@@ -356,7 +356,7 @@ static clr_result attach(struct clr_tracer_t *t, int32_t g, RTCGeometry geom, ge
   }
   if (r == CLR_SUCCESS && id != gr->count) {
     rtcDetachGeometry(gr->scene, id);
-    r = clr_fail(NULL, CLR_ERROR_INTERNAL, "rtcAttachGeometry gave id %u, expected %u", id, gr->count);
+    r = clr_set_last_error(CLR_ERROR_INTERNAL, "rtcAttachGeometry gave id %u, expected %u", id, gr->count);
   }
   rtcReleaseGeometry(geom);
   if (r != CLR_SUCCESS) {
@@ -379,7 +379,7 @@ static clr_result copy_mesh(const clr_mesh *m, tracer_mesh *out) {
   out->n = m->n ? malloc(3 * nv * sizeof(float)) : NULL;
   out->uv = m->uv ? malloc(2 * nv * sizeof(float)) : NULL;
   if (!out->p || !out->indices || (m->n && !out->n) || (m->uv && !out->uv))
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_add_mesh: cannot copy a mesh of %zu "
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_add_mesh: cannot copy a mesh of %zu "
                     "vertices and %zu triangles", nv, nt);
   memcpy(out->p, m->p, 3 * nv * sizeof(float));
   out->p[3 * nv] = 0.0f;
@@ -395,7 +395,7 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
   CLR_CHECK(check_building(t, g, mesh, "mesh", fn));
   CLR_CHECK(clr_mesh_validate(mesh, fn));
   if (mesh->triangle_count == 0)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: the mesh has no triangles (%ld vertices)", fn,
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: the mesh has no triangles (%ld vertices)", fn,
                     (long)mesh->vertex_count);
   geom_record record = {.kind = GEOM_MESH, .user_id = user_id};
   clr_result r = copy_mesh(mesh, &record.mesh);
@@ -430,14 +430,14 @@ clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_
   static const char fn[] = "clr_tracer_add_sphere";
   CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
   if (!(radius > 0.0f) || !isfinite(radius))
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: radius %g must be positive and finite", fn, (double)radius);
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: radius %g must be positive and finite", fn, (double)radius);
   geom_record record = {.kind = GEOM_SPHERE, .user_id = user_id};
   record.sphere = malloc(sizeof *record.sphere);
-  if (!record.sphere) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
+  if (!record.sphere) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
   record.sphere->radius = radius;
   if (!affine_from_matrix(object_to_group, &record.sphere->object_to_group)) {
     free_record(&record);
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
                     "matrix", fn);
   }
   RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
@@ -468,11 +468,11 @@ clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance
   static const char fn[] = "clr_tracer_add_instance";
   CLR_CHECK(check_building(t, 0, instance_to_world, "instance_to_world", fn));
   if (g < 1 || g >= t->group_count)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [1, %ld): only "
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [1, %ld): only "
                     "object-definition groups can be instanced", fn, (long)g, (long)t->group_count);
   geom_record record = {.kind = GEOM_INSTANCE, .user_id = user_id, .instanced_group = g};
   if (!affine_from_matrix(instance_to_world, &record.instance_to_world))
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: instance_to_world is not a finite, invertible "
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: instance_to_world is not a finite, invertible "
                     "affine matrix", fn);
   RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_INSTANCE);
   EMBREE_CHECK(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_INSTANCE)");
@@ -490,9 +490,9 @@ clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance
 }
 
 clr_result clr_tracer_instance_info(clr_tracer t, uint32_t inst_id, int32_t *group, uint32_t *user_id) {
-  if (!t) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_instance_info: tracer is NULL");
+  if (!t) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_instance_info: tracer is NULL");
   if (inst_id >= t->groups[0].count || t->groups[0].records[inst_id].kind != GEOM_INSTANCE)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_instance_info: %lu is not an "
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_instance_info: %lu is not an "
                     "instance id", (unsigned long)inst_id);
   if (group) *group = t->groups[0].records[inst_id].instanced_group;
   if (user_id) *user_id = t->groups[0].records[inst_id].user_id;
@@ -500,9 +500,9 @@ clr_result clr_tracer_instance_info(clr_tracer t, uint32_t inst_id, int32_t *gro
 }
 
 clr_result clr_tracer_commit(clr_tracer t) {
-  if (!t) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_tracer_commit: tracer is NULL");
+  if (!t) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_commit: tracer is NULL");
   if (t->committed)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_commit: already committed");
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_commit: already committed");
   for (int32_t g = t->group_count - 1; g >= 0; --g) { /* instanced scenes before the world */
     rtcCommitScene(t->groups[g].scene);
     EMBREE_CHECK(t, "rtcCommitScene");
@@ -523,16 +523,16 @@ static int ray_is_valid(const clr_ray *r) {
 static clr_result check_query(clr_tracer t, const clr_ray *rays, const void *out, int32_t count,
                               const char *fn) {
   if (!t || !rays || !out)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
                     !t ? "tracer" : !rays ? "rays" : "the output array");
-  if (count < 0) return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: count %ld < 0", fn, (long)count);
+  if (count < 0) return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: count %ld < 0", fn, (long)count);
   if (!t->committed)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is not committed", fn);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is not committed", fn);
   return CLR_SUCCESS;
 }
 
 static clr_result invalid_ray(const clr_ray *r, int32_t i, const char *fn) {
-  return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: ray %ld is invalid (o = (%g, %g, %g), "
+  return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: ray %ld is invalid (o = (%g, %g, %g), "
                   "d = (%g, %g, %g), tnear = %g, tfar = %g)", fn, (long)i, (double)r->ox,
                   (double)r->oy, (double)r->oz, (double)r->dx, (double)r->dy, (double)r->dz,
                   (double)r->tnear, (double)r->tfar);
@@ -705,25 +705,25 @@ clr_result clr_tracer_mesh_interpolate(clr_tracer t, const clr_hit *hit, float p
                                        float n_out[3], float uv_out[2]) {
   static const char fn[] = "clr_tracer_mesh_interpolate";
   if (!t || !hit)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, t ? "hit" : "tracer");
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, t ? "hit" : "tracer");
   const geom_record *instance = NULL;
   const group *gr = &t->groups[0];
   if (hit->inst_id != CLR_TRACER_INVALID_ID) {
     if (hit->inst_id >= gr->count || gr->records[hit->inst_id].kind != GEOM_INSTANCE)
-      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: inst_id %lu is not an instance", fn,
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: inst_id %lu is not an instance", fn,
                       (unsigned long)hit->inst_id);
     instance = &gr->records[hit->inst_id];
     gr = &t->groups[instance->instanced_group];
   }
   if (hit->geom_id >= gr->count || gr->records[hit->geom_id].kind == GEOM_INSTANCE)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: geom_id %lu is not a hit mesh or sphere "
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: geom_id %lu is not a hit mesh or sphere "
                     "(a miss?)", fn, (unsigned long)hit->geom_id);
   const geom_record *rec = &gr->records[hit->geom_id];
   double p[3], n[3];
   float uv[2];
   if (rec->kind == GEOM_MESH) {
     if (hit->prim_id >= (uint32_t)rec->mesh.triangle_count)
-      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "%s: prim_id %lu out of range (%ld triangles)",
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: prim_id %lu out of range (%ld triangles)",
                       fn, (unsigned long)hit->prim_id, (long)rec->mesh.triangle_count);
     triangle_surface(&rec->mesh, hit, p, n, uv);
   } else {

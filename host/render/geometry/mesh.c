@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 
 void clr_mesh_free(clr_mesh *mesh) {
   if (!mesh) return;
@@ -22,7 +22,7 @@ clr_result clr_mesh_alloc(clr_mesh *out, int32_t vertex_count, int32_t triangle_
   memset(out, 0, sizeof *out);
   if (vertex_count < 0 || triangle_count < 0 || triangle_count > INT32_MAX / 3 ||
       vertex_count > INT32_MAX / 3)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: mesh too large (%ld vertices, %ld triangles)",
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: mesh too large (%ld vertices, %ld triangles)",
                     what, (long)vertex_count, (long)triangle_count);
   out->vertex_count = vertex_count;
   out->triangle_count = triangle_count;
@@ -32,7 +32,7 @@ clr_result clr_mesh_alloc(clr_mesh *out, int32_t vertex_count, int32_t triangle_
   if (with_uv) out->uv = alloc_floats(2 * (size_t)vertex_count, sizeof(float));
   if (!out->p || !out->indices || (with_normals && !out->n) || (with_uv && !out->uv)) {
     clr_mesh_free(out);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a mesh of %ld vertices"
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot allocate a mesh of %ld vertices"
                     " and %ld triangles", what, (long)vertex_count, (long)triangle_count);
   }
   return CLR_SUCCESS;
@@ -46,15 +46,15 @@ static long first_non_finite(const float *values, size_t count) {
 }
 
 clr_result clr_mesh_check(const clr_mesh *mesh, const char *what, clr_result code) {
-  if (!mesh || !what) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_mesh_check: NULL argument");
+  if (!mesh || !what) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_mesh_check: NULL argument");
   if (mesh->vertex_count < 0 || mesh->triangle_count < 0 ||
       (mesh->vertex_count > 0 && !mesh->p) || (mesh->triangle_count > 0 && !mesh->indices))
-    return clr_fail(NULL, code, "%s: inconsistent mesh (%ld vertices, %ld triangles)", what,
+    return clr_set_last_error(code, "%s: inconsistent mesh (%ld vertices, %ld triangles)", what,
                     (long)mesh->vertex_count, (long)mesh->triangle_count);
   size_t n_indices = 3 * (size_t)mesh->triangle_count;
   for (size_t i = 0; i < n_indices; ++i)
     if (mesh->indices[i] >= (uint32_t)mesh->vertex_count)
-      return clr_fail(NULL, code, "%s: vertex index %lu at position %zu (triangle %zu) is out of "
+      return clr_set_last_error(code, "%s: vertex index %lu at position %zu (triangle %zu) is out of "
                       "range: the mesh has %ld vertices", what, (unsigned long)mesh->indices[i],
                       i, i / 3, (long)mesh->vertex_count);
   const struct { const float *values; int width; const char *name; } arrays[3] = {
@@ -63,7 +63,7 @@ clr_result clr_mesh_check(const clr_mesh *mesh, const char *what, clr_result cod
     if (!arrays[a].values) continue;
     long bad = first_non_finite(arrays[a].values, (size_t)arrays[a].width * mesh->vertex_count);
     if (bad >= 0)
-      return clr_fail(NULL, code, "%s: %s of vertex %ld is not finite (component %ld = %g)", what,
+      return clr_set_last_error(code, "%s: %s of vertex %ld is not finite (component %ld = %g)", what,
                       arrays[a].name, bad / arrays[a].width, bad % arrays[a].width,
                       (double)arrays[a].values[bad]);
   }
@@ -104,18 +104,18 @@ static int invert4(const double m[16], double inv[16]) {
 }
 
 clr_result clr_mesh_transform(clr_mesh *mesh, const float m[16]) {
-  if (!mesh || !m) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_mesh_transform: NULL argument");
+  if (!mesh || !m) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_mesh_transform: NULL argument");
   double md[16], inv[16];
   for (int i = 0; i < 16; ++i) md[i] = m[i];
   if (!invert4(md, inv))
-    return clr_fail(NULL, CLR_ERROR_SCENE, "clr_mesh_transform: singular object-to-world matrix");
+    return clr_set_last_error(CLR_ERROR_SCENE, "clr_mesh_transform: singular object-to-world matrix");
   size_t nv = (size_t)mesh->vertex_count;
   float *p = malloc(3 * (nv ? nv : 1) * sizeof(float));
   float *n = mesh->n ? malloc(3 * (nv ? nv : 1) * sizeof(float)) : NULL;
   if (!p || (mesh->n && !n)) {
     free(p);
     free(n);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_mesh_transform: no memory for %zu vertices", nv);
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_mesh_transform: no memory for %zu vertices", nv);
   }
   for (size_t v = 0; v < nv; ++v) {
     const float *x = mesh->p + 3 * v;
@@ -132,7 +132,7 @@ clr_result clr_mesh_transform(clr_mesh *mesh, const float m[16]) {
   if (bad >= 0) {
     free(p);
     free(n);
-    return clr_fail(NULL, CLR_ERROR_SCENE, "clr_mesh_transform: vertex %ld is not finite after "
+    return clr_set_last_error(CLR_ERROR_SCENE, "clr_mesh_transform: vertex %ld is not finite after "
                     "the transform", bad / 3);
   }
   free(mesh->p);
@@ -148,37 +148,37 @@ clr_result clr_mesh_from_arrays(const char *what, const int32_t *indices, size_t
                                 const float *P, size_t p_count, const float *N, size_t n_count,
                                 const float *uv, size_t uv_count, clr_mesh *out) {
   static const int32_t default_indices[3] = {0, 1, 2};
-  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_mesh_from_arrays: out is NULL");
+  if (!out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_mesh_from_arrays: out is NULL");
   memset(out, 0, sizeof *out);
   if (!what) what = "trianglemesh";
   if (!P || p_count == 0)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: \"P\" parameter not provided", what);
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: \"P\" parameter not provided", what);
   if (p_count % 3)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: %zu values given for \"point P\", not a multiple "
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: %zu values given for \"point P\", not a multiple "
                     "of 3", what, p_count);
   size_t nv = p_count / 3;
   if (!indices || index_count == 0) {
     if (nv != 3)
-      return clr_fail(NULL, CLR_ERROR_SCENE, "%s: vertex indices \"indices\" not provided (only "
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: vertex indices \"indices\" not provided (only "
                       "allowed with exactly 3 points, %zu given)", what, nv);
     indices = default_indices;
     index_count = 3;
   }
   if (index_count % 3)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: number of vertex indices %zu is not a multiple of 3",
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: number of vertex indices %zu is not a multiple of 3",
                     what, index_count);
   if (N && n_count != p_count)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: %zu values given for \"normal N\", expected %zu "
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: %zu values given for \"normal N\", expected %zu "
                     "(one normal per \"P\")", what, n_count, p_count);
   if (uv && uv_count != 2 * nv)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: %zu values given for \"uv\", expected %zu "
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: %zu values given for \"uv\", expected %zu "
                     "(one pair per \"P\")", what, uv_count, 2 * nv);
   if (nv > INT32_MAX / 3 || index_count / 3 > INT32_MAX / 3)
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s: mesh too large (%zu points, %zu indices)", what,
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: mesh too large (%zu points, %zu indices)", what,
                     nv, index_count);
   for (size_t i = 0; i < index_count; ++i)
     if (indices[i] < 0 || (size_t)indices[i] >= nv)
-      return clr_fail(NULL, CLR_ERROR_SCENE, "%s: vertex index %ld at position %zu (triangle %zu) "
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: vertex index %ld at position %zu (triangle %zu) "
                       "is out of range: %zu \"P\" values were given", what, (long)indices[i], i,
                       i / 3, nv);
   CLR_CHECK(clr_mesh_alloc(out, (int32_t)nv, (int32_t)(index_count / 3), N != NULL, uv != NULL, what));

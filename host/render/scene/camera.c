@@ -1,7 +1,7 @@
 /* pbrt-v3 projective cameras (perspective, orthographic) with a thin lens. */
 #include <math.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 #include "render_scene_internal.h"
 
 clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn warn, void *wu) {
@@ -13,7 +13,7 @@ clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn 
   } else if (strcmp(type, "orthographic") == 0) {
     cam->type = RS_CAMERA_ORTHOGRAPHIC;
   } else {
-    return clr_fail(NULL, CLR_ERROR_SCENE, "%s:%d: unsupported camera \"%s\"", p->file ? p->file : "?",
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: unsupported camera \"%s\"", p->file ? p->file : "?",
                     p->line, type);
   }
   cam->lens_radius = clr_params_find_float(p, "lensradius", 0.0f);

@@ -9,8 +9,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-#include "atomic_file.h"
-#include "clr_internal.h"
+#include "render_error.h"
 #include "clrender/film.h"
 #include "integrator.h"
 #include "pcg32.h"
@@ -62,7 +61,7 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     }
     type = CLR_SAMPLER_SOBOL;
   } else if (clr_sampler_type_from_name(name, &type) != CLR_SUCCESS) {
-    return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER, "%s:%d: unknown sampler \"%s\"",
+    return clr_set_last_error(CLR_ERROR_INVALID_SAMPLER, "%s:%d: unknown sampler \"%s\"",
                     o->sampler ? "--sampler" : (p->file ? p->file : "?"), p->line, name);
   }
   clr_sampler_desc_init(sd, type);
@@ -94,7 +93,7 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
   const clr_param_list *p = &d->filter.params;
   clr_filter_type type;
   if (clr_filter_type_from_name(name, &type) != CLR_SUCCESS) {
-    if (o->filter) return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
+    if (o->filter) return clr_set_last_error(CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
     if (warn) {
       char m[512];
       snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"", p->file ? p->file : "?",
@@ -210,7 +209,7 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
   size_t row = (size_t)w * spp, total = row * (size_t)h;
   if (total > b->fs_cap) {
     clr_film_sample *fs = realloc(b->fs, total * sizeof *fs);
-    if (!fs) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tile");
+    if (!fs) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render tile");
     b->fs = fs;
     b->fs_cap = total;
   }
@@ -251,7 +250,7 @@ static void *worker_main(void *arg) {
     pthread_mutex_unlock(&job->mutex);
     double t0 = now_seconds();
     clr_result r = scratch && buffers ? shade_tile(job, tile, buffers, scratch, &counters, &recon)
-                                      : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render worker");
+                                      : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render worker");
     busy += now_seconds() - t0;
     pthread_mutex_lock(&job->mutex);
     tile->result = r;
@@ -317,7 +316,7 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
     free(band->values);
     band->values = malloc(need * sizeof *band->values);
     band->values_cap = band->values ? need : 0;
-    if (!band->values) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
+    if (!band->values) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
   batch->pixels = px;
   clr_sample_output out;
@@ -423,7 +422,7 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
     free(job->tiles);
     free(job->bands);
     free(threads);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "render tiles");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render tiles");
   }
   pthread_mutex_init(&job->mutex, NULL);
   pthread_cond_init(&job->cond, NULL);
@@ -431,7 +430,7 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   for (; started < nthreads; ++started)
     if (pthread_create(&threads[started], NULL, worker_main, job) != 0) break;
   clr_result r = started ? run_pipeline(job, sampler, &g, o, st)
-                         : clr_fail(NULL, CLR_ERROR_INTERNAL, "pthread_create failed");
+                         : clr_set_last_error(CLR_ERROR_INTERNAL, "pthread_create failed");
   if (!started) job->stop = 1;
   for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
   for (int i = 0; i < g.ntiles; ++i)
@@ -462,7 +461,7 @@ static int has_suffix(const char *s, const char *suffix) {
 
 static clr_result output_paths(const char *path, clr_render_stats *st) {
   if (strlen(path) + 8 >= sizeof st->exr_path)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "output path too long: %s", path);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "output path too long: %s", path);
   st->exr_path[0] = 0;
   if (has_suffix(path, ".png")) {
     snprintf(st->png_path, sizeof st->png_path, "%s", path);
@@ -484,7 +483,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_render_options_init(&defaults);
   const clr_render_options *o = opts ? opts : &defaults;
   if (o->struct_size != sizeof *o)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_render_options.struct_size %zu, expected %zu",
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_render_options.struct_size %zu, expected %zu",
                     o->struct_size, sizeof *o);
   clr_render_stats local;
   clr_render_stats_init(&local);
@@ -502,8 +501,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_result r = CLR_SUCCESS;
   if (write_files) {
     r = output_paths(o->outfile ? o->outfile : settings.filename, st);
-    if (r == CLR_SUCCESS && st->exr_path[0]) r = clr_check_writable(st->exr_path);
-    if (r == CLR_SUCCESS) r = clr_check_writable(st->png_path);
+    if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
+    if (r == CLR_SUCCESS) r = film_check_output_path(st->png_path);
     if (r != CLR_SUCCESS) return r;
   }
 
@@ -581,7 +580,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     im.width = im.pixel_bounds.x1 - im.pixel_bounds.x0;
     im.height = im.pixel_bounds.y1 - im.pixel_bounds.y0;
     im.rgb = malloc((size_t)im.width * (size_t)im.height * 3 * sizeof(float));
-    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f) : clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "image");
+    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f) : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
     st->samples = film_sample_count(film);
     st->dropped_samples = film_dropped_samples(film);
   }
@@ -619,7 +618,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
 
 clr_result clr_render_file(const char *path, const clr_render_options *opts,
                            clr_render_stats *stats) {
-  if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
+  if (!path) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
   warn_sink sink = {opts ? opts->quiet : 0};
   clr_parse_options po;
   clr_parse_options_init(&po);

@@ -2,6 +2,7 @@
 #ifndef CLR_PNG_IO_H
 #define CLR_PNG_IO_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include "clrender/result.h"
 
@@ -12,6 +13,9 @@ float clr_inverse_gamma_correct(float v);
 /* pbrt-v3's 8-bit value: clamp(255 * GammaCorrect(v) + 0.5, 0, 255) truncated (NaN -> 0). */
 uint8_t clr_to_srgb8(float v);
 
+/* Byte count of an interleaved RGB image of `element`-byte values, 0 if invalid or overflowing. */
+size_t clr_rgb_bytes(int32_t width, int32_t height, size_t element);
+
 /* Writes interleaved linear RGB (width * height * 3 floats, top row first) as an 8-bit sRGB PNG.
  * The file appears at `path` only when complete (temporary file renamed); nothing is left behind
  * on failure. */
@@ -20,11 +24,5 @@ clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, c
 /* Reads any PNG (gray, palette, alpha composited onto black, 16-bit) as interleaved linear RGB:
  * each 8-bit sRGB value v becomes InverseGammaCorrect(v / 255). *rgb is malloc'ed (free()). */
 clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float **rgb);
-
-/* Reads an image as interleaved linear RGB, choosing the reader by extension (case-insensitive):
- * ".png" via clr_png_read; ".exr" via clr_exr_read using channels R, G, B or else Y (gray), over
- * the EXR's data window. Other extensions or channel sets: CLR_ERROR_FILE_FORMAT. *rgb is
- * malloc'ed (free()). */
-clr_result clr_image_read(const char *path, int32_t *width, int32_t *height, float **rgb);
 
 #endif

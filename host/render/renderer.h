@@ -2,7 +2,7 @@
 #ifndef CLR_RENDERER_H
 #define CLR_RENDERER_H
 
-#include "clrender/render.h"
+#include "render.h"
 #include "scene_desc.h"
 
 /* The rendered image over the film's pixel bounds (row-major RGB, malloc'ed). */

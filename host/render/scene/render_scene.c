@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 #include "loop_subdiv.h"
 #include "ply_reader.h"
 #include "render_scene_internal.h"
@@ -81,7 +81,7 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
     char path[4096];
     resolve_path(p->file, clr_params_find_string(p, "filename", ""), path, sizeof path);
     r = clr_ply_read(path, m);
-    if (r != CLR_SUCCESS) return clr_fail(NULL, r, "%s: %s", what, clr_last_error_message());
+    if (r != CLR_SUCCESS) return clr_set_last_error(r, "%s: %s", what, clr_last_error_message());
   } else {
     clr_mesh in;
     r = mesh_from_params(p, what, &in);
@@ -89,7 +89,7 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
     int levels = clr_params_find_int(p, "nlevels", 3);
     r = clr_loop_subdivide(&in, levels, m);
     clr_mesh_free(&in);
-    if (r != CLR_SUCCESS) return clr_fail(NULL, r, "%s: %s", what, clr_last_error_message());
+    if (r != CLR_SUCCESS) return clr_set_last_error(r, "%s: %s", what, clr_last_error_message());
   }
   (void)warn; (void)wu;
   if (r != CLR_SUCCESS) return r;
@@ -98,7 +98,7 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
   r = clr_mesh_transform(m, xf);
   if (r != CLR_SUCCESS) {
     clr_mesh_free(m);
-    return clr_fail(NULL, r, "%s: %s", what, clr_last_error_message());
+    return clr_set_last_error(r, "%s: %s", what, clr_last_error_message());
   }
   return CLR_SUCCESS;
 }
@@ -134,7 +134,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
   char warned[32][64];
   int warned_count = 0;
   s->shapes = calloc((size_t)(d->shape_count ? d->shape_count : 1), sizeof *s->shapes);
-  if (!s->shapes) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "shapes");
+  if (!s->shapes) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "shapes");
   for (int i = 0; i < d->shape_count; ++i) {
     const clr_shape_desc *sd = &d->shapes[i];
     const clr_param_list *p = &sd->params;
@@ -200,7 +200,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
 static clr_result build_instances(clr_render_scene *s, const clr_scene_desc *d,
                                   const int32_t *object_group) {
   s->instances = calloc((size_t)(d->instance_count ? d->instance_count : 1), sizeof *s->instances);
-  if (!s->instances) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "instances");
+  if (!s->instances) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "instances");
   for (int i = 0; i < d->instance_count; ++i) {
     const clr_instance_desc *in = &d->instances[i];
     s->instances[i] = in->instance_to_world;
@@ -242,14 +242,14 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
 
 clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, void *wu,
                                   clr_render_scene **out) {
-  if (!d || !out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_render_scene_build: NULL");
+  if (!d || !out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_render_scene_build: NULL");
   *out = NULL;
   clr_render_scene *s = calloc(1, sizeof *s);
   int32_t *object_group = calloc((size_t)(d->object_count + 1), sizeof *object_group);
   if (!s || !object_group) {
     free(s);
     free(object_group);
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_render_scene_build");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_render_scene_build");
   }
   clr_result r = clr_tracer_create(&s->tracer);
   if (r == CLR_SUCCESS) r = rs_camera_build(&s->camera, d, warn, wu);
@@ -267,7 +267,7 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
     if (r == CLR_SUCCESS && area_lights) {
       rs_light *all = realloc(s->lights, (size_t)(s->light_count + area_lights) * sizeof *all);
       if (!all) {
-        r = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "lights");
+        r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
       } else {
         memcpy(all + s->light_count, area, (size_t)area_lights * sizeof *all);
         for (int k = 0; k < s->shape_count; ++k)
@@ -280,7 +280,7 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   }
   if (r == CLR_SUCCESS) {
     s->infinite = calloc((size_t)(s->light_count + 1), sizeof *s->infinite);
-    if (!s->infinite) r = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "lights");
+    if (!s->infinite) r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
     for (int k = 0; r == CLR_SUCCESS && k < s->light_count; ++k)
       if (s->lights[k].type == RS_LIGHT_INFINITE) s->infinite[s->infinite_count++] = k;
   }

@@ -1,5 +1,7 @@
 /* Result codes, their message table and the per-thread last error message. */
+#include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 #include "clr_internal.h"
 
 static _Thread_local char last_error[4096];
@@ -32,14 +34,18 @@ const char *clr_last_error_message(void) { return last_error; }
 
 void clr_clear_error(void) { last_error[0] = 0; }
 
-void clr_context_report_error(clr_context ctx, clr_result code, const char *message);
+const char *clr_error_vrecord(const char *fmt, va_list args) {
+  char message[sizeof last_error]; /* formatted apart: the arguments may point into last_error */
+  vsnprintf(message, sizeof message, fmt, args);
+  memcpy(last_error, message, sizeof message);
+  return last_error;
+}
 
-clr_result clr_fail(clr_context ctx, clr_result code, const char *fmt, ...) {
+clr_result clr_set_last_error(clr_result code, const char *fmt, ...) {
   va_list args;
   va_start(args, fmt);
-  vsnprintf(last_error, sizeof last_error, fmt, args);
+  clr_error_vrecord(fmt, args);
   va_end(args);
-  if (ctx) clr_context_report_error(ctx, code, last_error);
   return code;
 }
 

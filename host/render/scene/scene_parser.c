@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 #include "scene_tokenizer.h"
 
 typedef struct location {
@@ -82,10 +82,14 @@ typedef struct parser {
 typedef struct directive directive;
 typedef clr_result (*directive_fn)(parser *p, const directive *d, location at);
 typedef enum phase { PHASE_ANY, PHASE_OPTIONS, PHASE_WORLD } phase;
+/* Builds the transform of a numeric transform directive; false when it fell back to identity. */
+typedef bool (*transform_builder)(const float *v, clr_transform *t);
 struct directive {
   const char *name;
   directive_fn handler;
   phase allowed;
+  int32_t numbers;         /* numeric transform directives: how many numbers they take */
+  transform_builder build; /* and how they become a transform */
 };
 
 /* ---- messages ---------------------------------------------------------------------------- */
@@ -103,12 +107,12 @@ static void warnf(parser *p, const char *fmt, ...) {
 static clr_result expected(const clr_token *got, const char *what) {
   char description[96];
   clr_token_describe(got, description, sizeof description);
-  return clr_fail(NULL, CLR_ERROR_PARSE, "%s:%d:%d: expected %s, got %s", got->file, got->line,
+  return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected %s, got %s", got->file, got->line,
                   got->col, what, description);
 }
 
 static clr_result out_of_memory(location at) {
-  return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "%s:%d: out of memory while parsing the scene",
+  return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s:%d: out of memory while parsing the scene",
                   at.file, at.line);
 }
 
@@ -407,11 +411,11 @@ static clr_result check_value_count(parser *p, const clr_param *q, const locatio
   if (q->type == CLR_PARAM_SPECTRUM && q->strings) arity = 1;
   const char *type = clr_param_type_name(q->type);
   if (q->type == CLR_PARAM_TEXTURE && q->count != 1)
-    return clr_fail(NULL, CLR_ERROR_PARSE,
+    return clr_set_last_error(CLR_ERROR_PARSE,
                     "%s:%d:%d: expected one texture name for parameter '%s', got %d values",
                     decl->file, decl->line, decl->col, q->name, q->count);
   if (q->count % arity != 0)
-    return clr_fail(NULL, CLR_ERROR_PARSE,
+    return clr_set_last_error(CLR_ERROR_PARSE,
                     "%s:%d:%d: expected a multiple of %d values for %s parameter '%s', got %d",
                     decl->file, decl->line, decl->col, arity, type, q->name, q->count);
   if (q->type == CLR_PARAM_XYZ || q->type == CLR_PARAM_BLACKBODY || q->type == CLR_PARAM_SPECTRUM)
@@ -540,11 +544,11 @@ static const char *block_end_name(block_kind kind) {
 
 static clr_result pop_block(parser *p, block_kind kind, location at) {
   if (p->block_count == 0)
-    return clr_fail(NULL, CLR_ERROR_PARSE, "%s:%d:%d: expected a %s before %s, got none", at.file,
+    return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected a %s before %s, got none", at.file,
                     at.line, at.col, block_begin_name(kind), block_end_name(kind));
   const block *b = &p->blocks[p->block_count - 1];
   if (b->kind != kind)
-    return clr_fail(NULL, CLR_ERROR_PARSE,
+    return clr_set_last_error(CLR_ERROR_PARSE,
                     "%s:%d:%d: expected %s (for the %s at %s:%d), got %s", at.file, at.line, at.col,
                     block_end_name(b->kind), block_begin_name(b->kind), b->at.file, b->at.line,
                     block_end_name(kind));
@@ -568,37 +572,33 @@ static void warn_unclosed_blocks(parser *p) {
 
 /* ---- transform directives ---------------------------------------------------------------- */
 
-static clr_result d_translate(parser *p, const directive *d, location at) {
-  float v[3];
-  CLR_CHECK(expect_numbers(p, 3, v));
-  clr_transform t = clr_transform_translate(v[0], v[1], v[2]);
-  apply_transform(p, &t);
-  return CLR_SUCCESS;
+static bool build_translate(const float *v, clr_transform *t) {
+  *t = clr_transform_translate(v[0], v[1], v[2]);
+  return true;
 }
 
-static clr_result d_scale(parser *p, const directive *d, location at) {
-  float v[3];
-  CLR_CHECK(expect_numbers(p, 3, v));
-  clr_transform t = clr_transform_scale(v[0], v[1], v[2]);
-  apply_transform(p, &t);
-  return CLR_SUCCESS;
+static bool build_scale(const float *v, clr_transform *t) {
+  *t = clr_transform_scale(v[0], v[1], v[2]);
+  return true;
 }
 
-static clr_result d_rotate(parser *p, const directive *d, location at) {
-  float v[4];
-  CLR_CHECK(expect_numbers(p, 4, v));
-  clr_transform t = clr_transform_rotate(v[0], v[1], v[2], v[3]);
-  apply_transform(p, &t);
-  return CLR_SUCCESS;
+static bool build_rotate(const float *v, clr_transform *t) {
+  *t = clr_transform_rotate(v[0], v[1], v[2], v[3]);
+  return true;
 }
 
-static clr_result d_look_at(parser *p, const directive *d, location at) {
+static bool build_look_at(const float *v, clr_transform *t) {
+  return clr_transform_look_at(v, v + 3, v + 6, t);
+}
+
+/* Translate, Scale, Rotate, LookAt: d->numbers numbers, then d->build. */
+static clr_result d_numeric_transform(parser *p, const directive *d, location at) {
   float v[9];
-  CLR_CHECK(expect_numbers(p, 9, v));
+  CLR_CHECK(expect_numbers(p, d->numbers, v));
   clr_transform t;
-  if (!clr_transform_look_at(v, v + 3, v + 6, &t))
-    warnf(p, "%s:%d: LookAt 'up' vector is parallel to the viewing direction; using the identity",
-          at.file, at.line);
+  if (!d->build(v, &t))
+    warnf(p, "%s:%d: %s 'up' vector is parallel to the viewing direction; using the identity",
+          at.file, at.line, d->name);
   apply_transform(p, &t);
   return CLR_SUCCESS;
 }
@@ -629,6 +629,7 @@ static clr_result d_concat_transform(parser *p, const directive *d, location at)
 }
 
 static clr_result d_identity(parser *p, const directive *d, location at) {
+  (void)at; (void)d;
   if (p->gs.transform_active) p->gs.ctm = clr_transform_identity();
   return CLR_SUCCESS;
 }
@@ -651,6 +652,7 @@ static clr_result set_coord_system(parser *p, const char *name, const clr_transf
 }
 
 static clr_result d_coordinate_system(parser *p, const directive *d, location at) {
+  (void)d;
   char *name = NULL;
   CLR_CHECK(expect_string(p, "a quoted coordinate system name", &name));
   clr_result r = set_coord_system(p, name, &p->gs.ctm, at);
@@ -659,6 +661,7 @@ static clr_result d_coordinate_system(parser *p, const directive *d, location at
 }
 
 static clr_result d_coord_sys_transform(parser *p, const directive *d, location at) {
+  (void)d;
   char *name = NULL;
   CLR_CHECK(expect_string(p, "a quoted coordinate system name", &name));
   int found = -1;
@@ -676,11 +679,12 @@ static clr_result d_coord_sys_transform(parser *p, const directive *d, location 
 /* ---- Include ----------------------------------------------------------------------------- */
 
 static clr_result d_include(parser *p, const directive *d, location at) {
+  (void)d;
   clr_token tok;
   CLR_CHECK(next_token(p, &tok));
   if (tok.kind != CLR_TOKEN_STRING) return expected(&tok, "a quoted file name after Include");
   if (p->frame_count > CLR_SCENE_MAX_INCLUDE_DEPTH)
-    return clr_fail(NULL, CLR_ERROR_PARSE,
+    return clr_set_last_error(CLR_ERROR_PARSE,
                     "%s:%d:%d: expected Include files nested at most %d deep, got deeper "
                     "(recursive Include?)",
                     at.file, at.line, at.col, CLR_SCENE_MAX_INCLUDE_DEPTH);
@@ -983,7 +987,7 @@ static clr_result d_object_begin(parser *p, const directive *d, location at) {
     return CLR_SUCCESS;
   }
   if (p->current_object >= 0) {
-    clr_result r = clr_fail(NULL, CLR_ERROR_PARSE,
+    clr_result r = clr_set_last_error(CLR_ERROR_PARSE,
                             "%s:%d:%d: expected ObjectEnd for object '%s', got ObjectBegin '%s'",
                             at.file, at.line, at.col, p->desc->objects[p->current_object].name, name);
     free(name);
@@ -1066,6 +1070,7 @@ static clr_result d_transform_times(parser *p, const directive *d, location at) 
 
 /* Only start-time transforms are kept: edits made while only EndTime is active are skipped. */
 static clr_result d_active_transform(parser *p, const directive *d, location at) {
+  (void)d;
   clr_token tok;
   CLR_CHECK(next_token(p, &tok));
   if (clr_token_is(&tok, CLR_TOKEN_WORD, "All") || clr_token_is(&tok, CLR_TOKEN_WORD, "StartTime"))
@@ -1082,44 +1087,44 @@ static clr_result d_active_transform(parser *p, const directive *d, location at)
 /* ---- dispatch ---------------------------------------------------------------------------- */
 
 static const directive directives[] = {
-    {"AttributeBegin", d_attribute_begin, PHASE_WORLD},
-    {"AttributeEnd", d_attribute_end, PHASE_WORLD},
-    {"AreaLightSource", d_area_light_source, PHASE_WORLD},
-    {"Camera", d_camera, PHASE_OPTIONS},
-    {"ConcatTransform", d_concat_transform, PHASE_ANY},
-    {"CoordinateSystem", d_coordinate_system, PHASE_ANY},
-    {"CoordSysTransform", d_coord_sys_transform, PHASE_ANY},
-    {"Film", d_film, PHASE_OPTIONS},
-    {"Identity", d_identity, PHASE_ANY},
-    {"Include", d_include, PHASE_ANY},
-    {"Integrator", d_integrator, PHASE_OPTIONS},
-    {"LightSource", d_light_source, PHASE_WORLD},
-    {"LookAt", d_look_at, PHASE_ANY},
-    {"MakeNamedMaterial", d_make_named_material, PHASE_WORLD},
-    {"Material", d_material, PHASE_WORLD},
-    {"NamedMaterial", d_named_material, PHASE_WORLD},
-    {"ObjectBegin", d_object_begin, PHASE_WORLD},
-    {"ObjectEnd", d_object_end, PHASE_WORLD},
-    {"ObjectInstance", d_object_instance, PHASE_WORLD},
-    {"PixelFilter", d_pixel_filter, PHASE_OPTIONS},
-    {"ReverseOrientation", d_reverse_orientation, PHASE_WORLD},
-    {"Rotate", d_rotate, PHASE_ANY},
-    {"Sampler", d_sampler, PHASE_OPTIONS},
-    {"Scale", d_scale, PHASE_ANY},
-    {"Shape", d_shape, PHASE_WORLD},
-    {"Texture", d_texture, PHASE_WORLD},
-    {"Transform", d_transform, PHASE_ANY},
-    {"TransformBegin", d_transform_begin, PHASE_WORLD},
-    {"TransformEnd", d_transform_end, PHASE_WORLD},
-    {"Translate", d_translate, PHASE_ANY},
-    {"WorldBegin", d_world_begin, PHASE_OPTIONS},
-    {"WorldEnd", d_world_end, PHASE_WORLD},
+    {"AttributeBegin", d_attribute_begin, PHASE_WORLD, 0, NULL},
+    {"AttributeEnd", d_attribute_end, PHASE_WORLD, 0, NULL},
+    {"AreaLightSource", d_area_light_source, PHASE_WORLD, 0, NULL},
+    {"Camera", d_camera, PHASE_OPTIONS, 0, NULL},
+    {"ConcatTransform", d_concat_transform, PHASE_ANY, 0, NULL},
+    {"CoordinateSystem", d_coordinate_system, PHASE_ANY, 0, NULL},
+    {"CoordSysTransform", d_coord_sys_transform, PHASE_ANY, 0, NULL},
+    {"Film", d_film, PHASE_OPTIONS, 0, NULL},
+    {"Identity", d_identity, PHASE_ANY, 0, NULL},
+    {"Include", d_include, PHASE_ANY, 0, NULL},
+    {"Integrator", d_integrator, PHASE_OPTIONS, 0, NULL},
+    {"LightSource", d_light_source, PHASE_WORLD, 0, NULL},
+    {"LookAt", d_numeric_transform, PHASE_ANY, 9, build_look_at},
+    {"MakeNamedMaterial", d_make_named_material, PHASE_WORLD, 0, NULL},
+    {"Material", d_material, PHASE_WORLD, 0, NULL},
+    {"NamedMaterial", d_named_material, PHASE_WORLD, 0, NULL},
+    {"ObjectBegin", d_object_begin, PHASE_WORLD, 0, NULL},
+    {"ObjectEnd", d_object_end, PHASE_WORLD, 0, NULL},
+    {"ObjectInstance", d_object_instance, PHASE_WORLD, 0, NULL},
+    {"PixelFilter", d_pixel_filter, PHASE_OPTIONS, 0, NULL},
+    {"ReverseOrientation", d_reverse_orientation, PHASE_WORLD, 0, NULL},
+    {"Rotate", d_numeric_transform, PHASE_ANY, 4, build_rotate},
+    {"Sampler", d_sampler, PHASE_OPTIONS, 0, NULL},
+    {"Scale", d_numeric_transform, PHASE_ANY, 3, build_scale},
+    {"Shape", d_shape, PHASE_WORLD, 0, NULL},
+    {"Texture", d_texture, PHASE_WORLD, 0, NULL},
+    {"Transform", d_transform, PHASE_ANY, 0, NULL},
+    {"TransformBegin", d_transform_begin, PHASE_WORLD, 0, NULL},
+    {"TransformEnd", d_transform_end, PHASE_WORLD, 0, NULL},
+    {"Translate", d_numeric_transform, PHASE_ANY, 3, build_translate},
+    {"WorldBegin", d_world_begin, PHASE_OPTIONS, 0, NULL},
+    {"WorldEnd", d_world_end, PHASE_WORLD, 0, NULL},
     /* pbrt-v3 directives outside the subset. */
-    {"Accelerator", d_unsupported_typed, PHASE_ANY},
-    {"ActiveTransform", d_active_transform, PHASE_ANY},
-    {"MakeNamedMedium", d_unsupported_typed, PHASE_ANY},
-    {"MediumInterface", d_medium_interface, PHASE_ANY},
-    {"TransformTimes", d_transform_times, PHASE_ANY},
+    {"Accelerator", d_unsupported_typed, PHASE_ANY, 0, NULL},
+    {"ActiveTransform", d_active_transform, PHASE_ANY, 0, NULL},
+    {"MakeNamedMedium", d_unsupported_typed, PHASE_ANY, 0, NULL},
+    {"MediumInterface", d_medium_interface, PHASE_ANY, 0, NULL},
+    {"TransformTimes", d_transform_times, PHASE_ANY, 0, NULL},
 };
 
 static const directive *find_directive(const clr_token *tok) {
@@ -1159,7 +1164,7 @@ static clr_result parser_init(parser *p, const clr_parse_options *opts) {
   p->warn_user = opts ? opts->warn_user : NULL;
   p->desc = clr_scene_desc_create();
   if (!p->desc)
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_scene_parse: out of memory creating the scene");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_scene_parse: out of memory creating the scene");
   p->gs.ctm = clr_transform_identity();
   p->gs.transform_active = true;
   p->gs.material = 0;
@@ -1189,7 +1194,7 @@ clr_result clr_scene_parse_file(const char *path, const clr_parse_options *opts,
                                 clr_scene_desc **out) {
   if (out) *out = NULL;
   if (!path || !out)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_scene_parse_file: %s is NULL",
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_scene_parse_file: %s is NULL",
                     !path ? "path" : "out");
   parser p;
   clr_result r = parser_init(&p, opts);
@@ -1203,7 +1208,7 @@ clr_result clr_scene_parse_string(const char *text, const char *virtual_path,
                                   const clr_parse_options *opts, clr_scene_desc **out) {
   if (out) *out = NULL;
   if (!text || !out)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_scene_parse_string: %s is NULL",
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_scene_parse_string: %s is NULL",
                     !text ? "text" : "out");
   parser p;
   clr_result r = parser_init(&p, opts);

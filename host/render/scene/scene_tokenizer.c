@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "clr_internal.h"
+#include "render_error.h"
 
 static clr_result read_whole_file(FILE *f, char **data, size_t *size) {
   size_t capacity = 1 << 16, length = 0;
@@ -39,7 +39,7 @@ clr_result clr_tokenizer_open_file(clr_tokenizer *t, const char *path, const cha
   const char *prefix = context ? context : "clr_scene_parse_file";
   FILE *f = fopen(path, "rb");
   if (!f)
-    return clr_fail(NULL, CLR_ERROR_IO, "%s: cannot open '%s': %s", prefix, path, strerror(errno));
+    return clr_set_last_error(CLR_ERROR_IO, "%s: cannot open '%s': %s", prefix, path, strerror(errno));
   clr_result r = read_whole_file(f, &t->buffer, &t->size);
   int read_errno = errno;
   if (fclose(f) != 0 && r == CLR_SUCCESS) {
@@ -48,9 +48,9 @@ clr_result clr_tokenizer_open_file(clr_tokenizer *t, const char *path, const cha
     r = CLR_ERROR_IO;
   }
   if (r == CLR_ERROR_OUT_OF_MEMORY)
-    return clr_fail(NULL, r, "%s: out of memory reading '%s'", prefix, path);
+    return clr_set_last_error(r, "%s: out of memory reading '%s'", prefix, path);
   if (r != CLR_SUCCESS)
-    return clr_fail(NULL, r, "%s: cannot read '%s': %s", prefix, path, strerror(read_errno));
+    return clr_set_last_error(r, "%s: cannot read '%s': %s", prefix, path, strerror(read_errno));
   t->line = 1;
   t->col = 1;
   t->path = path;
@@ -62,7 +62,7 @@ clr_result clr_tokenizer_open_string(clr_tokenizer *t, const char *text, size_t 
   memset(t, 0, sizeof *t);
   t->buffer = malloc(length + 1);
   if (!t->buffer)
-    return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_scene_parse_string: out of memory (%zu bytes)",
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_scene_parse_string: out of memory (%zu bytes)",
                     length);
   memcpy(t->buffer, text, length);
   t->buffer[length] = 0;
@@ -125,14 +125,14 @@ static clr_result scan_string(clr_tokenizer *t, clr_token *tok) {
     int ch = get_char(t);
     if (ch == '"') break;
     if (ch == EOF || ch == '\n')
-      return clr_fail(NULL, CLR_ERROR_PARSE, "%s:%d:%d: expected '\"' closing the string, got %s",
+      return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected '\"' closing the string, got %s",
                       t->path, tok->line, tok->col, ch == EOF ? "end of file" : "end of line");
     if (ch == '\\') {
       int esc_line = t->line, esc_col = t->col - 1;
       int next = get_char(t);
       int decoded = next == EOF ? -1 : decode_escape(next);
       if (decoded < 0)
-        return clr_fail(NULL, CLR_ERROR_PARSE,
+        return clr_set_last_error(CLR_ERROR_PARSE,
                         "%s:%d:%d: expected an escape (\\n \\t \\\" \\\\ ...), got %s", t->path,
                         esc_line, esc_col, next == EOF ? "end of file" : "an unknown escape");
       ch = decoded;

@@ -5,6 +5,8 @@
 #include <stdarg.h>
 #include "clrender/context.h"
 
+/* Formats a message into this thread's last error (arguments may point into it); returns it. */
+const char *clr_error_vrecord(const char *fmt, va_list args);
 /* Records `code` with a printf-style message as this thread's last error, calls the context's
  * error callback (ctx may be NULL) and returns `code`. */
 clr_result clr_fail(clr_context ctx, clr_result code, const char *fmt, ...)
