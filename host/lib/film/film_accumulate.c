@@ -1,7 +1,8 @@
-/* film_add_samples: the host checks a chunk's samples and bins them by their first reached pixel
- * (a stable sort by bin row, then by bin column: the canonical order of film.h), the gather kernel sums every reached
- * pixel over its neighbouring bins, the host adds the float sums into the film's double sums.
- * Also the host reference, which adds the binned samples in the same order. */
+/* The accumulator behind film_add_samples: the host checks a chunk's samples and bins them by
+ * their first reached pixel (a stable sort by bin row, then by bin column: the canonical order of
+ * film.h), the gather kernel sums every reached pixel over its neighbouring bins and the chunk's
+ * float sums go back to the film, which owns the double sums. Also the host reference, which
+ * sums the binned samples in the same order. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -376,8 +377,8 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   return CLR_SUCCESS;
 }
 
-/* Runs the gather over the grid's output region and adds its sums into the film. */
-static clr_result gather(clr_film film, const clr_film_grid *g) {
+/* Runs the gather over the grid's output region; *out maps its sums. */
+static clr_result gather(clr_film film, const clr_film_grid *g, clr_film_chunk_sums *out) {
   clr_film_device *d = &film->dev;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
@@ -397,86 +398,29 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   cl_int err = CL_SUCCESS;
   float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
-  clr_bounds2i block = {g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
-  clr_film_add_block(film, block, sums);
-  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->sums, sums, 0, NULL, NULL));
+  out->block = (clr_bounds2i){g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
+  out->sums = sums;
+  out->mapped = 1;
   return CLR_SUCCESS;
 }
 
-static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_t count) {
+static clr_result device_chunk(clr_film film, const clr_film_sample *samples, size_t count,
+                               clr_film_chunk_sums *out) {
   clr_film_grid g;
   size_t binned = 0;
   bin_set set;
+  CLR_CHECK(ensure_kernel(film));
   CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
   CLR_CHECK(upload_bins(film, &set, &g, binned));
   CLR_CHECK(weigh(film, &g, binned));
-  return gather(film, &g);
-}
-
-static clr_result check_add_args(clr_film film, const void *samples, size_t count,
-                                 const char *fn) {
-  if (!film || !samples)
-    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
-                    !film ? "film" : "samples");
-  if (count == 0)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "%s: count is 0", fn);
-  if (count > UINT32_MAX)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "%s: count %zu exceeds %u", fn, count,
-                    UINT32_MAX);
-  return CLR_SUCCESS;
-}
-
-static size_t chunk_length(size_t count, size_t at) {
-  return count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
-}
-
-clr_result film_add_samples(clr_film film, const clr_film_sample *samples, size_t count) {
-  clr_clear_error();
-  CLR_CHECK(check_add_args(film, samples, count, "film_add_samples"));
-  pthread_mutex_lock(&film->lock);
-  clr_result r = ensure_kernel(film);
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
-    r = add_chunk(film, samples + at, chunk_length(count, at));
-  pthread_mutex_unlock(&film->lock);
-  return r;
-}
-
-clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count) {
-  clr_clear_error();
-  CLR_CHECK(check_add_args(film, samples, count, "film_add_samples_buffer"));
-  size_t size = 0;
-  CLR_CL_CHECK(film->ctx, clGetMemObjectInfo(samples, CL_MEM_SIZE, sizeof size, &size, NULL));
-  if (size / sizeof(clr_film_sample) < count)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "film_add_samples_buffer: buffer of %zu bytes holds fewer than %zu samples",
-                    size, count);
-  pthread_mutex_lock(&film->lock);
-  clr_result r = ensure_kernel(film);
-  cl_command_queue q = clr_context_cl_queue(film->ctx);
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
-    size_t n = chunk_length(count, at);
-    cl_int err = CL_SUCCESS;
-    clr_film_sample *host = clEnqueueMapBuffer(q, samples, CL_TRUE, CL_MAP_READ, at * sizeof *host,
-                                               n * sizeof *host, 0, NULL, NULL, &err);
-    if (err != CL_SUCCESS) {
-      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueMapBuffer "
-                   "failed: %s (%d)", clr_cl_error_name(err), (int)err);
-      break;
-    }
-    r = add_chunk(film, host, n);
-    err = clEnqueueUnmapMemObject(q, samples, host, 0, NULL, NULL);
-    if (err != CL_SUCCESS && r == CLR_SUCCESS)
-      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueUnmapMemObject "
-                   "failed: %s (%d)", clr_cl_error_name(err), (int)err);
-  }
-  pthread_mutex_unlock(&film->lock);
-  return r;
+  return gather(film, &g, out);
 }
 
 /* Host reference of one chunk: the same binning; each binned sample, in bin order, adds to every
  * pixel it reaches, so every pixel sees its samples in the gather's order. */
-static clr_result reference_chunk(clr_film film, const clr_film_sample *samples, size_t count) {
+static clr_result reference_chunk(clr_film film, const clr_film_sample *samples, size_t count,
+                                  clr_film_chunk_sums *out) {
   clr_film_bins *b = &film->bins;
   clr_film_grid g;
   size_t binned = 0;
@@ -507,20 +451,25 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
         clr_film_accumulate(&film->filter, film->factors, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
       }
   }
-  clr_bounds2i block = {g.out_x0, g.out_y0, g.out_x0 + g.out_w, g.out_y0 + g.out_h};
-  clr_film_add_block(film, block, b->sums);
+  out->block = (clr_bounds2i){g.out_x0, g.out_y0, g.out_x0 + g.out_w, g.out_y0 + g.out_h};
+  out->sums = b->sums;
   return CLR_SUCCESS;
 }
 
-clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samples, size_t count) {
-  clr_clear_error();
-  CLR_CHECK(check_add_args(film, samples, count, "film_add_samples_reference"));
-  pthread_mutex_lock(&film->lock);
-  clr_result r = CLR_SUCCESS;
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
-    r = reference_chunk(film, samples + at, chunk_length(count, at));
-  pthread_mutex_unlock(&film->lock);
-  return r;
+clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
+                                     int reference, clr_film_chunk_sums *out) {
+  memset(out, 0, sizeof *out);
+  return reference ? reference_chunk(film, samples, count, out)
+                   : device_chunk(film, samples, count, out);
+}
+
+clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums) {
+  if (!sums->mapped) return CLR_SUCCESS;
+  sums->mapped = 0;
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, film->dev.sums, (void *)sums->sums, 0, NULL,
+                                                  NULL));
+  return CLR_SUCCESS;
 }
 
 clr_result film_set_group_size(clr_film film, size_t group_size) {

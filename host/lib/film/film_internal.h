@@ -61,6 +61,21 @@ struct clr_film_t {
  * holds the lock. */
 void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums);
 
+/* One chunk's per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`),
+ * owned by the accumulator until clr_film_chunk_sums_release. sums is NULL when no sample of
+ * the chunk reached the film. */
+typedef struct clr_film_chunk_sums {
+  clr_bounds2i block;
+  const float *sums;
+  int mapped; /* sums map the device's sum buffer */
+} clr_film_chunk_sums;
+
+/* Accumulates up to CLR_FILM_CHUNK_SAMPLES samples in the canonical order with the kernels, or
+ * with the C build of kernels/film_funcs.h when `reference`. Caller holds the film's lock. */
+clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
+                                     int reference, clr_film_chunk_sums *out);
+clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums);
+
 /* Host reference of film_add_samples: the same chunks, checks, binning and per-pixel float sums in
  * the canonical order, computed by the C build of kernels/film_funcs.h (one thread). */
 clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samples, size_t count);
