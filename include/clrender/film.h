@@ -125,6 +125,10 @@ CLR_API clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_
 CLR_API clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
                            const double *weight_sum, const double *splat_rgb);
 
+/* The film's geometry as a sampler needs it (resolution, crop window, filter radius), e.g.
+ * film_get_geometry(film, &sampler_desc.film): the sampler's sample bounds are then the film's. */
+CLR_API clr_result film_get_geometry(clr_film film, clr_film_geometry *geometry);
+
 /* The description the film was created with. */
 CLR_API const clr_film_desc *film_get_desc(clr_film film);
 

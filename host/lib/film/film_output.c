@@ -20,6 +20,19 @@ static const char *const sum_lo_names[SUM_PLANES] = {"sum.R.lo",   "sum.G.lo",  
 
 const clr_film_desc *film_get_desc(clr_film film) { return film ? &film->desc : NULL; }
 
+clr_result film_get_geometry(clr_film film, clr_film_geometry *geometry) {
+  if (!film || !geometry)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "film_get_geometry: %s is NULL",
+                    !film ? "film" : "geometry");
+  const clr_film_desc *d = &film->desc;
+  geometry->x_resolution = d->x_resolution;
+  geometry->y_resolution = d->y_resolution;
+  for (int i = 0; i < 4; ++i) geometry->crop_window[i] = d->crop_window[i];
+  geometry->filter_radius[0] = d->filter.radius[0];
+  geometry->filter_radius[1] = d->filter.radius[1];
+  return CLR_SUCCESS;
+}
+
 void clr_film_write_options_init(clr_film_write_options *o) {
   if (!o) return;
   memset(o, 0, sizeof *o);
