@@ -176,6 +176,26 @@ static void test_bounds_match_pbrt(void **state) {
   film_release(film);
 }
 
+/* A caller built against an older, smaller clr_film_desc: the fields past its struct_size get
+ * their defaults, whatever the memory beyond holds. */
+static void test_older_desc_gets_defaults(void **state) {
+  (void)state;
+  clr_film_desc d;
+  clr_film_desc_init(&d);
+  d.x_resolution = 32;
+  d.y_resolution = 8;
+  d.struct_size = offsetof(clr_film_desc, accumulation_tile_size);
+  d.accumulation_tile_size = 999; /* beyond the old struct: must be ignored */
+  clr_film film = NULL;
+  assert_int_equal(film_create(ctx, &d, &film), CLR_SUCCESS);
+  const clr_film_desc *got = film_get_desc(film);
+  assert_int_equal(got->struct_size, sizeof(clr_film_desc));
+  assert_int_equal(got->accumulation_tile_size, 16);
+  assert_int_equal(got->x_resolution, 32);
+  assert_int_equal(got->y_resolution, 8);
+  film_release(film);
+}
+
 static void test_bad_inputs(void **state) {
   (void)state;
   clr_film_desc d;
@@ -190,8 +210,12 @@ static void test_bad_inputs(void **state) {
   assert_int_equal(film_create(ctx, &d, NULL), CLR_ERROR_NULL_POINTER);
 
   clr_film_desc bad = d;
-  bad.struct_size = 8;
-  assert_int_equal(film_create(ctx, &bad, &film), CLR_ERROR_INVALID_ARGUMENT);
+  size_t bad_sizes[] = {0, 4, 6, sizeof d + 4, sizeof d + 1};
+  for (size_t i = 0; i < sizeof bad_sizes / sizeof bad_sizes[0]; ++i) {
+    bad.struct_size = bad_sizes[i];
+    assert_int_equal(film_create(ctx, &bad, &film), CLR_ERROR_INVALID_ARGUMENT);
+    assert_non_null(strstr(clr_last_error_message(), "struct_size"));
+  }
   int32_t resolutions[][2] = {{0, 10}, {10, -1}, {40000, 10}, {32768, 32768}};
   for (size_t i = 0; i < 4; ++i) {
     bad = d;
@@ -825,6 +849,7 @@ int main(void) {
       cmocka_unit_test(test_brute_force_double_every_filter),
       cmocka_unit_test(test_bounds_match_pbrt),
       cmocka_unit_test(test_bad_inputs),
+      cmocka_unit_test(test_older_desc_gets_defaults),
       cmocka_unit_test(test_tile_size_invariance_box),
       cmocka_unit_test(test_tile_size_invariance_triangle),
       cmocka_unit_test(test_split_calls),

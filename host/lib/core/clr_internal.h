@@ -11,6 +11,11 @@ const char *clr_error_vrecord(const char *fmt, va_list args);
  * error callback (ctx may be NULL) and returns `code`. */
 clr_result clr_fail(clr_context ctx, clr_result code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* Size-tagged descs: `full` (sizeof full_size) holds the defaults from the desc's _init; the
+ * caller's `given` desc may come from an older, smaller header: the bytes its struct_size covers
+ * replace the defaults. CLR_ERROR_INVALID_ARGUMENT naming `what` for a struct_size that is too
+ * small, too large or not a multiple of 4. full's struct_size stays sizeof. */
+clr_result clr_desc_adopt(void *full, size_t full_size, const void *given, const char *what);
 /* Clears this thread's last error message. */
 void clr_clear_error(void);
 

@@ -186,14 +186,10 @@ clr_result clr_context_create(const clr_context_desc *desc, clr_context *out) {
   clr_clear_error();
   if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_context_create: out is NULL");
   *out = NULL;
-  clr_context_desc defaults;
-  clr_context_desc_init(&defaults);
-  if (!desc) desc = &defaults;
-  if (desc->struct_size != sizeof *desc)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_context_create: desc->struct_size is %zu, expected %zu "
-                    "(call clr_context_desc_init)",
-                    desc->struct_size, sizeof *desc);
+  clr_context_desc full;
+  clr_context_desc_init(&full);
+  if (desc) CLR_CHECK(clr_desc_adopt(&full, sizeof full, desc, "clr_context_create: desc"));
+  desc = &full;
   const char *selector = desc->device;
   if (!selector || !*selector) selector = getenv("CLRENDER_DEVICE");
 

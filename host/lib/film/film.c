@@ -23,10 +23,6 @@ void clr_film_desc_init(clr_film_desc *desc) {
 }
 
 static clr_result check_desc(clr_context ctx, const clr_film_desc *d) {
-  if (d->struct_size != sizeof *d)
-    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "film_create: desc->struct_size is %zu, expected %zu (call clr_film_desc_init)",
-                    d->struct_size, sizeof *d);
   for (int i = 0; i < 2; ++i)
     if (!(d->filter.radius[i] > 0.0f && d->filter.radius[i] <= CLR_FILM_MAX_FILTER_RADIUS))
       return clr_fail(ctx, CLR_ERROR_INVALID_RADIUS,
@@ -83,6 +79,10 @@ clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out
     return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "film_create: %s is NULL",
                     !ctx ? "ctx" : !desc ? "desc" : "out");
   *out = NULL;
+  clr_film_desc full;
+  clr_film_desc_init(&full);
+  CLR_CHECK(clr_desc_adopt(&full, sizeof full, desc, "film_create: desc"));
+  desc = &full;
   CLR_CHECK(check_desc(ctx, desc));
   clr_filter_params filter;
   CLR_CHECK(clr_filter_params_make(&desc->filter, &filter));

@@ -147,13 +147,10 @@ clr_result film_write(clr_film film, const char *path, const clr_film_write_opti
   if (!film || !path)
     return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_write: %s is NULL",
                     film ? "path" : "film");
-  clr_film_write_options defaults;
-  clr_film_write_options_init(&defaults);
-  if (!opts) opts = &defaults;
-  if (opts->struct_size != sizeof *opts)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "film_write: opts->struct_size %zu, expected %zu", opts->struct_size,
-                    sizeof *opts);
+  clr_film_write_options full;
+  clr_film_write_options_init(&full);
+  if (opts) CLR_CHECK(clr_desc_adopt(&full, sizeof full, opts, "film_write: opts"));
+  opts = &full;
   if (opts->metadata_count < 0 || opts->metadata_count > 16)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
                     "film_write: metadata_count %d (0..16)", (int)opts->metadata_count);

@@ -117,11 +117,11 @@ clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params
   if (!desc || !out)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_params_make: %s is NULL",
                     desc ? "out" : "desc");
-  if (desc->struct_size != sizeof *desc)
-    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_filter_params_make: desc->struct_size is %zu, expected %zu (call "
-                    "clr_filter_desc_init)",
-                    desc->struct_size, sizeof *desc);
+  clr_filter_desc full;
+  int has_type = desc->struct_size >= offsetof(clr_filter_desc, type) + sizeof desc->type;
+  clr_filter_desc_init(&full, has_type && valid_type((int)desc->type) ? desc->type : CLR_FILTER_BOX);
+  CLR_CHECK(clr_desc_adopt(&full, sizeof full, desc, "clr_filter_params_make: desc"));
+  desc = &full;
   if (!valid_type((int)desc->type))
     return clr_fail(NULL, CLR_ERROR_INVALID_FILTER,
                     "clr_filter_params_make: unknown filter type %d", (int)desc->type);

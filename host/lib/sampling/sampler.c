@@ -138,11 +138,11 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
   if (!desc || !out)
     return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "clr_sampler_create: desc or out is NULL");
   *out = NULL;
-  if (desc->struct_size != sizeof *desc)
-    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_sampler_create: desc->struct_size %zu, expected %zu "
-                    "(call clr_sampler_desc_init)",
-                    desc->struct_size, sizeof *desc);
+  clr_sampler_desc adopted;
+  int has_type = desc->struct_size >= offsetof(clr_sampler_desc, type) + sizeof desc->type;
+  clr_sampler_desc_init(&adopted, has_type ? desc->type : CLR_SAMPLER_RANDOM);
+  CLR_CHECK(clr_desc_adopt(&adopted, sizeof adopted, desc, "clr_sampler_create: desc"));
+  desc = &adopted;
   CLR_CHECK(validate_desc(desc));
   clr_bounds2i pixel_bounds, sample_bounds, full_sample_bounds;
   CLR_CHECK(clr_film_geometry_bounds(&desc->film, "clr_sampler_create", &pixel_bounds,
@@ -299,10 +299,10 @@ static int resolve_pixel_slots(const clr_sample_batch *b, const clr_sampler_para
 static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sampler_params *p,
                                 clr_request_slot *slots) {
   if (!b) return clr_fail(s->ctx, CLR_ERROR_NULL_POINTER, "clr_sampler_generate: batch is NULL");
-  if (b->struct_size != sizeof *b)
-    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_sampler_generate: batch->struct_size %zu, expected %zu", b->struct_size,
-                    sizeof *b);
+  clr_sample_batch full;
+  clr_sample_batch_init(&full);
+  CLR_CHECK(clr_desc_adopt(&full, sizeof full, b, "clr_sampler_generate: batch"));
+  b = &full;
   int32_t values = 0;
   CLR_CHECK(clr_sample_layout_values(b->requests, b->request_count, &values));
   const clr_bounds2i r = b->pixels, ib = s->index_bounds;
@@ -376,10 +376,10 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
   clr_clear_error();
   if (!s || !out)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate_reference: NULL argument");
-  if (out->struct_size != sizeof *out)
-    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_sampler_generate_reference: out->struct_size %zu, expected %zu",
-                    out->struct_size, sizeof *out);
+  clr_sample_output full;
+  clr_sample_output_init(&full);
+  CLR_CHECK(clr_desc_adopt(&full, sizeof full, out, "clr_sampler_generate_reference: out"));
+  out = &full;
   clr_sampler_params p;
   clr_request_slot slots[CLR_MAX_REQUESTS];
   CLR_CHECK(prepare_batch(s, batch, &p, slots));
@@ -431,10 +431,10 @@ clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
   if (!s->ctx)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                     "clr_sampler_generate: sampler was created without a context (reference only)");
-  if (out->struct_size != sizeof *out)
-    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_sampler_generate: out->struct_size %zu, expected %zu", out->struct_size,
-                    sizeof *out);
+  clr_sample_output full;
+  clr_sample_output_init(&full);
+  CLR_CHECK(clr_desc_adopt(&full, sizeof full, out, "clr_sampler_generate: out"));
+  out = &full;
   if (!out->device_values && !out->host_values)
     return clr_fail(s->ctx, CLR_ERROR_NULL_POINTER,
                     "clr_sampler_generate: neither device_values nor host_values given");
