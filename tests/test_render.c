@@ -155,6 +155,50 @@ static void test_threads_bit_identical(void **state) {
   free(b.rgb);
 }
 
+/* The progress callback sees the tile counts grow and stops the render when it returns 1. */
+typedef struct progress_log {
+  int calls, stop_after, last_done, total;
+} progress_log;
+
+static int count_progress(void *user, int32_t done, int32_t total) {
+  progress_log *log = user;
+  assert_true(done >= log->last_done && done <= total);
+  log->calls++;
+  log->last_done = done;
+  log->total = total;
+  return log->stop_after >= 0 && done >= log->stop_after;
+}
+
+static void test_progress_callback_cancels(void **state) {
+  (void)state;
+  clr_scene_desc *desc = NULL;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  assert_int_equal(clr_scene_parse_string(small_box, "test.pbrt", &po, &desc), CLR_SUCCESS);
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.quiet = 1;
+  o.tile_size = 8; /* 44 x 40 sample bounds (triangle radius 2): 6 x 5 tiles */
+  o.progress_callback = count_progress;
+  progress_log full = {0, -1, 0, 0}, stopped = {0, 0, 0, 0}; /* stopped: at the first call */
+  clr_render_stats st;
+  clr_render_stats_init(&st);
+  o.progress_user = &full;
+  assert_int_equal(clr_render_desc(desc, &o, &st, 0, NULL), CLR_SUCCESS);
+  assert_int_equal(full.total, 30);
+  assert_int_equal(st.tiles_total, 30);
+  assert_int_equal(full.last_done, 29); /* called before each merge: the last sees 29 done */
+  assert_int_equal(st.tiles_done, 30);
+  assert_int_equal(st.partial, 0);
+  clr_render_stats_init(&st);
+  o.progress_user = &stopped;
+  assert_int_equal(clr_render_desc(desc, &o, &st, 0, NULL), CLR_SUCCESS);
+  assert_int_equal(st.partial, 1);
+  assert_int_equal(st.tiles_done, 0);
+  assert_int_equal(stopped.calls, 1);
+  clr_scene_desc_free(desc);
+}
+
 static void assert_close(const float *a, const float *b, size_t n) {
   for (size_t i = 0; i < n; ++i) assert_true(fabsf(a[i] - b[i]) <= 1e-5f * fmaxf(1.0f, fabsf(a[i])));
 }
@@ -265,6 +309,7 @@ int main(void) {
       cmocka_unit_test(test_furnace),               cmocka_unit_test(test_infinite_light_sphere),
       cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_tile_sizes_agree),
       cmocka_unit_test(test_crop_matches_full),     cmocka_unit_test(test_cli_bad_files),
+      cmocka_unit_test(test_progress_callback_cancels),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,10 +8,17 @@
 #include "clrender.h"
 #include "render.h"
 
-static volatile int render_cancel;
+static volatile sig_atomic_t render_cancel;
 static void on_signal(int sig) {
   (void)sig;
   render_cancel = 1;
+}
+
+static int cancel_on_signal(void *user, int32_t tiles_done, int32_t tiles_total) {
+  (void)user;
+  (void)tiles_done;
+  (void)tiles_total;
+  return render_cancel != 0;
 }
 
 static void usage(FILE *f) {
@@ -33,6 +40,8 @@ static void usage(FILE *f) {
           "  --tile-size N           render tile side in pixels (default 16)\n"
           "  --quiet                 no warnings, no progress bar\n"
           "  --stats                 print timings and counts as JSON on stderr\n"
+          "  --reference-samples     generate samples with the single-thread host reference\n"
+          "                          (the kernels' bits, slower: for comparisons)\n"
           "  --help                  this text\n"
           "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error.\n"
           "SIGINT/SIGTERM stop after the tiles in flight and write a partial image (EXR\n"
@@ -114,6 +123,8 @@ int cli_render(int argc, char **argv) {
       o.crop_given = 1;
     } else if (strcmp(a, "--quiet") == 0) {
       o.quiet = 1;
+    } else if (strcmp(a, "--reference-samples") == 0) {
+      o.reference_samples = 1;
     } else if (strcmp(a, "--stats") == 0) {
       stats = 1;
     } else if (a[0] == '-' && a[1]) {
@@ -138,7 +149,7 @@ int cli_render(int argc, char **argv) {
     return 2;
   }
   o.progress = !o.quiet && isatty(STDERR_FILENO);
-  o.cancel = &render_cancel;
+  o.progress_callback = cancel_on_signal;
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;

@@ -12,6 +12,11 @@
 extern "C" {
 #endif
 
+/* Called on the thread running clr_render_file before the first tile and after each merged tile
+ * (possibly more often, with the same counts): return non-zero to stop after the tiles in
+ * flight; the image is then written and marked partial. Must be cheap. */
+typedef int (*clr_render_progress_fn)(void *user, int32_t tiles_done, int32_t tiles_total);
+
 typedef struct clr_render_options {
   size_t struct_size;      /* sizeof(clr_render_options), set by clr_render_options_init */
   int32_t nthreads;        /* worker threads; 0: every core */
@@ -29,8 +34,10 @@ typedef struct clr_render_options {
   const char *device;      /* OpenCL device selector (see clr_context_desc) or NULL */
   int32_t quiet;           /* 1: no warnings on stderr */
   int32_t progress;        /* 1: progress bar on stderr */
-  volatile int *cancel;    /* optional: set non-zero to stop after the tiles in flight; the
-                              image written is then marked "partial" */
+  clr_render_progress_fn progress_callback; /* optional: progress and cancellation */
+  void *progress_user;
+  int32_t reference_samples; /* 1: samples from the single-thread host reference generator
+                                (the device's bits, slower: for comparisons) */
 } clr_render_options;
 
 typedef struct clr_render_stats {

@@ -144,7 +144,8 @@ typedef struct render_job {
   const clr_integrator *integrator;
   clr_film film;
   int spp;
-  int host_samples; /* CLRENDER_HOST_SAMPLES=1: host reference generator (comparison) */
+  int host_samples; /* options->reference_samples: host reference generator (comparison) */
+  int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
   tile_info *tiles;
   sample_band *bands;
@@ -351,7 +352,9 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
   double t_start = now_seconds();
   pthread_mutex_lock(&job->mutex);
   while (r == CLR_SUCCESS && next_merge < g->ntiles) {
-    int cancelled = o->cancel && *o->cancel;
+    if (!job->cancelled && o->progress_callback)
+      job->cancelled = o->progress_callback(o->progress_user, next_merge, g->ntiles) != 0;
+    int cancelled = job->cancelled;
     int bi = free_band(job);
     if (!cancelled && next_gen < g->ntiles && bi >= 0) {
       job->bands[bi].in_use = 1;
@@ -556,7 +559,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.film = film;
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
-    job.host_samples = getenv("CLRENDER_HOST_SAMPLES") && strcmp(getenv("CLRENDER_HOST_SAMPLES"), "1") == 0;
+    job.host_samples = o->reference_samples != 0;
     st->spp = job.spp;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
