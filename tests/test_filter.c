@@ -12,6 +12,7 @@
 #include "clrender.h"
 #include "clrender/filter.h"
 #include "filter_funcs.h"
+#include "filter_internal.h"
 
 #define ALL_TYPES CLR_FILTER_TYPE_COUNT
 #define PI 3.14159265358979323846
@@ -201,20 +202,20 @@ static void check_support(const clr_filter_params *p, const float *table) {
                        {INFINITY, 0},      {0, -INFINITY},       {NAN, 0},    {0, NAN},
                        {rx * 0.5f, out_y}, {out_x, ry * 0.25f}};
   for (size_t i = 0; i < sizeof probes / sizeof probes[0]; ++i) {
-    float v = clr_filter_evaluate(p, table, probes[i][0], probes[i][1]);
+    float v = clr_filter_params_evaluate(p, table, probes[i][0], probes[i][1]);
     if (v != 0.0f || signbit(v))
       fail_msg("%s (table %d): f(%g, %g) = %g, expected +0", clr_filter_type_name(p->type),
                p->use_table, probes[i][0], probes[i][1], v);
   }
   if (!p->use_table) { /* the support is closed; the value on its edge is the formula's */
     double expect_x = edge_1d(p) * ref_1d(p, 0, ry), expect_y = edge_1d(p) * ref_1d(p, 0, rx);
-    float vx = clr_filter_evaluate(p, NULL, rx, 0), vy = clr_filter_evaluate(p, NULL, 0, ry);
+    float vx = clr_filter_params_evaluate(p, NULL, rx, 0), vy = clr_filter_params_evaluate(p, NULL, 0, ry);
     if (fabs(vx - expect_x) > 1e-7 || (expect_x == 0 && vx != 0))
       fail_msg("%s: f(r, 0) = %g, expected %g", clr_filter_type_name(p->type), vx, expect_x);
     if (fabs(vy - expect_y) > 1e-7 || (expect_y == 0 && vy != 0))
       fail_msg("%s: f(0, r) = %g, expected %g", clr_filter_type_name(p->type), vy, expect_y);
-    assert_true(clr_filter_evaluate(p, NULL, -rx, 0) == vx);
-    assert_true(clr_filter_evaluate(p, NULL, 0, -ry) == vy);
+    assert_true(clr_filter_params_evaluate(p, NULL, -rx, 0) == vx);
+    assert_true(clr_filter_params_evaluate(p, NULL, 0, -ry) == vy);
   }
 }
 
@@ -224,12 +225,12 @@ static void test_zero_outside_support(void **state) {
   for (int t = 0; t < ALL_TYPES; ++t)
     for (int use_table = 0; use_table < 2; ++use_table) {
       clr_filter_params p = make_params((clr_filter_type)t, 0, 0, use_table);
-      assert_int_equal(clr_filter_make_table(&p, table), CLR_SUCCESS);
+      assert_int_equal(clr_filter_params_table(&p, table), CLR_SUCCESS);
       check_support(&p, use_table ? table : NULL);
       if (use_table) check_support(&p, NULL); /* entries computed on the fly */
       /* Integer radii other than the defaults keep the sinc's edge zero. */
       clr_filter_params q = make_params((clr_filter_type)t, 3.0f, 3.0f, use_table);
-      assert_int_equal(clr_filter_make_table(&q, table), CLR_SUCCESS);
+      assert_int_equal(clr_filter_params_table(&q, table), CLR_SUCCESS);
       check_support(&q, table);
     }
 }
@@ -240,14 +241,14 @@ static void test_symmetry(void **state) {
   for (int t = 0; t < ALL_TYPES; ++t)
     for (int use_table = 0; use_table < 2; ++use_table) {
       clr_filter_params p = make_params((clr_filter_type)t, 1.5f, 2.5f, use_table);
-      assert_int_equal(clr_filter_make_table(&p, table), CLR_SUCCESS);
+      assert_int_equal(clr_filter_params_table(&p, table), CLR_SUCCESS);
       for (int i = 0; i < 4000; ++i) {
         float x = (float)((uniform() * 2 - 1) * 1.1 * p.radius_x);
         float y = (float)((uniform() * 2 - 1) * 1.1 * p.radius_y);
-        float v = clr_filter_evaluate(&p, table, x, y);
-        assert_true(clr_filter_evaluate(&p, table, -x, y) == v);
-        assert_true(clr_filter_evaluate(&p, table, x, -y) == v);
-        assert_true(clr_filter_evaluate(&p, table, -x, -y) == v);
+        float v = clr_filter_params_evaluate(&p, table, x, y);
+        assert_true(clr_filter_params_evaluate(&p, table, -x, y) == v);
+        assert_true(clr_filter_params_evaluate(&p, table, x, -y) == v);
+        assert_true(clr_filter_params_evaluate(&p, table, -x, -y) == v);
       }
     }
 }
@@ -404,7 +405,7 @@ static void test_table_matches_pbrt(void **state) {
   for (int t = 0; t < ALL_TYPES; ++t)
     for (size_t k = 0; k < sizeof radii / sizeof radii[0]; ++k) {
       clr_filter_params p = make_params((clr_filter_type)t, radii[k][0], radii[k][1], 1);
-      assert_int_equal(clr_filter_make_table(&p, table), CLR_SUCCESS);
+      assert_int_equal(clr_filter_params_table(&p, table), CLR_SUCCESS);
       for (int iy = 0; iy < 16; ++iy)
         for (int ix = 0; ix < 16; ++ix) {
           double x = (ix + 0.5) * p.radius_x / 16, y = (iy + 0.5) * p.radius_y / 16;
@@ -421,8 +422,8 @@ static void test_table_matches_pbrt(void **state) {
         double cx = fabs(x) * 16 / p.radius_x, cy = fabs(y) * 16 / p.radius_y;
         if (fabs(cx - nearbyint(cx)) < 1e-4 || fabs(cy - nearbyint(cy)) < 1e-4) continue;
         int ix = (int)cx < 15 ? (int)cx : 15, iy = (int)cy < 15 ? (int)cy : 15;
-        assert_true(clr_filter_evaluate(&p, table, (float)x, (float)y) == table[iy * 16 + ix]);
-        assert_true(clr_filter_evaluate(&p, NULL, (float)x, (float)y) == table[iy * 16 + ix]);
+        assert_true(clr_filter_params_evaluate(&p, table, (float)x, (float)y) == table[iy * 16 + ix]);
+        assert_true(clr_filter_params_evaluate(&p, NULL, (float)x, (float)y) == table[iy * 16 + ix]);
       }
     }
 }
@@ -480,7 +481,7 @@ static void test_separable_product(void **state) {
         clr_filter_params p = make_params((clr_filter_type)type, radii[r][0], radii[r][1],
                                           use_table);
         float table[CLR_FILTER_TABLE_ENTRIES], factors[2 * CLR_FILTER_TABLE_SIZE];
-        assert_int_equal(clr_filter_make_table(&p, table), CLR_SUCCESS);
+        assert_int_equal(clr_filter_params_table(&p, table), CLR_SUCCESS);
         for (int axis = 0; axis < 2; ++axis)
           for (int i = 0; i < CLR_FILTER_TABLE_SIZE; ++i)
             factors[axis * CLR_FILTER_TABLE_SIZE + i] = clr_filter_table_factor(&p, axis, i);
@@ -593,15 +594,15 @@ static void test_bad_params(void **state) {
   assert_true(p.b == 0.0f && p.c == 0.5f);
 
   float table[CLR_FILTER_TABLE_ENTRIES];
-  assert_int_equal(clr_filter_make_table(NULL, table), CLR_ERROR_NULL_POINTER);
-  assert_int_equal(clr_filter_make_table(&p, NULL), CLR_ERROR_NULL_POINTER);
+  assert_int_equal(clr_filter_params_table(NULL, table), CLR_ERROR_NULL_POINTER);
+  assert_int_equal(clr_filter_params_table(&p, NULL), CLR_ERROR_NULL_POINTER);
   clr_filter_params bad = p;
   bad.type = 42;
-  assert_int_equal(clr_filter_make_table(&bad, table), CLR_ERROR_INVALID_FILTER);
+  assert_int_equal(clr_filter_params_table(&bad, table), CLR_ERROR_INVALID_FILTER);
   bad = p;
   bad.radius_y = NAN;
-  assert_int_equal(clr_filter_make_table(&bad, table), CLR_ERROR_INVALID_RADIUS);
-  assert_true(clr_filter_evaluate(NULL, NULL, 0, 0) == 0.0f);
+  assert_int_equal(clr_filter_params_table(&bad, table), CLR_ERROR_INVALID_RADIUS);
+  assert_true(clr_filter_params_evaluate(NULL, NULL, 0, 0) == 0.0f);
 }
 
 /* ---- the same header compiled as OpenCL C gives the same bits ---- */
@@ -690,7 +691,7 @@ static void test_device_matches_host(void **state) {
   static float xy[2 * N], host[3 * N], dev[3 * N], table[CLR_FILTER_TABLE_ENTRIES];
   for (int t = 0; t < ALL_TYPES; ++t) {
     clr_filter_params p = make_params((clr_filter_type)t, t == 1 ? 1.5f : 0, t == 1 ? 2.5f : 0, 1);
-    assert_int_equal(clr_filter_make_table(&p, table), CLR_SUCCESS);
+    assert_int_equal(clr_filter_params_table(&p, table), CLR_SUCCESS);
     for (int i = 0; i < N; ++i) {
       double spread = i < 64 ? 1.0 : 1.05; /* some points on the edge and just outside */
       xy[2 * i] = i < 16 ? p.radius_x * (float)i / 15.0f
@@ -737,6 +738,40 @@ static void test_device_matches_host(void **state) {
   clr_context_release(d.ctx);
 }
 
+/* The public desc-based calls give the internal parameter block's bits. */
+static void test_public_desc_api(void **state) {
+  (void)state;
+  for (int type = 0; type < CLR_FILTER_TYPE_COUNT; ++type)
+    for (int use_table = 0; use_table < 2; ++use_table) {
+      clr_filter_desc d;
+      clr_filter_desc_init(&d, (clr_filter_type)type);
+      d.use_table = use_table;
+      assert_int_equal(clr_filter_check(&d), CLR_SUCCESS);
+      clr_filter_params p;
+      assert_int_equal(clr_filter_params_make(&d, &p), CLR_SUCCESS);
+      float table[CLR_FILTER_TABLE_ENTRIES], expected[CLR_FILTER_TABLE_ENTRIES];
+      assert_int_equal(clr_filter_make_table(&d, table), CLR_SUCCESS);
+      assert_int_equal(clr_filter_params_table(&p, expected), CLR_SUCCESS);
+      assert_memory_equal(table, expected, sizeof table);
+      for (int k = 0; k < 50; ++k) {
+        float x = (k - 25) * 0.09f, y = (k % 7 - 3) * 0.31f, v = -1.0f;
+        assert_int_equal(clr_filter_evaluate(&d, x, y, &v), CLR_SUCCESS);
+        float want = clr_filter_params_evaluate(&p, NULL, x, y);
+        assert_memory_equal(&v, &want, sizeof v);
+      }
+    }
+  clr_filter_desc bad;
+  clr_filter_desc_init(&bad, CLR_FILTER_GAUSSIAN);
+  bad.alpha = -1.0f;
+  float v = 0.0f, table[CLR_FILTER_TABLE_ENTRIES];
+  assert_int_equal(clr_filter_evaluate(&bad, 0, 0, &v), CLR_ERROR_INVALID_FILTER);
+  assert_non_null(strstr(clr_last_error_message(), "alpha"));
+  assert_int_equal(clr_filter_make_table(&bad, table), CLR_ERROR_INVALID_FILTER);
+  assert_int_equal(clr_filter_check(NULL), CLR_ERROR_NULL_POINTER);
+  clr_filter_desc_init(&bad, CLR_FILTER_BOX);
+  assert_int_equal(clr_filter_evaluate(&bad, 0, 0, NULL), CLR_ERROR_NULL_POINTER);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_defaults_and_names),
@@ -751,6 +786,7 @@ int main(void) {
       cmocka_unit_test(test_separable_product),
       cmocka_unit_test(test_bad_params),
       cmocka_unit_test(test_device_matches_host),
+      cmocka_unit_test(test_public_desc_api),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

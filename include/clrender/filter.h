@@ -47,9 +47,6 @@ typedef struct clr_filter_desc {
   int32_t use_table; /* 0 (default): exact evaluation; 1: pbrt-v3's 16x16 table, nearest entry */
 } clr_filter_desc;
 
-/* Parameter block shared with the kernels, defined in kernels/filter_types.h. */
-typedef struct clr_filter_params clr_filter_params;
-
 /* pbrt-v3's defaults for `type` (the defaults listed above). */
 CLR_API void clr_filter_desc_init(clr_filter_desc *desc, clr_filter_type type);
 /* pbrt-v3 scene names: "box", "triangle", "gaussian", "mitchell", "sinc", plus "blackmanharris"
@@ -58,23 +55,21 @@ CLR_API clr_result clr_filter_type_from_name(const char *name, clr_filter_type *
 /* The scene name of `type`, "unknown" for values outside the enum. */
 CLR_API const char *clr_filter_type_name(clr_filter_type type);
 
-/* Validates `desc` and fills the kernels' parameter block (1/radius, 1/tau and the gaussian's
- * e^(-alpha r^2) precomputed). *out is written only on success. Errors:
- * CLR_ERROR_NULL_POINTER, CLR_ERROR_INVALID_ARGUMENT (struct_size, use_table not 0/1),
- * CLR_ERROR_INVALID_FILTER (type; alpha <= 0, non-finite or so small the gaussian vanishes; B or
- * C non-finite or beyond CLR_FILTER_MAX_BC; tau outside its range or NaN),
- * CLR_ERROR_INVALID_RADIUS (radius NaN, infinite or outside its range). Parameters a type does
- * not use are ignored. */
-CLR_API clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params *out);
+/* Validates `desc`. Errors: CLR_ERROR_NULL_POINTER, CLR_ERROR_INVALID_ARGUMENT (struct_size,
+ * use_table not 0/1), CLR_ERROR_INVALID_FILTER (type; alpha <= 0, non-finite or so small the
+ * gaussian vanishes; B or C non-finite or beyond CLR_FILTER_MAX_BC; tau outside its range or
+ * NaN), CLR_ERROR_INVALID_RADIUS (radius NaN, infinite or outside its range). Parameters a type
+ * does not use are ignored. */
+CLR_API clr_result clr_filter_check(const clr_filter_desc *desc);
 
-/* pbrt-v3's filter table for `params` (whatever its use_table): entry iy*16 + ix is the exact
+/* pbrt-v3's filter table for `desc` (whatever its use_table): entry iy*16 + ix is the exact
  * filter at ((ix + .5) rx / 16, (iy + .5) ry / 16), bit-identical to the device's. */
-CLR_API clr_result clr_filter_make_table(const clr_filter_params *params,
-                                 float table[CLR_FILTER_TABLE_ENTRIES]);
+CLR_API clr_result clr_filter_make_table(const clr_filter_desc *desc,
+                                         float table[CLR_FILTER_TABLE_ENTRIES]);
 
-/* Host evaluation with the kernels' code: clr_filter_eval (table mode when params->use_table,
- * reading `table`, or computing the entry itself when table is NULL). 0 for a NULL params. */
-CLR_API float clr_filter_evaluate(const clr_filter_params *params, const float *table, float x, float y);
+/* The filter's value at offset (x, y) from the pixel centre, computed on the host with the
+ * kernels' code (pbrt-v3's table entry when desc->use_table): the device's bits. */
+CLR_API clr_result clr_filter_evaluate(const clr_filter_desc *desc, float x, float y, float *value);
 
 #ifdef __cplusplus
 }

@@ -102,7 +102,7 @@ clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out
   film->height = params.pixel_y1 - params.pixel_y0;
   film->pixel_count = (size_t)film->width * (size_t)film->height;
   pthread_mutex_init(&film->lock, NULL);
-  clr_result r = clr_filter_make_table(&filter, film->table);
+  clr_result r = clr_filter_params_table(&filter, film->table);
   for (int axis = 0; axis < 2; ++axis)
     for (int i = 0; i < CLR_FILTER_TABLE_SIZE; ++i)
       film->factors[axis * CLR_FILTER_TABLE_SIZE + i] = clr_filter_table_factor(&filter, axis, i);

@@ -7,7 +7,7 @@
 #include <stdatomic.h>
 #include "clrender/film.h"
 #include "film_types.h"
-#include "filter_types.h"
+#include "filter_internal.h"
 
 /* Device resources of the weigh and gather kernels, grown on demand (guarded by the film's
  * lock). */

@@ -2,8 +2,8 @@
 #include <math.h>
 #include <string.h>
 #include "clr_internal.h"
-#include "clrender/filter.h"
 #include "filter_funcs.h"
+#include "filter_internal.h"
 
 _Static_assert(sizeof(clr_filter_params) % 16 == 0, "clr_filter_params must be 16-byte sized");
 _Static_assert(CLR_FILTER_TABLE_SIZE *CLR_FILTER_TABLE_SIZE == CLR_FILTER_TABLE_ENTRIES,
@@ -163,19 +163,19 @@ clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params
   return CLR_SUCCESS;
 }
 
-clr_result clr_filter_make_table(const clr_filter_params *params,
-                                 float table[CLR_FILTER_TABLE_ENTRIES]) {
+clr_result clr_filter_params_table(const clr_filter_params *params,
+                                   float table[CLR_FILTER_TABLE_ENTRIES]) {
   clr_clear_error();
   if (!params || !table)
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_make_table: %s is NULL",
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_params_table: %s is NULL",
                     params ? "table" : "params");
   if (!valid_type(params->type))
-    return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "clr_filter_make_table: unknown filter type %d",
+    return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "clr_filter_params_table: unknown filter type %d",
                     (int)params->type);
   if (!(params->radius_x >= CLR_FILTER_MIN_RADIUS && params->radius_x <= CLR_FILTER_MAX_RADIUS &&
         params->radius_y >= CLR_FILTER_MIN_RADIUS && params->radius_y <= CLR_FILTER_MAX_RADIUS))
     return clr_fail(NULL, CLR_ERROR_INVALID_RADIUS,
-                    "clr_filter_make_table: radius %g x %g is outside [%g, %g] (use "
+                    "clr_filter_params_table: radius %g x %g is outside [%g, %g] (use "
                     "clr_filter_params_make)",
                     (double)params->radius_x, (double)params->radius_y,
                     (double)CLR_FILTER_MIN_RADIUS, (double)CLR_FILTER_MAX_RADIUS);
@@ -185,7 +185,8 @@ clr_result clr_filter_make_table(const clr_filter_params *params,
   return CLR_SUCCESS;
 }
 
-float clr_filter_evaluate(const clr_filter_params *params, const float *table, float x, float y) {
+float clr_filter_params_evaluate(const clr_filter_params *params, const float *table, float x,
+                                 float y) {
   if (!params) return 0.0f;
   if (params->use_table && !table) {
     if (!(fabsf(x) <= params->radius_x && fabsf(y) <= params->radius_y)) return 0.0f;
@@ -193,4 +194,24 @@ float clr_filter_evaluate(const clr_filter_params *params, const float *table, f
                                   clr_filter_table_index(y, params->inv_radius_y));
   }
   return clr_filter_eval(params, x, y, table);
+}
+
+clr_result clr_filter_check(const clr_filter_desc *desc) {
+  clr_filter_params params;
+  return clr_filter_params_make(desc, &params);
+}
+
+clr_result clr_filter_make_table(const clr_filter_desc *desc, float table[CLR_FILTER_TABLE_ENTRIES]) {
+  clr_filter_params params;
+  CLR_CHECK(clr_filter_params_make(desc, &params));
+  if (!table) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_make_table: table is NULL");
+  return clr_filter_params_table(&params, table);
+}
+
+clr_result clr_filter_evaluate(const clr_filter_desc *desc, float x, float y, float *value) {
+  clr_filter_params params;
+  CLR_CHECK(clr_filter_params_make(desc, &params));
+  if (!value) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_evaluate: value is NULL");
+  *value = clr_filter_params_evaluate(&params, NULL, x, y);
+  return CLR_SUCCESS;
 }
