@@ -1,4 +1,12 @@
-/* clrender OpenCL context: platform/device choice, command queue, program cache. */
+/* clrender OpenCL context: platform/device choice, command queue, program cache.
+ *
+ * Thread safety: every call here is thread-safe. A context may be shared by any number of
+ * samplers and films on any threads (its program cache and shared buffers are locked); the
+ * OpenCL objects it hands out stay owned by it.
+ * Lifetime: create -> reference count 1; retain/release count (atomically); the last release
+ * finishes the queue and frees everything. Samplers and films retain their context.
+ * NULL: retain/release ignore NULL; accessors return NULL/0 for a NULL context; a NULL desc in
+ * clr_context_create means the defaults; other NULL pointers return CLR_ERROR_NULL_POINTER. */
 #ifndef CLRENDER_CONTEXT_H
 #define CLRENDER_CONTEXT_H
 
@@ -31,7 +39,8 @@ CLR_API clr_result clr_context_create(const clr_context_desc *desc, clr_context 
 CLR_API void clr_context_retain(clr_context ctx);
 CLR_API void clr_context_release(clr_context ctx);
 
-/* Description of the chosen device, e.g. "Portable Computing Language: pthread-haswell". */
+/* Description of the chosen device, e.g. "Portable Computing Language: pthread-haswell".
+ * Owned by the context, valid until its last release. */
 CLR_API const char *clr_context_device_name(clr_context ctx);
 CLR_API int clr_context_device_is_gpu(clr_context ctx);
 CLR_API cl_context clr_context_cl_context(clr_context ctx);

@@ -23,7 +23,15 @@
  *   overflows, are DROPPED and counted (pbrt's integrator replaces the radiance by black and
  *   still adds the filter weight);
  * - a splat lands in pixel floor(p) (pbrt truncates toward zero);
- * - the resolve divides in double (pbrt multiplies by a float reciprocal). */
+ * - the resolve divides in double (pbrt multiplies by a float reciprocal).
+ *
+ * Thread safety: every film_* call on one film is thread-safe (serialised by the film's mutex);
+ * different films work concurrently. A film tile belongs to one thread at a time until it is
+ * merged. Lifetime: film_create -> reference count 1, film_retain/film_release; the film retains
+ * its context; tiles are released with film_tile_release (after or instead of merging).
+ * Ownership: arrays passed in (samples, sums) and filled (rgb, sums) stay the caller's and are
+ * not kept. NULL: release calls ignore NULL; bounds accessors return an empty box for NULL;
+ * every other call returns CLR_ERROR_NULL_POINTER naming the argument. */
 #ifndef CLRENDER_FILM_H
 #define CLRENDER_FILM_H
 

@@ -1,6 +1,9 @@
 /* clrender reconstruction filters: pbrt-v3's box, triangle, gaussian, mitchell and sinc, plus
  * LuxCore's blackmanharris and Mitsuba's catmullrom, evaluated exactly or through pbrt-v3's 16x16
- * table. Radii are pbrt-v3's xwidth/ywidth (half the support width). */
+ * table. Radii are pbrt-v3's xwidth/ywidth (half the support width).
+ *
+ * Thread safety: every call is thread-safe (no state). NULL pointers return
+ * CLR_ERROR_NULL_POINTER; clr_filter_type_name never returns NULL. */
 #ifndef CLRENDER_FILTER_H
 #define CLRENDER_FILTER_H
 

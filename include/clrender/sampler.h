@@ -1,5 +1,15 @@
 /* clrender samplers: pbrt-v3's random, stratified, halton and sobol samplers as OpenCL kernels,
- * with a host reference built from the same kernel headers. */
+ * with a host reference built from the same kernel headers.
+ *
+ * Thread safety: a sampler may be used from several threads; clr_sampler_generate calls on one
+ * sampler are serialised (its device buffers are reused), calls on different samplers run
+ * concurrently. clr_sampler_generate_reference needs no lock and is thread-safe.
+ * Lifetime: create -> reference count 1; retain/release; the sampler retains its context.
+ * Ownership: output buffers (host arrays, cl_mem) stay the caller's; the sampler never keeps
+ * pointers to them after the call returns.
+ * NULL: a NULL context creates a host-only sampler: clr_sampler_generate_reference works,
+ * clr_sampler_generate returns CLR_ERROR_INVALID_ARGUMENT. retain/release ignore NULL; other NULL
+ * pointers return CLR_ERROR_NULL_POINTER. */
 #ifndef CLRENDER_SAMPLER_H
 #define CLRENDER_SAMPLER_H
 
