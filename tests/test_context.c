@@ -112,8 +112,58 @@ static void test_build_failure_reports_log(void **state) {
   clr_context_release(ctx);
 }
 
+/* The result type is a fixed 32 bits with stable values; the version query matches the headers;
+ * a message may quote the previous one. */
+static void test_result_version_messages(void **state) {
+  (void)state;
+  assert_int_equal(sizeof(clr_result), 4);
+  assert_int_equal(CLR_SUCCESS, 0);
+  assert_int_equal(CLR_ERROR_INVALID_ARGUMENT, 1);
+  assert_int_equal(CLR_ERROR_IO, 19);
+  assert_int_equal(CLR_ERROR_INTERNAL, 27);
+  assert_int_equal(CLR_RESULT_COUNT, 28);
+  assert_string_equal(clr_result_name(CLR_ERROR_IO), "CLR_ERROR_IO");
+  assert_string_equal(clr_result_string(CLR_RESULT_COUNT), "unknown result code");
+  assert_string_equal(clr_version(), CLR_VERSION_STRING);
+  assert_int_equal(clr_version_number(), CLR_VERSION_NUMBER);
+  assert_int_equal(CLR_VERSION_NUMBER,
+                   CLR_VERSION_MAJOR * 10000 + CLR_VERSION_MINOR * 100 + CLR_VERSION_PATCH);
+  assert_int_equal(clr_set_last_error(CLR_ERROR_IO, "inner reason %d", 7), CLR_ERROR_IO);
+  clr_set_last_error(CLR_ERROR_SCENE, "x.pbrt:8: Shape \"plymesh\": %s", clr_last_error_message());
+  assert_string_equal(clr_last_error_message(), "x.pbrt:8: Shape \"plymesh\": inner reason 7");
+}
+
+/* A sampler without a context is host-only: the reference works, the device call refuses. */
+static void test_null_context_sampler(void **state) {
+  (void)state;
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, CLR_SAMPLER_SOBOL);
+  d.film.x_resolution = d.film.y_resolution = 4;
+  clr_sampler s = NULL;
+  assert_int_equal(clr_sampler_create(NULL, &d, &s), CLR_SUCCESS);
+  const clr_sample_request req = {2, 0};
+  clr_sample_batch b;
+  clr_sample_batch_init(&b);
+  b.pixels = (clr_bounds2i){0, 0, 1, 1};
+  b.requests = &req;
+  b.request_count = 1;
+  float values[2 * 16];
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.host_values = values;
+  assert_int_equal(clr_sampler_generate_reference(s, &b, &out), CLR_SUCCESS);
+  assert_true(values[0] == 0.0f && values[1] == 0.0f); /* Sobol sample 0 of pixel (0,0) */
+  assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(clr_last_error_message(), "without a context"));
+  clr_sampler_release(s);
+  clr_sampler_release(NULL);
+  assert_int_equal(clr_sampler_create(NULL, NULL, &s), CLR_ERROR_NULL_POINTER);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_result_version_messages),
+      cmocka_unit_test(test_null_context_sampler),
       cmocka_unit_test(test_result_strings),
       cmocka_unit_test(test_device_list),
       cmocka_unit_test(test_device_selection),

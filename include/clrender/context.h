@@ -5,7 +5,7 @@
  * OpenCL objects it hands out stay owned by it.
  * Lifetime: create -> reference count 1; retain/release count (atomically); the last release
  * finishes the queue and frees everything. Samplers and films retain their context.
- * NULL: retain/release ignore NULL; accessors return NULL/0 for a NULL context; a NULL desc in
+ * NULL: retain/release ignore NULL; accessors return "", 0 or NULL for a NULL context; a NULL desc in
  * clr_context_create means the defaults; other NULL pointers return CLR_ERROR_NULL_POINTER. */
 #ifndef CLRENDER_CONTEXT_H
 #define CLRENDER_CONTEXT_H
