@@ -22,6 +22,8 @@ clr_context bench_open_device(const bench_options *o, const clr_device_info *dev
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count);
 void bench_render(const bench_options *o, const clr_device_info *devices, int device_count);
+/* Embree packet vs single-ray tracing on the host (--only tracer). */
+void bench_tracer(const bench_options *o);
 /* Film accumulation samples/s per filter and evaluation mode (--only film). */
 void bench_film(const bench_options *o, const clr_device_info *devices, int device_count);
 

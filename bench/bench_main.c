@@ -59,7 +59,7 @@ clr_context bench_open_device(const bench_options *o, const clr_device_info *dev
 }
 
 static void usage(void) {
-  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only samples|film|render]\n"
+  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only samples|film|tracer|render]\n"
                   "Prints one JSON object per line: each device's figure and the single-thread\n"
                   "host reference measured in the same run, with their ratio.\n");
 }
@@ -85,6 +85,7 @@ int main(int argc, char **argv) {
   if (count > 64) count = 64;
   if (!only || strcmp(only, "samples") == 0) bench_samples(&o, devices, count);
   if (!only || strcmp(only, "film") == 0) bench_film(&o, devices, count);
+  if (!only || strcmp(only, "tracer") == 0) bench_tracer(&o);
   if (!only || strcmp(only, "render") == 0) bench_render(&o, devices, count);
   return 0;
 }

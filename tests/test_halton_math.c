@@ -626,68 +626,6 @@ static void test_device_matches_host(void **state) {
   device_teardown(&f);
 }
 
-/* Runs `kernel` (pixel_values: a work item per sample; one_value: a work item per value) over
- * 256 x 64 pixels x 16 samples x 16 dims with CLR_HALTON_INDEX32, prints the throughput and checks
- * a sample of the values against the host. */
-static void run_throughput(const char *kernel, size_t items, cl_int dims) {
-  clr_sampler_params p = halton_params(0, 0, 1280, 720);
-  device_fixture f;
-  device_setup(&f, &p, "-DCLR_HALTON_INDEX32");
-  cl_context cl = clr_context_cl_context(f.ctx);
-  cl_command_queue q = clr_context_cl_queue(f.ctx);
-  const cl_int width = 256, spp = 16;
-  const size_t values = (size_t)width * 64 * spp * (size_t)dims;
-  float *out = malloc(values * sizeof(float));
-  assert_non_null(out);
-  cl_mem res = make_buffer(cl, values * sizeof(float), NULL);
-  cl_int err = 0;
-  cl_kernel k = clCreateKernel(f.program, kernel, &err);
-  assert_int_equal(err, CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 0, sizeof(cl_mem), &f.params), CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 1, sizeof(cl_mem), &f.primes), CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 2, sizeof(cl_mem), &f.perms), CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 3, sizeof width, &width), CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 4, sizeof spp, &spp), CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 5, sizeof dims, &dims), CL_SUCCESS);
-  assert_int_equal(clSetKernelArg(k, 6, sizeof(cl_mem), &res), CL_SUCCESS);
-  double best = 1e30;
-  for (int rep = 0; rep < 4; ++rep) {
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &items, NULL, 0, NULL, NULL),
-                     CL_SUCCESS);
-    assert_int_equal(clFinish(q), CL_SUCCESS);
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-    if (rep > 0 && s < best) best = s;
-  }
-  printf("halton %s: %.3f G values/s (%zu values, %.2f ms)\n", kernel,
-         (double)values / best * 1e-9, values, best * 1e3);
-  assert_int_equal(
-      clEnqueueReadBuffer(q, res, CL_TRUE, 0, values * sizeof(float), out, 0, NULL, NULL),
-      CL_SUCCESS);
-  const clr_halton_prime *pr = clr_halton_primes();
-  const clr_u16 *perms = clr_halton_permutations(NULL);
-  for (size_t v = 0; v < values; v += 31) {
-    size_t sample = v / (size_t)dims;
-    int d = (int)(v % (size_t)dims), pixel = (int)(sample / (size_t)spp);
-    clr_u64 index = clr_halton_sampler_index(&p, pixel % width, pixel / width,
-                                             (clr_i64)(sample % (size_t)spp));
-    assert_float_bits_equal(out[v], clr_halton_sampler_value(&p, pr, perms, index, d));
-  }
-  free(out);
-  clReleaseKernel(k);
-  clReleaseMemObject(res);
-  device_teardown(&f);
-}
-
-static void test_device_throughput(void **state) {
-  (void)state;
-  const size_t samples = (size_t)256 * 64 * 16;
-  run_throughput("pixel_values", samples, 16);
-  run_throughput("one_value", samples * 16, 16);
-}
-
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_primes),
@@ -705,7 +643,6 @@ int main(void) {
       cmocka_unit_test(test_stratification),
       cmocka_unit_test(test_sampler_values),
       cmocka_unit_test(test_device_matches_host),
-      cmocka_unit_test(test_device_throughput),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

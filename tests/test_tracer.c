@@ -656,83 +656,6 @@ static void test_bad_input(void **state) {
   clr_tracer_release(t);
 }
 
-/* ---- throughput (printed, not asserted) ---- */
-
-static double seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* Times packets, single rays and occlusion on the same rays; prints Mrays/s. */
-static void measure_rays(clr_tracer t, const char *what, const clr_ray *rays, clr_hit *hits,
-                         clr_hit *hits1, uint8_t *occ, int count) {
-  double t0 = seconds();
-  assert_int_equal(clr_tracer_intersect(t, rays, hits, count), CLR_SUCCESS);
-  double packets = seconds() - t0;
-  t0 = seconds();
-  assert_int_equal(clr_tracer_intersect_single(t, rays, hits1, count), CLR_SUCCESS);
-  double single = seconds() - t0;
-  t0 = seconds();
-  assert_int_equal(clr_tracer_occluded(t, rays, occ, count), CLR_SUCCESS);
-  double occluded = seconds() - t0;
-  int hit_count = 0, mismatches = 0;
-  for (int i = 0; i < count; ++i) {
-    hit_count += hits[i].geom_id == 0;
-    mismatches += !hits_equal(&hits[i], &hits1[i]) || occ[i] != (hits[i].geom_id == 0);
-  }
-  assert_int_equal(mismatches, 0);
-  assert_true(hit_count > count * 9 / 10);
-  printf("  %-10s (%d hit): rtcIntersect16 %.2f, rtcIntersect1 %.2f, rtcOccluded16 %.2f Mrays/s\n",
-         what, hit_count, count / packets * 1e-6, count / single * 1e-6, count / occluded * 1e-6);
-}
-
-static void test_throughput(void **state) {
-  (void)state;
-  enum { GRID = 224, RAYS = 1000000 }; /* 224 x 224 quads = 100352 triangles */
-  clr_mesh m;
-  assert_int_equal(clr_mesh_alloc(&m, (GRID + 1) * (GRID + 1), 2 * GRID * GRID, 0, 0, "grid"), CLR_SUCCESS);
-  for (int y = 0; y <= GRID; ++y)
-    for (int x = 0; x <= GRID; ++x) {
-      float *p = m.p + 3 * (y * (GRID + 1) + x);
-      p[0] = (float)x / GRID, p[1] = (float)y / GRID, p[2] = (float)(0.05 * rnd());
-    }
-  uint32_t *idx = m.indices;
-  for (int y = 0; y < GRID; ++y)
-    for (int x = 0; x < GRID; ++x) {
-      uint32_t a = (uint32_t)(y * (GRID + 1) + x), b = a + 1, c = a + GRID + 1, d = c + 1;
-      *idx++ = a, *idx++ = b, *idx++ = d, *idx++ = a, *idx++ = d, *idx++ = c;
-    }
-  clr_tracer t;
-  assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
-  double t0 = seconds();
-  assert_int_equal(clr_tracer_add_mesh(t, 0, &m, 0, NULL), CLR_SUCCESS);
-  assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
-  double build = seconds() - t0;
-  clr_mesh_free(&m);
-  clr_ray *rays = malloc(RAYS * sizeof *rays);
-  clr_hit *hits = malloc(RAYS * sizeof *hits), *hits1 = malloc(RAYS * sizeof *hits1);
-  uint8_t *occ = malloc(RAYS);
-  assert_true(rays && hits && hits1 && occ);
-  for (int i = 0; i < RAYS; ++i) { /* incoherent: random origins above, random targets on it */
-    double o[3] = {2 * rnd() - 0.5, 2 * rnd() - 0.5, 0.5 + rnd()}, q[2] = {rnd(), rnd()};
-    rays[i] = ray_inf((float)o[0], (float)o[1], (float)o[2], (float)(q[0] - o[0]), (float)(q[1] - o[1]),
-                      (float)(0.025 - o[2]));
-  }
-  printf("tracer throughput, 100352 triangles (build %.3f s), %d rays, 1 thread:\n", build, RAYS);
-  measure_rays(t, "incoherent", rays, hits, hits1, occ, RAYS);
-  for (int i = 0; i < RAYS; ++i) { /* coherent: a pinhole camera's 1000x1000 pixels in 4x4 blocks */
-    int block = i / 16, x = 4 * (block % 250) + i % 4, y = 4 * (block / 250) + (i / 4) % 4;
-    rays[i] = ray_inf(0.5f, 0.5f, 2.0f, (float)((x + 0.5) / 1000 - 0.5), (float)((y + 0.5) / 1000 - 0.5), -2.0f);
-  }
-  measure_rays(t, "coherent", rays, hits, hits1, occ, RAYS);
-  free(rays);
-  free(hits);
-  free(hits1);
-  free(occ);
-  clr_tracer_release(t);
-}
-
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_triangle_and_quad),
@@ -743,7 +666,6 @@ int main(void) {
       cmocka_unit_test(test_occlusion_tfar),
       cmocka_unit_test(test_threads),
       cmocka_unit_test(test_bad_input),
-      cmocka_unit_test(test_throughput),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
