@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 #include "render_error.h"
+#include "grow.h"
 #include "integrator.h"
 #include "pcg32.h"
 #include "render_scene_internal.h"
@@ -158,15 +159,9 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s);
 }
 
+/* Non-zero when the array could not grow. */
 static int grow(void **p, size_t *cap, size_t need, size_t elem) {
-  if (need <= *cap) return 0;
-  size_t n = *cap ? *cap : 256;
-  while (n < need) n *= 2;
-  void *q = realloc(*p, n * elem);
-  if (!q) return -1;
-  *p = q;
-  *cap = n;
-  return 0;
+  return clr_grow(p, cap, need, elem, SIZE_MAX) != CLR_SUCCESS;
 }
 
 /* Rays (and hits / occlusion flags) for `n` queries. */

@@ -57,18 +57,6 @@ int clr_param_type_arity(clr_param_type type) {
   }
 }
 
-clr_result clr_grow_array(void **items, int *capacity, int needed, size_t elem_size) {
-  if (needed <= *capacity) return CLR_SUCCESS;
-  size_t new_capacity = *capacity < 8 ? 8 : (size_t)*capacity * 2;
-  while (new_capacity < (size_t)needed) new_capacity *= 2;
-  if (new_capacity > INT32_MAX || new_capacity > SIZE_MAX / elem_size) return CLR_ERROR_OUT_OF_MEMORY;
-  void *grown = realloc(*items, new_capacity * elem_size);
-  if (!grown) return CLR_ERROR_OUT_OF_MEMORY;
-  *items = grown;
-  *capacity = (int)new_capacity;
-  return CLR_SUCCESS;
-}
-
 void clr_params_init(clr_param_list *list, const char *directive, const char *type,
                      const char *file, int line) {
   memset(list, 0, sizeof *list);

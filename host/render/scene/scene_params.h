@@ -6,6 +6,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include "clrender/result.h"
+#include "grow.h"
 
 /* Receives one warning message (no trailing newline). */
 typedef void (*clr_warn_fn)(void *user, const char *message);
@@ -110,8 +111,5 @@ char *const *clr_params_find_strings(const clr_param_list *list, const char *nam
 /* Warns once per parameter never looked up: "unused parameter 'foo' in Shape 'sphere' at
  * FILE:LINE". warn NULL prints to stderr. Returns the number of warnings. */
 int clr_params_report_unused(const clr_param_list *list, clr_warn_fn warn, void *user);
-
-/* Grows a heap array so it holds at least `needed` elements of `elem_size` bytes. */
-clr_result clr_grow_array(void **items, int *capacity, int needed, size_t elem_size);
 
 #endif

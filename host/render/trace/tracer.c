@@ -596,20 +596,26 @@ static void load_packet(const clr_ray *rays, int32_t lanes, struct RTCRay16 *ray
   }
 }
 
-clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
-  CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect"));
-  CLR_CHECK(check_rays(rays, count, "clr_tracer_intersect"));
+/* Traces rays in packets of 16: closest hits into `hits` (rtcIntersect16), or, when hits is
+ * NULL, occlusion flags into `occluded` (rtcOccluded16). */
+static void trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int32_t count,
+                          clr_hit *hits, uint8_t *occluded) {
   for (int32_t base = 0; base < count; base += 16) {
     int32_t lanes = count - base < 16 ? count - base : 16;
     alignas(64) int valid[16];
     struct RTCRayHit16 rh;
     load_packet(rays + base, lanes, &rh.ray, valid);
+    struct RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if (!hits) {
+      rtcOccluded16(valid, t->groups[0].scene, &context, &rh.ray);
+      for (int32_t i = 0; i < lanes; ++i) occluded[base + i] = rh.ray.tfar[i] == -INFINITY;
+      continue;
+    }
     for (int i = 0; i < 16; ++i) {
       rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    struct RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
     rtcIntersect16(valid, t->groups[0].scene, &context, &rh);
     for (int32_t i = 0; i < lanes; ++i) {
       float ng[3] = {rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]};
@@ -617,6 +623,12 @@ clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits
                  rh.hit.instID[0][i], &hits[base + i]);
     }
   }
+}
+
+clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
+  CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect"));
+  CLR_CHECK(check_rays(rays, count, "clr_tracer_intersect"));
+  trace_packets(t, rays, count, hits, NULL);
   return embree_check(t, "rtcIntersect16");
 }
 
@@ -642,16 +654,7 @@ clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hi
 clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occluded, int32_t count) {
   CLR_CHECK(check_query(t, rays, occluded, count, "clr_tracer_occluded"));
   CLR_CHECK(check_rays(rays, count, "clr_tracer_occluded"));
-  for (int32_t base = 0; base < count; base += 16) {
-    int32_t lanes = count - base < 16 ? count - base : 16;
-    alignas(64) int valid[16];
-    struct RTCRay16 ray;
-    load_packet(rays + base, lanes, &ray, valid);
-    struct RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcOccluded16(valid, t->groups[0].scene, &context, &ray);
-    for (int32_t i = 0; i < lanes; ++i) occluded[base + i] = ray.tfar[i] == -INFINITY;
-  }
+  trace_packets(t, rays, count, NULL, occluded);
   return embree_check(t, "rtcOccluded16");
 }
 
