@@ -9,12 +9,23 @@
 #include "grow.h"
 #include "integrator.h"
 #include "pcg32.h"
-#include "render_scene_internal.h"
+#include "render_scene.h"
+#include "vec3.h"
 
 #define ONE_MINUS_EPSILON 0x1.fffffep-1f
 #define MAX_NULL_SURFACES 64
 
 /* ---------- request layout ---------- */
+
+static clr_light_info light_info(const clr_render_scene *scene, int32_t light) {
+  clr_light_info info;
+  clr_render_scene_light_info(scene, light, &info);
+  return info;
+}
+
+static int light_is_delta(const clr_render_scene *scene, int32_t light) {
+  return light_info(scene, light).is_delta;
+}
 
 static int add_request(clr_integrator *it, int dims, int array_size) {
   int32_t values = dims * (array_size > 0 ? array_size : 1);
@@ -32,11 +43,11 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
   it->light_cdf = calloc((size_t)it->light_count + 1, sizeof *it->light_cdf);
   if (!it->light_cdf) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
   double total = 0.0;
-  for (int i = 0; i < it->light_count; ++i) total += power ? fmax(0.0, scene->lights[i].power) : 1.0;
+  for (int i = 0; i < it->light_count; ++i) total += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
   if (!(total > 0.0) || !isfinite(total)) { power = 0; total = it->light_count; }
   double acc = 0.0;
   for (int i = 0; i < it->light_count; ++i) {
-    acc += power ? fmax(0.0, scene->lights[i].power) : 1.0;
+    acc += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
     it->light_cdf[i + 1] = (float)(acc / total);
   }
   if (it->light_count) it->light_cdf[it->light_count] = 1.0f;
@@ -53,7 +64,7 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
   add_request(it, 1, 0);
   add_request(it, 2, 0);
   it->value_offset = it->values_per_sample;
-  it->light_count = scene->light_count;
+  it->light_count = clr_render_scene_light_count(scene);
   it->max_depth = clr_params_find_int(p, "maxdepth", 5);
   if (strcmp(type, "ambientocclusion") == 0) {
     it->type = CLR_INTEGRATOR_AO;
@@ -75,7 +86,7 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
       it->light_offsets = calloc((size_t)it->light_count + 1, sizeof(int));
       if (!it->light_samples || !it->light_offsets) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
       for (int j = 0; j < it->light_count; ++j) {
-        it->light_samples[j] = scene->lights[j].nsamples;
+        it->light_samples[j] = light_info(scene, j).nsamples;
         /* depth-0 arrays only: matte surfaces never recurse */
         it->light_offsets[j] = add_request(it, 2, it->light_samples[j]);
         if (it->light_offsets[j] >= 0 && add_request(it, 2, it->light_samples[j]) < 0) {
@@ -200,7 +211,7 @@ static void trace(const clr_render_scene *sc, const clr_ray *r, clr_hit *h, size
                   clr_integrator_counters *c) {
   if (!n) return;
   double t0 = now_seconds();
-  clr_result e = clr_tracer_intersect(sc->tracer, r, h, (int32_t)n);
+  clr_result e = clr_tracer_intersect(clr_render_scene_tracer(sc), r, h, (int32_t)n);
   if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
   c->trace_seconds += now_seconds() - t0;
   c->rays += n;
@@ -210,7 +221,7 @@ static void occlude(const clr_render_scene *sc, const clr_ray *r, uint8_t *o, si
                     clr_integrator_counters *c) {
   if (!n) return;
   double t0 = now_seconds();
-  clr_result e = clr_tracer_occluded(sc->tracer, r, o, (int32_t)n);
+  clr_result e = clr_tracer_occluded(clr_render_scene_tracer(sc), r, o, (int32_t)n);
   if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
   c->trace_seconds += now_seconds() - t0;
   c->rays += n;
@@ -364,7 +375,7 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
   int nmis = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
-    if (rs_light_is_delta(&sc->lights[jb->light])) continue;
+    if (light_is_delta(sc, jb->light)) continue;
     const clr_surface *sf = &s->surfaces[jb->sample];
     const float *wo = wo_all + 3 * jb->sample;
     float wi[3], pdf;
@@ -387,12 +398,12 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
       clr_surface hs;
       clr_render_scene_surface(sc, r, h, &hs);
       if (hs.area_light != jb->light) continue;
-      light_pdf = rs_light_pdf(sc, jb->light, sf->p, wi, h->t, hs.n_geom);
+      light_pdf = clr_render_scene_light_pdf(sc, jb->light, sf->p, wi, h->t, hs.n_geom);
       memcpy(le, hs.le, sizeof le);
     } else {
-      if (sc->lights[jb->light].type != RS_LIGHT_INFINITE) continue;
-      light_pdf = rs_light_pdf(sc, jb->light, sf->p, wi, 0.0f, NULL);
-      rs_light_le(sc, jb->light, wi, le);
+      if (!light_info(sc, jb->light).is_infinite) continue;
+      light_pdf = clr_render_scene_light_pdf(sc, jb->light, sf->p, wi, 0.0f, NULL);
+      clr_render_scene_light_le(sc, jb->light, wi, le);
     }
     if (!(light_pdf > 0.0f)) continue;
     float w = power_heuristic(jb->bsdf_pdf, light_pdf);

@@ -2,7 +2,8 @@
 #include <math.h>
 #include <string.h>
 #include "render_error.h"
-#include "render_scene_internal.h"
+#include "camera.h"
+#include "vec3.h"
 
 clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn warn, void *wu) {
   const clr_param_list *p = &d->camera.params;
@@ -52,8 +53,7 @@ static clr_transform perspective(float fov_deg, float n, float f) {
   return clr_transform_compose(&s, &persp);
 }
 
-clr_result clr_render_scene_set_film(clr_render_scene *scene, int32_t xres, int32_t yres) {
-  rs_camera *cam = &scene->camera;
+clr_result rs_camera_set_film(rs_camera *cam, int32_t xres, int32_t yres) {
   float frame = cam->frame_aspect > 0.0f ? cam->frame_aspect : (float)xres / (float)yres;
   float sw[4];
   if (cam->screen_given) {
@@ -93,9 +93,8 @@ static void concentric_disk(float u0, float u1, float *dx, float *dy) {
   *dy = r * sinf(theta);
 }
 
-float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
-                                  float time, float lens_u, float lens_v, clr_ray *ray) {
-  const rs_camera *cam = &scene->camera;
+float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
+                    float lens_v, clr_ray *ray) {
   float pf[3] = {film_x, film_y, 0.0f}, pc[3];
   clr_transform_point(&cam->raster_to_camera, pf, pc);
   float o[3], d[3];

@@ -5,12 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "render_error.h"
-#include "render_scene_internal.h"
-
-void rs_normalize(float v[3]) {
-  float l = sqrtf(rs_dot(v, v));
-  if (l > 0.0f) { v[0] /= l; v[1] /= l; v[2] /= l; }
-}
+#include "lights.h"
+#include "vec3.h"
 
 static float luminance(const float c[3]) {
   return 0.212671f * c[0] + 0.715160f * c[1] + 0.072169f * c[2];
@@ -31,11 +27,11 @@ static void coordinate_system(const float v1[3], float v2[3], float v3[3]) {
   rs_cross(v1, v2, v3);
 }
 
-static clr_result push_light(clr_render_scene *s, const rs_light *l) {
-  rs_light *n = realloc(s->lights, (size_t)(s->light_count + 1) * sizeof *n);
+static clr_result push_light(rs_light_set *set, const rs_light *l) {
+  rs_light *n = realloc(set->items, (size_t)(set->count + 1) * sizeof *n);
   if (!n) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
-  s->lights = n;
-  s->lights[s->light_count++] = *l;
+  set->items = n;
+  set->items[set->count++] = *l;
   return CLR_SUCCESS;
 }
 
@@ -53,7 +49,7 @@ static void linear_part(const float m[4][4], float out[3][3]) {
     for (int j = 0; j < 3; ++j) out[i][j] = m[i][j];
 }
 
-static clr_result build_light(clr_render_scene *s, const clr_light_desc *ld, clr_warn_fn warn,
+static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_warn_fn warn,
                               void *wu) {
   const clr_param_list *p = &ld->params;
   rs_light l;
@@ -95,7 +91,7 @@ static clr_result build_light(clr_render_scene *s, const clr_light_desc *ld, clr
     float w[3] = {from[0] - to[0], from[1] - to[1], from[2] - to[2]};
     clr_transform_vector(ctm, w, l.dir);
     rs_normalize(l.dir);
-    l.power = luminance(l.colour) * RS_PI * s->world_radius * s->world_radius;
+    l.power = luminance(l.colour) * RS_PI * set->world_radius * set->world_radius;
   } else if (strcmp(ld->type, "infinite") == 0) {
     l.type = RS_LIGHT_INFINITE;
     scaled_colour(p, "L", l.colour);
@@ -108,7 +104,7 @@ static clr_result build_light(clr_render_scene *s, const clr_light_desc *ld, clr
     }
     linear_part(ctm->m, l.light_to_world);
     linear_part(ctm->m_inv, l.to_light);
-    l.power = luminance(l.colour) * RS_PI * s->world_radius * s->world_radius;
+    l.power = luminance(l.colour) * RS_PI * set->world_radius * set->world_radius;
   } else {
     if (warn) {
       char m[512];
@@ -117,13 +113,20 @@ static clr_result build_light(clr_render_scene *s, const clr_light_desc *ld, clr
     }
     return CLR_SUCCESS;
   }
-  return push_light(s, &l);
+  return push_light(set, &l);
 }
 
-clr_result rs_lights_build(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
-                           void *wu) {
-  for (int i = 0; i < d->light_count; ++i) CLR_CHECK(build_light(s, &d->lights[i], warn, wu));
+clr_result rs_lights_build(rs_light_set *set, const clr_scene_desc *d, clr_warn_fn warn, void *wu) {
+  for (int i = 0; i < d->light_count; ++i) CLR_CHECK(build_light(set, &d->lights[i], warn, wu));
   return CLR_SUCCESS;
+}
+
+void rs_lights_free(rs_light_set *set) {
+  free(set->items);
+  free(set->infinite);
+  set->items = NULL;
+  set->infinite = NULL;
+  set->count = set->infinite_count = 0;
 }
 
 static void tri_vertices(const rs_shape *sh, int prim, const float **p0, const float **p1,
@@ -134,8 +137,8 @@ static void tri_vertices(const rs_shape *sh, int prim, const float **p0, const f
   *p2 = sh->mesh.p + 3 * ix[2];
 }
 
-clr_result rs_area_lights_add(clr_render_scene *s, int shape_index, const clr_area_light_desc *a) {
-  rs_shape *sh = &s->shapes[shape_index];
+clr_result rs_area_lights_add(rs_light_set *set, rs_shape *sh, int shape_index,
+                              const clr_area_light_desc *a) {
   rs_light l;
   memset(&l, 0, sizeof l);
   scaled_colour(&a->params, "L", l.colour);
@@ -143,7 +146,7 @@ clr_result rs_area_lights_add(clr_render_scene *s, int shape_index, const clr_ar
   l.nsamples = clr_params_find_int(&a->params, "nsamples", 1);
   if (l.nsamples < 1) l.nsamples = 1;
   l.shape = shape_index;
-  sh->first_light = s->light_count;
+  sh->first_light = set->count;
   float sides = l.two_sided ? 2.0f : 1.0f;
   if (sh->type == RS_SHAPE_SPHERE) {
     l.type = RS_LIGHT_AREA_SPHERE;
@@ -151,7 +154,7 @@ clr_result rs_area_lights_add(clr_render_scene *s, int shape_index, const clr_ar
     clr_transform_point(&sh->object_to_world, o, l.pos);
     l.radius = sh->radius;
     l.power = luminance(l.colour) * sides * RS_PI * 4.0f * RS_PI * l.radius * l.radius;
-    return push_light(s, &l);
+    return push_light(set, &l);
   }
   l.type = RS_LIGHT_AREA_TRIANGLE;
   for (int t = 0; t < sh->mesh.triangle_count; ++t) {
@@ -163,7 +166,7 @@ clr_result rs_area_lights_add(clr_render_scene *s, int shape_index, const clr_ar
     l.prim = t;
     l.area = 0.5f * sqrtf(rs_dot(c, c));
     l.power = luminance(l.colour) * sides * RS_PI * l.area;
-    CLR_CHECK(push_light(s, &l));
+    CLR_CHECK(push_light(set, &l));
   }
   return CLR_SUCCESS;
 }
@@ -184,11 +187,11 @@ static int sphere_inside(float dc2, float r) { return dc2 <= r * r * (1.0f + 2e-
 
 /* Samples a point on the emitter: position, oriented normal, area-measure pdf or (cone)
  * solid-angle pdf with *solid = 1. */
-static void sample_emitter(const clr_render_scene *s, const rs_light *l, const float ref[3],
+static void sample_emitter(const rs_shape *shapes, const rs_light *l, const float ref[3],
                            const float u[2], float pt[3], float n[3], float *pdf, int *solid) {
   *solid = 0;
   if (l->type == RS_LIGHT_AREA_TRIANGLE) {
-    const rs_shape *sh = &s->shapes[l->shape];
+    const rs_shape *sh = &shapes[l->shape];
     const float *p0, *p1, *p2;
     tri_vertices(sh, l->prim, &p0, &p1, &p2);
     float su0 = sqrtf(u[0]);
@@ -211,7 +214,7 @@ static void sample_emitter(const clr_render_scene *s, const rs_light *l, const f
     return;
   }
   /* sphere */
-  const rs_shape *sh = &s->shapes[l->shape];
+  const rs_shape *sh = &shapes[l->shape];
   float wc[3] = {l->pos[0] - ref[0], l->pos[1] - ref[1], l->pos[2] - ref[2]};
   float dc2 = rs_dot(wc, wc), r = l->radius;
   if (sphere_inside(dc2, r)) {
@@ -252,16 +255,11 @@ static float spot_falloff(const rs_light *l, const float w[3]) {
   return (d * d) * (d * d);
 }
 
-static float spawn_eps(const float p[3]) {
-  float m = fmaxf(fabsf(p[0]), fmaxf(fabsf(p[1]), fabsf(p[2])));
-  return 1e-4f * (1.0f + m);
-}
-
 /* Shadow ray from p (offset along ng toward the target side) to `target`. */
 static void shadow_to(const float p[3], const float ng[3], const float target[3], clr_ray *r) {
   float o[3], d[3];
   float side = (ng[0] * (target[0] - p[0]) + ng[1] * (target[1] - p[1]) + ng[2] * (target[2] - p[2])) < 0 ? -1.0f : 1.0f;
-  float e = spawn_eps(p) * side;
+  float e = rs_spawn_eps(p) * side;
   for (int i = 0; i < 3; ++i) o[i] = p[i] + ng[i] * e;
   for (int i = 0; i < 3; ++i) d[i] = target[i] - o[i];
   float dist = sqrtf(rs_dot(d, d));
@@ -271,9 +269,9 @@ static void shadow_to(const float p[3], const float ng[3], const float target[3]
   r->tfar = dist * (1.0f - 1e-3f);
 }
 
-void clr_render_scene_sample_light(const clr_render_scene *s, int32_t light, const float p[3],
-                                   const float ng[3], const float u[2], clr_light_sample *ls) {
-  const rs_light *l = &s->lights[light];
+void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                      const float p[3], const float ng[3], const float u[2], clr_light_sample *ls) {
+  const rs_light *l = &set->items[light];
   memset(ls, 0, sizeof *ls);
   ls->is_delta = rs_light_is_delta(l);
   float target[3];
@@ -299,7 +297,7 @@ void clr_render_scene_sample_light(const clr_render_scene *s, int32_t light, con
       memcpy(ls->wi, l->dir, sizeof ls->wi);
       memcpy(ls->li, l->colour, sizeof ls->li);
       ls->pdf = 1.0f;
-      for (int i = 0; i < 3; ++i) target[i] = p[i] + l->dir[i] * 2.0f * s->world_radius;
+      for (int i = 0; i < 3; ++i) target[i] = p[i] + l->dir[i] * 2.0f * set->world_radius;
       break;
     case RS_LIGHT_INFINITE: {
       float theta = u[1] * RS_PI, phi = u[0] * 2.0f * RS_PI;
@@ -310,13 +308,13 @@ void clr_render_scene_sample_light(const clr_render_scene *s, int32_t light, con
       rs_normalize(ls->wi);
       ls->pdf = 1.0f / (2.0f * RS_PI * RS_PI * st);
       memcpy(ls->li, l->colour, sizeof ls->li);
-      for (int i = 0; i < 3; ++i) target[i] = p[i] + ls->wi[i] * 2.0f * s->world_radius;
+      for (int i = 0; i < 3; ++i) target[i] = p[i] + ls->wi[i] * 2.0f * set->world_radius;
       break;
     }
     default: {
       float pt[3], n[3], pdf;
       int solid;
-      sample_emitter(s, l, p, u, pt, n, &pdf, &solid);
+      sample_emitter(shapes, l, p, u, pt, n, &pdf, &solid);
       float d[3] = {pt[0] - p[0], pt[1] - p[1], pt[2] - p[2]};
       float d2 = rs_dot(d, d);
       if (!(d2 > 0.0f)) return;
@@ -337,9 +335,9 @@ void clr_render_scene_sample_light(const clr_render_scene *s, int32_t light, con
   shadow_to(p, ng, target, &ls->shadow);
 }
 
-float rs_light_pdf(const clr_render_scene *s, int light, const float p[3], const float wi[3],
+float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3],
                    float t, const float n_hit[3]) {
-  const rs_light *l = &s->lights[light];
+  const rs_light *l = &set->items[light];
   if (l->type == RS_LIGHT_INFINITE) {
     float wl[3];
     mat3_vec(l->to_light, wi, wl);
@@ -365,28 +363,18 @@ float rs_light_pdf(const clr_render_scene *s, int light, const float p[3], const
   return 0.0f;
 }
 
-void rs_light_le(const clr_render_scene *s, int light, const float d[3], float le[3]) {
-  const rs_light *l = &s->lights[light];
+void rs_light_le(const rs_light_set *set, int light, const float d[3], float le[3]) {
+  const rs_light *l = &set->items[light];
   (void)d;
   if (l->type == RS_LIGHT_INFINITE) memcpy(le, l->colour, 3 * sizeof(float));
   else le[0] = le[1] = le[2] = 0.0f;
 }
 
-void clr_render_scene_escaped(const clr_render_scene *s, const clr_ray *ray, float le[3]) {
+void rs_lights_escaped(const rs_light_set *set, const clr_ray *ray, float le[3]) {
   le[0] = le[1] = le[2] = 0.0f;
   float d[3] = {ray->dx, ray->dy, ray->dz}, c[3];
-  for (int i = 0; i < s->infinite_count; ++i) {
-    rs_light_le(s, s->infinite[i], d, c);
+  for (int i = 0; i < set->infinite_count; ++i) {
+    rs_light_le(set, set->infinite[i], d, c);
     for (int k = 0; k < 3; ++k) le[k] += c[k];
   }
-}
-
-void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray *ray) {
-  float e = spawn_eps(s->p) * (rs_dot(s->ng, d) < 0.0f ? -1.0f : 1.0f);
-  ray->ox = s->p[0] + s->ng[0] * e;
-  ray->oy = s->p[1] + s->ng[1] * e;
-  ray->oz = s->p[2] + s->ng[2] * e;
-  ray->dx = d[0]; ray->dy = d[1]; ray->dz = d[2];
-  ray->tnear = 0.0f;
-  ray->tfar = INFINITY;
 }

@@ -8,15 +8,81 @@
 #include "render_error.h"
 #include "loop_subdiv.h"
 #include "ply_reader.h"
-#include "render_scene_internal.h"
+#include "camera.h"
+#include "lights.h"
+#include "render_scene.h"
+#include "shapes.h"
+#include "textures.h"
+#include "vec3.h"
 
-void rs_xform_m16(const clr_transform *t, float out[16]) {
+struct clr_render_scene {
+  clr_tracer tracer;
+  rs_camera camera;
+  rs_texture_set textures;
+  rs_shape *shapes;
+  int shape_count;
+  clr_transform *instances; /* instance to world */
+  int instance_count;
+  rs_light_set lights;
+  float world_center[3];
+};
+
+static void rs_xform_m16(const clr_transform *t, float out[16]) {
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) out[r * 4 + c] = t->m[r][c];
 }
 
 clr_tracer clr_render_scene_tracer(const clr_render_scene *scene) { return scene->tracer; }
-int32_t clr_render_scene_light_count(const clr_render_scene *scene) { return scene->light_count; }
+int32_t clr_render_scene_light_count(const clr_render_scene *scene) { return scene->lights.count; }
+
+void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
+                                 clr_light_info *info) {
+  const rs_light *l = &scene->lights.items[light];
+  info->power = l->power;
+  info->nsamples = l->nsamples;
+  info->is_delta = rs_light_is_delta(l);
+  info->is_infinite = l->type == RS_LIGHT_INFINITE;
+}
+
+float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, const float p[3],
+                                 const float wi[3], float t, const float n_hit[3]) {
+  return rs_light_pdf(&scene->lights, light, p, wi, t, n_hit);
+}
+
+void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
+                               float le[3]) {
+  rs_light_le(&scene->lights, light, d, le);
+}
+
+void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light, const float p[3],
+                                   const float ng[3], const float u[2], clr_light_sample *ls) {
+  rs_lights_sample(&scene->lights, scene->shapes, light, p, ng, u, ls);
+}
+
+void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]) {
+  rs_lights_escaped(&scene->lights, ray, le);
+}
+
+clr_result clr_render_scene_set_film(clr_render_scene *scene, int32_t x_resolution,
+                                     int32_t y_resolution) {
+  return rs_camera_set_film(&scene->camera, x_resolution, y_resolution);
+}
+
+float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
+                                  float time, float lens_u, float lens_v, clr_ray *ray) {
+  return rs_camera_ray(&scene->camera, film_x, film_y, time, lens_u, lens_v, ray);
+}
+
+void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray *ray) {
+  float e = rs_spawn_eps(s->p) * (rs_dot(s->ng, d) < 0.0f ? -1.0f : 1.0f);
+  ray->ox = s->p[0] + s->ng[0] * e;
+  ray->oy = s->p[1] + s->ng[1] * e;
+  ray->oz = s->p[2] + s->ng[2] * e;
+  ray->dx = d[0]; ray->dy = d[1]; ray->dz = d[2];
+  ray->tnear = 0.0f;
+  ray->tfar = INFINITY;
+}
+
 
 void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *st) {
   const clr_param_list *p = &desc->film.params;
@@ -190,7 +256,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
         warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line, a->type);
       } else {
-        CLR_CHECK(rs_area_lights_add(s, index, a));
+        CLR_CHECK(rs_area_lights_add(&s->lights, &s->shapes[index], index, a));
       }
     }
   }
@@ -237,7 +303,7 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     s->world_center[i] = 0.5f * (lo[i] + hi[i]);
     diag[i] = hi[i] - s->world_center[i];
   }
-  s->world_radius = fmaxf(sqrtf(rs_dot(diag, diag)), 1e-3f);
+  s->lights.world_radius = fmaxf(sqrtf(rs_dot(diag, diag)), 1e-3f);
 }
 
 clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, void *wu,
@@ -253,36 +319,38 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   }
   clr_result r = clr_tracer_create(&s->tracer);
   if (r == CLR_SUCCESS) r = rs_camera_build(&s->camera, d, warn, wu);
-  if (r == CLR_SUCCESS) r = rs_textures_build(s, d, warn, wu);
+  if (r == CLR_SUCCESS) r = rs_textures_build(&s->textures, d, warn, wu);
   if (r == CLR_SUCCESS) r = build_shapes(s, d, warn, wu, object_group);
   if (r == CLR_SUCCESS) r = build_instances(s, d, object_group);
   if (r == CLR_SUCCESS) {
     world_bounds(s, d);
     /* lights after the bounds (distant and infinite lights use the world radius) */
-    int area_lights = s->light_count;
-    rs_light *area = s->lights;
-    s->lights = NULL;
-    s->light_count = 0;
-    r = rs_lights_build(s, d, warn, wu);
+    rs_light_set *ls = &s->lights;
+    int area_lights = ls->count;
+    rs_light *area = ls->items;
+    ls->items = NULL;
+    ls->count = 0;
+    r = rs_lights_build(ls, d, warn, wu);
     if (r == CLR_SUCCESS && area_lights) {
-      rs_light *all = realloc(s->lights, (size_t)(s->light_count + area_lights) * sizeof *all);
+      rs_light *all = realloc(ls->items, (size_t)(ls->count + area_lights) * sizeof *all);
       if (!all) {
         r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
       } else {
-        memcpy(all + s->light_count, area, (size_t)area_lights * sizeof *all);
+        memcpy(all + ls->count, area, (size_t)area_lights * sizeof *all);
         for (int k = 0; k < s->shape_count; ++k)
-          if (s->shapes[k].first_light >= 0) s->shapes[k].first_light += s->light_count;
-        s->lights = all;
-        s->light_count += area_lights;
+          if (s->shapes[k].first_light >= 0) s->shapes[k].first_light += ls->count;
+        ls->items = all;
+        ls->count += area_lights;
       }
     }
     free(area);
   }
   if (r == CLR_SUCCESS) {
-    s->infinite = calloc((size_t)(s->light_count + 1), sizeof *s->infinite);
-    if (!s->infinite) r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
-    for (int k = 0; r == CLR_SUCCESS && k < s->light_count; ++k)
-      if (s->lights[k].type == RS_LIGHT_INFINITE) s->infinite[s->infinite_count++] = k;
+    rs_light_set *ls = &s->lights;
+    ls->infinite = calloc((size_t)(ls->count + 1), sizeof *ls->infinite);
+    if (!ls->infinite) r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
+    for (int k = 0; r == CLR_SUCCESS && k < ls->count; ++k)
+      if (ls->items[k].type == RS_LIGHT_INFINITE) ls->infinite[ls->infinite_count++] = k;
   }
   if (r == CLR_SUCCESS) r = clr_tracer_commit(s->tracer);
   free(object_group);
@@ -297,12 +365,11 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
 void clr_render_scene_free(clr_render_scene *s) {
   if (!s) return;
   if (s->tracer) clr_tracer_release(s->tracer);
-  rs_textures_free(s);
+  rs_textures_free(&s->textures);
   for (int i = 0; i < s->shape_count; ++i) clr_mesh_free(&s->shapes[i].mesh);
   free(s->shapes);
   free(s->instances);
-  free(s->lights);
-  free(s->infinite);
+  rs_lights_free(&s->lights);
   free(s);
 }
 
@@ -408,13 +475,13 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     memcpy(out->ns, out->ng, sizeof n);
   }
   out->has_material = sh->has_material;
-  if (sh->has_material) rs_colour_eval(s, &sh->kd, uv, out->kd);
+  if (sh->has_material) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
   else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;
   if (sh->first_light >= 0) {
     out->area_light = sh->first_light + (sh->type == RS_SHAPE_MESH ? (int32_t)hit->prim_id : 0);
-    const rs_light *l = &s->lights[out->area_light];
+    const rs_light *l = &s->lights.items[out->area_light];
     if (l->two_sided || rs_dot(n, wo) > 0.0f) memcpy(out->le, l->colour, sizeof out->le);
   }
 }

@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 #include "clrender/result.h"
+#include "lights.h"
 #include "scene_desc.h"
 #include "tracer.h"
 
@@ -63,18 +64,24 @@ void clr_render_scene_surface(const clr_render_scene *scene, const clr_ray *ray,
 /* --- lights --- */
 int32_t clr_render_scene_light_count(const clr_render_scene *scene);
 
-/* One light sample from point p (with normal n, may be zero vector for none) using u in [0,1)^2:
- * direction wi (unit), incident radiance li (already divided by nothing: the integrator divides
- * by pdf), pdf (solid angle; for delta lights 1 and *is_delta = 1), and the shadow ray to test
- * (origin offset from p along the geometric normal, tfar short of the light). pdf == 0 means no
- * contribution. */
-typedef struct clr_light_sample {
-  float wi[3];
-  float li[3];
-  float pdf;
-  int32_t is_delta;
-  clr_ray shadow;
-} clr_light_sample;
+/* What the integrators choose lights by. */
+typedef struct clr_light_info {
+  float power;      /* pbrt-v3 Light::Power luminance */
+  int32_t nsamples; /* "nsamples" */
+  int32_t is_delta; /* point, spot, distant */
+  int32_t is_infinite; /* lights escaped rays reach */
+} clr_light_info;
+void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
+                                 clr_light_info *info);
+/* Solid-angle pdf that sampling light `light` from p gives direction wi, hitting the emitter at
+ * distance t with geometric normal n_hit (NULL for lights without a surface). */
+float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, const float p[3],
+                                 const float wi[3], float t, const float n_hit[3]);
+/* Radiance that light `light` sends along an escaped ray of direction d. */
+void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
+                               float le[3]);
+
+/* One light sample (see clr_light_sample in lights.h). */
 void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light, const float p[3],
                                    const float ng[3], const float u[2], clr_light_sample *ls);
 /* Radiance arriving along a ray that escaped the scene (infinite lights), summed. */

@@ -6,7 +6,7 @@
 #include <string.h>
 #include "render_error.h"
 #include "clrender/image.h"
-#include "render_scene_internal.h"
+#include "textures.h"
 
 void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
                      float def, rs_colour *out) {
@@ -71,15 +71,15 @@ static void warn_at(clr_warn_fn warn, void *wu, const clr_param_list *p, const c
   warn(wu, m);
 }
 
-clr_result rs_textures_build(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
+clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_warn_fn warn,
                              void *wu) {
-  s->texture_count = d->texture_count;
-  s->textures = calloc((size_t)(d->texture_count ? d->texture_count : 1), sizeof *s->textures);
-  if (!s->textures) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "textures");
+  set->count = d->texture_count;
+  set->items = calloc((size_t)(d->texture_count ? d->texture_count : 1), sizeof *set->items);
+  if (!set->items) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "textures");
   for (int i = 0; i < d->texture_count; ++i) {
     const clr_texture_desc *td = &d->textures[i];
     const clr_param_list *p = &td->params;
-    rs_texture *t = &s->textures[i];
+    rs_texture *t = &set->items[i];
     t->type = RS_TEX_CONSTANT;
     t->value.texture = -1;
     t->value.rgb[0] = t->value.rgb[1] = t->value.rgb[2] = 0.5f;
@@ -111,9 +111,11 @@ clr_result rs_textures_build(clr_render_scene *s, const clr_scene_desc *d, clr_w
   return CLR_SUCCESS;
 }
 
-void rs_textures_free(clr_render_scene *s) {
-  for (int i = 0; i < s->texture_count; ++i) free(s->textures[i].rgb);
-  free(s->textures);
+void rs_textures_free(rs_texture_set *set) {
+  for (int i = 0; i < set->count; ++i) free(set->items[i].rgb);
+  free(set->items);
+  set->items = NULL;
+  set->count = 0;
 }
 
 static int wrap_index(int i, int n) {
@@ -146,10 +148,11 @@ static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[
   for (int k = 0; k < 3; ++k) out[k] *= t->scale;
 }
 
-void rs_colour_eval(const clr_render_scene *s, const rs_colour *c, const float uv[2], float out[3]) {
+void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
+                    float out[3]) {
   for (int depth = 0; depth < 16; ++depth) {
     if (c->texture < 0) { memcpy(out, c->rgb, 3 * sizeof(float)); return; }
-    const rs_texture *t = &s->textures[c->texture];
+    const rs_texture *t = &set->items[c->texture];
     float st_s = t->su * uv[0] + t->du, st_t = t->sv * uv[1] + t->dv;
     switch (t->type) {
       case RS_TEX_CONSTANT: c = &t->value; break;

@@ -1,0 +1,31 @@
+/* pbrt-v3 perspective and orthographic cameras with a thin lens. */
+#ifndef CLR_RENDER_CAMERA_H
+#define CLR_RENDER_CAMERA_H
+
+#include <stdint.h>
+#include "clrender/result.h"
+#include "scene_desc.h"
+#include "tracer.h"
+
+typedef enum { RS_CAMERA_PERSPECTIVE, RS_CAMERA_ORTHOGRAPHIC } rs_camera_type;
+
+typedef struct rs_camera {
+  rs_camera_type type;
+  float fov, lens_radius, focal_distance, shutter_open, shutter_close;
+  float frame_aspect;   /* <= 0: from the film resolution */
+  float screen[4];      /* x0 x1 y0 y1; given when screen_given */
+  int screen_given;
+  clr_transform camera_to_world;
+  clr_transform raster_to_camera;
+} rs_camera;
+
+/* The Camera directive's parameters. */
+clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn warn, void *wu);
+/* Raster-to-camera for the final film resolution (call before rs_camera_ray). */
+clr_result rs_camera_set_film(rs_camera *cam, int32_t x_resolution, int32_t y_resolution);
+/* pbrt-v3 GenerateRay for raster position (film_x, film_y), lens sample (lens_u, lens_v);
+ * returns the ray weight. */
+float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
+                    float lens_v, clr_ray *ray);
+
+#endif

@@ -1,0 +1,24 @@
+/* The scene's shapes as the renderer keeps them: meshes and spheres with their material colour
+ * and the index of their first area light. */
+#ifndef CLR_RENDER_SHAPES_H
+#define CLR_RENDER_SHAPES_H
+
+#include "mesh.h"
+#include "textures.h"
+#include "transform.h"
+
+typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE } rs_shape_type;
+
+typedef struct rs_shape {
+  rs_shape_type type;
+  clr_mesh mesh;            /* world space, or object space for shapes of an object */
+  float radius;
+  clr_transform object_to_world; /* sphere: object to world (or to instance) */
+  int flip_normal;          /* pbrt reverseOrientation ^ transformSwapsHandedness */
+  int has_material;
+  rs_colour kd;
+  int first_light;          /* light index of triangle 0 / the sphere, -1 when not emitting */
+  int in_object;
+} rs_shape;
+
+#endif
