@@ -11,7 +11,7 @@
 #include "atomic_file.h"
 #include "clr_internal.h"
 
-float clr_gamma_correct(float v) {
+static float gamma_correct(float v) {
   if (v <= 0.0031308f) return 12.92f * v;
   return 1.055f * powf(v, 1.f / 2.4f) - 0.055f;
 }
@@ -22,7 +22,7 @@ float clr_inverse_gamma_correct(float v) {
 }
 
 uint8_t clr_to_srgb8(float v) {
-  float scaled = 255.f * clr_gamma_correct(v) + 0.5f;
+  float scaled = 255.f * gamma_correct(v) + 0.5f;
   if (!(scaled > 0.f)) return 0; /* also NaN */
   if (scaled > 255.f) return 255;
   return (uint8_t)scaled;

@@ -6,8 +6,6 @@
 #include <stdint.h>
 #include "clrender/result.h"
 
-/* pbrt-v3 GammaCorrect: v <= 0.0031308 ? 12.92 v : 1.055 v^(1/2.4) - 0.055. */
-float clr_gamma_correct(float v);
 /* pbrt-v3 InverseGammaCorrect: v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055)^2.4. */
 float clr_inverse_gamma_correct(float v);
 /* pbrt-v3's 8-bit value: clamp(255 * GammaCorrect(v) + 0.5, 0, 255) truncated (NaN -> 0). */

@@ -117,13 +117,6 @@ int clr_scene_desc_find_named_material(const clr_scene_desc *desc, const char *n
   return -1;
 }
 
-int clr_scene_desc_find_texture(const clr_scene_desc *desc, const char *name,
-                                clr_texture_kind kind) {
-  for (int i = desc->texture_count - 1; i >= 0; --i)
-    if (desc->textures[i].kind == kind && strcmp(desc->textures[i].name, name) == 0) return i;
-  return -1;
-}
-
 int clr_scene_desc_find_object(const clr_scene_desc *desc, const char *name) {
   for (int i = desc->object_count - 1; i >= 0; --i)
     if (strcmp(desc->objects[i].name, name) == 0) return i;

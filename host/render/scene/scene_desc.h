@@ -119,9 +119,6 @@ const char *clr_scene_desc_add_file(clr_scene_desc *desc, const char *path);
 
 /* Index of the last material made with MakeNamedMaterial `name`, or -1. */
 int clr_scene_desc_find_named_material(const clr_scene_desc *desc, const char *name);
-/* Index of the last texture of that kind and name, or -1. */
-int clr_scene_desc_find_texture(const clr_scene_desc *desc, const char *name,
-                                clr_texture_kind kind);
 /* Index of the last object named `name`, or -1. */
 int clr_scene_desc_find_object(const clr_scene_desc *desc, const char *name);
 

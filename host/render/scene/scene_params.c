@@ -211,16 +211,6 @@ const float *clr_params_find_normals(const clr_param_list *list, const char *nam
   return p ? p->floats : NULL;
 }
 
-const float *clr_params_find_rgbs(const clr_param_list *list, const char *name, int *count) {
-  const clr_param *p = find_array(list, name, CLR_PARAM_RGB, count);
-  return p ? p->floats : NULL;
-}
-
-char *const *clr_params_find_strings(const clr_param_list *list, const char *name, int *count) {
-  const clr_param *p = find_array(list, name, CLR_PARAM_STRING, count);
-  return p ? p->strings : NULL;
-}
-
 int clr_params_report_unused(const clr_param_list *list, clr_warn_fn warn, void *user) {
   if (!list) return 0;
   if (!warn) warn = clr_warn_stderr;

@@ -105,8 +105,6 @@ const float *clr_params_find_point2s(const clr_param_list *list, const char *nam
 const float *clr_params_find_point3s(const clr_param_list *list, const char *name, int *count);
 const float *clr_params_find_vector3s(const clr_param_list *list, const char *name, int *count);
 const float *clr_params_find_normals(const clr_param_list *list, const char *name, int *count);
-const float *clr_params_find_rgbs(const clr_param_list *list, const char *name, int *count);
-char *const *clr_params_find_strings(const clr_param_list *list, const char *name, int *count);
 
 /* Warns once per parameter never looked up: "unused parameter 'foo' in Shape 'sphere' at
  * FILE:LINE". warn NULL prints to stderr. Returns the number of warnings. */
