@@ -32,6 +32,14 @@ for public in film_add_samples clr_sampler_create clr_version clr_image_read; do
   grep -qx "$public" "$work/exports.txt" || fail "public $public not exported"
 done
 
+# Every installed header compiles alone, silently (no CL_TARGET_OPENCL_VERSION message).
+for h in "$prefix"/include/clrender/*.h "$prefix"/include/clrender.h; do
+  name=${h#"$prefix/include/"}
+  msgs=$(printf '#include <%s>\n' "$name" | "$cc" -std=c11 -Wall -Wextra -Werror -fsyntax-only \
+    -I"$prefix/include" -xc - 2>&1) || fail "$name does not compile alone: $msgs"
+  [ -z "$msgs" ] || fail "$name prints: $msgs"
+done
+
 check_run() { # binary, output exr
   local out
   out=$("$1" "$2") || fail "$1 exited $?"
