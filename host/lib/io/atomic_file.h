@@ -13,8 +13,10 @@ typedef struct clr_atomic_file {
   FILE *stream;    /* set by clr_atomic_file_stream, owns the descriptor */
 } clr_atomic_file;
 
-/* Creates the temporary file next to `path` (mode 0666 minus umask). On failure returns
- * CLR_ERROR_IO naming the path and leaves nothing behind; `file` is then safe to abort. */
+/* Creates the temporary file next to `path` (mode 0666 minus umask). An existing `path` must be
+ * a regular, writable file: a directory, symbolic link, device, FIFO, socket or read-only file is
+ * refused (commit checks again before the rename). On failure returns CLR_ERROR_IO naming the
+ * path and leaves nothing behind; `file` is then safe to abort. */
 clr_result clr_atomic_file_open(clr_atomic_file *file, const char *path);
 
 /* A stdio stream over the temporary file (created once; the atomic file keeps ownership). */
@@ -31,8 +33,9 @@ clr_result clr_atomic_file_commit(clr_atomic_file *file);
 /* Closes and removes the temporary file and frees the file's memory (no-op after commit). */
 void clr_atomic_file_abort(clr_atomic_file *file);
 
-/* Checks that `path` could be written: its directory exists and a file can be created there
- * (a temporary file is created and removed). CLR_ERROR_IO naming the path otherwise. */
+/* Checks that `path` could be written: an existing `path` is a regular writable file (see
+ * clr_atomic_file_open), its directory exists and a file can be created there (a temporary file
+ * is created and removed). CLR_ERROR_IO naming the path otherwise. */
 clr_result clr_check_writable(const char *path);
 
 #endif
