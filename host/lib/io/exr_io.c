@@ -515,7 +515,8 @@ clr_result clr_exr_read(const char *path, clr_exr_image **out) {
   *out = NULL;
   if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_read: path is NULL");
   exr_job job = {path, 1, CLR_SUCCESS, 0};
-  CLR_CHECK(clr_input_file_check(path, "EXR", &job.file_size));
+  /* A missing file is left to exr_start_read, whose message names the call. */
+  if (clr_input_file_exists(path)) CLR_CHECK(clr_input_file_check(path, "EXR", &job.file_size));
   clr_exr_image *image = calloc(1, sizeof *image);
   uint16_t **halves = NULL;
   if (!image)

@@ -57,3 +57,8 @@ clr_result clr_input_file_check(const char *path, const char *what, uint64_t *si
   *size = (uint64_t)st.st_size;
   return CLR_SUCCESS;
 }
+
+int clr_input_file_exists(const char *path) {
+  struct stat st;
+  return path && lstat(path, &st) == 0;
+}

@@ -17,4 +17,7 @@ clr_result clr_input_file_open(const char *path, const char *what, FILE **stream
 /* Same checks without keeping the file open (for readers that open the path themselves). */
 clr_result clr_input_file_check(const char *path, const char *what, uint64_t *size);
 
+/* Whether anything exists at `path` (lstat succeeds). */
+int clr_input_file_exists(const char *path);
+
 #endif
