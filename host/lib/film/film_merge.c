@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include "atomic_file.h"
 #include "clr_internal.h"
 #include "exr_io.h"
 #include "film_internal.h"
@@ -169,6 +170,7 @@ clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t c
   if (count < 1 || count > 4096)
     return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT, "film_merge_files: %d inputs (1..4096)",
                     (int)count);
+  CLR_CHECK(clr_check_writable(out_path)); /* refuse a bad output before reading anything */
   clr_exr_image **images = calloc((size_t)count, sizeof *images);
   if (!images) return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "film_merge_files: out of memory");
   clr_film_desc desc;
