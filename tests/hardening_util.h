@@ -68,7 +68,8 @@ static inline char *hu_read_file(const char *path, size_t *size) {
   return buf;
 }
 
-/* Names, types, sizes, modes, mtimes and content hashes of a directory's entries (sorted), as
+/* Names, types, sizes, modes, mtimes and content hashes (files up to 16 MiB) of a directory's
+ * entries (sorted), as
  * one string (free() it): equal snapshots mean nothing was added, removed or changed. */
 static inline int hu_cmp_names(const void *a, const void *b) {
   return strcmp(*(char *const *)a, *(char *const *)b);
@@ -92,7 +93,7 @@ static inline char *hu_snapshot(const char *dir) {
     struct stat st;
     uint64_t hash = 1469598103934665603ull;
     if (lstat(path, &st) != 0) memset(&st, 0, sizeof st);
-    if (S_ISREG(st.st_mode)) {
+    if (S_ISREG(st.st_mode) && st.st_size <= (16 << 20)) { /* big (sparse) fixtures: size only */
       size_t size = 0;
       char *data = hu_read_file(path, &size);
       for (size_t k = 0; data && k < size; ++k) hash = (hash ^ (unsigned char)data[k]) * 1099511628211ull;

@@ -43,7 +43,8 @@
 
 /* Fixture contents: plain text, or "@dir", "@fifo", "@link:TARGET", "@ro:TEXT" (mode 0444),
  * "@forged-png" (IHDR 1000000 x 1000000), "@forged-exr" (data window 1000000 x 1000000),
- * "@rgb-exr" (valid EXR without clrender metadata), "@binary" (bytes 1..31 and 128..255). */
+ * "@rgb-exr" (valid EXR without clrender metadata), "@binary" (bytes 1..31 and 128..255),
+ * "@sparse:BYTES" (a sparse file of that size: costs no disk). */
 typedef struct bad_case {
   const char *name;
   const char *files[4][2];
@@ -95,6 +96,8 @@ static const bad_case cases[] = {
     {"scene-directory", {{"d", "@dir"}}, "render d", 1, {"'d'", "is a directory"}, NULL},
     {"scene-fifo", {{"f.pbrt", "@fifo"}}, "render f.pbrt", 1, {"f.pbrt", "is not a regular file"}, NULL},
     {"scene-binary", {{"s.pbrt", "@binary"}}, "render s.pbrt", 1, {"s.pbrt:1:1", "binary data"}, NULL},
+    {"scene-too-large", {{"s.pbrt", "@sparse:1073741825"}}, "render s.pbrt", 1, {"'s.pbrt' is too large (1073741825 bytes, at most 1073741824)", NULL}, "memory"},
+    {"include-too-large", {{"s.pbrt", SCENE("Include \"big.pbrt\"")}, {"big.pbrt", "@sparse:1073741825"}}, "render s.pbrt", 1, {"s.pbrt:7:1: Include", "is too large"}, "memory"},
     {"include-dev-zero", {{"s.pbrt", SCENE("Include \"/dev/zero\"")}}, "render s.pbrt", 1, {"s.pbrt:7:1: Include", "is not a regular file"}, NULL},
     {"include-directory", {{"s.pbrt", SCENE("Include \"d\"")}, {"d", "@dir"}}, "render s.pbrt", 1, {"s.pbrt:7:1: Include", "is a directory"}, NULL},
     {"include-missing", {{"s.pbrt", SCENE("Include \"nope.pbrt\"")}}, "render s.pbrt", 1, {"s.pbrt:7:1: Include", "nope.pbrt"}, NULL},
@@ -141,6 +144,7 @@ static const bad_case cases[] = {
     {"ply-count-fraction", {{"s.pbrt", PLY_SHAPE}, {"t.ply", PLY_HEAD("int") "2.5 0 1 2\n"}}, "render s.pbrt", 1, {"s.pbrt:7", "bad list count"}, NULL},
     {"ply-uchar-count-1000", {{"s.pbrt", PLY_SHAPE}, {"t.ply", PLY_HEAD("uchar") "1000 0 1 2\n"}}, "render s.pbrt", 1, {"t.ply", "bad list count"}, NULL},
     {"ply-no-triangles", {{"s.pbrt", PLY_SHAPE}, {"t.ply", PLY_HEAD("uchar") "2 0 1\n"}}, "render s.pbrt", 1, {"s.pbrt:7", "\"t.ply\": no triangles"}, NULL},
+    {"ply-too-large", {{"s.pbrt", PLY_SHAPE}, {"t.ply", "@sparse:4294967297"}}, "render s.pbrt", 1, {"s.pbrt:7", "'t.ply' is too large (4294967297 bytes"}, "memory"},
     {"ply-not-ply", {{"s.pbrt", PLY_SHAPE}, {"t.ply", "hello\n"}}, "render s.pbrt", 1, {"s.pbrt:7", "not a PLY file"}, NULL},
     {"ply-truncated", {{"s.pbrt", PLY_SHAPE}, {"t.ply", PLY_HEAD("uchar") "3 0 1\n"}}, "render s.pbrt", 1, {"s.pbrt:7", "truncated data"}, NULL},
     {"ply-index-range", {{"s.pbrt", PLY_SHAPE}, {"t.ply", PLY_HEAD("uchar") "3 0 1 9\n"}}, "render s.pbrt", 1, {"s.pbrt:7", "vertex_indices[2] = 9 is outside [0, 3)"}, NULL},
@@ -210,6 +214,11 @@ static void make_fixture(const char *dir, const char *name, const char *content)
     assert_true(hu_write_file(path, png, n));
   } else if (strcmp(content, "@forged-exr") == 0 || strcmp(content, "@rgb-exr") == 0) {
     assert_true(hu_small_exr(path, content[1] == 'f'));
+  } else if (strncmp(content, "@sparse:", 8) == 0) {
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(fd >= 0);
+    assert_int_equal(ftruncate(fd, (off_t)strtoll(content + 8, NULL, 10)), 0);
+    close(fd);
   } else if (strcmp(content, "@binary") == 0) {
     unsigned char bytes[160];
     int n = 0;
