@@ -408,7 +408,68 @@ static clr_result api_merge_sums_null(const char *dir) {
   return film_merge_sums(NULL, (clr_bounds2i){0, 0, 1, 1}, NULL, NULL, NULL);
 }
 
+/* Cases on a film: one context for all (created by test_api_catalogue). */
+static clr_context api_ctx;
+static clr_result api_film_with(float scale, float radius, clr_film *out) {
+  clr_film_desc fd;
+  clr_film_desc_init(&fd);
+  fd.x_resolution = 4;
+  fd.y_resolution = 2;
+  fd.scale = scale;
+  fd.filter.radius[0] = radius;
+  return film_create(api_ctx, &fd, out);
+}
+static clr_result api_film_scale_nan(const char *dir) {
+  (void)dir;
+  clr_film f = NULL;
+  return api_film_with(NAN, 0.5f, &f);
+}
+static clr_result api_film_radius_nan(const char *dir) {
+  (void)dir;
+  clr_film f = NULL;
+  return api_film_with(1.0f, NAN, &f);
+}
+static clr_result api_film_out_null(const char *dir) {
+  (void)dir;
+  return api_film_with(1.0f, 0.5f, NULL);
+}
+static clr_result api_film_call(int which) {
+  clr_film f = NULL;
+  if (api_film_with(1.0f, 0.5f, &f) != CLR_SUCCESS) return CLR_ERROR_INTERNAL;
+  float rgb[24];
+  double sums[3] = {1, 1, 1};
+  clr_result r = which == 0   ? film_get_rgb(f, rgb, NAN)
+                 : which == 1 ? film_merge_sums(f, (clr_bounds2i){3, 0, 5, 1}, sums, NULL, NULL)
+                 : which == 2 ? film_add_samples(f, NULL, 4)
+                              : film_write(f, "", NULL);
+  film_release(f);
+  return r;
+}
+static clr_result api_film_rgb_nan_scale(const char *dir) {
+  (void)dir;
+  return api_film_call(0);
+}
+static clr_result api_film_merge_outside(const char *dir) {
+  (void)dir;
+  return api_film_call(1);
+}
+static clr_result api_film_samples_null(const char *dir) {
+  (void)dir;
+  return api_film_call(2);
+}
+static clr_result api_film_write_empty_path(const char *dir) {
+  (void)dir;
+  return api_film_call(3);
+}
+
 static const api_case api_cases[] = {
+    {"film_create(scale NaN)", api_film_scale_nan, CLR_ERROR_INVALID_ARGUMENT, "scale = nan"},
+    {"film_create(radius NaN)", api_film_radius_nan, CLR_ERROR_INVALID_RADIUS, "radius[0] = nan"},
+    {"film_create(out NULL)", api_film_out_null, CLR_ERROR_NULL_POINTER, "out is NULL"},
+    {"film_get_rgb(splat_scale NaN)", api_film_rgb_nan_scale, CLR_ERROR_INVALID_ARGUMENT, "splat_scale = nan"},
+    {"film_merge_sums(outside)", api_film_merge_outside, CLR_ERROR_INVALID_PIXEL_RANGE, "[3,5)x[0,1)"},
+    {"film_add_samples(NULL, 4)", api_film_samples_null, CLR_ERROR_NULL_POINTER, "NULL"},
+    {"film_write(\"\")", api_film_write_empty_path, CLR_ERROR_INVALID_ARGUMENT, "output path is empty"},
     {"clr_render_file(NULL)", api_render_file_null, CLR_ERROR_NULL_POINTER, "scene_path is NULL"},
     {"clr_scene_parse_file(out NULL)", api_parse_null_out, CLR_ERROR_NULL_POINTER, "out is NULL"},
     {"clr_scene_parse_file(/dev/zero)", api_parse_dev_zero, CLR_ERROR_IO, "is not a regular file"},
@@ -432,6 +493,9 @@ static const api_case api_cases[] = {
 
 static void test_api_catalogue(void **state) {
   (void)state;
+  clr_context_desc cd;
+  clr_context_desc_init(&cd);
+  assert_int_equal(clr_context_create(&cd, &api_ctx), CLR_SUCCESS);
   int n = (int)(sizeof api_cases / sizeof api_cases[0]);
   for (int i = 0; i < n; ++i) {
     const char *dir = hu_workdir("api", 0);
@@ -451,6 +515,7 @@ static void test_api_catalogue(void **state) {
     assert_true(ok);
   }
   hu_sh("rm -rf '%s'", hu_workdir("api", 0));
+  clr_context_release(api_ctx);
   printf("%d API cases checked\n", n);
 }
 
