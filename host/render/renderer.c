@@ -172,15 +172,17 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
                                 clr_sampler_type_name(sd->type), bad, value);
   }
   for (int k = 0; k < 2; ++k)
-    if (!(fd->radius[k] > 0.0f) || !isfinite(fd->radius[k])) {
+    if (!(fd->radius[k] > 0.0f && fd->radius[k] <= CLR_FILM_MAX_FILTER_RADIUS)) {
       const char *name = k ? "ywidth" : "xwidth";
       if (o->filter)
-        return clr_set_last_error(CLR_ERROR_INVALID_RADIUS, "--filter %s: %s %g must be positive",
-                                  o->filter, name, (double)fd->radius[k]);
+        return clr_set_last_error(CLR_ERROR_INVALID_RADIUS, "--filter %s: %s %g must be in (0, %g]",
+                                  o->filter, name, (double)fd->radius[k],
+                                  (double)CLR_FILM_MAX_FILTER_RADIUS);
       return clr_set_last_error(CLR_ERROR_INVALID_RADIUS,
-                                "%s:%d: PixelFilter \"%s\": \"%s\" must be positive, got %g",
+                                "%s:%d: PixelFilter \"%s\": \"%s\" must be in (0, %g], got %g",
                                 param_file(filter), param_line(filter, name),
-                                clr_filter_type_name(fd->type), name, (double)fd->radius[k]);
+                                clr_filter_type_name(fd->type), name,
+                                (double)CLR_FILM_MAX_FILTER_RADIUS, (double)fd->radius[k]);
     }
   return CLR_SUCCESS;
 }
