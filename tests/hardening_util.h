@@ -5,7 +5,9 @@
 #define CLR_TEST_HARDENING_UTIL_H
 
 /* Paths here are short (inside the build tree); truncation would only fail a test. */
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wformat-truncation"
+#endif
 
 #include <dirent.h>
 #include <errno.h>
