@@ -9,8 +9,9 @@
 #include "render.h"
 
 static volatile sig_atomic_t render_cancel;
+static volatile sig_atomic_t render_signal; /* the SIGINT/SIGTERM received, 0 if none */
 static void on_signal(int sig) {
-  (void)sig;
+  render_signal = sig;
   render_cancel = 1;
 }
 
@@ -43,9 +44,9 @@ static void usage(FILE *f) {
           "  --reference-samples     generate samples with the single-thread host reference\n"
           "                          (the kernels' bits, slower: for comparisons)\n"
           "  --help                  this text\n"
-          "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error.\n"
-          "SIGINT/SIGTERM stop after the tiles in flight and write a partial image (EXR\n"
-          "attribute clrender.partial = 1).\n");
+          "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error,\n"
+          "130 (SIGINT) or 143 (SIGTERM): interrupted; the tiles in flight are finished and\n"
+          "a valid partial image is written (EXR attribute clrender.partial = 1).\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out) {
@@ -159,9 +160,10 @@ int cli_render(int argc, char **argv) {
   clr_render_stats st;
   clr_render_stats_init(&st);
   clr_result r = clr_render_file(scene, &o, &st);
+  int interrupted = render_signal; /* 128 + signal, as a shell reports a killed command */
   if (r != CLR_SUCCESS) {
     fprintf(stderr, "clrender: %s\n", clr_last_error_message());
-    return 1;
+    return interrupted ? 128 + interrupted : 1;
   }
   if (stats) {
     char buf[2048];
@@ -174,6 +176,11 @@ int cli_render(int argc, char **argv) {
     if (st.dropped_samples)
       fprintf(stderr, "clrender: %llu samples with NaN/Inf/negative radiance dropped\n",
               (unsigned long long)st.dropped_samples);
+  }
+  if (interrupted) {
+    fprintf(stderr, "clrender: interrupted by %s: the image is partial\n",
+            interrupted == SIGINT ? "SIGINT" : "SIGTERM");
+    return 128 + interrupted;
   }
   return 0;
 }

@@ -115,6 +115,78 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
   return CLR_SUCCESS;
 }
 
+/* ---------- scene values checked before any work ---------- */
+
+/* Line of parameter `name` in `p` (any type), else the directive's line. */
+static int param_line(const clr_param_list *p, const char *name) {
+  for (int i = 0; i < p->count; ++i)
+    if (strcmp(p->items[i].name, name) == 0) return p->items[i].line;
+  return p->line;
+}
+
+static const char *param_file(const clr_param_list *p) { return p->file ? p->file : "<scene>"; }
+
+/* Semantic errors the later stages would report without a location: every message here starts
+ * with the scene's FILE:LINE (or the flag that set the value). */
+static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_options *o,
+                                     const clr_render_settings *settings,
+                                     const clr_sampler_desc *sd, const clr_filter_desc *fd) {
+  const clr_param_list *film = &d->film.params, *sampler = &d->sampler.params,
+                       *filter = &d->filter.params;
+  int n = 0;
+  if (clr_params_find_floats(film, "cropwindow", &n) && n != 4)
+    return clr_set_last_error(CLR_ERROR_INVALID_CROP_WINDOW,
+                              "%s:%d: Film: \"cropwindow\" needs 4 values (x0 x1 y0 y1), got %d",
+                              param_file(film), param_line(film, "cropwindow"), n);
+  const char *res_names[2] = {"xresolution", "yresolution"};
+  int32_t res[2] = {settings->x_resolution, settings->y_resolution};
+  int32_t flag[2] = {o->xresolution, o->yresolution};
+  for (int k = 0; k < 2; ++k)
+    if (res[k] <= 0 || res[k] > CLR_FILM_MAX_SIDE ||
+        (int64_t)res[0] * res[1] > (int64_t)CLR_FILM_MAX_PIXELS) {
+      if (flag[k] > 0)
+        return clr_set_last_error(CLR_ERROR_INVALID_RESOLUTION,
+                                  "render options: %s %d x %d is outside 1..%d (at most %d pixels)",
+                                  res_names[k], (int)res[0], (int)res[1], (int)CLR_FILM_MAX_SIDE,
+                                  (int)CLR_FILM_MAX_PIXELS);
+      return clr_set_last_error(CLR_ERROR_INVALID_RESOLUTION,
+                                "%s:%d: Film: \"%s\" %d (resolution %d x %d) must be in 1..%d, at "
+                                "most %d pixels",
+                                param_file(film), param_line(film, res_names[k]), res_names[k],
+                                (int)res[k], (int)res[0], (int)res[1], (int)CLR_FILM_MAX_SIDE,
+                                (int)CLR_FILM_MAX_PIXELS);
+    }
+  if (o->spp <= 0) {
+    const char *bad = NULL;
+    int value = 0;
+    if (sd->type == CLR_SAMPLER_STRATIFIED) {
+      if (sd->x_samples <= 0) bad = "xsamples", value = sd->x_samples;
+      else if (sd->y_samples <= 0) bad = "ysamples", value = sd->y_samples;
+      else if (sd->dimensions <= 0) bad = "dimensions", value = sd->dimensions;
+    } else if (sd->pixel_samples <= 0) {
+      bad = "pixelsamples", value = sd->pixel_samples;
+    }
+    if (bad)
+      return clr_set_last_error(CLR_ERROR_INVALID_SPP, "%s:%d: Sampler \"%s\": \"%s\" must be "
+                                "positive, got %d", param_file(sampler), param_line(sampler, bad),
+                                clr_sampler_type_name(sd->type), bad, value);
+  }
+  for (int k = 0; k < 2; ++k)
+    if (!(fd->radius[k] > 0.0f && fd->radius[k] <= CLR_FILM_MAX_FILTER_RADIUS)) {
+      const char *name = k ? "ywidth" : "xwidth";
+      if (o->filter)
+        return clr_set_last_error(CLR_ERROR_INVALID_RADIUS, "--filter %s: %s %g must be in (0, %g]",
+                                  o->filter, name, (double)fd->radius[k],
+                                  (double)CLR_FILM_MAX_FILTER_RADIUS);
+      return clr_set_last_error(CLR_ERROR_INVALID_RADIUS,
+                                "%s:%d: PixelFilter \"%s\": \"%s\" must be in (0, %g], got %g",
+                                param_file(filter), param_line(filter, name),
+                                clr_filter_type_name(fd->type), name,
+                                (double)CLR_FILM_MAX_FILTER_RADIUS, (double)fd->radius[k]);
+    }
+  return CLR_SUCCESS;
+}
+
 /* ---------- tiles ---------- */
 
 /* Sample values of one generation call: consecutive tiles of one tile row, so the values are
@@ -501,18 +573,22 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   if (o->crop_given) memcpy(settings.crop_window, o->crop_window, sizeof settings.crop_window);
   if (o->xresolution > 0) settings.x_resolution = o->xresolution;
   if (o->yresolution > 0) settings.y_resolution = o->yresolution;
+  clr_sampler_desc sdesc;
+  clr_filter_desc fdesc;
+  CLR_CHECK(sampler_from_desc(d, o, warn, wu, &sdesc));
+  CLR_CHECK(filter_from_desc(d, o, warn, wu, &fdesc));
+  CLR_CHECK(check_scene_values(d, o, &settings, &sdesc, &fdesc));
+
   clr_result r = CLR_SUCCESS;
   if (write_files) {
     r = output_paths(o->outfile ? o->outfile : settings.filename, st);
     if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
     if (r == CLR_SUCCESS) r = film_check_output_path(st->png_path);
+    if (r != CLR_SUCCESS && !o->outfile) /* the path came from the scene: say where */
+      return clr_set_last_error(r, "%s:%d: Film \"filename\": %s", param_file(&d->film.params),
+                                param_line(&d->film.params, "filename"), clr_last_error_message());
     if (r != CLR_SUCCESS) return r;
   }
-
-  clr_sampler_desc sdesc;
-  clr_filter_desc fdesc;
-  CLR_CHECK(sampler_from_desc(d, o, warn, wu, &sdesc));
-  CLR_CHECK(filter_from_desc(d, o, warn, wu, &fdesc));
 
   double t0 = now_seconds();
   clr_render_scene *scene = NULL;

@@ -259,6 +259,16 @@ clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_
     for (int32_t x = region.x0; x < region.x1; ++x) {
       size_t s = (size_t)(y - region.y0) * rw + (size_t)(x - region.x0);
       size_t d = (size_t)(y - p->pixel_y0) * dst->width + (size_t)(x - p->pixel_x0);
+      /* Like film_add_samples: a pixel with a NaN/Inf sum or weight is dropped and counted. */
+      int finite = !weight_sum || isfinite(weight_sum[s]);
+      for (int c = 0; c < 3; ++c) {
+        if (rgb_sum) finite &= isfinite(rgb_sum[3 * s + c]);
+        if (splat_rgb) finite &= isfinite(splat_rgb[3 * s + c]);
+      }
+      if (!finite) {
+        ++dst->dropped;
+        continue;
+      }
       for (int c = 0; c < 3; ++c) {
         if (rgb_sum) dst->rgb_sum[3 * d + c] += rgb_sum[3 * s + c];
         if (splat_rgb) dst->splat_rgb[3 * d + c] += splat_rgb[3 * s + c];

@@ -1,9 +1,12 @@
 /* `clrender merge`: films written with their sums (crops of one frame, or independent passes of
  * the same frame) summed into the film a single render would have produced. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include "atomic_file.h"
 #include "clr_internal.h"
 #include "exr_io.h"
 #include "film_internal.h"
@@ -102,10 +105,35 @@ static clr_result merge_image(clr_film film, const clr_exr_image *im, const char
   return r;
 }
 
+/* The same file given twice (by any name: compared by device and inode) would count its samples
+ * twice. */
+static clr_result check_distinct(const char *const *paths, int32_t count) {
+  struct stat *st = calloc((size_t)count, sizeof *st);
+  if (!st) return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "merge: out of memory");
+  clr_result r = CLR_SUCCESS;
+  for (int32_t i = 0; r == CLR_SUCCESS && i < count; ++i) {
+    if (!paths[i]) {
+      r = clr_fail(NULL, CLR_ERROR_NULL_POINTER, "merge: path %d is NULL", (int)i);
+      break;
+    }
+    if (stat(paths[i], &st[i]) != 0) continue; /* the reader reports it */
+    for (int32_t k = 0; k < i; ++k)
+      if (paths[k] && st[k].st_ino == st[i].st_ino && st[k].st_dev == st[i].st_dev &&
+          st[k].st_ino != 0) {
+        r = clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                     "merge: %s and %s are the same file: its samples would be counted twice",
+                     paths[k], paths[i]);
+        break;
+      }
+  }
+  free(st);
+  return r;
+}
+
 static clr_result read_all(const char *const *paths, int32_t count, clr_exr_image **images,
                            clr_film_desc *desc, float *splat_scale, clr_bounds2i *window) {
+  CLR_CHECK(check_distinct(paths, count));
   for (int32_t i = 0; i < count; ++i) {
-    if (!paths[i]) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "merge: path %d is NULL", (int)i);
     CLR_CHECK(clr_exr_read(paths[i], &images[i]));
     clr_film_desc d;
     float s = 1.0f;
@@ -142,6 +170,7 @@ clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t c
   if (count < 1 || count > 4096)
     return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT, "film_merge_files: %d inputs (1..4096)",
                     (int)count);
+  CLR_CHECK(clr_check_writable(out_path)); /* refuse a bad output before reading anything */
   clr_exr_image **images = calloc((size_t)count, sizeof *images);
   if (!images) return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "film_merge_files: out of memory");
   clr_film_desc desc;
@@ -155,6 +184,20 @@ clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t c
     r = film_create(ctx, &desc, &film);
   }
   for (int32_t i = 0; r == CLR_SUCCESS && i < count; ++i) r = merge_image(film, images[i], paths[i]);
+  if (r == CLR_SUCCESS) {
+    /* The merged film holds the inputs' samples: record their sum, not 0. */
+    uint64_t samples = 0, dropped = 0;
+    for (int32_t i = 0; i < count; ++i) {
+      int32_t v = 0;
+      if (clr_exr_image_int_attr(images[i], "clrender.samples", &v) && v > 0) samples += (uint64_t)v;
+      if (clr_exr_image_int_attr(images[i], "clrender.dropped_samples", &v) && v > 0)
+        dropped += (uint64_t)v;
+    }
+    pthread_mutex_lock(&film->lock);
+    film->accepted += samples;
+    film->dropped += dropped;
+    pthread_mutex_unlock(&film->lock);
+  }
   if (r == CLR_SUCCESS) {
     clr_film_write_options o;
     clr_film_write_options_init(&o);

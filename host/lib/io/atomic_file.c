@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,15 +39,38 @@ static void fill_random_suffix(char *name) {
   for (int i = 0; i < 6; ++i, v /= 62) x[i] = alphabet[v % 62];
 }
 
+/* Refuses an existing `path` that is not a regular file the user may replace: a directory, a
+ * symbolic link (its target is never replaced), a device, FIFO or socket, or a read-only file
+ * (no write bit, or not writable for this user). A name that does not exist yet is fine. */
+static clr_result check_target(const char *path) {
+  struct stat st;
+  if (lstat(path, &st) != 0) {
+    if (errno == ENOENT) return CLR_SUCCESS;
+    return clr_fail(NULL, CLR_ERROR_IO, "cannot write '%s': %s", path, strerror(errno));
+  }
+  if (S_ISDIR(st.st_mode))
+    return clr_fail(NULL, CLR_ERROR_IO, "cannot write '%s': it is a directory", path);
+  if (S_ISLNK(st.st_mode))
+    return clr_fail(NULL, CLR_ERROR_IO,
+                    "cannot write '%s': it is a symbolic link (only regular files are replaced)",
+                    path);
+  if (!S_ISREG(st.st_mode))
+    return clr_fail(NULL, CLR_ERROR_IO,
+                    "cannot write '%s': it is not a regular file (a device, FIFO or socket)",
+                    path);
+  if (!(st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) || access(path, W_OK) != 0)
+    return clr_fail(NULL, CLR_ERROR_IO, "cannot write '%s': the existing file is read-only",
+                    path);
+  return CLR_SUCCESS;
+}
+
 clr_result clr_atomic_file_open(clr_atomic_file *file, const char *path) {
   if (!file) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_atomic_file_open: file is NULL");
   memset(file, 0, sizeof *file);
   file->fd = -1;
   if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_atomic_file_open: path is NULL");
   if (!path[0]) return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "output path is empty");
-  struct stat st;
-  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-    return clr_fail(NULL, CLR_ERROR_IO, "cannot write '%s': it is a directory", path);
+  CLR_CHECK(check_target(path));
   file->path = copy_string(path);
   file->temp_path = malloc(strlen(path) + sizeof CLR_TEMP_SUFFIX);
   if (!file->path || !file->temp_path) {
@@ -139,6 +163,15 @@ clr_result clr_atomic_file_commit(clr_atomic_file *file) {
   int err = close_temp(file, 1);
   if (err) {
     clr_fail(NULL, CLR_ERROR_IO, "writing '%s' failed: %s", file->path, strerror(err));
+    clr_atomic_file_abort(file);
+    return CLR_ERROR_IO;
+  }
+  /* Test hook (tests/test_faults.c): stop here, complete temporary file written, nothing renamed
+   * yet, so a test can kill -9 the process at exactly this point. */
+  const char *hook = getenv("CLRENDER_TEST_STOP_BEFORE_RENAME");
+  if (hook && hook[0] == '1') raise(SIGSTOP);
+  /* The target may have changed since the open: check it again right before replacing it. */
+  if (check_target(file->path) != CLR_SUCCESS) {
     clr_atomic_file_abort(file);
     return CLR_ERROR_IO;
   }

@@ -7,6 +7,8 @@
 #include <string.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
+#include "clrender/film.h"
+#include "input_file.h"
 
 /* ---- half precision ---------------------------------------------------------------------- */
 
@@ -61,7 +63,8 @@ static void capture_exr_error(exr_const_context_t ctxt, exr_result_t code, const
 typedef struct exr_job {
   const char *path;
   int reading;
-  clr_result result; /* first failure */
+  clr_result result;  /* first failure */
+  uint64_t file_size; /* reading: the file's size, bounds what its header may claim */
 } exr_job;
 
 static clr_result map_exr_error(exr_result_t rv, int reading) {
@@ -228,7 +231,7 @@ static clr_result write_exr_stream(const char *path, clr_atomic_file *file, int3
                                    int32_t display_height, clr_bounds2i dw,
                                    const exr_planes *planes, const clr_exr_attribute *attrs,
                                    int32_t attr_count) {
-  exr_job job = {path, 0, CLR_SUCCESS};
+  exr_job job = {path, 0, CLR_SUCCESS, 0};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = capture_exr_error;
   init.user_data = file;
@@ -335,6 +338,50 @@ static int read_layout(exr_job *job, exr_context_t ctxt, clr_exr_image *image) {
   image->data_window = (clr_bounds2i){data.min.x, data.min.y, data.max.x + 1, data.max.y + 1};
   image->width = (int32_t)w;
   image->height = (int32_t)h;
+  if (w * h > CLR_FILM_MAX_PIXELS) {
+    char what[160];
+    snprintf(what, sizeof what, "corrupt EXR: data window %lldx%lld exceeds the limit of %d pixels",
+             (long long)w, (long long)h, (int)CLR_FILM_MAX_PIXELS);
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, what);
+  }
+  return 1;
+}
+
+/* Largest ratio of decoded to stored bytes each compression can reach (generous bounds: zlib's
+ * is ~1032, RLE's 64): a header claiming more pixels than the file could hold is corrupt. */
+static uint64_t max_expansion(exr_compression_t c) {
+  switch (c) {
+  case EXR_COMPRESSION_NONE: return 1;
+  case EXR_COMPRESSION_RLE: return 128;
+  case EXR_COMPRESSION_ZIPS:
+  case EXR_COMPRESSION_ZIP: return 4096;
+  default: return (uint64_t)1 << 16;
+  }
+}
+
+/* Checks the header's sizes against the file: one 8-byte offset per chunk must fit, and the
+ * decoded pixels cannot exceed what the compression could expand the file to. */
+static int check_sizes(exr_job *job, exr_context_t ctxt, const clr_exr_image *image) {
+  const exr_attr_chlist_t *list = NULL;
+  int32_t lines = 0;
+  exr_compression_t compression = EXR_COMPRESSION_NONE;
+  if (!EXR_TRY(job, exr_get_channels, ctxt, 0, &list) ||
+      !EXR_TRY(job, exr_get_scanlines_per_chunk, ctxt, 0, &lines) ||
+      !EXR_TRY(job, exr_get_compression, ctxt, 0, &compression))
+    return 0;
+  if (lines <= 0) return job_fail(job, CLR_ERROR_FILE_FORMAT, "corrupt EXR: bad scanlines per chunk");
+  uint64_t chunks = ((uint64_t)image->height + (uint64_t)lines - 1) / (uint64_t)lines;
+  uint64_t channels = list && list->num_channels > 0 ? (uint64_t)list->num_channels : 1;
+  uint64_t decoded = (uint64_t)image->width * (uint64_t)image->height * channels * 2;
+  char what[256];
+  if (chunks * 8 > job->file_size || decoded / max_expansion(compression) > job->file_size) {
+    snprintf(what, sizeof what,
+             "corrupt EXR: the header declares %dx%d pixels x %llu channels, more than the "
+             "file's %llu bytes can hold",
+             (int)image->width, (int)image->height, (unsigned long long)channels,
+             (unsigned long long)job->file_size);
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, what);
+  }
   return 1;
 }
 
@@ -467,7 +514,9 @@ clr_result clr_exr_read(const char *path, clr_exr_image **out) {
   if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_read: out is NULL");
   *out = NULL;
   if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_read: path is NULL");
-  exr_job job = {path, 1, CLR_SUCCESS};
+  exr_job job = {path, 1, CLR_SUCCESS, 0};
+  /* A missing file is left to exr_start_read, whose message names the call. */
+  if (clr_input_file_exists(path)) CLR_CHECK(clr_input_file_check(path, "EXR", &job.file_size));
   clr_exr_image *image = calloc(1, sizeof *image);
   uint16_t **halves = NULL;
   if (!image)
@@ -476,7 +525,7 @@ clr_result clr_exr_read(const char *path, clr_exr_image **out) {
   init.error_handler_fn = capture_exr_error;
   exr_context_t ctxt = NULL;
   if (EXR_TRY(&job, exr_start_read, &ctxt, path, &init) && read_layout(&job, ctxt, image) &&
-      allocate_channels(&job, ctxt, image, &halves) && read_chunks(&job, ctxt, image, halves) &&
+      check_sizes(&job, ctxt, image) && allocate_channels(&job, ctxt, image, &halves) && read_chunks(&job, ctxt, image, halves) &&
       read_attributes(&job, ctxt, image))
     convert_planes(image, halves);
   if (ctxt) EXR_TRY(&job, exr_finish, &ctxt);

@@ -10,6 +10,8 @@
 #include <string.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
+#include "clrender/film.h"
+#include "input_file.h"
 
 static float gamma_correct(float v) {
   if (v <= 0.0031308f) return 12.92f * v;
@@ -73,9 +75,9 @@ clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float
   if (!path || !width || !height || !rgb)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_png_read: NULL argument");
   *rgb = NULL;
-  FILE *stream = fopen(path, "rb");
-  if (!stream)
-    return clr_fail(NULL, CLR_ERROR_IO, "cannot open PNG '%s': %s", path, strerror(errno));
+  FILE *stream = NULL;
+  uint64_t file_size = 0;
+  CLR_CHECK(clr_input_file_open(path, "PNG", &stream, &file_size));
   png_image image;
   memset(&image, 0, sizeof image);
   image.version = PNG_IMAGE_VERSION;
@@ -86,10 +88,19 @@ clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float
                       "'%s': %s", path, image.message);
   } else {
     image.format = PNG_FORMAT_RGB;
-    size_t bytes = image.width <= INT32_MAX && image.height <= INT32_MAX
-                       ? clr_rgb_bytes((int32_t)image.width, (int32_t)image.height, 1) : 0;
+    /* The header's size must fit the pixel limit and the file: every row holds at least a
+     * filter byte and one bit per pixel, which zlib shrinks at most ~1032 times. */
+    uint64_t pixels = (uint64_t)image.width * (uint64_t)image.height;
+    uint64_t raw = (uint64_t)image.height * (1 + ((uint64_t)image.width + 7) / 8);
+    int fits = pixels <= (uint64_t)CLR_FILM_MAX_PIXELS && raw / 2048 <= file_size;
+    size_t bytes = fits ? clr_rgb_bytes((int32_t)image.width, (int32_t)image.height, 1) : 0;
     srgb = bytes ? calloc(bytes, 1) : NULL; /* zeros: alpha is composited onto black */
-    if (!bytes) result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "PNG '%s' is too large", path);
+    if (!bytes)
+      result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT,
+                        "PNG '%s' is corrupt: its header declares %lux%lu pixels (limit %d "
+                        "pixels, file of %llu bytes)",
+                        path, (unsigned long)image.width, (unsigned long)image.height,
+                        (int)CLR_FILM_MAX_PIXELS, (unsigned long long)file_size);
     else if (!srgb)
       result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "PNG '%s': out of memory", path);
     else if (!png_image_finish_read(&image, NULL, srgb, 0, NULL))

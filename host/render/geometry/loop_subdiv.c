@@ -421,6 +421,16 @@ clr_result clr_loop_subdivide(const clr_mesh *in, int32_t nlevels, clr_mesh *out
   if (nlevels < 0)
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_loop_subdivide: nlevels is %ld, must be >= 0",
                     (long)nlevels);
+  /* Each level makes four triangles of one: refuse up front what could never fit. */
+  int64_t triangles = in->triangle_count;
+  for (int32_t i = 0; i < nlevels; ++i) {
+    if (triangles > CLR_LOOP_MAX_TRIANGLES / 4)
+      return clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: \"nlevels\" %ld would make "
+                                "%ld triangles x 4^%ld, more than the limit of %ld triangles",
+                                (long)nlevels, (long)in->triangle_count, (long)nlevels,
+                                (long)CLR_LOOP_MAX_TRIANGLES);
+    triangles *= 4;
+  }
   CLR_CHECK(clr_mesh_validate(in, "clr_loop_subdivide: input mesh"));
   sd_mesh level = {0};
   uint32_t *orig = NULL;

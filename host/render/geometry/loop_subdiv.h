@@ -17,4 +17,8 @@
  * CLR_ERROR_SCENE. `out` is zeroed on failure. */
 clr_result clr_loop_subdivide(const clr_mesh *in, int32_t nlevels, clr_mesh *out);
 
+/* Most triangles a subdivision may produce (2^24): triangles x 4^nlevels above it is refused
+ * with CLR_ERROR_SCENE before any work. */
+#define CLR_LOOP_MAX_TRIANGLES ((int64_t)1 << 24)
+
 #endif

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "render_error.h"
+#include "render_input.h"
 
 #define PLY_MAX_ELEMENTS 32
 #define PLY_MAX_PROPERTIES 64
@@ -40,6 +41,7 @@ typedef struct ply_file {
   ply_format format;
   int swap;      /* binary data whose byte order differs from the host's */
   int truncated; /* a value was asked for past the end of the data */
+  int bad_count; /* a list count was not a non-negative integer fitting its type */
   int element_count;
   ply_element elements[PLY_MAX_ELEMENTS];
 } ply_file;
@@ -65,29 +67,9 @@ static size_t type_size(ply_type type) {
 /* ---- whole-file loading ---- */
 
 static clr_result load_file(ply_file *f) {
-  FILE *fp = fopen(f->path, "rb");
-  if (!fp) return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: cannot open \"%s\": %s", f->path, strerror(errno));
-  long size = -1;
-  if (fseek(fp, 0, SEEK_END) == 0) size = ftell(fp);
-  if (size < 0 || fseek(fp, 0, SEEK_SET) != 0) {
-    fclose(fp);
-    return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: cannot determine the size of \"%s\"", f->path);
-  }
-  f->size = (size_t)size;
-  f->data = malloc(f->size + 1);
-  if (!f->data) {
-    fclose(fp);
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\" (%zu bytes)", f->path, f->size);
-  }
-  size_t got = fread(f->data, 1, f->size, fp);
-  int read_error = ferror(fp);
-  fclose(fp);
-  if (got != f->size || read_error) {
-    free(f->data);
-    f->data = NULL;
-    return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: reading \"%s\" failed after %zu of %zu bytes", f->path, got, f->size);
-  }
-  f->data[f->size] = 0;
+  char *data = NULL;
+  CLR_CHECK(clr_read_input_file(f->path, "clr_ply_read", CLR_PLY_MAX_FILE_BYTES, &data, &f->size));
+  f->data = (unsigned char *)data;
   return CLR_SUCCESS;
 }
 
@@ -307,16 +289,37 @@ static int read_value(ply_file *f, ply_type type, double *out) {
   return 1;
 }
 
-/* Reads a list's element count: a non-negative integer. */
+/* Largest value of an integer PLY type (list counts must fit their declared type). */
+static double type_max(ply_type type) {
+  switch (type) {
+  case PLY_I8: return 127.0;
+  case PLY_U8: return 255.0;
+  case PLY_I16: return 32767.0;
+  case PLY_U16: return 65535.0;
+  case PLY_I32: return 2147483647.0;
+  case PLY_U32: return 4294967295.0;
+  default: return 0.0;
+  }
+}
+
+/* Reads a list's element count: a non-negative integer that fits the count type (ASCII counts
+ * such as 1e30, inf, nan, -1 or 2.5 are refused before any conversion). */
 static int read_list_count(ply_file *f, ply_type type, long long *count) {
   double value;
-  if (!read_value(f, type, &value) || value < 0 || value != floor(value)) return 0;
+  if (!read_value(f, type, &value)) return 0;
+  if (!(value >= 0 && value <= type_max(type)) || value != floor(value)) {
+    f->bad_count = 1;
+    return 0;
+  }
   *count = (long long)value;
   return 1;
 }
 
 static clr_result data_error(ply_file *f, const ply_element *e, long long instance, const ply_property *p) {
-  const char *what = f->truncated ? "truncated data" : "bad value";
+  const char *what = f->truncated ? "truncated data"
+                     : f->bad_count
+                         ? "bad list count (not a non-negative integer that fits its type)"
+                         : "bad value";
   return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": %s in element \"%s\" instance %lld "
                   "of %lld, property \"%s\" (byte offset %zu)", f->path, what, e->name, instance, e->count,
                   p->name, f->pos);
@@ -453,6 +456,9 @@ static clr_result read_body(ply_file *f, clr_mesh *mesh) {
     else if (e == face) CLR_CHECK(read_faces(f, e, mesh));
     else CLR_CHECK(skip_element(f, e));
   }
+  if (mesh->triangle_count == 0)
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": no triangles (%lld faces, "
+                    "none with 3 or 4 vertex indices)", f->path, face->count);
   return clr_mesh_check(mesh, f->path, CLR_ERROR_FILE_FORMAT);
 }
 

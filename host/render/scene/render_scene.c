@@ -144,8 +144,11 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
   if (strcmp(sd->type, "trianglemesh") == 0) {
     r = mesh_from_params(p, what, m);
   } else if (strcmp(sd->type, "plymesh") == 0) {
+    const char *name = clr_params_find_string(p, "filename", "");
+    if (!name[0])
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: parameter \"filename\" is required", what);
     char path[4096];
-    resolve_path(p->file, clr_params_find_string(p, "filename", ""), path, sizeof path);
+    resolve_path(p->file, name, path, sizeof path);
     r = clr_ply_read(path, m);
     if (r != CLR_SUCCESS) return clr_set_last_error(r, "%s: %s", what, clr_last_error_message());
   } else {
@@ -212,6 +215,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     if (strcmp(sd->type, "sphere") == 0) {
       sh->type = RS_SHAPE_SPHERE;
       sh->radius = clr_params_find_float(p, "radius", 1.0f);
+      if (!(sh->radius > 0.0f))
+        return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"sphere\": \"radius\" must be "
+                                  "positive, got %g", p->file ? p->file : "?", p->line,
+                                  (double)sh->radius);
       const char *extra[] = {"zmin", "zmax", "phimax"};
       for (int k = 0; k < 3; ++k)
         if (clr_params_find(p, extra[k], CLR_PARAM_FLOAT))

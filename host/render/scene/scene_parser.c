@@ -595,6 +595,11 @@ static bool build_look_at(const float *v, clr_transform *t) {
 static clr_result d_numeric_transform(parser *p, const directive *d, location at) {
   float v[9];
   CLR_CHECK(expect_numbers(p, d->numbers, v));
+  if (d->build == build_scale && (v[0] == 0.0f || v[1] == 0.0f || v[2] == 0.0f))
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s:%d:%d: expected non-zero Scale factors, got %g %g %g (the "
+                              "transform would be singular)",
+                              at.file, at.line, at.col, (double)v[0], (double)v[1], (double)v[2]);
   clr_transform t;
   if (!d->build(v, &t))
     warnf(p, "%s:%d: %s 'up' vector is parallel to the viewing direction; using the identity",
@@ -1201,6 +1206,10 @@ clr_result clr_scene_parse_file(const char *path, const clr_parse_options *opts,
   if (r != CLR_SUCCESS) return r;
   r = push_file(&p, path, "clr_scene_parse_file", (location){path, 0, 0});
   if (r == CLR_SUCCESS) r = parse_directives(&p);
+  if (r == CLR_SUCCESS && !p.in_world) /* empty, or not a scene file at all */
+    r = clr_set_last_error(CLR_ERROR_PARSE,
+                           "%s: not a pbrt scene: expected WorldBegin, got none (empty file or "
+                           "no world block)", path);
   return parser_finish(&p, r, out);
 }
 

@@ -28,7 +28,9 @@ void clr_parse_options_init(clr_parse_options *opts);
  *   CLR_ERROR_IO     the file or an Include file cannot be read (names the file and the
  *                    including FILE:LINE);
  *   CLR_ERROR_NULL_POINTER, CLR_ERROR_OUT_OF_MEMORY.
- * A missing WorldEnd is fine. opts may be NULL. */
+ *   CLR_ERROR_SCENE  a zero Scale factor.
+ * A missing WorldEnd is fine; a file without WorldBegin (empty, or not a scene) is
+ * CLR_ERROR_PARSE. opts may be NULL. */
 clr_result clr_scene_parse_file(const char *path, const clr_parse_options *opts,
                                 clr_scene_desc **out);
 /* Same for text in memory; virtual_path (may be NULL: "<string>") names it in messages and its

@@ -6,51 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include "render_error.h"
-
-static clr_result read_whole_file(FILE *f, char **data, size_t *size) {
-  size_t capacity = 1 << 16, length = 0;
-  char *buffer = malloc(capacity);
-  if (!buffer) return CLR_ERROR_OUT_OF_MEMORY;
-  for (;;) {
-    if (length == capacity) {
-      char *grown = capacity <= ((size_t)-1) / 2 ? realloc(buffer, capacity * 2) : NULL;
-      if (!grown) {
-        free(buffer);
-        return CLR_ERROR_OUT_OF_MEMORY;
-      }
-      buffer = grown;
-      capacity *= 2;
-    }
-    size_t n = fread(buffer + length, 1, capacity - length, f);
-    length += n;
-    if (n == 0) break;
-  }
-  if (ferror(f)) {
-    free(buffer);
-    return CLR_ERROR_IO;
-  }
-  *data = buffer;
-  *size = length;
-  return CLR_SUCCESS;
-}
+#include "render_input.h"
 
 clr_result clr_tokenizer_open_file(clr_tokenizer *t, const char *path, const char *context) {
   memset(t, 0, sizeof *t);
-  const char *prefix = context ? context : "clr_scene_parse_file";
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return clr_set_last_error(CLR_ERROR_IO, "%s: cannot open '%s': %s", prefix, path, strerror(errno));
-  clr_result r = read_whole_file(f, &t->buffer, &t->size);
-  int read_errno = errno;
-  if (fclose(f) != 0 && r == CLR_SUCCESS) {
-    free(t->buffer);
-    t->buffer = NULL;
-    r = CLR_ERROR_IO;
-  }
-  if (r == CLR_ERROR_OUT_OF_MEMORY)
-    return clr_set_last_error(r, "%s: out of memory reading '%s'", prefix, path);
-  if (r != CLR_SUCCESS)
-    return clr_set_last_error(r, "%s: cannot read '%s': %s", prefix, path, strerror(read_errno));
+  CLR_CHECK(clr_read_input_file(path, context ? context : "clr_scene_parse_file",
+                                CLR_SCENE_MAX_FILE_BYTES, &t->buffer, &t->size));
   t->line = 1;
   t->col = 1;
   t->path = path;
@@ -181,9 +142,23 @@ bool clr_token_is(const clr_token *tok, clr_token_kind kind, const char *text) {
   return tok->length == n && memcmp(tok->text, text, n) == 0;
 }
 
+/* At most this many characters of a token are quoted in messages: a file that is not a scene
+ * (an Include of an arbitrary file) must not have its contents echoed. */
+#define CLR_TOKEN_EXCERPT 16
+
 void clr_token_describe(const clr_token *tok, char *buf, size_t size) {
-  int shown = tok->length > 40 ? 40 : (int)tok->length;
-  const char *more = tok->length > 40 ? "..." : "";
+  int printable = 1;
+  for (size_t i = 0; i < tok->length && printable; ++i) {
+    unsigned char c = (unsigned char)tok->text[i];
+    printable = c >= 0x20 && c < 0x7f;
+  }
+  int shown = tok->length > CLR_TOKEN_EXCERPT ? CLR_TOKEN_EXCERPT : (int)tok->length;
+  const char *more = tok->length > CLR_TOKEN_EXCERPT ? "..." : "";
+  if (!printable && (tok->kind == CLR_TOKEN_STRING || tok->kind == CLR_TOKEN_WORD)) {
+    snprintf(buf, size, "%s (%zu bytes of binary data)", tok->kind == CLR_TOKEN_STRING ? "a string" : "a word",
+             tok->length);
+    return;
+  }
   switch (tok->kind) {
   case CLR_TOKEN_EOF: snprintf(buf, size, "end of file"); break;
   case CLR_TOKEN_LBRACKET: snprintf(buf, size, "'['"); break;

@@ -34,8 +34,10 @@ typedef struct clr_tokenizer {
   const char *path; /* borrowed, names the source in messages */
 } clr_tokenizer;
 
-/* Reads a whole file. On failure returns CLR_ERROR_IO with the message
- * "<context>: cannot open '<path>': <reason>" (context may be NULL). */
+/* Reads a whole file: a regular file of at most CLR_SCENE_MAX_FILE_BYTES (render_input.h). On
+ * failure returns CLR_ERROR_IO with the message "<context>: cannot open '<path>': <reason>"
+ * (or "cannot read '<path>': is a directory" / "is not a regular file"), or
+ * CLR_ERROR_FILE_FORMAT for a file over the limit (context may be NULL). */
 clr_result clr_tokenizer_open_file(clr_tokenizer *t, const char *path, const char *context);
 /* Tokenizes a copy of `text` (length bytes); `path` names it in messages. */
 clr_result clr_tokenizer_open_string(clr_tokenizer *t, const char *text, size_t length,
@@ -47,7 +49,8 @@ void clr_tokenizer_close(clr_tokenizer *t);
 clr_result clr_tokenizer_next(clr_tokenizer *t, clr_token *tok);
 
 bool clr_token_is(const clr_token *tok, clr_token_kind kind, const char *text);
-/* Human description for messages: 'Shape', string "abc", '[', end of file (truncated). */
+/* Human description for messages: 'Shape', string "abc", '[', end of file; at most 16
+ * characters quoted, non-printable tokens described as binary data. */
 void clr_token_describe(const clr_token *tok, char *buf, size_t size);
 /* NUL-terminated heap copy of the token text (NULL when out of memory). */
 char *clr_token_strdup(const clr_token *tok);

@@ -41,6 +41,9 @@ static void resolve_path(const char *scene_file, const char *name, char *out, si
 static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn, void *wu) {
   const clr_param_list *p = &td->params;
   const char *name = clr_params_find_string(p, "filename", "");
+  if (!name[0])
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: imagemap: parameter \"filename\" is required",
+                              p->file ? p->file : "?", p->line);
   char path[4096];
   resolve_path(p->file, name, path, sizeof path);
   t->scale = clr_params_find_float(p, "scale", 1.0f);
