@@ -21,6 +21,19 @@
 #include <unistd.h>
 
 /* Runs `cmd` through the shell (for setup only: rm -rf of our own work directories). */
+/* In a forked child before exec: load tests/fault_preload.c so the CLI stops itself (SIGSTOP)
+ * when its temporary output is complete, before the rename. */
+static inline void hu_stop_before_commit(void) {
+  setenv("LD_PRELOAD", CLR_FAULT_PRELOAD, 1);
+  setenv("CLR_FAULT_STOP_BEFORE_COMMIT", "1", 1);
+  /* Under AddressSanitizer the shim precedes the ASan runtime in the library list. */
+  const char *asan = getenv("ASAN_OPTIONS");
+  char options[1024];
+  snprintf(options, sizeof options, "%s%sverify_asan_link_order=0", asan ? asan : "",
+           asan && *asan ? ":" : "");
+  setenv("ASAN_OPTIONS", options, 1);
+}
+
 static inline void hu_sh(const char *fmt, const char *arg) {
   char cmd[1024];
   snprintf(cmd, sizeof cmd, fmt, arg);

@@ -1,9 +1,9 @@
 /* Fault tests (issue #8): kill -9 during the write, two renders writing the same output at once,
  * a full disk. Outputs are written to "NAME.tmp-XXXXXX" beside NAME and renamed, so a killed
  * writer never leaves a file at the output name (its obviously named temporary file stays).
- * The moment of the write is reached without timing: CLRENDER_TEST_STOP_BEFORE_RENAME=1 makes
- * the CLI stop itself (SIGSTOP) with its temporary file complete and nothing renamed, and the
- * test waits for that stop with waitpid(WUNTRACED). */
+ * The moment of the write is reached without timing: the LD_PRELOAD shim tests/fault_preload.c
+ * makes the CLI stop itself (SIGSTOP) with its temporary file complete and nothing renamed, and
+ * the test waits for that stop with waitpid(WUNTRACED). */
 #define _GNU_SOURCE
 #include <glob.h>
 #include <setjmp.h>
@@ -31,7 +31,7 @@ static pid_t start_render(const char *dir, const char *out, const char *seed, in
   pid_t pid = fork();
   if (pid != 0) return pid;
   if (chdir(dir) != 0) _exit(126);
-  if (stop) setenv("CLRENDER_TEST_STOP_BEFORE_RENAME", "1", 1);
+  if (stop) hu_stop_before_commit();
   int null = open("/dev/null", O_RDWR);
   dup2(null, 0);
   dup2(null, 1);

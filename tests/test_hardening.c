@@ -169,7 +169,7 @@ static void test_commit_rechecks_target(void **state) {
   assert_true(pid >= 0);
   if (pid == 0) {
     if (chdir(dir) != 0) _exit(126);
-    setenv("CLRENDER_TEST_STOP_BEFORE_RENAME", "1", 1);
+    hu_stop_before_commit();
     int null = open("/dev/null", O_RDWR);
     dup2(null, 1);
     dup2(null, 2);

@@ -166,10 +166,6 @@ clr_result clr_atomic_file_commit(clr_atomic_file *file) {
     clr_atomic_file_abort(file);
     return CLR_ERROR_IO;
   }
-  /* Test hook (tests/test_faults.c): stop here, complete temporary file written, nothing renamed
-   * yet, so a test can kill -9 the process at exactly this point. */
-  const char *hook = getenv("CLRENDER_TEST_STOP_BEFORE_RENAME");
-  if (hook && hook[0] == '1') raise(SIGSTOP);
   /* The target may have changed since the open: check it again right before replacing it. */
   if (check_target(file->path) != CLR_SUCCESS) {
     clr_atomic_file_abort(file);

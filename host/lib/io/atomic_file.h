@@ -28,9 +28,7 @@ clr_result clr_atomic_file_pwrite(clr_atomic_file *file, const void *data, uint6
 
 /* Flushes, syncs and closes the temporary file, checks `path` again (see clr_atomic_file_open),
  * then renames the temporary file onto it. On any failure the temporary file is removed and
- * CLR_ERROR_IO is returned. Frees the file's memory either way. Test hook: with the environment
- * variable CLRENDER_TEST_STOP_BEFORE_RENAME=1 the process stops itself (SIGSTOP) just before
- * the check and rename, so tests can act at that moment (tests/test_faults.c). */
+ * CLR_ERROR_IO is returned. Frees the file's memory either way. */
 clr_result clr_atomic_file_commit(clr_atomic_file *file);
 
 /* Closes and removes the temporary file and frees the file's memory (no-op after commit). */
