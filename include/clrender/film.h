@@ -129,7 +129,8 @@ CLR_API clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale);
 CLR_API clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb);
 /* Adds sums laid out over `region` (row-major, region-sized, same layout as film_get_sums) into
  * dst; the region must lie inside dst's pixel bounds (else CLR_ERROR_INVALID_PIXEL_RANGE). Any
- * array may be NULL (not all). */
+ * array may be NULL (not all). A pixel with a NaN or infinite value is skipped and counted in
+ * film_dropped_samples, as film_add_samples drops such samples. */
 CLR_API clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
                            const double *weight_sum, const double *splat_rgb);
 
@@ -164,8 +165,10 @@ typedef struct clr_film_write_options {
 CLR_API void clr_film_write_options_init(clr_film_write_options *opts);
 CLR_API clr_result film_write(clr_film film, const char *path, const clr_film_write_options *opts);
 /* Checks, before any work, that film_write / film_write_png could write `path`: its folder exists
- * and is writable, and the name is new or an existing regular file. CLR_ERROR_IO naming the path
- * and the reason otherwise. */
+ * and is writable, and the name is new or an existing regular file the user may write (never a
+ * directory, symlink, device, FIFO, socket or read-only file; film_write checks again right
+ * before it renames its temporary file onto the name). CLR_ERROR_IO naming the path and the
+ * reason otherwise. */
 CLR_API clr_result film_check_output_path(const char *path);
 /* 8-bit sRGB preview with pbrt-v3's gamma and rounding. */
 CLR_API clr_result film_write_png(clr_film film, const char *path, float splat_scale);
