@@ -5,8 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
+#include "clrender/film.h" /* CLR_FILM_MAX_PIXELS */
 
 /* ---- half precision ---------------------------------------------------------------------- */
 
@@ -346,8 +348,23 @@ static int allocate_channels(exr_job *job, exr_context_t ctxt, clr_exr_image *im
   if (!list || list->num_channels <= 0)
     return job_fail(job, CLR_ERROR_FILE_FORMAT, "the image has no channels");
   size_t n = (size_t)list->num_channels, pixels = (size_t)image->width * (size_t)image->height;
-  if (pixels > SIZE_MAX / sizeof(float) / n)
-    return job_fail(job, CLR_ERROR_FILE_FORMAT, "the image is too large");
+  char what[128];
+  snprintf(what, sizeof what, "the image is too large (%dx%d pixels)", (int)image->width,
+           (int)image->height);
+  if (pixels > CLR_FILM_MAX_PIXELS || pixels > SIZE_MAX / sizeof(float) / n)
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, what);
+  /* Header sizes are not trusted: no compression packs more than ~1000:1 (zlib's limit), so a
+   * data window that needs far more bytes than the file holds is corrupt (allowing 4096:1, and
+   * any image up to 64 MiB). */
+  uint64_t stored = 0;
+  for (size_t c = 0; c < n; ++c)
+    stored += (uint64_t)pixels * (list->entries[c].pixel_type == EXR_PIXEL_HALF ? 2u : 4u);
+  struct stat st;
+  snprintf(what, sizeof what, "corrupt header: %dx%d pixels with %d channels do not fit in "
+           "the file", (int)image->width, (int)image->height, (int)n);
+  if (stored > ((uint64_t)64 << 20) &&
+      (stat(job->path, &st) != 0 || stored / 4096u > (uint64_t)st.st_size))
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, what);
   image->channel_names = calloc(n, sizeof(char *));
   image->channel_types = calloc(n, sizeof(int32_t));
   image->channels = calloc(n, sizeof(float *));

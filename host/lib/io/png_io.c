@@ -8,8 +8,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
+#include "clrender/film.h" /* CLR_FILM_MAX_PIXELS */
 
 float clr_gamma_correct(float v) {
   if (v <= 0.0031308f) return 12.92f * v;
@@ -86,10 +88,20 @@ clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float
                       "'%s': %s", path, image.message);
   } else {
     image.format = PNG_FORMAT_RGB;
-    size_t bytes = image.width <= INT32_MAX && image.height <= INT32_MAX
+    size_t bytes = image.width <= INT32_MAX && image.height <= INT32_MAX &&
+                           (uint64_t)image.width * image.height <= CLR_FILM_MAX_PIXELS
                        ? clr_rgb_bytes((int32_t)image.width, (int32_t)image.height, 1) : 0;
-    srgb = bytes ? calloc(bytes, 1) : NULL; /* zeros: alpha is composited onto black */
-    if (!bytes) result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "PNG '%s' is too large", path);
+    /* Header sizes are not trusted: zlib packs at most ~1000:1 and 1-bit pixels expand 24-fold
+     * to RGB, so an image needing more than 32768 times the file's size is corrupt. */
+    struct stat st;
+    int corrupt = bytes > ((size_t)64 << 20) &&
+                  (fstat(fileno(stream), &st) != 0 || bytes / 32768u > (uint64_t)st.st_size);
+    srgb = bytes && !corrupt ? calloc(bytes, 1) : NULL; /* zeros: alpha is composited onto black */
+    if (!bytes) result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "PNG '%s' is too large (%ux%u pixels)",
+                                  path, (unsigned)image.width, (unsigned)image.height);
+    else if (corrupt)
+      result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "PNG '%s' is corrupt: %ux%u pixels do not fit "
+                        "in the file", path, (unsigned)image.width, (unsigned)image.height);
     else if (!srgb)
       result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "PNG '%s': out of memory", path);
     else if (!png_image_finish_read(&image, NULL, srgb, 0, NULL))

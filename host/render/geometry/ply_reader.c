@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "render_error.h"
 
 #define PLY_MAX_ELEMENTS 32
@@ -65,6 +66,10 @@ static size_t type_size(ply_type type) {
 /* ---- whole-file loading ---- */
 
 static clr_result load_file(ply_file *f) {
+  struct stat st;
+  if (stat(f->path, &st) == 0 && !S_ISREG(st.st_mode))
+    return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: \"%s\" %s", f->path,
+                              S_ISDIR(st.st_mode) ? "is a directory" : "is not a regular file");
   FILE *fp = fopen(f->path, "rb");
   if (!fp) return clr_set_last_error(CLR_ERROR_IO, "clr_ply_read: cannot open \"%s\": %s", f->path, strerror(errno));
   long size = -1;
