@@ -6,7 +6,7 @@
 #   CLR_FUZZ_SECONDS=N                 seconds per target (default 30)
 #   CLR_FUZZ_BUILD_DIR=DIR             build folder (default build-fuzz)
 # New inputs the fuzzer finds go to DIR/fuzz-corpus/<target> (kept between runs), crashes to
-# DIR/fuzz-artifacts/<target>/. Extra libFuzzer flags: CLR_FUZZ_FLAGS="-jobs=2 -workers=2".
+# DIR/fuzz-artifacts/<target>/. Extra libFuzzer flags: CLR_FUZZ_FLAGS="-max_len=65536".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${CLR_FUZZ_SECONDS:-30}

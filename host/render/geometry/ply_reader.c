@@ -315,7 +315,10 @@ static int read_value(ply_file *f, ply_type type, double *out) {
 /* Reads a list's element count: a non-negative integer. */
 static int read_list_count(ply_file *f, ply_type type, long long *count) {
   double value;
-  if (!read_value(f, type, &value) || value < 0 || value != floor(value)) return 0;
+  /* No PLY count type holds more than 2^32 - 1 (this also refuses ASCII "1e30" and "inf"). */
+  if (!read_value(f, type, &value) || !(value >= 0 && value <= 4294967295.0) ||
+      value != floor(value))
+    return 0;
   *count = (long long)value;
   return 1;
 }
