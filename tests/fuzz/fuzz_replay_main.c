@@ -66,7 +66,7 @@ static int run_path(const char *path) {
     snprintf(names[count++], n, "%s/%s", path, e->d_name);
   }
   closedir(dir);
-  qsort(names, count, sizeof *names, compare);
+  if (count > 1) qsort(names, count, sizeof *names, compare);
   int ran = 0;
   for (size_t i = 0; i < count; ++i) {
     ran += run_path(names[i]);
