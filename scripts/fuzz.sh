@@ -40,7 +40,7 @@ for t in "${targets[@]}"; do
   log="$build/fuzz-$t.log"
   echo "fuzz: $t for ${seconds}s (log $log)"
   # shellcheck disable=SC2086 # CLR_FUZZ_FLAGS is a list of flags
-  if ! "$exe" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=25 \
+  if ! "$exe" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=60 \
       -close_fd_mask=3 -print_final_stats=1 -artifact_prefix="$artifacts/" ${CLR_FUZZ_FLAGS:-} \
       "$corpus" "tests/fuzz/corpus/$t" "tests/fuzz/regressions/$t" > "$log" 2>&1; then
     tail -n 60 "$log" >&2

@@ -10,6 +10,9 @@
 #define PREV(i) (((i) + 2) % 3)
 #define SD_PI 3.14159265358979323846f
 #define SD_MAX_COUNT (INT32_MAX / 3)
+/* Each level quadruples the triangles: more than this many after subdivision is refused up front
+ * (a few hundred bytes each while subdividing; "nlevels" 40 would never finish). */
+#define SD_MAX_SUBDIVIDED_TRIANGLES (1 << 22)
 
 /* f[i] is the face across edge (v[i], v[NEXT(i)]), -1 on a boundary. */
 typedef struct sd_face {
@@ -422,6 +425,12 @@ clr_result clr_loop_subdivide(const clr_mesh *in, int32_t nlevels, clr_mesh *out
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_loop_subdivide: nlevels is %ld, must be >= 0",
                     (long)nlevels);
   CLR_CHECK(clr_mesh_validate(in, "clr_loop_subdivide: input mesh"));
+  int64_t triangles = in->triangle_count;
+  for (int32_t i = 0; i < nlevels && triangles <= SD_MAX_SUBDIVIDED_TRIANGLES; ++i) triangles *= 4;
+  if (triangles > SD_MAX_SUBDIVIDED_TRIANGLES)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_loop_subdivide: %ld triangles at "
+                              "nlevels %ld would exceed %d triangles", (long)in->triangle_count,
+                              (long)nlevels, SD_MAX_SUBDIVIDED_TRIANGLES);
   sd_mesh level = {0};
   uint32_t *orig = NULL;
   CLR_CHECK(build_base(in, &level, &orig));
