@@ -22,8 +22,10 @@ printf '#include <stddef.h>\n#include <stdint.h>\nint LLVMFuzzerTestOneInput(con
 clang -fsanitize=fuzzer,address,undefined "$probe/probe.c" -o "$probe/probe" 2> "$probe/log" ||
   { cat "$probe/log" >&2; fail "clang cannot link libFuzzer: install libclang-rt-14-dev (scripts/install-deps.sh)"; }
 
+mkdir -p "$build"
 cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang -DCLR_FUZZ=ON -DCLR_WERROR=ON -DCLR_BUILD_BENCH=OFF \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build.configure.log" 2>&1 || { cat "$build.configure.log" >&2; fail "configure failed"; }
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo > "$build/configure.log" 2>&1 ||
+  { cat "$build/configure.log" >&2; fail "configure failed"; }
 cmake --build "$build" -j "$(nproc)" --target clr_fuzzers
 
 sanitizers=tests/sanitizers
