@@ -4,6 +4,7 @@
 #include <string.h>
 #include "fuzz_common.h"
 #include "integrator.h"
+#include "loop_subdiv.h"
 #include "render_scene.h"
 #include "scene_parser.h"
 
@@ -16,6 +17,28 @@ static int mentions(const uint8_t *data, size_t size, const char *s) {
   for (size_t i = 0; i + n <= size; ++i)
     if (memcmp(data + i, s, n) == 0) return 1;
   return 0;
+}
+
+/* loopsubdiv multiplies a few bytes of input into millions of triangles (up to the library's
+ * CLR_LOOP_SUBDIV_MAX_TRIANGLES per shape: 4M, ~10 s and 1 GB under ASan each). Scenes whose accepted loopsubdiv shapes add up
+ * to more than this are parsed but not built, so one input stays within seconds and the RSS
+ * limit; shapes over the library's limit still go through it (they are refused up front). */
+#define FUZZ_SUBDIVIDED_TRIANGLE_BUDGET (1 << 20)
+#define FUZZ_LIBRARY_SUBDIVISION_LIMIT CLR_LOOP_SUBDIV_MAX_TRIANGLES
+
+static int within_budget(const clr_scene_desc *desc) {
+  int64_t total = 0;
+  for (int i = 0; i < desc->shape_count; ++i) {
+    const clr_shape_desc *sd = &desc->shapes[i];
+    if (strcmp(sd->type, "loopsubdiv") != 0) continue;
+    int count = 0;
+    clr_params_find_ints(&sd->params, "indices", &count);
+    int levels = clr_params_find_int(&sd->params, "nlevels", 3);
+    int64_t triangles = count / 3;
+    for (int l = 0; l < levels && triangles <= FUZZ_LIBRARY_SUBDIVISION_LIMIT; ++l) triangles *= 4;
+    if (triangles <= FUZZ_LIBRARY_SUBDIVISION_LIMIT) total += triangles;
+  }
+  return total <= FUZZ_SUBDIVIDED_TRIANGLE_BUDGET;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -36,7 +59,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   /* The parser takes a NUL-terminated string: text after an embedded NUL is not seen. */
   clr_result r = clr_scene_parse_string(text, FUZZ_SCENE_PATH, &po, &desc);
   fuzz_report("parse", r);
-  if (r == CLR_SUCCESS && desc) {
+  if (r == CLR_SUCCESS && desc && !within_budget(desc)) {
+    if (fuzz_verbose()) fprintf(stderr, "  not built: loopsubdiv over the fuzzing budget\n");
+  } else if (r == CLR_SUCCESS && desc) {
     clr_render_settings settings;
     clr_render_settings_from_desc(desc, &settings);
     clr_render_scene *scene = NULL;
@@ -54,8 +79,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       }
       clr_render_scene_free(scene);
     }
-    clr_scene_desc_free(desc);
   }
+  clr_scene_desc_free(desc);
   free(text);
   return 0;
 }

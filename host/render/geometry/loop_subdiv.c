@@ -10,9 +10,9 @@
 #define PREV(i) (((i) + 2) % 3)
 #define SD_PI 3.14159265358979323846f
 #define SD_MAX_COUNT (INT32_MAX / 3)
-/* Each level quadruples the triangles: more than this many after subdivision is refused up front
- * (a few hundred bytes each while subdividing; "nlevels" 40 would never finish). */
-#define SD_MAX_SUBDIVIDED_TRIANGLES (1 << 22)
+/* Each level quadruples the triangles (a few hundred bytes each while subdividing; "nlevels" 40
+ * would never finish): more than CLR_LOOP_SUBDIV_MAX_TRIANGLES are refused up front. */
+#define SD_MAX_SUBDIVIDED_TRIANGLES CLR_LOOP_SUBDIV_MAX_TRIANGLES
 
 /* f[i] is the face across edge (v[i], v[NEXT(i)]), -1 on a boundary. */
 typedef struct sd_face {

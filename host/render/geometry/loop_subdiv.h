@@ -4,6 +4,10 @@
 
 #include "mesh.h"
 
+/* More triangles than this after subdivision (input triangles * 4^nlevels) are refused up front
+ * with CLR_ERROR_INVALID_ARGUMENT. */
+#define CLR_LOOP_SUBDIV_MAX_TRIANGLES (1 << 22)
+
 /* Subdivides the triangles of `in` (only its positions and indices are used, as in pbrt-v3)
  * `nlevels` times with Loop's rules (beta = 3/16 for valence 3, else 3/(8 valence); boundary
  * vertices 3/4 + 1/8 + 1/8, boundary edges the midpoint), then moves every vertex to its limit
