@@ -6,6 +6,7 @@ packages=(
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libembree-dev libopenexr-dev libcmocka-dev libpng-dev
   openexr  # exrheader/exrmaketiled: independent EXR readers used by tests/test_image_io.c
+  clang libclang-rt-14-dev  # libFuzzer + sanitizer runtimes: the fuzz targets (scripts/fuzz.sh)
 )
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

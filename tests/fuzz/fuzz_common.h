@@ -1,0 +1,66 @@
+/* Helpers shared by the fuzz targets: the input as a file for readers that take a path. */
+#ifndef CLR_FUZZ_COMMON_H
+#define CLR_FUZZ_COMMON_H
+
+#ifndef _GNU_SOURCE
+#define _GNU_SOURCE
+#endif
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#include "clrender/result.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+/* An in-memory regular file (memfd) holding the input, reachable as /proc/self/fd/N; falls back
+ * to an unlinked file under /tmp. One per target, rewritten for every input. */
+typedef struct fuzz_file {
+  int fd;
+  char path[64];
+} fuzz_file;
+
+static inline const char *fuzz_file_write(fuzz_file *f, const uint8_t *data, size_t size) {
+  if (f->fd <= 0) {
+    f->fd = memfd_create("clr-fuzz-input", 0);
+    if (f->fd < 0) {
+      char tmp[] = "/tmp/clr-fuzz-input-XXXXXX";
+      f->fd = mkstemp(tmp);
+      if (f->fd >= 0) unlink(tmp);
+    }
+    if (f->fd < 0) {
+      perror("fuzz: cannot create the input file");
+      abort();
+    }
+    snprintf(f->path, sizeof f->path, "/proc/self/fd/%d", f->fd);
+  }
+  if (ftruncate(f->fd, 0) != 0) abort();
+  size_t done = 0;
+  while (done < size) {
+    ssize_t n = pwrite(f->fd, data + done, size - done, (off_t)done);
+    if (n <= 0) abort();
+    done += (size_t)n;
+  }
+  return f->path;
+}
+
+/* With CLR_FUZZ_VERBOSE=1 in the environment, the targets print why an input was refused
+ * (clr_last_error_message()) and every warning: handy when writing seeds. */
+static inline int fuzz_verbose(void) {
+  static int verbose = -1;
+  if (verbose < 0) verbose = getenv("CLR_FUZZ_VERBOSE") && strcmp(getenv("CLR_FUZZ_VERBOSE"), "1") == 0;
+  return verbose;
+}
+
+static inline void fuzz_report(const char *step, clr_result r) {
+  if (fuzz_verbose() && r != CLR_SUCCESS) fprintf(stderr, "  %s: %s\n", step, clr_last_error_message());
+}
+
+static inline void fuzz_ignore_warning(void *user, const char *message) {
+  (void)user;
+  if (fuzz_verbose()) fprintf(stderr, "  warning: %s\n", message);
+}
+
+#endif
