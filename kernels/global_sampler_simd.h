@@ -37,13 +37,17 @@ CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
+/* clr_reverse_bits32 in every lane, nibble by nibble (no shift-and-mask idiom that compilers
+ * turn into llvm.bitreverse, which Oclgrind cannot run). */
 inline uint8 clr_reverse_bits32x8(uint8 n) {
-  n = (n << 16u) | (n >> 16u);
-  n = ((n & 0x00ff00ffu) << 8u) | ((n & 0xff00ff00u) >> 8u);
-  n = ((n & 0x0f0f0f0fu) << 4u) | ((n & 0xf0f0f0f0u) >> 4u);
-  n = ((n & 0x33333333u) << 2u) | ((n & 0xccccccccu) >> 2u);
-  n = ((n & 0x55555555u) << 1u) | ((n & 0xaaaaaaaau) >> 1u);
-  return n;
+  uint8 r = (uint8)0u;
+  CLR_UNROLL
+  for (uint i = 0u; i < 8u; ++i) {
+    uint8 x = (n >> (4u * i)) & 15u;
+    uint8 rev = (((uint8)CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | (x >> 3u);
+    r |= rev << (28u - 4u * i);
+  }
+  return r;
 }
 
 /* The batch items of this work-item (8 consecutive ones; past the end the last one repeats, so
@@ -57,7 +61,8 @@ inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_
                                          int item_count) {
   clr_items8 it;
   uint first = (uint)get_global_id(0) * CLR_LANES;
-  it.item = min(first + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u), (uint)item_count - 1u);
+  /* min with a vector on both sides: Oclgrind mis-evaluates min(uint8, uint). */
+  it.item = min(first + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u), (uint8)((uint)item_count - 1u));
   uint8 pixel = clr_mul_shift8(it.item, d->sample_magic, d->sample_shift); /* divisors */
   uint8 row = clr_mul_shift8(pixel, d->width_magic, d->width_shift);
   it.sample = (uint)p->first_sample + it.item - pixel * (uint)p->sample_count;

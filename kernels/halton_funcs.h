@@ -68,13 +68,19 @@ CLR_HALTON_INLINE clr_u32 clr_halton_div32(clr_u32 n, clr_u32 magic, clr_u32 shi
   return (t + ((n - t) >> 1u)) >> shift;
 }
 
+/* Bit i of the result is bit 31 - i of n. Written nibble by nibble through a table held in a
+ * constant (rev4(x) = rev4(x & 7) | x >> 3, and rev4 of 0..7 are the nibbles of 0xE6A2C480):
+ * shift-and-mask code is the idiom compilers turn into the llvm.bitreverse intrinsic, which not
+ * every OpenCL implementation can run (Oclgrind cannot), while variable shifts stay plain. */
+#define CLR_REV3_NIBBLES 0xE6A2C480u
+CLR_HALTON_INLINE clr_u32 clr_reverse_nibble(clr_u32 x) {
+  return ((CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | ((x >> 3u) & 1u);
+}
+
 CLR_HALTON_INLINE clr_u32 clr_reverse_bits32(clr_u32 n) {
-  n = (n << 16u) | (n >> 16u);
-  n = ((n & 0x00ff00ffu) << 8u) | ((n & 0xff00ff00u) >> 8u);
-  n = ((n & 0x0f0f0f0fu) << 4u) | ((n & 0xf0f0f0f0u) >> 4u);
-  n = ((n & 0x33333333u) << 2u) | ((n & 0xccccccccu) >> 2u);
-  n = ((n & 0x55555555u) << 1u) | ((n & 0xaaaaaaaau) >> 1u);
-  return n;
+  clr_u32 r = 0u;
+  for (clr_u32 i = 0u; i < 8u; ++i) r |= clr_reverse_nibble((n >> (4u * i)) & 15u) << (28u - 4u * i);
+  return r;
 }
 
 CLR_HALTON_INLINE clr_u64 clr_reverse_bits64(clr_u64 n) {

@@ -30,7 +30,9 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
   uint8 xorshifted = (uint8)(convert_uint4(((lo >> (ulong)18) ^ lo) >> (ulong)27),
                              convert_uint4(((hi >> (ulong)18) ^ hi) >> (ulong)27));
   uint8 rot = (uint8)(convert_uint4(lo >> (ulong)59), convert_uint4(hi >> (ulong)59));
-  return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+  /* Right rotation by rot, as OpenCL's rotate (left by -rot mod 32): the shift-or idiom becomes
+   * llvm.fshr on vectors, which Oclgrind cannot run. */
+  return rotate(xorshifted, (0u - rot) & 31u);
 }
 
 CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {

@@ -306,19 +306,9 @@ static clr_result ensure_kernel(clr_film film) {
   if (d->kernel) return CLR_SUCCESS;
   cl_kernel k = NULL;
   CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather", &k));
-  cl_device_id dev = clr_context_cl_device(film->ctx);
-  size_t kmax = 0, dmax = 0;
-  cl_int err = clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax, NULL);
-  if (err == CL_SUCCESS)
-    err = clGetDeviceInfo(dev, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof dmax, &dmax, NULL);
-  if (err != CL_SUCCESS) {
-    clReleaseKernel(k);
-    return clr_fail(film->ctx, CLR_ERROR_OPENCL, "film: work-group size query failed: %s (%d)",
-                    clr_cl_error_name(err), (int)err);
-  }
-  size_t g = 8; /* work-items (runs of pixels) per group */
-  if (g > kmax) g = kmax;
-  if (g > dmax) g = dmax;
+  /* Work-items (runs of pixels) per group: 8 on the SIMD shape's CPU devices, a warp or more
+   * otherwise; within the device's and the kernel's limits either way. */
+  size_t g = clr_context_group_size(film->ctx, k, clr_context_portable(film->ctx) ? 64 : 8);
   cl_kernel weigh = NULL;
   clr_result r = clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_weigh", &weigh);
   if (r == CLR_SUCCESS && !d->table) r = upload_table(film);
@@ -359,7 +349,6 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
 /* Runs the weigh kernel over the chunk's binned samples. */
 static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   clr_film_device *d = &film->dev;
-  cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t bytes = binned * (size_t)g->weighed_floats * sizeof(float);
   CLR_CHECK(ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE,
                           "weighed"));
@@ -371,9 +360,7 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->binned));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof n, &n));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weighed));
-  size_t local = 64, global = (binned + local - 1) / local * local;
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL));
-  return CLR_SUCCESS;
+  return clr_context_launch(film->ctx, k, binned, 64, "clr_film_weigh");
 }
 
 /* Runs the gather over the grid's output region and adds its sums into the film. */
