@@ -42,7 +42,7 @@ __kernel void clr_film_weigh(clr_filter_params filt, clr_film_grid grid,
 }
 
 /* Adds a weighed sample at acc (its pixel x0) with y-factor fy: kx fixed-count updates. */
-inline void clr_film_add_row(__global const float *s, float fy, int kx, float4 *acc) {
+static inline void clr_film_add_row(__global const float *s, float fy, int kx, float4 *acc) {
   const float4 c = vload4(0, s);
   __global const float *wx = s + CLR_FILM_WEIGHED_HEAD;
   for (int k = 0; k < kx; ++k) acc[k] += c * clr_film_weight(wx[k], fy);
