@@ -27,6 +27,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 #include "clrender.h"
+#include "clr_internal.h"
 #include "film_internal.h"
 
 #ifndef CLR_OCLGRIND_ICD
@@ -264,6 +265,29 @@ static void check_film(void) {
   free(samples);
 }
 
+/* A deliberately invalid launch (writes past a 16-word buffer) for the test that proves Oclgrind's
+ * reports reach the checks. */
+static int run_invalid_child(void) {
+  if (clr_context_create(NULL, &ctx) != CLR_SUCCESS) return 1;
+  cl_int err = CL_SUCCESS;
+  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_WRITE, 16 * sizeof(cl_uint),
+                              NULL, &err);
+  cl_kernel k = NULL;
+  if (err != CL_SUCCESS ||
+      clr_context_kernel(ctx, "selftest_kernels.cl", NULL, "clr_selftest_fill", &k) != CLR_SUCCESS)
+    return 1;
+  cl_uint value = 7;
+  size_t global = 32;
+  clSetKernelArg(k, 0, sizeof buf, &buf);
+  clSetKernelArg(k, 1, sizeof value, &value);
+  clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, NULL, 0, NULL, NULL);
+  clFinish(clr_context_cl_queue(ctx));
+  clReleaseKernel(k);
+  clReleaseMemObject(buf);
+  clr_context_release(ctx);
+  return 0;
+}
+
 static int run_child(void) {
   setvbuf(stdout, NULL, _IOLBF, 0);
   clr_result r = clr_context_create(NULL, &ctx);
@@ -319,7 +343,7 @@ static char *read_file(const char *path) {
 
 /* Runs `test_devices --child` with the given environment additions (NULL-terminated name, value
  * pairs); its stderr goes to err_path. Returns the exit status (-1: did not run). */
-static int run_child_process(const char *const *env, const char *err_path) {
+static int run_child_process(const char *const *env, const char *err_path, const char *mode) {
   fflush(stdout);
   pid_t pid = fork();
   if (pid < 0) return -1;
@@ -330,7 +354,7 @@ static int run_child_process(const char *const *env, const char *err_path) {
       dup2(fd, 2);
       close(fd);
     }
-    execl(self_path, self_path, "--child", (char *)NULL);
+    execl(self_path, self_path, mode, (char *)NULL);
     _exit(127);
   }
   int status = 0;
@@ -349,6 +373,21 @@ static void assert_no_diagnostics(const char *what, const char *path) {
   assert_int_equal(len, 0);
 }
 
+/* Writes the private ICD folder naming only Oclgrind into `icd_dir`. */
+static void write_oclgrind_icd(const char *icd_dir) {
+  char icd[4300];
+  mkdir(icd_dir, 0755);
+  snprintf(icd, sizeof icd, "%s/oclgrind.icd", icd_dir);
+  if (!*CLR_OCLGRIND_ICD || access(CLR_OCLGRIND_ICD, R_OK) != 0)
+    fail_msg("Oclgrind's ICD library (liboclgrind-rt-icd.so) was not found at configure time "
+             "(\"%s\"): install Debian's oclgrind (scripts/install-deps.sh) and re-run cmake",
+             CLR_OCLGRIND_ICD);
+  FILE *f = fopen(icd, "w");
+  assert_non_null(f);
+  fprintf(f, "%s\n", CLR_OCLGRIND_ICD);
+  fclose(f);
+}
+
 static void run_on(const char *implementation, const char *shape) {
   char dir[4096], err_path[4200], log_path[4200];
   snprintf(dir, sizeof dir, "%s/tests/devices", CLR_BINARY_DIR);
@@ -360,18 +399,9 @@ static void run_on(const char *implementation, const char *shape) {
   int status;
   if (strcmp(implementation, "oclgrind") == 0) {
     /* The private ICD folder: only Oclgrind, only for this child. */
-    char icd_dir[4200], icd[4300];
+    char icd_dir[4200];
     snprintf(icd_dir, sizeof icd_dir, "%s/oclgrind-icd", dir);
-    mkdir(icd_dir, 0755);
-    snprintf(icd, sizeof icd, "%s/oclgrind.icd", icd_dir);
-    if (!*CLR_OCLGRIND_ICD || access(CLR_OCLGRIND_ICD, R_OK) != 0)
-      fail_msg("Oclgrind's ICD library (liboclgrind-rt-icd.so) was not found at configure time "
-               "(\"%s\"): install Debian's oclgrind (scripts/install-deps.sh) and re-run cmake",
-               CLR_OCLGRIND_ICD);
-    FILE *f = fopen(icd, "w");
-    assert_non_null(f);
-    fprintf(f, "%s\n", CLR_OCLGRIND_ICD);
-    fclose(f);
+    write_oclgrind_icd(icd_dir);
     const char *env[] = {"OCL_ICD_VENDORS", icd_dir,
                          "OPENCL_VENDOR_PATH", icd_dir,
                          "CLRENDER_DEVICE", "Oclgrind",
@@ -381,16 +411,37 @@ static void run_on(const char *implementation, const char *shape) {
                          "OCLGRIND_LOG", log_path,
                          "OCLGRIND_NUM_THREADS", "1",
                          NULL};
-    status = run_child_process(env, err_path);
+    status = run_child_process(env, err_path, "--child");
     assert_no_diagnostics("Oclgrind log", log_path);
   } else {
     const char *env[] = {"CLRENDER_DEVICE", "Portable Computing Language",
                          "CLR_TEST_EXPECT_DEVICE", "Portable Computing Language",
                          "CLRENDER_KERNELS", shape, NULL};
-    status = run_child_process(env, err_path);
+    status = run_child_process(env, err_path, "--child");
   }
   assert_no_diagnostics("child stderr", err_path);
   assert_int_equal(status, 0);
+}
+
+/* The checks above can only pass for the right reason if Oclgrind's reports reach them: an
+ * out-of-bounds write must show up in its log while the process still exits 0. */
+static void test_oclgrind_reports_reach_the_test(void **state) {
+  (void)state;
+  char dir[4096], icd_dir[4200], log_path[4200], err_path[4200];
+  snprintf(dir, sizeof dir, "%s/tests/devices", CLR_BINARY_DIR);
+  mkdir(dir, 0755);
+  snprintf(icd_dir, sizeof icd_dir, "%s/oclgrind-icd", dir);
+  snprintf(log_path, sizeof log_path, "%s/invalid.oclgrind.log", dir);
+  snprintf(err_path, sizeof err_path, "%s/invalid.stderr", dir);
+  remove(log_path);
+  write_oclgrind_icd(icd_dir);
+  const char *env[] = {"OCL_ICD_VENDORS", icd_dir, "OPENCL_VENDOR_PATH", icd_dir,
+                       "CLRENDER_DEVICE", "Oclgrind", "OCLGRIND_LOG", log_path, NULL};
+  assert_int_equal(run_child_process(env, err_path, "--invalid-child"), 0);
+  char *log = read_file(log_path);
+  assert_non_null(log);
+  assert_non_null(strstr(log, "Invalid write"));
+  free(log);
 }
 
 static void test_pocl_simd(void **state) {
@@ -415,10 +466,12 @@ static void test_oclgrind_portable(void **state) {
 
 int main(int argc, char **argv) {
   if (argc > 1 && strcmp(argv[1], "--child") == 0) return run_child();
+  if (argc > 1 && strcmp(argv[1], "--invalid-child") == 0) return run_invalid_child();
   ssize_t n = readlink("/proc/self/exe", self_path, sizeof self_path - 1);
   if (n <= 0) snprintf(self_path, sizeof self_path, "%s", argv[0]);
   else self_path[n] = 0;
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_oclgrind_reports_reach_the_test),
       cmocka_unit_test(test_pocl_simd),
       cmocka_unit_test(test_pocl_portable),
       cmocka_unit_test(test_oclgrind_simd),
