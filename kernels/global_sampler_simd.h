@@ -106,6 +106,10 @@ CLR_SIMD_INLINE uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *col
 static inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulong *vdc,
                               __global const ulong *vdc_inv) {
 #if CLR_SOBOL_M == 0
+  (void)px;
+  (void)py;
+  (void)vdc;
+  (void)vdc_inv;
   return frame;
 #else
   const uint row = (CLR_SOBOL_M - 1) * CLR_SOBOL_MATRIX_SIZE;

@@ -72,6 +72,9 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
                                   int item_count) {
   clr_items8 it = clr_items_of_work_item(&p, &d, item_count);
   int8 rel_x = it.px - p.sample_x0, rel_y = it.py - p.sample_y0; /* from the sample bounds */
+  (void)rel_x; /* used by sobol's index only */
+  (void)rel_y;
+  (void)t2;
 #ifdef CLR_INDEX32
   uint8 index = clr_index8(clr_sample_numbers8(it.sample, slots[0]));
   if (write_indices) {
@@ -90,8 +93,6 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
     clr_store8(values, it.item, p.values_per_sample, e.value, clr_value8(index, e));
   }
 #else
-  (void)rel_x;
-  (void)rel_y;
   uint items[CLR_LANES], samples[CLR_LANES];
   int pxs[CLR_LANES], pys[CLR_LANES];
   vstore8(it.item, 0, items);

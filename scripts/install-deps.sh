@@ -6,6 +6,8 @@ packages=(
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libembree-dev libopenexr-dev libcmocka-dev libpng-dev
   openexr  # exrheader/exrmaketiled: independent EXR readers used by tests/test_image_io.c
+  oclgrind  # second OpenCL implementation of tests/test_devices.c (registered privately there)
+  clang-15  # tests/test_kernel_portability.c: kernels compiled for spir64, nvptx64 and amdgcn
 )
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

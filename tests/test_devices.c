@@ -9,8 +9,9 @@
  *   - Oclgrind: OCL_ICD_VENDORS pointing at a folder this test writes in the build tree with one
  *     .icd naming liboclgrind-rt-icd.so, so Oclgrind (which presents itself as a GPU) is never
  *     registered for anything else on the machine. Oclgrind exits 0 even when it finds invalid
- *     memory accesses or API misuse and only reports them: its log (OCLGRIND_LOG) and the child's
- *     stderr must be free of any diagnostic.
+ *     memory accesses, data races or API misuse and only reports them: its log (OCLGRIND_LOG)
+ *     and the child's stderr must be free of any diagnostic (build warnings included). Its
+ *     uninitialized-value plugin is not used: it stops at LLVM's `freeze` instruction.
  * Sizes are small: Oclgrind interprets every instruction. */
 #define _DEFAULT_SOURCE
 #include <errno.h>
@@ -408,6 +409,7 @@ static void run_on(const char *implementation, const char *shape) {
                          "CLR_TEST_EXPECT_DEVICE", "Oclgrind",
                          "CLRENDER_KERNELS", shape,
                          "OCLGRIND_CHECK_API", "1",
+                         "OCLGRIND_DATA_RACES", "1",
                          "OCLGRIND_LOG", log_path,
                          "OCLGRIND_NUM_THREADS", "1",
                          NULL};
