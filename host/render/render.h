@@ -31,6 +31,8 @@ typedef struct clr_render_options {
   int32_t progress;        /* 1: progress bar on stderr */
   volatile int *cancel;    /* optional: set non-zero to stop after the tiles in flight; the
                               image written is then marked "partial" */
+  const char *kernels;     /* kernel shape: "simd", "portable" or NULL/"auto" (the device's
+                              default or CLRENDER_KERNELS; see clrender/kernels.h) */
 } clr_render_options;
 
 typedef struct clr_render_stats {
