@@ -9,6 +9,7 @@
 #   CLR_QUICK=1 scripts/device-check.sh   # the benchmark's --quick sizes
 #   CLR_BUILD_DIR=build scripts/device-check.sh
 #   CLR_CHECK_SIMULATORS=1 ...        # also treat Oclgrind as a GPU (to try the script without one)
+#   CLR_CHECK_TESTS="test_devices" ... # only these device tests (default: all three)
 set -uo pipefail
 cd "$(dirname "$0")/.."
 build=${CLR_BUILD_DIR:-build-device-check}
@@ -79,7 +80,7 @@ fi
 
 for gpu in "${gpus[@]}"; do
   for shape in portable simd; do
-    for t in test_devices test_sampler_device test_film; do
+    for t in ${CLR_CHECK_TESTS:-test_devices test_sampler_device test_film}; do
       args=()
       [ "$t" = test_devices ] && args=(--child) # the cross-check itself, on this device only
       log="$logs/gpu$gpu-$shape-$t.log"

@@ -363,6 +363,35 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   return clr_context_launch(film->ctx, k, binned, 64, "clr_film_weigh");
 }
 
+/* The portable shape's gather: one work-item per output pixel (clr_film_gather_pixels), 2D
+ * work-groups of the device's size (a warp or more where the device allows it). */
+static clr_result gather_pixels(clr_film film, const clr_film_grid *g, size_t bytes) {
+  clr_film_device *d = &film->dev;
+  if (!d->pixel_gather)
+    CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather_pixels",
+                                 &d->pixel_gather));
+  cl_kernel k = d->pixel_gather;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof(cl_mem), &d->weighed));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->sums));
+  size_t group = film->group_size_override ? film->group_size_override
+                                           : clr_context_group_size(film->ctx, k, 64);
+  size_t local[2] = {group < 32 ? group : 32, 1};
+  if (!film->group_size_override) local[1] = group / local[0];
+  size_t global[2] = {((size_t)g->out_w + local[0] - 1) / local[0] * local[0],
+                      ((size_t)g->out_h + local[1] - 1) / local[1] * local[1]};
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
+  cl_int err = CL_SUCCESS;
+  float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
+  clr_bounds2i block = {g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
+  clr_film_add_block(film, block, sums);
+  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->sums, sums, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
 /* Runs the gather over the grid's output region and adds its sums into the film. */
 static clr_result gather(clr_film film, const clr_film_grid *g) {
   clr_film_device *d = &film->dev;
@@ -370,6 +399,7 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
   size_t bytes = (size_t)g->out_w * (size_t)g->out_h * CLR_FILM_SUM_FLOATS * sizeof(float);
   CLR_CHECK(ensure_buffer(film, &d->sums, &d->sums_bytes, bytes, CL_MEM_WRITE_ONLY, "sums"));
+  if (clr_context_portable(film->ctx)) return gather_pixels(film, g, bytes);
   cl_kernel k = d->kernel;
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
@@ -539,6 +569,7 @@ void clr_film_accumulate_release(clr_film film) {
     if (*bufs[i]) clReleaseMemObject(*bufs[i]);
   if (d->kernel) clReleaseKernel(d->kernel);
   if (d->weigh) clReleaseKernel(d->weigh);
+  if (d->pixel_gather) clReleaseKernel(d->pixel_gather);
   clr_film_bins *b = &film->bins;
   free(b->keys);
   free(b->starts);
