@@ -3,6 +3,9 @@
  * the halton/sobol large-index and past-the-tables paths) and film sums (every filter, exact and
  * table).
  *
+ * Any other device the machine's own ICDs list (a vendor GPU driver) runs the same checks in
+ * both shapes (test_other_devices).
+ *
  * Each (implementation, shape) runs as a child process of this program (`test_devices --child`)
  * with its own environment:
  *   - PoCL: the machine's default ICDs, CLRENDER_DEVICE naming PoCL's platform;
@@ -446,6 +449,34 @@ static void test_oclgrind_reports_reach_the_test(void **state) {
   free(log);
 }
 
+/* Every other device of the machine's own ICDs (a vendor GPU driver, another CPU runtime), in
+ * both shapes: none on a machine with PoCL only. */
+static void test_other_devices(void **state) {
+  (void)state;
+  clr_device_info infos[64];
+  int count = 0;
+  assert_int_equal(clr_device_list(infos, 64, &count), CLR_SUCCESS);
+  int others = 0;
+  for (int i = 0; i < count && i < 64; ++i) {
+    if (strstr(infos[i].platform_name, "Portable Computing Language")) continue;
+    ++others;
+    for (int k = 0; k < 2; ++k) {
+      const char *shape = k ? "simd" : "portable";
+      char index[16], dir[4096], err_path[4300];
+      snprintf(index, sizeof index, "%d", i);
+      snprintf(dir, sizeof dir, "%s/tests/devices", CLR_BINARY_DIR);
+      mkdir(dir, 0755);
+      snprintf(err_path, sizeof err_path, "%s/device%d-%s.stderr", dir, i, shape);
+      printf("== %s: %s, %s kernels\n", infos[i].platform_name, infos[i].device_name, shape);
+      const char *env[] = {"CLRENDER_DEVICE", index, "CLRENDER_KERNELS", shape, NULL};
+      int status = run_child_process(env, err_path, "--child");
+      assert_no_diagnostics("child stderr", err_path);
+      assert_int_equal(status, 0);
+    }
+  }
+  printf("%d device(s) besides PoCL\n", others);
+}
+
 static void test_pocl_simd(void **state) {
   (void)state;
   run_on("pocl", "simd");
@@ -478,6 +509,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_pocl_portable),
       cmocka_unit_test(test_oclgrind_simd),
       cmocka_unit_test(test_oclgrind_portable),
+      cmocka_unit_test(test_other_devices),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
