@@ -2,9 +2,10 @@
  * (host/lib/sampling/sampler_device.c: every sampler family in both kernel shapes, the index-width
  * and Sobol specialisations; the film and self-test kernels), compiled by clang as OpenCL C 1.2
  * with warnings as errors for
- *   spir64                  (LLVM IR; also checked for what Oclgrind and SPIR consumers cannot
- *                            run: calls to undefined clr_* functions, LLVM intrinsics outside a
- *                            short list of ones every implementation handles),
+ *   spir64                  (LLVM IR, without cl_khr_fp64; also checked for what Oclgrind and
+ *                            SPIR consumers cannot run: double, calls to undefined clr_*
+ *                            functions, LLVM intrinsics outside a short list of ones every
+ *                            implementation handles),
  *   nvptx64-nvidia-nvcl     (PTX),
  *   amdgcn-amd-amdhsa       (gfx90a, -nogpulib; its per-kernel registers, spills and scratch
  *                            bytes are printed and written to tests/kernel-resources.jsonl in
@@ -66,7 +67,8 @@ typedef struct target {
 } target;
 
 static const target targets[] = {
-    {"spir64", "-target spir64 -emit-llvm -S", "ll"},
+    /* Without cl_khr_fp64: the kernels must not need double (devices without it run them). */
+    {"spir64", "-target spir64 -Xclang -cl-ext=-cl_khr_fp64 -emit-llvm -S", "ll"},
     {"nvptx64", "-target nvptx64-nvidia-nvcl -S", "ptx"},
     {"gfx90a", "-target amdgcn-amd-amdhsa -mcpu=gfx90a -S", "s"},
 };
@@ -122,6 +124,10 @@ static int check_ir(const char *path, const define_set *s) {
   char *ir = read_file(path);
   if (!ir) return 1;
   int problems = 0;
+  if (strstr(ir, " double")) {
+    printf("FAIL spir64 %s [%s]: the IR uses double\n", s->file, s->defines);
+    ++problems;
+  }
   for (char *line = strtok(ir, "\n"); line; line = strtok(NULL, "\n")) {
     if (strncmp(line, "declare ", 8) != 0) continue;
     char *at = strchr(line, '@');
