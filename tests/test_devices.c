@@ -415,6 +415,9 @@ static void run_on(const char *implementation, const char *shape) {
                          "OCLGRIND_DATA_RACES", "1",
                          "OCLGRIND_LOG", log_path,
                          "OCLGRIND_NUM_THREADS", "1",
+                         /* Fewer work-items per group than the kernels' usual 64: launches must
+                          * take their sizes from the device. */
+                         "OCLGRIND_MAX_WGSIZE", "16",
                          NULL};
     status = run_child_process(env, err_path, "--child");
     assert_no_diagnostics("Oclgrind log", log_path);

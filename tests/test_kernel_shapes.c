@@ -10,6 +10,7 @@
 #include <string.h>
 #include <cmocka.h>
 #include "clrender.h"
+#include "clr_internal.h"
 #include "renderer.h"
 #include "scene_parser.h"
 
@@ -55,6 +56,54 @@ static void test_context_choice(void **state) {
   assert_int_equal(clr_context_create(NULL, &ctx), CLR_ERROR_INVALID_ARGUMENT);
   assert_non_null(strstr(clr_last_error_message(), "CLRENDER_KERNELS=vector"));
   unsetenv("CLRENDER_KERNELS");
+}
+
+/* Work-group sizes come from the device and the kernel, never above their limits. */
+static void test_group_sizes_from_the_device(void **state) {
+  (void)state;
+  clr_context ctx = NULL;
+  assert_int_equal(clr_context_create(NULL, &ctx), CLR_SUCCESS);
+  cl_kernel k = NULL;
+  assert_int_equal(clr_context_kernel(ctx, "selftest_kernels.cl", NULL, "clr_selftest_fill", &k),
+                   CLR_SUCCESS);
+  cl_device_id dev = clr_context_cl_device(ctx);
+  size_t kmax = 0, dmax = 0, multiple = 0, items[3] = {0, 0, 0};
+  assert_int_equal(clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax,
+                                            NULL),
+                   CL_SUCCESS);
+  assert_int_equal(clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE,
+                                            sizeof multiple, &multiple, NULL),
+                   CL_SUCCESS);
+  assert_int_equal(clGetDeviceInfo(dev, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof dmax, &dmax, NULL),
+                   CL_SUCCESS);
+  assert_int_equal(clGetDeviceInfo(dev, CL_DEVICE_MAX_WORK_ITEM_SIZES, sizeof items, items, NULL),
+                   CL_SUCCESS);
+  size_t most = clr_context_group_size(ctx, k, (size_t)1 << 30);
+  assert_true(most >= 1 && most <= kmax && most <= dmax && most <= items[0]);
+  assert_int_equal(clr_context_group_size(ctx, k, 0), 1);
+  assert_int_equal(clr_context_group_size(ctx, k, 1), 1);
+  if (multiple > 1 && multiple + multiple / 2 <= most)
+    assert_int_equal(clr_context_group_size(ctx, k, multiple + multiple / 2), multiple);
+  /* A launch of a count that is no multiple of the group. */
+  cl_int err = CL_SUCCESS;
+  size_t group = clr_context_group_size(ctx, k, 64), n = 1000;
+  size_t padded = (n + group - 1) / group * group;
+  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_WRITE,
+                              padded * sizeof(cl_uint), NULL, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  cl_uint value = 5;
+  assert_int_equal(clSetKernelArg(k, 0, sizeof buf, &buf), CL_SUCCESS);
+  assert_int_equal(clSetKernelArg(k, 1, sizeof value, &value), CL_SUCCESS);
+  assert_int_equal(clr_context_launch(ctx, k, n, 64, "clr_selftest_fill"), CLR_SUCCESS);
+  cl_uint *out = malloc(padded * sizeof(cl_uint));
+  assert_int_equal(clEnqueueReadBuffer(clr_context_cl_queue(ctx), buf, CL_TRUE, 0,
+                                       padded * sizeof(cl_uint), out, 0, NULL, NULL),
+                   CL_SUCCESS);
+  for (size_t i = 0; i < n; ++i) assert_int_equal(out[i], 5 + i);
+  free(out);
+  clReleaseMemObject(buf);
+  clReleaseKernel(k);
+  clr_context_release(ctx);
 }
 
 static clr_render_image render(const char *kernels) {
@@ -141,6 +190,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_names),
       cmocka_unit_test(test_context_choice),
+      cmocka_unit_test(test_group_sizes_from_the_device),
       cmocka_unit_test(test_render_same_bits),
 #ifdef CLR_CLI_PATH
       cmocka_unit_test(test_cli_samples_same_output),
