@@ -181,6 +181,8 @@ static void test_cli_samples_same_output(void **state) {
     assert_true(run(with, c, sizeof c) > 0);
     assert_string_equal(a, c);
   }
+  assert_true(run("devices", a, sizeof a) > 0);
+  assert_true(strstr(a, ", kernels simd]") || strstr(a, ", kernels portable]"));
   assert_int_equal(run("samples --sampler sobol --kernels wide", a, sizeof a), 0);
   assert_non_null(strstr(a, "--kernels"));
 }
