@@ -242,14 +242,25 @@ static void check_film(void) {
       snprintf(what, sizeof what, "film %s %s", clr_filter_type_name((clr_filter_type)type),
                table ? "table" : "exact");
       int ok = expect != NULL;
-      static const int tiles[] = {16, 4};
-      for (int t = 0; t < 2 && expect; ++t) {
+      /* Tile sizes 16 and 4 from host samples; 16 from a device buffer of samples. */
+      static const int tiles[] = {16, 4, 16};
+      for (int t = 0; t < 3 && expect; ++t) {
         clr_film film = make_film(type, table, tiles[t]);
         if (!film) {
           ok = 0;
           continue;
         }
-        clr_result r = film_add_samples(film, samples, n);
+        clr_result r;
+        if (t < 2) {
+          r = film_add_samples(film, samples, n);
+        } else {
+          cl_int err = CL_SUCCESS;
+          cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx),
+                                      CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                      n * sizeof *samples, samples, &err);
+          r = err == CL_SUCCESS ? film_add_samples_buffer(film, buf, n) : CLR_ERROR_OPENCL;
+          if (err == CL_SUCCESS) clReleaseMemObject(buf);
+        }
         CHECK(r == CLR_SUCCESS, "%s: film_add_samples: %s", what, clr_last_error_message());
         double *got = NULL;
         size_t gn = 0;
