@@ -364,8 +364,9 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
 }
 
 /* The portable shape's gather: one work-item per output pixel (clr_film_gather_pixels), 2D
- * work-groups of the device's size (a warp or more where the device allows it). */
-static clr_result gather_pixels(clr_film film, const clr_film_grid *g, size_t bytes) {
+ * work-groups of the device's size (a warp or more where the device allows it). Enqueues it only;
+ * gather() reads the sums back as for the run kernel. */
+static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
   clr_film_device *d = &film->dev;
   if (!d->pixel_gather)
     CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather_pixels",
@@ -381,14 +382,8 @@ static clr_result gather_pixels(clr_film film, const clr_film_grid *g, size_t by
   if (!film->group_size_override) local[1] = group / local[0];
   size_t global[2] = {((size_t)g->out_w + local[0] - 1) / local[0] * local[0],
                       ((size_t)g->out_h + local[1] - 1) / local[1] * local[1]};
-  cl_command_queue q = clr_context_cl_queue(film->ctx);
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
-  cl_int err = CL_SUCCESS;
-  float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
-  CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
-  clr_bounds2i block = {g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
-  clr_film_add_block(film, block, sums);
-  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->sums, sums, 0, NULL, NULL));
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
+                                                 global, local, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
@@ -399,7 +394,6 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
   size_t bytes = (size_t)g->out_w * (size_t)g->out_h * CLR_FILM_SUM_FLOATS * sizeof(float);
   CLR_CHECK(ensure_buffer(film, &d->sums, &d->sums_bytes, bytes, CL_MEM_WRITE_ONLY, "sums"));
-  if (clr_context_portable(film->ctx)) return gather_pixels(film, g, bytes);
   cl_kernel k = d->kernel;
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
@@ -410,7 +404,10 @@ static clr_result gather(clr_film film, const clr_film_grid *g) {
   size_t runs = ((size_t)g->out_w + tile - 1) / tile;
   size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
   size_t local[2] = {group, 1};
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
+  if (clr_context_portable(film->ctx))
+    CLR_CHECK(enqueue_gather_pixels(film, g));
+  else
+    CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
   cl_int err = CL_SUCCESS;
   float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
