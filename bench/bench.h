@@ -9,16 +9,28 @@
 typedef struct bench_options {
   int quick;               /* smaller problems, fewer repetitions */
   const char *only_device; /* NULL: every device */
+  clr_kernel_shape shape;  /* kernel shape of this pass (each JSON line names it) */
 } bench_options;
 
 double bench_now(void);
 /* Median seconds of `reps` runs of fn(user) after one warm-up run; negative on failure. */
 double bench_median(int reps, int (*fn)(void *user), void *user);
 void bench_json_escape(FILE *f, const char *s);
-/* Context on device i, or NULL when --device excludes it or it fails to open (then a JSON line
- * with the error is printed for section `bench` and the caller skips the device). */
+/* Context on device i with the pass's kernel shape, or NULL when --device excludes it or it fails
+ * to open (then a JSON line with the error is printed for section `bench` and the caller skips the
+ * device). Simulators (Oclgrind) are not timed: for them this runs the section's correctness
+ * check against the host reference, prints it and returns NULL. */
 clr_context bench_open_device(const bench_options *o, const clr_device_info *devices, int i,
                               const char *bench);
+
+/* Prints "device":"...","kernels":"..." for ctx. */
+void bench_json_device(clr_context ctx);
+/* Whether device i is a simulator, checked for correctness but never timed. */
+int bench_is_simulator(const clr_device_info *device);
+/* The section's correctness check on a simulator (bench_check.c): JSON Lines. */
+void bench_check(const char *bench, clr_context ctx);
+/* Per-kernel registers, spills and private bytes for gfx90a from the portability test's output. */
+void bench_kernel_resources(void);
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count);
 void bench_render(const bench_options *o, const clr_device_info *devices, int device_count);

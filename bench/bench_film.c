@@ -124,8 +124,8 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
         for (int path = 0; path < 2; ++path) {
           double bpp = 0;
           double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &bpp);
-          printf("{\"bench\":\"film\",\"device\":");
-          bench_json_escape(stdout, clr_context_device_name(ctx));
+          printf("{\"bench\":\"film\",");
+          bench_json_device(ctx);
           printf(",\"filter\":\"%s\",\"radius\":%g,\"mode\":\"%s\",\"input\":\"%s\","
                  "\"resolution\":\"%dx%d\",\"spp\":%zu",
                  filter_name(filter_types[t]), (double)FILM_RADIUS, m ? "table" : "exact",

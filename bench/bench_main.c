@@ -49,7 +49,14 @@ clr_context bench_open_device(const bench_options *o, const clr_device_info *dev
   clr_context_desc_init(&cd);
   cd.device = index;
   clr_context ctx = NULL;
-  if (clr_context_create(&cd, &ctx) == CLR_SUCCESS) return ctx;
+  if (clr_context_create(&cd, &ctx) == CLR_SUCCESS &&
+      clr_context_set_kernel_shape(ctx, o->shape) == CLR_SUCCESS) {
+    if (!bench_is_simulator(&devices[i])) return ctx;
+    bench_check(bench, ctx);
+    clr_context_release(ctx);
+    return NULL;
+  }
+  clr_context_release(ctx);
   printf("{\"bench\":\"%s\",\"device\":", bench);
   bench_json_escape(stdout, devices[i].device_name);
   printf(",\"error\":");
@@ -58,19 +65,35 @@ clr_context bench_open_device(const bench_options *o, const clr_device_info *dev
   return NULL;
 }
 
+void bench_json_device(clr_context ctx) {
+  printf("\"device\":");
+  bench_json_escape(stdout, clr_context_device_name(ctx));
+  printf(",\"kernels\":\"%s\"", clr_kernel_shape_name(clr_context_kernel_shape(ctx)));
+}
+
+int bench_is_simulator(const clr_device_info *device) {
+  return strstr(device->platform_name, "Oclgrind") != NULL ||
+         strstr(device->device_name, "Oclgrind") != NULL;
+}
+
 static void usage(void) {
-  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] [--only samples|film|tracer|render]\n"
-                  "Prints one JSON object per line: each device's figure and the single-thread\n"
-                  "host reference measured in the same run, with their ratio.\n");
+  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] "
+                  "[--only samples|film|tracer|render|kernels] [--kernels simd|portable|both]\n"
+                  "Prints one JSON object per line: each device's figure (per kernel shape, both\n"
+                  "by default) and the single-thread host reference measured in the same run, with\n"
+                  "their ratio. Simulators (Oclgrind) are checked against the host reference, not\n"
+                  "timed. `tracer`: Embree packets against single rays on the host. `kernels`: gfx90a\n"
+                  "registers, spills and private bytes per kernel (from test_kernel_portability).\n");
 }
 
 int main(int argc, char **argv) {
-  bench_options o = {0, NULL};
-  const char *only = NULL;
+  bench_options o = {0, NULL, CLR_KERNELS_AUTO};
+  const char *only = NULL, *kernels = "both";
   for (int i = 1; i < argc; ++i) {
     if (strcmp(argv[i], "--quick") == 0) o.quick = 1;
     else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc) o.only_device = argv[++i];
     else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc) only = argv[++i];
+    else if (strcmp(argv[i], "--kernels") == 0 && i + 1 < argc) kernels = argv[++i];
     else {
       usage();
       return 2;
@@ -83,9 +106,22 @@ int main(int argc, char **argv) {
     return 1;
   }
   if (count > 64) count = 64;
-  if (!only || strcmp(only, "samples") == 0) bench_samples(&o, devices, count);
-  if (!only || strcmp(only, "film") == 0) bench_film(&o, devices, count);
+  clr_kernel_shape shapes[2] = {CLR_KERNELS_SIMD, CLR_KERNELS_PORTABLE};
+  int nshapes = 2;
+  if (strcmp(kernels, "both") != 0) {
+    if (clr_kernel_shape_from_name(kernels, &shapes[0]) != CLR_SUCCESS) {
+      usage();
+      return 2;
+    }
+    nshapes = 1;
+  }
+  if (!only || strcmp(only, "kernels") == 0) bench_kernel_resources();
   if (!only || strcmp(only, "tracer") == 0) bench_tracer(&o);
-  if (!only || strcmp(only, "render") == 0) bench_render(&o, devices, count);
+  for (int k = 0; k < nshapes; ++k) {
+    o.shape = shapes[k];
+    if (!only || strcmp(only, "samples") == 0) bench_samples(&o, devices, count);
+    if (!only || strcmp(only, "film") == 0) bench_film(&o, devices, count);
+    if (!only || strcmp(only, "render") == 0) bench_render(&o, devices, count);
+  }
   return 0;
 }

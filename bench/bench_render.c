@@ -37,6 +37,11 @@ static char *with_integrator(const char *text, const char *integrator) {
   return out;
 }
 
+/* The device (index string) and kernel shape of the current pass. */
+static const char *pass_device;
+static clr_kernel_shape pass_shape;
+static char pass_device_name[300];
+
 static void run(const char *label, const char *text, const char *path, const char *sampler,
                 int spp, int nthreads, int xres) {
   clr_scene_desc *desc = NULL;
@@ -55,6 +60,8 @@ static void run(const char *label, const char *text, const char *path, const cha
   o.nthreads = nthreads;
   o.xresolution = o.yresolution = xres;
   o.outfile = "/tmp/clrender_bench_render.exr";
+  o.device = pass_device;
+  o.kernels = clr_kernel_shape_name(pass_shape);
   clr_render_stats st;
   clr_render_stats_init(&st);
   double t0 = bench_now();
@@ -69,15 +76,31 @@ static void run(const char *label, const char *text, const char *path, const cha
   }
   char json[2048];
   clr_render_stats_json(&st, json, sizeof json);
-  printf("{\"bench\":\"render\",\"case\":");
+  printf("{\"bench\":\"render\",\"device\":");
+  bench_json_escape(stdout, pass_device_name);
+  printf(",\"kernels\":\"%s\",\"case\":", clr_kernel_shape_name(pass_shape));
   bench_json_escape(stdout, label);
   printf(",\"wall_seconds\":%.4f,\"stats\":%s}\n", wall, json);
   fflush(stdout);
 }
 
+static void render_cases(const bench_options *o);
+
 void bench_render(const bench_options *o, const clr_device_info *devices, int device_count) {
-  (void)devices;
-  (void)device_count;
+  for (int i = 0; i < device_count; ++i) {
+    clr_context ctx = bench_open_device(o, devices, i, "render");
+    if (!ctx) continue;
+    char index[16];
+    snprintf(index, sizeof index, "%d", i);
+    pass_device = index;
+    pass_shape = clr_context_kernel_shape(ctx);
+    snprintf(pass_device_name, sizeof pass_device_name, "%s", clr_context_device_name(ctx));
+    clr_context_release(ctx);
+    render_cases(o);
+  }
+}
+
+static void render_cases(const bench_options *o) {
   static const char *samplers[] = {"random", "stratified", "halton", "sobol"};
   static const char *scenes[] = {"scenes/cornell-box.pbrt", "scenes/checkerboard.pbrt",
                                  "scenes/killeroo-simple/killeroo-simple.pbrt"};

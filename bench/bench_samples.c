@@ -77,8 +77,8 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
     if (!ctx) continue;
     for (int t = 0; t < 4; ++t) {
       double rate = device_rate(ctx, (clr_sampler_type)t, o->quick);
-      printf("{\"bench\":\"samples\",\"device\":");
-      bench_json_escape(stdout, clr_context_device_name(ctx));
+      printf("{\"bench\":\"samples\",");
+      bench_json_device(ctx);
       printf(",\"sampler\":\"%s\",\"layout_values\":%d", clr_sampler_type_name((clr_sampler_type)t),
              LAYOUT_VALUES);
       if (rate < 0) {

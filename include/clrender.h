@@ -5,6 +5,7 @@
 #include "clrender/version.h"
 #include "clrender/result.h"
 #include "clrender/context.h"
+#include "clrender/kernels.h"
 #include "clrender/sampler.h"
 #include "clrender/filter.h"
 #include "clrender/film.h"

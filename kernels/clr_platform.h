@@ -14,9 +14,9 @@ typedef ulong clr_u64;
 #define CLR_GLOBAL __global
 #define CLR_CONSTANT __constant
 #define CLR_LOCAL __local
-#define CLR_INLINE inline
+#define CLR_INLINE static inline
 /* For hot helpers with a switch the device compiler would keep out of line. */
-#define CLR_ALWAYS_INLINE inline __attribute__((always_inline))
+#define CLR_ALWAYS_INLINE static inline __attribute__((always_inline))
 #define CLR_DEVICE 1
 #define clr_as_float(u) as_float(u)
 #define clr_as_uint(f) as_uint(f)

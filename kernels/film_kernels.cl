@@ -42,7 +42,7 @@ __kernel void clr_film_weigh(clr_filter_params filt, clr_film_grid grid,
 }
 
 /* Adds a weighed sample at acc (its pixel x0) with y-factor fy: kx fixed-count updates. */
-inline void clr_film_add_row(__global const float *s, float fy, int kx, float4 *acc) {
+static inline void clr_film_add_row(__global const float *s, float fy, int kx, float4 *acc) {
   const float4 c = vload4(0, s);
   __global const float *wx = s + CLR_FILM_WEIGHED_HEAD;
   for (int k = 0; k < kx; ++k) acc[k] += c * clr_film_weight(wx[k], fy);
@@ -82,4 +82,34 @@ __kernel void clr_film_gather(clr_film_params fp, clr_film_grid grid,
   __global float *out = sums + ((size_t)get_global_id(1) * (size_t)grid.out_w +
                                 (size_t)(run_x0 - grid.out_x0)) * CLR_FILM_SUM_FLOATS;
   for (int i = 0; i < run_x1 - run_x0; ++i) vstore4(acc[i + kx - 1], i, out);
+}
+
+/* The portable shape's gather (GPU-shaped): one work-item per output pixel with one float4 of
+ * private sums, in 2D work-groups of a warp or more. Bin row by bin row (ascending y0) it walks
+ * the samples of the bins x0 in [px - K + 1, px] in their binned order and adds each one's
+ * contribution to this pixel: the same additions in the same order as clr_film_gather makes for
+ * this pixel (its other additions there are zeros or go to other pixels), so the same bits.
+ * Neighbouring work-items read the same samples (cache broadcast); no atomics, no local memory.
+ * Global size: (out_w, out_h), each rounded up to the work-group. */
+__kernel void clr_film_gather_pixels(clr_film_grid grid, __global const float *weighed,
+                                     __global const uint *starts, __global float *sums) {
+  const int ox = (int)get_global_id(0), oy = (int)get_global_id(1);
+  if (ox >= grid.out_w || oy >= grid.out_h) return;
+  const int px = grid.out_x0 + ox, py = grid.out_y0 + oy;
+  const int kx = grid.reach_x, ky = grid.reach_y, stride = grid.weighed_floats;
+  float4 acc = (float4)(0.0f);
+  const int cx0 = max(px - kx + 1 - grid.bin_x0, 0);
+  const int cx1 = min(px - grid.bin_x0, grid.bins_x - 1);
+  for (int j = 0; j < ky; ++j) {
+    const int row = py - ky + 1 + j - grid.bin_y0;
+    if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
+    const int fy_at = CLR_FILM_WEIGHED_HEAD + kx + (ky - 1 - j); /* this row's py - y0 */
+    const uint end = starts[row * grid.bins_x + cx1 + 1];
+    for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
+      __global const float *s = weighed + (size_t)i * (size_t)stride;
+      const int k = px - as_int(s[4]); /* px - x0, in [0, K) */
+      acc += vload4(0, s) * clr_film_weight(s[CLR_FILM_WEIGHED_HEAD + k], s[fy_at]);
+    }
+  }
+  vstore4(acc, (size_t)oy * (size_t)grid.out_w + (size_t)ox, sums);
 }

@@ -34,7 +34,7 @@ CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
                                          CLR_GLOBAL const clr_u64 *vdc_inv,
                                          CLR_GLOBAL const clr_halton_prime *primes,
                                          CLR_GLOBAL const clr_u16 *perms, clr_i32 item,
-                                         CLR_GLOBAL float *out, CLR_GLOBAL clr_u64 *index_out) {
+                                         CLR_GLOBAL float *out, clr_u64 *index_out) {
   clr_i32 pixel = item / p->sample_count;
   clr_i32 s = p->first_sample + (item - pixel * p->sample_count);
   clr_i32 px = p->batch_x0 + pixel % p->batch_width;

@@ -22,7 +22,7 @@
 
 #define CLR_LANES 8
 
-#define CLR_SIMD_INLINE inline __attribute__((always_inline))
+#define CLR_SIMD_INLINE static inline __attribute__((always_inline))
 
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
@@ -37,13 +37,17 @@ CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
-inline uint8 clr_reverse_bits32x8(uint8 n) {
-  n = (n << 16u) | (n >> 16u);
-  n = ((n & 0x00ff00ffu) << 8u) | ((n & 0xff00ff00u) >> 8u);
-  n = ((n & 0x0f0f0f0fu) << 4u) | ((n & 0xf0f0f0f0u) >> 4u);
-  n = ((n & 0x33333333u) << 2u) | ((n & 0xccccccccu) >> 2u);
-  n = ((n & 0x55555555u) << 1u) | ((n & 0xaaaaaaaau) >> 1u);
-  return n;
+/* clr_reverse_bits32 in every lane, nibble by nibble (no shift-and-mask idiom that compilers
+ * turn into llvm.bitreverse, which Oclgrind cannot run). */
+static inline uint8 clr_reverse_bits32x8(uint8 n) {
+  uint8 r = (uint8)0u;
+  CLR_UNROLL
+  for (uint i = 0u; i < 8u; ++i) {
+    uint8 x = (n >> (4u * i)) & 15u;
+    uint8 rev = (((uint8)CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | (x >> 3u);
+    r |= rev << (28u - 4u * i);
+  }
+  return r;
 }
 
 /* The batch items of this work-item (8 consecutive ones; past the end the last one repeats, so
@@ -53,11 +57,12 @@ typedef struct clr_items8 {
   int8 px, py;
 } clr_items8;
 
-inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_item_divisors *d,
+static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_item_divisors *d,
                                          int item_count) {
   clr_items8 it;
   uint first = (uint)get_global_id(0) * CLR_LANES;
-  it.item = min(first + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u), (uint)item_count - 1u);
+  /* min with a vector on both sides: Oclgrind mis-evaluates min(uint8, uint). */
+  it.item = min(first + (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u), (uint8)((uint)item_count - 1u));
   uint8 pixel = clr_mul_shift8(it.item, d->sample_magic, d->sample_shift); /* divisors */
   uint8 row = clr_mul_shift8(pixel, d->width_magic, d->width_shift);
   it.sample = (uint)p->first_sample + it.item - pixel * (uint)p->sample_count;
@@ -81,7 +86,7 @@ CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_p
 }
 
 /* Sample numbers s * scale + offset of an index slot. */
-inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
+static inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
   return sample * (uint)ip.scale + (uint)ip.offset;
 }
 
@@ -89,7 +94,7 @@ inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
 /* Same over the 64-bit VdC columns (clr_sobol_xor_columns64) taken mod 2^32: AND, XOR and left
  * shifts commute with that, so the low 32 index bits are exact, and those are all the bits (the
  * columns of row m - 1 are below 2^2m, and indices below 2^32). */
-inline uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *cols, int count) {
+CLR_SIMD_INLINE uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *cols, int count) {
   uint8 v = (uint8)0u;
   CLR_UNROLL
   for (int i = 0; i < count; ++i) v ^= (uint8)(uint)cols[i] & (0u - ((bits >> (uint)i) & 1u));
@@ -98,9 +103,13 @@ inline uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *cols, int co
 
 /* clr_sobol_interval_to_index for sample numbers below 2^CLR_SOBOL_FRAME_BITS: higher frame
  * bits are zero and the pixel bits b span 2m. */
-inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulong *vdc,
+static inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulong *vdc,
                               __global const ulong *vdc_inv) {
 #if CLR_SOBOL_M == 0
+  (void)px;
+  (void)py;
+  (void)vdc;
+  (void)vdc_inv;
   return frame;
 #else
   const uint row = (CLR_SOBOL_M - 1) * CLR_SOBOL_MATRIX_SIZE;
@@ -163,7 +172,7 @@ CLR_SIMD_INLINE float8 clr_gather_f32(__global const float *t, uint8 i) {
 }
 
 /* v / 3^n (clr_halton_div_pow3). */
-inline uint8 clr_halton_div_pow3x8(uint8 v, int n) {
+static inline uint8 clr_halton_div_pow3x8(uint8 v, int n) {
   CLR_UNROLL
   for (int i = 0; i < 5; ++i)
     if (i < n) v = v / 3u;
@@ -227,7 +236,7 @@ CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_
 }
 
 /* clr_halton_sampler_index for indices below 2^32. */
-inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number) {
+static inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number) {
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
   uint stride = (uint)p->halton_stride;
   int exponent1 = p->halton_exponent[1];
@@ -250,7 +259,7 @@ inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, ui
 }
 
 /* clr_halton_sampler_value for indices below 2^32. */
-inline float8 clr_halton_value8(const clr_sampler_params *p,
+static inline float8 clr_halton_value8(const clr_sampler_params *p,
                                 __global const clr_halton_prime *primes,
                                 __global const ushort *perms, uint8 index, int dim, int chunks,
                                 int reversed32) {

@@ -10,7 +10,7 @@
 /* Everything is inlined into the kernel: PoCL can vectorise a work-group loop only when its body
  * has no calls and no loops left after unrolling (define CLR_HALTON_INDEX32 for that). */
 #if CLR_DEVICE
-#define CLR_HALTON_INLINE inline __attribute__((always_inline))
+#define CLR_HALTON_INLINE static inline __attribute__((always_inline))
 #else
 #define CLR_HALTON_INLINE CLR_INLINE
 #endif
@@ -68,13 +68,31 @@ CLR_HALTON_INLINE clr_u32 clr_halton_div32(clr_u32 n, clr_u32 magic, clr_u32 shi
   return (t + ((n - t) >> 1u)) >> shift;
 }
 
+/* Bit i of the result is bit 31 - i of n. Written nibble by nibble through a table held in a
+ * constant (rev4(x) = rev4(x & 7) | x >> 3, and rev4 of 0..7 are the nibbles of 0xE6A2C480):
+ * shift-and-mask code is the idiom compilers turn into the llvm.bitreverse intrinsic, which not
+ * every OpenCL implementation can run (Oclgrind cannot), while variable shifts stay plain. */
+#define CLR_REV3_NIBBLES 0xE6A2C480u
+CLR_HALTON_INLINE clr_u32 clr_reverse_nibble(clr_u32 x) {
+  return ((CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | ((x >> 3u) & 1u);
+}
+
+/* One serial chain (r shifted each step): no OR-reduction tree for the SLP vectoriser to turn
+ * into llvm.vector.reduce.or, which Oclgrind cannot run either. */
 CLR_HALTON_INLINE clr_u32 clr_reverse_bits32(clr_u32 n) {
-  n = (n << 16u) | (n >> 16u);
-  n = ((n & 0x00ff00ffu) << 8u) | ((n & 0xff00ff00u) >> 8u);
-  n = ((n & 0x0f0f0f0fu) << 4u) | ((n & 0xf0f0f0f0u) >> 4u);
-  n = ((n & 0x33333333u) << 2u) | ((n & 0xccccccccu) >> 2u);
-  n = ((n & 0x55555555u) << 1u) | ((n & 0xaaaaaaaau) >> 1u);
-  return n;
+  clr_u32 r = 0u;
+  for (clr_u32 i = 0u; i < 8u; ++i) {
+    r = (r << 4u) | clr_reverse_nibble(n & 15u);
+    n >>= 4u;
+  }
+  return r;
+}
+
+/* a > b ? a - b : 0 for a, b < 2^31, in signed arithmetic: the unsigned form is the idiom
+ * compilers turn into llvm.usub.sat, which Oclgrind cannot run. */
+CLR_HALTON_INLINE clr_u32 clr_halton_excess(clr_u32 a, clr_u32 b) {
+  clr_i32 d = (clr_i32)a - (clr_i32)b;
+  return (clr_u32)(d > 0 ? d : 0);
 }
 
 CLR_HALTON_INLINE clr_u64 clr_reverse_bits64(clr_u64 n) {
@@ -99,10 +117,10 @@ CLR_HALTON_INLINE float clr_radical_inverse_base2(clr_u64 a) {
     return (float)clr_reverse_bits32((clr_u32)a) * 0x1p-32f;
   clr_u64 v = clr_reverse_bits64(a);
   clr_u32 bits = 64u - clr_halton_clz64(v);
-  clr_u32 shift53 = bits > 53u ? bits - 53u : 0u;
+  clr_u32 shift53 = clr_halton_excess(bits, 53u);
   clr_u64 q53 = clr_halton_round_shift(v, shift53); /* the double is q53 * 2^shift53 */
   clr_u32 bits53 = bits > 53u ? 53u : bits;          /* q53 == 2^53 after a carry rounds exactly */
-  clr_u32 shift24 = bits53 > 24u ? bits53 - 24u : 0u;
+  clr_u32 shift24 = clr_halton_excess(bits53, 24u);
   clr_u32 q24 = (clr_u32)clr_halton_round_shift(q53, shift24); /* <= 2^24: exact in float */
   clr_u32 exponent = shift53 + shift24;                         /* value = q24 * 2^(exponent-64) */
   return (float)q24 * clr_as_float((127u + exponent - 64u) << 23u);

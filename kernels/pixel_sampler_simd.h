@@ -14,7 +14,7 @@
 #define CLR_PIXEL_LANES 8
 
 /* Small hot functions stay in registers only when inlined. */
-#define CLR_LANE_INLINE inline __attribute__((always_inline))
+#define CLR_LANE_INLINE static inline __attribute__((always_inline))
 
 /* 8 PCG32 generators, 64-bit state in two halves of 4 lanes (AVX2-sized vectors). */
 typedef struct clr_pcg32x8 {
@@ -30,7 +30,9 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
   uint8 xorshifted = (uint8)(convert_uint4(((lo >> (ulong)18) ^ lo) >> (ulong)27),
                              convert_uint4(((hi >> (ulong)18) ^ hi) >> (ulong)27));
   uint8 rot = (uint8)(convert_uint4(lo >> (ulong)59), convert_uint4(hi >> (ulong)59));
-  return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+  /* Right rotation by rot, as OpenCL's rotate (left by -rot mod 32): the shift-or idiom becomes
+   * llvm.fshr on vectors, which Oclgrind cannot run. */
+  return rotate(xorshifted, (0u - rot) & 31u);
 }
 
 CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
@@ -122,7 +124,7 @@ CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, 
 }
 
 /* clr_shuffle of `count` items of `dims` floats in scratch. */
-inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng,
+static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng,
                          __global const uint4 *bounded) {
   for (int i = 0; i < count; ++i) {
     uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
@@ -135,12 +137,12 @@ inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *
   }
 }
 
-inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng, __global const uint4 *bounded) {
   for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
 }
 
 /* clr_stratified_sample_1d into scratch rows 0..n-1. */
-inline void clr_stratified_sample_1d8(__global float *buf, int n, float inv_n, int jitter,
+static inline void clr_stratified_sample_1d8(__global float *buf, int n, float inv_n, int jitter,
                                       clr_pcg32x8 *rng) {
   for (int i = 0; i < n; ++i) {
     float8 delta = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
@@ -149,7 +151,7 @@ inline void clr_stratified_sample_1d8(__global float *buf, int n, float inv_n, i
 }
 
 /* clr_stratified_sample_2d into scratch rows 0..2n-1. */
-inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float inv_nx,
+static inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float inv_nx,
                                       float inv_ny, int jitter, clr_pcg32x8 *rng) {
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) {
@@ -162,7 +164,7 @@ inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float
 }
 
 /* clr_latin_hypercube_2d into scratch rows 0..2n-1. */
-inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr_pcg32x8 *rng,
+static inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr_pcg32x8 *rng,
                                     __global const uint4 *bounded) {
   for (int i = 0; i < 2 * n; ++i)
     vstore8(clr_below_one_x8(((float)(i >> 1) + clr_pcg32x8_float(rng)) * inv_n), i, buf);
@@ -176,14 +178,14 @@ inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr
     }
 }
 
-inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+static inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng, __global const uint4 *bounded) {
   clr_pcg32x8_advance(rng, 2u * (ulong)n);
   clr_shuffle_draws8(n, rng, bounded);
   clr_shuffle_draws8(n, rng, bounded);
 }
 
 /* clr_stratified_streams: a used stream's points go straight from scratch to every slot fed. */
-inline void clr_stratified_streams8(const clr_sampler_params *p, __global const clr_request_slot *slots,
+static inline void clr_stratified_streams8(const clr_sampler_params *p, __global const clr_request_slot *slots,
                                     int dims, clr_pcg32x8 *rng, __global float *values,
                                     const ulong *out, __global float *buf,
                                     __global const uint4 *bounded) {
@@ -212,7 +214,7 @@ inline void clr_stratified_streams8(const clr_sampler_params *p, __global const 
 }
 
 /* clr_stratified_arrays. */
-inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const clr_request_slot *slots,
+static inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const clr_request_slot *slots,
                                    int dims, clr_pcg32x8 *rng, __global float *values,
                                    const ulong *out, __global float *buf,
                                    __global const uint4 *bounded) {
@@ -250,7 +252,7 @@ inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const c
 
 /* clr_pixel_store_fallbacks: the single values past the streams, drawn in order (their
  * rng_offsets number the fallback_draws_per_sample draws of a sample in slot order). */
-inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
+static inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
                                        __global const clr_request_slot *slots, clr_pcg32x8 rng,
                                        __global float *values, const ulong *out) {
   if (p->fallback_draws_per_sample == 0) return;
@@ -267,7 +269,7 @@ inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
 }
 
 /* clr_random_array. */
-inline void clr_random_array8(const clr_sampler_params *p, __global const clr_request_slot *slots,
+static inline void clr_random_array8(const clr_sampler_params *p, __global const clr_request_slot *slots,
                               int dims, int source, clr_pcg32x8 *rng, __global float *values,
                               const ulong *out) {
   int size = clr_slots_array_size(p, slots, dims, source);
@@ -286,7 +288,7 @@ inline void clr_random_array8(const clr_sampler_params *p, __global const clr_re
 }
 
 /* StartPixel of p->type for the 8 lanes, then the fallback values. */
-inline void clr_pixel_sampler_start_pixel8(const clr_sampler_params *p,
+static inline void clr_pixel_sampler_start_pixel8(const clr_sampler_params *p,
                                            __global const clr_request_slot *slots,
                                            clr_pcg32x8 *rng, __global float *values,
                                            const ulong *out, __global float *buf,

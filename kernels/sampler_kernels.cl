@@ -1,6 +1,11 @@
 /* Sample-vector generation kernels for every sampler family; the same math runs on the host as
  * the reference. Built per sampler with -DCLR_SAMPLER_TYPE=n (only that family's kernels) and the
- * family's specialisation defines (see sampler_defines() in host/lib/sampler.c). */
+ * family's specialisation defines (see host/lib/sampling/sampler_device.c).
+ *
+ * Two shapes (include/clrender/kernels.h): by default the SIMD kernels (8 items or pixels per
+ * work-item in vector types, for PoCL's CPU devices); with -DCLR_KERNELS_PORTABLE the portable
+ * ones (one work-item per sample vector or pixel, the scalar functions the host reference runs,
+ * no vector types). The pbrt-v3-seeded pixel samplers replay a tile sequentially in both. */
 #include "sampler_types.h"
 #include "global_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
@@ -9,7 +14,29 @@
 #define CLR_SAMPLER_TYPE CLR_SAMPLER_TYPE_SOBOL
 #endif
 
-#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON
+#if (CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON) && \
+    defined(CLR_KERNELS_PORTABLE)
+/* One work-item per batch item: its sample vector and global index. sobol32: the generator
+ * matrices as columns (sobol); vdc, vdc_inv: the VdC tables (sobol); primes, perms: the halton
+ * records and permutations. The other family's tables are unused (may be NULL). */
+__kernel void clr_global_generate_portable(clr_sampler_params p,
+                                           __global const clr_request_slot *restrict slots,
+                                           __global const uint *restrict sobol32,
+                                           __global const ulong *restrict vdc,
+                                           __global const ulong *restrict vdc_inv,
+                                           __global const clr_halton_prime *restrict primes,
+                                           __global const ushort *restrict perms,
+                                           __global float *restrict values,
+                                           __global ulong *restrict indices_out, int write_indices,
+                                           int item_count) {
+  const int item = (int)get_global_id(0);
+  if (item >= item_count) return;
+  ulong index = 0;
+  clr_global_sample_vector(&p, slots, sobol32, vdc, vdc_inv, primes, perms, item,
+                           values + (size_t)item * (size_t)p.values_per_sample, &index);
+  if (write_indices) indices_out[item] = index;
+}
+#elif CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON
 #include "global_sampler_simd.h"
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL
@@ -45,6 +72,9 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
                                   int item_count) {
   clr_items8 it = clr_items_of_work_item(&p, &d, item_count);
   int8 rel_x = it.px - p.sample_x0, rel_y = it.py - p.sample_y0; /* from the sample bounds */
+  (void)rel_x; /* used by sobol's index only */
+  (void)rel_y;
+  (void)t2;
 #ifdef CLR_INDEX32
   uint8 index = clr_index8(clr_sample_numbers8(it.sample, slots[0]));
   if (write_indices) {
@@ -63,8 +93,6 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
     clr_store8(values, it.item, p.values_per_sample, e.value, clr_value8(index, e));
   }
 #else
-  (void)rel_x;
-  (void)rel_y;
   uint items[CLR_LANES], samples[CLR_LANES];
   int pxs[CLR_LANES], pys[CLR_LANES];
   vstore8(it.item, 0, items);
@@ -90,7 +118,23 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
 }
 #endif
 
-#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
+#if (CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED) && defined(CLR_KERNELS_PORTABLE)
+/* CLR_SEEDING_TYPE_PIXEL: one work-item per pixel of the batch, its own RNG stream and
+ * p.scratch_floats of scratch. */
+__kernel void clr_pixel_generate_portable(clr_sampler_params p,
+                                          __global const clr_request_slot *restrict slots,
+                                          __global float *restrict values,
+                                          __global float *restrict scratch, int pixel_count) {
+  const int pixel = (int)get_global_id(0);
+  if (pixel >= pixel_count) return;
+  const int row = pixel / p.batch_width;
+  const size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
+  clr_pixel_sampler_pixel(&p, slots, p.batch_x0 + (pixel - row * p.batch_width), p.batch_y0 + row,
+                          values + (size_t)pixel * per_pixel,
+                          scratch + (size_t)pixel * (size_t)p.scratch_floats);
+}
+#elif CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
 #include "pixel_sampler_simd.h"
 
 /* CLR_SEEDING_TYPE_PIXEL: one work-item per 8 pixels of the batch (past the end the last pixel
@@ -120,6 +164,9 @@ __kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_reques
                                  bounded);
 }
 
+#endif
+
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
 /* CLR_SEEDING_TYPE_PBRT_V3: one work-item per pbrt-v3 16x16 tile touching the batch. */
 __kernel void clr_generate_tiles(clr_sampler_params p, __global const clr_request_slot *restrict slots,
                                  __global float *restrict values, __global float *restrict scratch,

@@ -7,6 +7,8 @@ packages=(
   libembree-dev libopenexr-dev libcmocka-dev libpng-dev
   openexr  # exrheader/exrmaketiled: independent EXR readers used by tests/test_image_io.c
   clang libclang-rt-14-dev  # libFuzzer + sanitizer runtimes: the fuzz targets (scripts/fuzz.sh)
+  oclgrind  # second OpenCL implementation of tests/test_devices.c (registered privately there)
+  clang-15  # tests/test_kernel_portability.c: kernels compiled for spir64, nvptx64 and amdgcn
 )
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

@@ -28,11 +28,24 @@ int cli_devices(int argc, char **argv) {
     clr_context_release(ctx);
   }
   for (int i = 0; i < count && i < 64; ++i) {
-    printf("%c %d  %s: %s  [%s, %u compute units, %.1f GiB, %s, driver %s]\n",
+    /* The kernel shape a context on this device uses (or why it cannot be used). */
+    char index[16], shape[160];
+    snprintf(index, sizeof index, "%d", i);
+    clr_context_desc cd;
+    clr_context_desc_init(&cd);
+    cd.device = index;
+    clr_context dc = NULL;
+    if (clr_context_create(&cd, &dc) == CLR_SUCCESS)
+      snprintf(shape, sizeof shape, "kernels %s",
+               clr_kernel_shape_name(clr_context_kernel_shape(dc)));
+    else
+      snprintf(shape, sizeof shape, "unusable: %s", clr_last_error_message());
+    clr_context_release(dc);
+    printf("%c %d  %s: %s  [%s, %u compute units, %.1f GiB, %s, driver %s, %s]\n",
            i == chosen ? '*' : ' ', infos[i].index, infos[i].platform_name, infos[i].device_name,
            infos[i].is_gpu ? "GPU" : "CPU", infos[i].compute_units,
            (double)infos[i].global_memory_bytes / (1024.0 * 1024.0 * 1024.0),
-           infos[i].device_version, infos[i].driver_version);
+           infos[i].device_version, infos[i].driver_version, shape);
   }
   printf("(* = default; choose with --device INDEX|NAME or CLRENDER_DEVICE)\n");
   return 0;

@@ -35,6 +35,8 @@ static void usage(FILE *f) {
           "  --seeding pbrt-v3|pixel sample stream seeding (default pixel: crops render exactly\n"
           "                          the samples of the full frame; pbrt-v3: per-16x16-tile streams)\n"
           "  --device D              OpenCL device index or name (see clrender devices)\n"
+          "  --kernels SHAPE         simd | portable | auto (default auto: simd on PoCL CPU\n"
+          "                          devices, portable elsewhere; same image either way)\n"
           "  --sampler NAME          random, stratified, halton, sobol\n"
           "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
           "                          catmullrom (default parameters)\n"
@@ -99,6 +101,11 @@ int cli_render(int argc, char **argv) {
     } else if (strcmp(a, "--device") == 0) {
       NEED(1);
       o.device = argv[++i];
+    } else if (strcmp(a, "--kernels") == 0) {
+      NEED(1);
+      o.kernels = argv[++i];
+      clr_kernel_shape shape;
+      if (clr_kernel_shape_from_name(o.kernels, &shape) != CLR_SUCCESS) goto bad;
     } else if (strcmp(a, "--sampler") == 0) {
       NEED(1);
       o.sampler = argv[++i];

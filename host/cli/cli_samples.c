@@ -28,6 +28,7 @@ static void samples_usage(FILE *f) {
       "  --seeding MODE        pixel (default; tiling-independent) | pbrt-v3\n"
       "  --seed N              seed mixed into per-pixel streams (default 0)\n"
       "  --device D            OpenCL device index or name substring\n"
+      "  --kernels SHAPE       simd | portable | auto (default auto; same values either way)\n"
       "  --reference           compute on the host reference instead of the device\n"
       "  --plot FILE.png       draw the pixels' samples in projection --proj instead of CSV\n"
       "  --proj i,j            value indices to plot (default 0,1)\n");
@@ -38,7 +39,7 @@ typedef struct samples_options {
   clr_sample_request requests[CLR_MAX_REQUESTS];
   int32_t request_count;
   clr_bounds2i pixels;
-  const char *device, *plot;
+  const char *device, *plot, *kernels;
   int32_t proj[2];
   int reference, spp_set;
   int32_t spp;
@@ -158,6 +159,10 @@ static int parse_samples_args(int argc, char **argv, samples_options *o, const c
       o->desc.seed = (uint32_t)seed;
     } else if (strcmp(f, "--device") == 0) {
       o->device = val;
+    } else if (strcmp(f, "--kernels") == 0) {
+      clr_kernel_shape shape;
+      if (clr_kernel_shape_from_name(val, &shape) != CLR_SUCCESS) return bad_value(f, val);
+      o->kernels = val;
     } else if (strcmp(f, "--plot") == 0) {
       o->plot = val;
     } else if (strcmp(f, "--proj") == 0) {
@@ -236,6 +241,12 @@ int cli_samples(int argc, char **argv) {
     clr_context_desc_init(&cd);
     cd.device = o.device;
     if (clr_context_create(&cd, &ctx) != CLR_SUCCESS) return fail("cannot open the OpenCL device");
+    clr_kernel_shape shape = CLR_KERNELS_AUTO;
+    if (o.kernels && (clr_kernel_shape_from_name(o.kernels, &shape) != CLR_SUCCESS ||
+                      clr_context_set_kernel_shape(ctx, shape) != CLR_SUCCESS)) {
+      clr_context_release(ctx);
+      return fail("cannot choose the kernel shape");
+    }
   }
   clr_sampler sampler = NULL;
   if (clr_sampler_create(ctx, &o.desc, &sampler) != CLR_SUCCESS) {

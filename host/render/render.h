@@ -38,6 +38,8 @@ typedef struct clr_render_options {
   void *progress_user;
   int32_t reference_samples; /* 1: samples from the single-thread host reference generator
                                 (the device's bits, slower: for comparisons) */
+  const char *kernels;     /* kernel shape: "simd", "portable" or NULL/"auto" (the device's
+                              default or CLRENDER_KERNELS; see clrender/kernels.h) */
 } clr_render_options;
 
 typedef struct clr_render_stats {

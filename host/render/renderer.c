@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include "render_error.h"
 #include "clrender/film.h"
+#include "clrender/kernels.h"
 #include "integrator.h"
 #include "pcg32.h"
 #include "render_scene.h"
@@ -606,6 +607,11 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_context_desc_init(&cdesc);
   cdesc.device = o->device;
   r = clr_context_create(&cdesc, &ctx);
+  if (r == CLR_SUCCESS && o->kernels) {
+    clr_kernel_shape shape;
+    r = clr_kernel_shape_from_name(o->kernels, &shape);
+    if (r == CLR_SUCCESS) r = clr_context_set_kernel_shape(ctx, shape);
+  }
   if (r == CLR_SUCCESS) {
     clr_film_desc fd;
     clr_film_desc_init(&fd);

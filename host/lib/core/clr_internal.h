@@ -60,4 +60,18 @@ clr_result clr_context_kernel(clr_context ctx, const char *program_name, const c
 clr_result clr_context_shared_buffer(clr_context ctx, const char *key, const void *data,
                                      size_t bytes, cl_mem *buffer);
 
+/* Whether this context launches the portable kernels (else the SIMD ones); see kernels.h. */
+int clr_context_portable(clr_context ctx);
+/* CL_DEVICE_LOCAL_MEM_SIZE of the context's device. */
+cl_ulong clr_context_local_mem(clr_context ctx);
+/* A work-group size for `kernel` on the context's device: `wanted` capped by the device's and the
+ * kernel's limits (CL_DEVICE_MAX_WORK_GROUP_SIZE, CL_DEVICE_MAX_WORK_ITEM_SIZES[0],
+ * CL_KERNEL_WORK_GROUP_SIZE), rounded down to CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE when
+ * larger than it; at least 1. */
+size_t clr_context_group_size(clr_context ctx, cl_kernel kernel, size_t wanted);
+/* Enqueues `items` work-items of a 1D kernel in groups of clr_context_group_size(wanted_group),
+ * padded to whole groups (kernels clamp or skip ids past `items`). */
+clr_result clr_context_launch(clr_context ctx, cl_kernel kernel, size_t items, size_t wanted_group,
+                              const char *name);
+
 #endif

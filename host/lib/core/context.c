@@ -9,6 +9,7 @@
 #include <string.h>
 #include "clr_internal.h"
 #include "embedded_kernels.h"
+#include "clrender/kernels.h"
 
 #define MAX_PROGRAMS 64
 #define MAX_SHARED 16
@@ -34,6 +35,10 @@ struct clr_context_t {
   char device_name[300];
   int is_gpu;
   int correctly_rounded_divide;
+  clr_kernel_shape default_shape; /* the device's (or CLRENDER_KERNELS's) shape */
+  _Atomic int shape;              /* the shape in use */
+  size_t max_group;               /* CL_DEVICE_MAX_WORK_GROUP_SIZE, capped by item sizes[0] */
+  cl_ulong local_mem;             /* CL_DEVICE_LOCAL_MEM_SIZE */
   clr_error_callback callback;
   void *callback_user;
   pthread_mutex_t lock;
@@ -182,6 +187,77 @@ static clr_result choose_device(const char *selector, const device_entry *entrie
   return CLR_SUCCESS;
 }
 
+static int has_word(const char *list, const char *word) {
+  size_t n = strlen(word);
+  for (const char *at = strstr(list, word); at; at = strstr(at + 1, word))
+    if ((at == list || at[-1] == ' ') && (at[n] == ' ' || at[n] == 0)) return 1;
+  return 0;
+}
+
+/* Kernel shape named by CLRENDER_KERNELS, or the device's: SIMD on PoCL's CPU devices (whose
+ * vectoriser the SIMD kernels are written for), portable everywhere else. */
+static clr_result default_kernel_shape(const device_entry *e, cl_device_type type,
+                                       clr_kernel_shape *shape) {
+  const char *env = getenv("CLRENDER_KERNELS");
+  *shape = CLR_KERNELS_AUTO;
+  if (env && *env) {
+    if (clr_kernel_shape_from_name(env, shape) != CLR_SUCCESS)
+      return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                      "CLRENDER_KERNELS=%s: expected simd, portable or auto", env);
+  }
+  if (*shape == CLR_KERNELS_AUTO)
+    *shape = (contains_nocase(e->info.platform_name, "Portable Computing Language") &&
+              (type & CL_DEVICE_TYPE_CPU))
+                 ? CLR_KERNELS_SIMD
+                 : CLR_KERNELS_PORTABLE;
+  return CLR_SUCCESS;
+}
+
+/* What the kernels need from a device, and the limits launches obey. The kernels use no double
+ * (devices without cl_khr_fp64 run them) but do use 64-bit integers, which the embedded profile
+ * makes optional (cles_khr_int64). */
+static clr_result query_device(clr_context ctx, const device_entry *e) {
+  char profile[64] = "", extensions[8192] = "";
+  cl_device_type type = 0;
+  size_t items[3] = {0, 0, 0}, max_group = 0;
+  cl_uint dims = 0;
+  cl_bool available = CL_TRUE, compiler = CL_TRUE;
+  CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_PROFILE, sizeof profile - 1, profile,
+                                     NULL));
+  if (clGetDeviceInfo(ctx->device, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions,
+                      NULL) != CL_SUCCESS)
+    extensions[0] = 0;
+  CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_TYPE, sizeof type, &type, NULL));
+  CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group,
+                                     &max_group, NULL));
+  CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_MAX_WORK_ITEM_DIMENSIONS, sizeof dims,
+                                     &dims, NULL));
+  if (dims >= 1 && dims <= 3)
+    CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_MAX_WORK_ITEM_SIZES,
+                                       sizeof(size_t) * dims, items, NULL));
+  CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_LOCAL_MEM_SIZE, sizeof ctx->local_mem,
+                                     &ctx->local_mem, NULL));
+  clGetDeviceInfo(ctx->device, CL_DEVICE_AVAILABLE, sizeof available, &available, NULL);
+  clGetDeviceInfo(ctx->device, CL_DEVICE_COMPILER_AVAILABLE, sizeof compiler, &compiler, NULL);
+  if (!available)
+    return clr_fail(NULL, CLR_ERROR_NO_DEVICE, "%s: the device is not available",
+                    ctx->device_name);
+  if (!compiler)
+    return clr_fail(NULL, CLR_ERROR_NO_DEVICE,
+                    "%s: the device has no OpenCL C compiler (the kernels are built from source)",
+                    ctx->device_name);
+  if (strstr(profile, "EMBEDDED") && !has_word(extensions, "cles_khr_int64"))
+    return clr_fail(NULL, CLR_ERROR_NO_DEVICE,
+                    "%s: EMBEDDED_PROFILE device without cles_khr_int64: the kernels need 64-bit "
+                    "integers (long, ulong)",
+                    ctx->device_name);
+  if (items[0] && items[0] < max_group) max_group = items[0];
+  ctx->max_group = max_group ? max_group : 1;
+  CLR_CHECK(default_kernel_shape(e, type, &ctx->default_shape));
+  atomic_init(&ctx->shape, (int)ctx->default_shape);
+  return CLR_SUCCESS;
+}
+
 clr_result clr_context_create(const clr_context_desc *desc, clr_context *out) {
   clr_clear_error();
   if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_context_create: out is NULL");
@@ -215,6 +291,11 @@ clr_result clr_context_create(const clr_context_desc *desc, clr_context *out) {
   cl_device_fp_config fp = 0;
   if (clGetDeviceInfo(ctx->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL) == CL_SUCCESS)
     ctx->correctly_rounded_divide = (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
+  clr_result dr = query_device(ctx, &entries[chosen]);
+  if (dr != CLR_SUCCESS) {
+    clr_context_release(ctx);
+    return dr;
+  }
 
   cl_int err = CL_SUCCESS;
   cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)ctx->platform, 0};
@@ -256,6 +337,74 @@ int clr_context_device_is_gpu(clr_context ctx) { return ctx ? ctx->is_gpu : 0; }
 cl_context clr_context_cl_context(clr_context ctx) { return ctx ? ctx->cl : NULL; }
 cl_command_queue clr_context_cl_queue(clr_context ctx) { return ctx ? ctx->queue : NULL; }
 cl_device_id clr_context_cl_device(clr_context ctx) { return ctx ? ctx->device : NULL; }
+
+clr_result clr_kernel_shape_from_name(const char *name, clr_kernel_shape *out) {
+  if (!name || !out)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_kernel_shape_from_name: NULL argument");
+  static const char *const names[] = {"auto", "simd", "portable"};
+  for (int i = 0; i < 3; ++i)
+    if (strlen(name) == strlen(names[i]) && contains_nocase(name, names[i])) {
+      *out = (clr_kernel_shape)i;
+      return CLR_SUCCESS;
+    }
+  return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                  "unknown kernel shape \"%s\" (expected simd, portable or auto)", name);
+}
+
+const char *clr_kernel_shape_name(clr_kernel_shape shape) {
+  switch (shape) {
+    case CLR_KERNELS_AUTO: return "auto";
+    case CLR_KERNELS_SIMD: return "simd";
+    case CLR_KERNELS_PORTABLE: return "portable";
+  }
+  return "unknown";
+}
+
+clr_result clr_context_set_kernel_shape(clr_context ctx, clr_kernel_shape shape) {
+  if (!ctx) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_context_set_kernel_shape: ctx is NULL");
+  if (shape != CLR_KERNELS_AUTO && shape != CLR_KERNELS_SIMD && shape != CLR_KERNELS_PORTABLE)
+    return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT, "clr_context_set_kernel_shape: bad shape %d",
+                    (int)shape);
+  atomic_store(&ctx->shape, (int)(shape == CLR_KERNELS_AUTO ? ctx->default_shape : shape));
+  return CLR_SUCCESS;
+}
+
+clr_kernel_shape clr_context_kernel_shape(clr_context ctx) {
+  return ctx ? (clr_kernel_shape)atomic_load(&ctx->shape) : CLR_KERNELS_PORTABLE;
+}
+
+int clr_context_portable(clr_context ctx) {
+  return clr_context_kernel_shape(ctx) == CLR_KERNELS_PORTABLE;
+}
+
+cl_ulong clr_context_local_mem(clr_context ctx) { return ctx ? ctx->local_mem : 0; }
+
+size_t clr_context_group_size(clr_context ctx, cl_kernel kernel, size_t wanted) {
+  size_t g = wanted ? wanted : 1, kmax = 0, multiple = 0;
+  if (g > ctx->max_group) g = ctx->max_group;
+  if (clGetKernelWorkGroupInfo(kernel, ctx->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax,
+                               NULL) == CL_SUCCESS &&
+      kmax && g > kmax)
+    g = kmax;
+  if (clGetKernelWorkGroupInfo(kernel, ctx->device, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE,
+                               sizeof multiple, &multiple, NULL) == CL_SUCCESS &&
+      multiple > 1 && g > multiple)
+    g = g / multiple * multiple;
+  return g ? g : 1;
+}
+
+clr_result clr_context_launch(clr_context ctx, cl_kernel kernel, size_t items, size_t wanted_group,
+                              const char *name) {
+  if (items == 0) return CLR_SUCCESS;
+  size_t local = clr_context_group_size(ctx, kernel, wanted_group);
+  size_t global = (items + local - 1) / local * local;
+  cl_int err = clEnqueueNDRangeKernel(ctx->queue, kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+  if (err != CL_SUCCESS)
+    return clr_fail(ctx, CLR_ERROR_OPENCL,
+                    "clEnqueueNDRangeKernel(%s, %zu work-items, groups of %zu) failed on %s: %s (%d)",
+                    name, items, local, ctx->device_name, clr_cl_error_name(err), (int)err);
+  return CLR_SUCCESS;
+}
 
 static const clr_embedded_kernel *find_embedded(const char *name) {
   for (int i = 0; i < clr_embedded_kernel_count; ++i)

@@ -307,19 +307,9 @@ static clr_result ensure_kernel(clr_film film) {
   if (d->kernel) return CLR_SUCCESS;
   cl_kernel k = NULL;
   CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather", &k));
-  cl_device_id dev = clr_context_cl_device(film->ctx);
-  size_t kmax = 0, dmax = 0;
-  cl_int err = clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax, NULL);
-  if (err == CL_SUCCESS)
-    err = clGetDeviceInfo(dev, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof dmax, &dmax, NULL);
-  if (err != CL_SUCCESS) {
-    clReleaseKernel(k);
-    return clr_fail(film->ctx, CLR_ERROR_OPENCL, "film: work-group size query failed: %s (%d)",
-                    clr_cl_error_name(err), (int)err);
-  }
-  size_t g = 8; /* work-items (runs of pixels) per group */
-  if (g > kmax) g = kmax;
-  if (g > dmax) g = dmax;
+  /* Work-items (runs of pixels) per group: 8 on the SIMD shape's CPU devices, a warp or more
+   * otherwise; within the device's and the kernel's limits either way. */
+  size_t g = clr_context_group_size(film->ctx, k, clr_context_portable(film->ctx) ? 64 : 8);
   cl_kernel weigh = NULL;
   clr_result r = clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_weigh", &weigh);
   if (r == CLR_SUCCESS && !d->table) r = upload_table(film);
@@ -360,7 +350,6 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
 /* Runs the weigh kernel over the chunk's binned samples. */
 static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   clr_film_device *d = &film->dev;
-  cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t bytes = binned * (size_t)g->weighed_floats * sizeof(float);
   CLR_CHECK(ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE,
                           "weighed"));
@@ -372,8 +361,30 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->binned));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof n, &n));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weighed));
-  size_t local = 64, global = (binned + local - 1) / local * local;
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 1, NULL, &global, &local, 0, NULL, NULL));
+  return clr_context_launch(film->ctx, k, binned, 64, "clr_film_weigh");
+}
+
+/* The portable shape's gather: one work-item per output pixel (clr_film_gather_pixels), 2D
+ * work-groups of the device's size (a warp or more where the device allows it). Enqueues it only;
+ * gather() reads the sums back as for the run kernel. */
+static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
+  clr_film_device *d = &film->dev;
+  if (!d->pixel_gather)
+    CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather_pixels",
+                                 &d->pixel_gather));
+  cl_kernel k = d->pixel_gather;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof(cl_mem), &d->weighed));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->sums));
+  size_t group = film->group_size_override ? film->group_size_override
+                                           : clr_context_group_size(film->ctx, k, 64);
+  size_t local[2] = {group < 32 ? group : 32, 1};
+  if (!film->group_size_override) local[1] = group / local[0];
+  size_t global[2] = {((size_t)g->out_w + local[0] - 1) / local[0] * local[0],
+                      ((size_t)g->out_h + local[1] - 1) / local[1] * local[1]};
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
+                                                 global, local, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
@@ -394,7 +405,10 @@ static clr_result gather(clr_film film, const clr_film_grid *g, clr_film_chunk_s
   size_t runs = ((size_t)g->out_w + tile - 1) / tile;
   size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
   size_t local[2] = {group, 1};
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
+  if (clr_context_portable(film->ctx))
+    CLR_CHECK(enqueue_gather_pixels(film, g));
+  else
+    CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
   cl_int err = CL_SUCCESS;
   float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
@@ -501,6 +515,7 @@ void clr_film_accumulate_release(clr_film film) {
     if (*bufs[i]) clReleaseMemObject(*bufs[i]);
   if (d->kernel) clReleaseKernel(d->kernel);
   if (d->weigh) clReleaseKernel(d->weigh);
+  if (d->pixel_gather) clReleaseKernel(d->pixel_gather);
   clr_film_bins *b = &film->bins;
   free(b->keys);
   free(b->starts);

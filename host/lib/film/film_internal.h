@@ -13,6 +13,7 @@
  * lock). */
 typedef struct clr_film_device {
   cl_kernel kernel, weigh;
+  cl_kernel pixel_gather; /* portable shape's per-pixel gather, made on first use */
   size_t group_size; /* automatic work-group size (runs of pixels) */
   cl_mem table;      /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
   cl_mem binned, weighed, starts, sums;

@@ -13,8 +13,11 @@
 #include "sobol_tables.h"
 
 #define MAX_KERNELS 24
-/* Work-items per work-group. */
+/* Work-items per work-group wanted; the device's and the kernel's limits may lower it
+ * (clr_context_group_size). */
 #define GROUP_SIZE 64
+/* Build define of the portable kernel shape (include/clrender/kernels.h). */
+#define PORTABLE_DEFINE " -DCLR_KERNELS_PORTABLE"
 /* Batch items per work-item of the global samplers (CLR_LANES in global_sampler_simd.h). */
 #define CLR_GLOBAL_LANES 8
 /* Pixels per work-item of the pixel samplers with per-pixel seeding (CLR_PIXEL_LANES in
@@ -128,16 +131,9 @@ static clr_result upload(clr_context ctx, grow_buffer *b, const void *data, size
 
 #define SET_ARG(ctx, k, i, v) CLR_CL_CHECK(ctx, clSetKernelArg(k, i, sizeof(v), &(v)))
 
-/* `items` work-items, padded to whole groups (the kernels clamp their item ids). */
+/* `items` work-items, padded to whole groups (the kernels clamp or skip their item ids). */
 static clr_result launch(clr_context ctx, cl_kernel k, size_t items, const char *name) {
-  if (items == 0) return CLR_SUCCESS;
-  size_t local = GROUP_SIZE, global = (items + GROUP_SIZE - 1) / GROUP_SIZE * GROUP_SIZE;
-  cl_int err = clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, &local, 0,
-                                      NULL, NULL);
-  if (err != CL_SUCCESS)
-    return clr_fail(ctx, CLR_ERROR_OPENCL, "clEnqueueNDRangeKernel(%s, %zu work-items) failed: %s (%d)",
-                    name, items, clr_cl_error_name(err), (int)err);
-  return CLR_SUCCESS;
+  return clr_context_launch(ctx, k, items, GROUP_SIZE, name);
 }
 
 static size_t batch_items(const clr_sampler_params *p) {
@@ -285,9 +281,61 @@ static const clr_u32 *sobol_group_tables(void) {
   return sobol_groups;
 }
 
+/* Portable shape: one work-item per batch item, the host reference's scalar functions. */
+static clr_result run_global_portable(clr_sampler_device *d, const clr_sampler_params *p,
+                                      const clr_request_slot *slots, cl_mem values,
+                                      int write_indices) {
+  clr_context ctx = d->ctx;
+  size_t items = batch_items(p);
+  cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL, perms = NULL;
+  if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
+    CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
+                                        sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
+                                            CLR_SOBOL_MATRIX_SIZE,
+                                        &sobol32));
+    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
+                                        sizeof clr_vdc_sobol_matrices, &vdc));
+    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
+                                        sizeof clr_vdc_sobol_matrices_inv, &vdc_inv));
+  } else {
+    size_t nperm = 0;
+    const clr_u16 *table = clr_halton_permutations(&nperm);
+    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+                                        sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                                        &primes));
+    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_perms", table, sizeof(clr_u16) * nperm,
+                                        &perms));
+  }
+  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
+  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
+                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8,
+                 CL_MEM_READ_WRITE, "sample indices"));
+  char defines[64];
+  snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d" PORTABLE_DEFINE, (int)p->type);
+  const char *name = "clr_global_generate_portable";
+  cl_kernel k;
+  CLR_CHECK(get_kernel(d, name, defines, &k));
+  cl_int count = (cl_int)items, write = write_indices;
+  int a = 0;
+  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, d->slots.mem);
+  SET_ARG(ctx, k, a++, sobol32);
+  SET_ARG(ctx, k, a++, vdc);
+  SET_ARG(ctx, k, a++, vdc_inv);
+  SET_ARG(ctx, k, a++, primes);
+  SET_ARG(ctx, k, a++, perms);
+  SET_ARG(ctx, k, a++, values);
+  SET_ARG(ctx, k, a++, d->indices.mem);
+  SET_ARG(ctx, k, a++, write);
+  SET_ARG(ctx, k, a++, count);
+  return launch(ctx, k, items, name);
+}
+
 static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
                              const clr_request_slot *slots, cl_mem values, int write_indices) {
   clr_context ctx = d->ctx;
+  if (clr_context_portable(ctx)) return run_global_portable(d, p, slots, values, write_indices);
   global_plan g;
   build_global_plan(d, p, slots, &g);
   char defines[224];
@@ -379,22 +427,29 @@ static clr_result upload_bounded_table(clr_sampler_device *d, int most) {
 static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
                             const clr_request_slot *slots, cl_mem values) {
   clr_context ctx = d->ctx;
+  int portable = clr_context_portable(ctx);
   char defines[64];
-  snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d", (int)p->type);
+  snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d%s", (int)p->type,
+           portable ? PORTABLE_DEFINE : "");
   int tiled = p->seeding == CLR_SEEDING_TYPE_PBRT_V3;
-  const char *name = tiled ? "clr_generate_tiles" : "clr_pixel_generate";
+  int lanes = tiled || portable ? 1 : CLR_PIXEL_LANES; /* pixels per work-item */
+  const char *name = tiled      ? "clr_generate_tiles"
+                     : portable ? "clr_pixel_generate_portable"
+                                : "clr_pixel_generate";
   cl_kernel k;
   CLR_CHECK(get_kernel(d, name, defines, &k));
   int tx0 = 0, ty0 = 0, wide = 0, high = 0;
   size_t pixels = (size_t)p->batch_width * (size_t)p->batch_height;
-  /* Work-items: one per tile, or one per 8 pixels, each with its own scratch. */
+  /* Work-items: one per tile, or one per `lanes` pixels, each with its own scratch. */
   size_t items = tiled ? (size_t)pbrt_tiles(p, &tx0, &ty0, &wide, &high)
-                       : (pixels + CLR_PIXEL_LANES - 1) / CLR_PIXEL_LANES;
-  size_t scratch_floats = (size_t)p->scratch_floats * (tiled ? 1 : CLR_PIXEL_LANES);
+                       : (pixels + (size_t)lanes - 1) / (size_t)lanes;
+  size_t scratch_floats = (size_t)p->scratch_floats * (size_t)lanes;
   memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
   CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
                    sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
-  size_t padded = (items + GROUP_SIZE - 1) / GROUP_SIZE * GROUP_SIZE; /* as launch() */
+  /* The SIMD kernel's padding work-items repeat the last pixels with their own scratch. */
+  size_t group = clr_context_group_size(ctx, k, GROUP_SIZE); /* as launch() */
+  size_t padded = tiled || portable ? items : (items + group - 1) / group * group;
   CLR_CHECK(grow(ctx, &d->scratch, padded * scratch_floats * sizeof(float), CL_MEM_READ_WRITE,
                  "sampler scratch"));
   int a = 0;
@@ -402,7 +457,7 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   SET_ARG(ctx, k, a++, d->slots.mem);
   SET_ARG(ctx, k, a++, values);
   SET_ARG(ctx, k, a++, d->scratch.mem);
-  if (!tiled) { /* bounds of UniformUInt32: shuffles of spp points and of array elements */
+  if (!tiled && !portable) { /* bounds of UniformUInt32: shuffles of spp points and arrays */
     CLR_CHECK(upload_bounded_table(d, p->scratch_floats / 2));
     SET_ARG(ctx, k, a++, d->bounded.mem);
   }
