@@ -219,6 +219,7 @@ typedef struct render_job {
   int host_samples; /* options->reference_samples: host reference generator (comparison) */
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
+  clr_bounds2i region; /* the sample pixels rendered (render_region) */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -478,7 +479,8 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
 static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
-  g.bounds = clr_sampler_sample_bounds(sampler);
+  (void)sampler;
+  g.bounds = job->region;
   g.size = o->tile_size > 0 ? o->tile_size : 16;
   g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
   g.nty = (g.bounds.y1 - g.bounds.y0 + g.size - 1) / g.size;
@@ -518,6 +520,33 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   free(job->bands);
   free(threads);
   st->partial = st->tiles_done < g.ntiles;
+  return r;
+}
+
+/* The sample pixels to render. pbrt-v3 renders the crop's sample bounds (GetSampleBounds), which
+ * miss a sample exactly at distance `radius` past the crop's last pixel centre (Halton and Sobol
+ * put every pixel's sample 0 at offset 0; a box filter of radius 0.5 reaches the pixel above it).
+ * With per-pixel seeding the samples of a pixel do not depend on the crop, so a crop renders every
+ * sample pixel whose samples can reach its pixels, [floor(x0 + 0.5 - r), floor(x1 - 0.5 + r) + 1),
+ * clipped to the full frame's sample bounds: exactly the samples the full render filters into the
+ * crop's pixels, and crops merge into the full image. pbrt-v3 seeding keeps pbrt-v3's bounds. */
+static clr_bounds2i render_region(clr_sampler sampler, const clr_sampler_desc *sd) {
+  clr_bounds2i sb = clr_sampler_sample_bounds(sampler);
+  if (sd->seeding == CLR_SEEDING_PBRT_V3) return sb;
+  clr_bounds2i pb = clr_sampler_pixel_bounds(sampler), r;
+  float rx = sd->film.filter_radius[0], ry = sd->film.filter_radius[1];
+  r.x0 = (int32_t)floorf((float)pb.x0 + 0.5f - rx);
+  r.y0 = (int32_t)floorf((float)pb.y0 + 0.5f - ry);
+  r.x1 = (int32_t)floorf((float)pb.x1 - 0.5f + rx) + 1;
+  r.y1 = (int32_t)floorf((float)pb.y1 - 0.5f + ry) + 1;
+  /* the full frame's sample bounds (film_geometry.c's formula over the uncropped pixels) */
+  clr_bounds2i full = {(int32_t)floorf(0.5f - rx), (int32_t)floorf(0.5f - ry),
+                       (int32_t)ceilf((float)sd->film.x_resolution - 0.5f + rx),
+                       (int32_t)ceilf((float)sd->film.y_resolution - 0.5f + ry)};
+  if (r.x0 < full.x0) r.x0 = full.x0;
+  if (r.y0 < full.y0) r.y0 = full.y0;
+  if (r.x1 > full.x1) r.x1 = full.x1;
+  if (r.y1 > full.y1) r.y1 = full.y1;
   return r;
 }
 
@@ -636,6 +665,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0;
+    job.region = render_region(sampler, &sdesc);
     st->spp = job.spp;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));

@@ -1,0 +1,146 @@
+/* Renderer fidelity (issue #11): crops that merge exactly at their seams, spot light falloff,
+ * sphere area lights, rays skipped by the light's own shape, output by extension. */
+#define _GNU_SOURCE
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <cmocka.h>
+#include "clrender.h"
+#include "renderer.h"
+#include "scene_parser.h"
+
+#define PI_D 3.14159265358979323846
+
+static clr_render_image render_opts(const char *text, const clr_render_options *opts,
+                                    clr_render_stats *stats) {
+  clr_scene_desc *desc = NULL;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  assert_int_equal(clr_scene_parse_string(text, "fidelity.pbrt", &po, &desc), CLR_SUCCESS);
+  clr_render_options o;
+  clr_render_options_init(&o);
+  if (opts) o = *opts;
+  o.quiet = 1;
+  clr_render_image im;
+  memset(&im, 0, sizeof im);
+  clr_result r = clr_render_desc(desc, &o, stats, 0, &im);
+  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
+  assert_int_equal(r, CLR_SUCCESS);
+  clr_scene_desc_free(desc);
+  return im;
+}
+
+static double image_mean(const clr_render_image *im) {
+  double s = 0;
+  size_t n = (size_t)im->width * im->height * 3;
+  for (size_t i = 0; i < n; ++i) s += im->rgb[i];
+  return s / (double)n;
+}
+
+/* ---- crops ---- */
+
+/* A small Cornell-like box: area light, walls, a sphere; direct lighting keeps it fast. */
+static const char *crop_box =
+    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+    "Film \"image\" \"integer xresolution\" [24] \"integer yresolution\" [22]\n"
+    "Integrator \"directlighting\"\nWorldBegin\n"
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
+    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
+    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Material \"matte\" \"rgb Kd\" [0.1 0.6 0.2]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+    "\"point P\" [0 0 0  0 548 0  0 548 559  0 0 559]\n"
+    "AttributeBegin\nTranslate 300 100 300\nShape \"sphere\" \"float radius\" [100]\nAttributeEnd\n"
+    "WorldEnd\n";
+
+/* Renders the crops given by the x cuts and y cuts, pastes each crop's pixels into one image and
+ * checks it equals the full render within 1e-5 relative to max(|pixel|, image mean). Crops of
+ * one frame cover disjoint pixels, so pasting is film_merge_sums' result for them. */
+static void check_crops(const char *sampler, const char *filter, const float *xs, int nx,
+                        const float *ys, int ny) {
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.sampler = sampler;
+  o.filter = filter;
+  o.spp = 4;
+  o.nthreads = 2;
+  clr_render_image full = render_opts(crop_box, &o, NULL);
+  double mean = image_mean(&full);
+  assert_true(mean > 0.01);
+  size_t n = (size_t)full.width * full.height * 3;
+  float *merged = malloc(n * sizeof *merged);
+  unsigned char *covered = calloc(n, 1);
+  assert_non_null(merged);
+  assert_non_null(covered);
+  for (int i = 0; i + 1 < nx; ++i)
+    for (int j = 0; j + 1 < ny; ++j) {
+      o.crop_given = 1;
+      o.crop_window[0] = xs[i], o.crop_window[1] = xs[i + 1];
+      o.crop_window[2] = ys[j], o.crop_window[3] = ys[j + 1];
+      clr_render_image c = render_opts(crop_box, &o, NULL);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x)
+          for (int k = 0; k < 3; ++k) {
+            size_t at = 3 * ((size_t)(y + c.pixel_bounds.y0) * full.width + x + c.pixel_bounds.x0) + k;
+            merged[at] = c.rgb[3 * ((size_t)y * c.width + x) + k];
+            covered[at]++;
+          }
+      free(c.rgb);
+    }
+  int bad = 0;
+  for (size_t i = 0; i < n; ++i) {
+    assert_int_equal(covered[i], 1);
+    double tol = 1e-5 * fmax(fabs((double)full.rgb[i]), mean);
+    if (fabs((double)merged[i] - full.rgb[i]) > tol) {
+      if (bad++ < 4)
+        fprintf(stderr, "%s/%s: pixel (%zu,%zu)[%zu]: crops %g, full %g\n", sampler, filter,
+                (i / 3) % (size_t)full.width, (i / 3) / (size_t)full.width, i % 3,
+                (double)merged[i], (double)full.rgb[i]);
+    }
+  }
+  assert_int_equal(bad, 0);
+  free(merged);
+  free(covered);
+  free(full.rgb);
+}
+
+static const float halves[] = {0.0f, 0.5f, 1.0f};
+static const float whole[] = {0.0f, 1.0f};
+static const float odd[] = {0.0f, 0.37f, 1.0f};
+
+static void test_crop_halves_every_sampler(void **state) {
+  (void)state;
+  const char *samplers[] = {"halton", "sobol", "random", "stratified"};
+  for (int s = 0; s < 4; ++s) {
+    check_crops(samplers[s], "box", whole, 2, halves, 3); /* top and bottom halves */
+    check_crops(samplers[s], "gaussian", halves, 3, whole, 2); /* left and right halves */
+  }
+}
+
+static void test_crop_quarters_and_odd(void **state) {
+  (void)state;
+  check_crops("halton", "box", halves, 3, halves, 3);
+  check_crops("sobol", "gaussian", halves, 3, halves, 3);
+  check_crops("halton", "gaussian", odd, 3, odd, 3);
+  check_crops("sobol", "box", odd, 3, odd, 3);
+  check_crops("stratified", "box", odd, 3, whole, 2);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_crop_halves_every_sampler),
+      cmocka_unit_test(test_crop_quarters_and_odd),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
