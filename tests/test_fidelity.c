@@ -137,10 +137,54 @@ static void test_crop_quarters_and_odd(void **state) {
   check_crops("stratified", "box", odd, 3, whole, 2);
 }
 
+
+/* ---- spot light ---- */
+
+/* pbrt-v3 SpotLight::Falloff: 1 inside coneangle - conedeltaangle, 0 outside coneangle, the 4th
+ * power of the linear cosine ramp between. */
+static double spot_falloff(double cos_t, double cone, double delta) {
+  double ct = cos(cone * PI_D / 180.0), cf = cos((cone - delta) * PI_D / 180.0);
+  if (cos_t < ct) return 0.0;
+  if (cos_t >= cf) return 1.0;
+  double d = (cos_t - ct) / (cf - ct);
+  return d * d * d * d;
+}
+
+/* Lambertian plane under a spot light pointing down with a 10 degree "conedeltaangle": every
+ * pixel centre is Kd/pi * I falloff(theta) cos(theta) / r^2. */
+static void test_spot_conedeltaangle(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+      "Film \"image\" \"integer xresolution\" [32] \"integer yresolution\" [32]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"directlighting\"\n"
+      "WorldBegin\nLightSource \"spot\" \"point from\" [0 0 1.5] \"point to\" [0 0 0] \"rgb I\" [5 5 5]\n"
+      "\"float coneangle\" [30] \"float conedeltaangle\" [10]\n"
+      "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+      "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n";
+  clr_render_image im = render_opts(scene, NULL, NULL);
+  int ramp = 0;
+  for (int py = 0; py < 32; ++py)
+    for (int px = 0; px < 32; ++px) {
+      double wx = -(-1.0 + 2.0 * (px + 0.5) / 32.0), wy = 1.0 - 2.0 * (py + 0.5) / 32.0;
+      double r2 = wx * wx + wy * wy + 1.5 * 1.5, cos_t = 1.5 / sqrt(r2);
+      double f = spot_falloff(cos_t, 30.0, 10.0);
+      if (f > 0.0 && f < 1.0) ++ramp;
+      double expect = 0.5 / PI_D * 5.0 * f * cos_t / r2;
+      double got = im.rgb[3 * (py * 32 + px)];
+      assert_true(fabs(got - expect) <= 1e-4 * expect + 1e-7);
+    }
+  assert_true(ramp > 50); /* the falloff ring is well sampled */
+  free(im.rgb);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_crop_halves_every_sampler),
       cmocka_unit_test(test_crop_quarters_and_odd),
+      cmocka_unit_test(test_spot_conedeltaangle),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

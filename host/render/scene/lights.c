@@ -69,7 +69,7 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
     if (spot) {
       clr_params_find_point3(p, "to", zdir, to);
       float cone = clr_params_find_float(p, "coneangle", 30.0f);
-      float delta = clr_params_find_float(p, "conedelta", 5.0f);
+      float delta = clr_params_find_float(p, "conedeltaangle", 5.0f); /* pbrt-v3's name */
       l.cos_total = cosf(cone * RS_PI / 180.0f);
       l.cos_falloff_start = cosf((cone - delta) * RS_PI / 180.0f);
       float dir[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]}, du[3], dv[3];
