@@ -180,11 +180,108 @@ static void test_spot_conedeltaangle(void **state) {
   free(im.rgb);
 }
 
+
+/* ---- sphere area lights ---- */
+
+/* Relative RMSE of `a` against reference `ref`: sqrt(mean((a - ref)^2)) / mean(ref). */
+static double rel_rmse(const clr_render_image *a, const clr_render_image *ref) {
+  size_t n = (size_t)ref->width * ref->height * 3;
+  double e = 0;
+  for (size_t i = 0; i < n; ++i) e += ((double)a->rgb[i] - ref->rgb[i]) * ((double)a->rgb[i] - ref->rgb[i]);
+  return sqrt(e / (double)n) / image_mean(ref);
+}
+
+static const char *sphere_light_scene =
+    "LookAt 0 3 -6  0 0.5 0  0 1 0\nCamera \"perspective\" \"float fov\" [40]\n"
+    "Film \"image\" \"integer xresolution\" [32] \"integer yresolution\" [24]\n"
+    "Sampler \"halton\"\nIntegrator \"path\"\nWorldBegin\n"
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [4 4 4] \"bool twosided\" \"true\"\n"
+    "Translate 0 2.2 0\nShape \"sphere\" \"float radius\" [0.5]\nAttributeEnd\n"
+    "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [8] \"float vscale\" [8]\n"
+    "\"rgb tex1\" [0.8 0.8 0.8] \"rgb tex2\" [0.2 0.2 0.2]\n"
+    "Material \"matte\" \"texture Kd\" \"checks\"\nShape \"sphere\" \"float radius\" [1]\n"
+    "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+    "\"point P\" [-10 -1 -10  10 -1 -10  10 -1 10  -10 -1 10]\nWorldEnd\n";
+
+
+/* Lambertian plane z = 0 under a sphere light (radius r, radiance L, centre c): a sphere wholly
+ * above a point's horizon gives irradiance E = pi L r^2 cos(phi) / d^2 (it acts as a point
+ * source), so every pixel centre is Kd L r^2 cos(phi) / d^2. Cone sampling gives directions that
+ * all reach the sphere; the MIS BSDF samples that hit it add the remaining noise: 64 samples at
+ * the pixel centre are within 3 % (1.4 % measured), the image mean within 0.2 %. The light has
+ * Material "none": camera rays pass through it to the plane. */
+static void test_sphere_light_irradiance(void **state) {
+  (void)state;
+  const double L = 3.0, r = 0.4, c[3] = {0.3, -0.2, 1.2}, kd = 0.5;
+  char scene[2048];
+  snprintf(scene, sizeof scene,
+           "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+           "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
+           "Sampler \"halton\" \"integer pixelsamples\" [64] \"bool samplepixelcenter\" \"true\"\n"
+           "Integrator \"directlighting\"\nWorldBegin\n"
+           "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [%g %g %g]\n"
+           "Material \"none\"\nTranslate %g %g %g\nShape \"sphere\" \"float radius\" [%g]\nAttributeEnd\n"
+           "Material \"matte\" \"rgb Kd\" [%g %g %g]\n"
+           "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+           "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+           L, L, L, c[0], c[1], c[2], r, kd, kd, kd);
+  clr_render_image im = render_opts(scene, NULL, NULL);
+  double worst = 0, sum = 0, sum_expect = 0;
+  for (int py = 0; py < 16; ++py)
+    for (int px = 0; px < 16; ++px) {
+      double wx = -(-1.0 + 2.0 * (px + 0.5) / 16.0), wy = 1.0 - 2.0 * (py + 0.5) / 16.0;
+      double dx = c[0] - wx, dy = c[1] - wy, dz = c[2], d2 = dx * dx + dy * dy + dz * dz;
+      double expect = kd * L * r * r * (dz / sqrt(d2)) / d2;
+      double got = im.rgb[3 * (py * 16 + px)];
+      if (fabs(got / expect - 1.0) > worst) worst = fabs(got / expect - 1.0);
+      sum += got;
+      sum_expect += expect;
+    }
+  fprintf(stderr, "sphere light irradiance: worst pixel error %.4f, mean ratio %.5f\n", worst,
+          sum / sum_expect);
+  assert_true(worst < 0.03);
+  assert_true(fabs(sum / sum_expect - 1.0) < 0.002);
+  free(im.rgb);
+}
+
+/* Two-sided sphere light over a checkerboard sphere, path tracer: the 16-spp image against a
+ * 512-spp one of the same scene. */
+static void test_sphere_light_noise(void **state) {
+  (void)state;
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.nthreads = 2;
+  o.spp = 512;
+  clr_render_image ref = render_opts(sphere_light_scene, &o, NULL);
+  o.spp = 16;
+  clr_render_image lo = render_opts(sphere_light_scene, &o, NULL);
+  double e = rel_rmse(&lo, &ref), m = image_mean(&lo) / image_mean(&ref);
+  double e2 = 0, ref_sum = 0;
+  int n2 = 0;
+  for (int i = 0; i < ref.width * ref.height * 3; ++i)
+    if (ref.rgb[i] < 1.0f) {
+      e2 += (lo.rgb[i] - ref.rgb[i]) * (double)(lo.rgb[i] - ref.rgb[i]);
+      ref_sum += ref.rgb[i];
+      ++n2;
+    }
+  fprintf(stderr, "sphere light: 16 spp relative RMSE %.4f (without the light's pixels %.4f), mean ratio %.4f\n", e,
+          sqrt(e2 / n2) / (ref_sum / n2), m);
+  /* regression bounds (measured 0.223 and 0.992 with cone sampling; pbrt-v3's own 16-spp error
+   * on this scene is not measured here) */
+  assert_true(e < 0.26);
+  assert_true(fabs(m - 1.0) < 0.02);
+  free(ref.rgb);
+  free(lo.rgb);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_crop_halves_every_sampler),
       cmocka_unit_test(test_crop_quarters_and_odd),
       cmocka_unit_test(test_spot_conedeltaangle),
+      cmocka_unit_test(test_sphere_light_irradiance),
+      cmocka_unit_test(test_sphere_light_noise),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

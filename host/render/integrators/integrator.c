@@ -607,7 +607,9 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       clr_surface *sf = &s->surfaces[i];
       clr_render_scene_surface(sc, ray, h, sf);
-      if (!sf->has_material) {
+      if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
+        if (bounces == 0)
+          for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
         float d[3] = {ray->dx, ray->dy, ray->dz};
         clr_render_scene_spawn_ray(sf, d, &s->rays2[i]);
         if (++nulls > MAX_NULL_SURFACES * count) s->active[i] = 0;
