@@ -275,6 +275,39 @@ static void test_sphere_light_noise(void **state) {
   free(lo.rgb);
 }
 
+
+/* ---- rays toward area lights ---- */
+
+/* pbrt-v3 traces a BSDF-sampled ray toward an area light only when the light's own shape says
+ * it can hit it (Light::Pdf_Li > 0); spheres always, triangles by a test against the triangle.
+ * Direct lighting ("all", one sample per light) of a plane seen whole by an orthographic camera,
+ * per camera sample: the camera ray; the point light's shadow ray (no BSDF ray: delta); the
+ * sphere light's shadow ray and its BSDF ray (pbrt-v3's cone pdf needs no test); nothing for
+ * a triangle light under the plane (its light sample has f = 0, every BSDF ray goes up and
+ * misses it). 4 rays per sample, where tracing every BSDF ray gives 5. */
+static void test_ray_count_pbrt_v3(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+      "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [6]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"directlighting\"\nWorldBegin\n"
+      "LightSource \"point\" \"point from\" [0 0 2] \"rgb I\" [1 1 1]\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n"
+      "Translate 4 0 2\nShape \"sphere\" \"float radius\" [0.5]\nAttributeEnd\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2]\n"
+      "\"point P\" [-1 -1 -1  1 -1 -1  0 1 -1]\nAttributeEnd\n"
+      "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+      "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n";
+  clr_render_stats st;
+  clr_render_stats_init(&st);
+  clr_render_image im = render_opts(scene, NULL, &st);
+  uint64_t samples = 8 * 6 * 4;
+  assert_int_equal(st.rays, 4 * samples);
+  free(im.rgb);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_crop_halves_every_sampler),
@@ -282,6 +315,7 @@ int main(void) {
       cmocka_unit_test(test_spot_conedeltaangle),
       cmocka_unit_test(test_sphere_light_irradiance),
       cmocka_unit_test(test_sphere_light_noise),
+      cmocka_unit_test(test_ray_count_pbrt_v3),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

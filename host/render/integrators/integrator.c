@@ -383,8 +383,10 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     if (!(fc > 0.0f) || !(pdf > 0.0f)) continue;
     for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = sf->kd[k] * fc;
     jb->bsdf_pdf = pdf;
-    jb->mis_index = nmis;
-    clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis++]);
+    clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis]);
+    /* pbrt-v3 asks the light's shape for the pdf first and traces nothing when it is 0 */
+    if (!clr_render_scene_light_may_hit(sc, jb->light, &s->rays[nmis])) continue;
+    jb->mis_index = nmis++;
   }
   trace(sc, s->rays, s->hits, (size_t)nmis, c);
   for (int j = 0; j < njobs; ++j) {

@@ -378,3 +378,36 @@ void rs_lights_escaped(const rs_light_set *set, const clr_ray *ray, float le[3])
     for (int k = 0; k < 3; ++k) le[k] += c[k];
   }
 }
+
+/* pbrt-v3 Light::Pdf_Li asks the light's own shape first: Shape::Pdf(ref, wi) intersects the ray
+ * with that shape only (a triangle here) and is 0 when it misses; a sphere seen from outside
+ * returns its cone pdf without a test, and a ray from inside always hits it. Double-precision
+ * Moller-Trumbore with closed edges. */
+int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
+                           const clr_ray *ray) {
+  const rs_light *l = &set->items[light];
+  if (l->type != RS_LIGHT_AREA_TRIANGLE) return 1;
+  const float *p0, *p1, *p2;
+  tri_vertices(&shapes[l->shape], l->prim, &p0, &p1, &p2);
+  double o[3] = {ray->ox, ray->oy, ray->oz}, d[3] = {ray->dx, ray->dy, ray->dz};
+  double e1[3], e2[3], s[3], pv[3], q[3];
+  for (int i = 0; i < 3; ++i) {
+    e1[i] = (double)p1[i] - p0[i];
+    e2[i] = (double)p2[i] - p0[i];
+    s[i] = o[i] - p0[i];
+  }
+  pv[0] = d[1] * e2[2] - d[2] * e2[1];
+  pv[1] = d[2] * e2[0] - d[0] * e2[2];
+  pv[2] = d[0] * e2[1] - d[1] * e2[0];
+  double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+  if (det == 0.0) return 0;
+  double inv = 1.0 / det, u = (s[0] * pv[0] + s[1] * pv[1] + s[2] * pv[2]) * inv;
+  if (u < 0.0 || u > 1.0) return 0;
+  q[0] = s[1] * e1[2] - s[2] * e1[1];
+  q[1] = s[2] * e1[0] - s[0] * e1[2];
+  q[2] = s[0] * e1[1] - s[1] * e1[0];
+  double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
+  if (v < 0.0 || u + v > 1.0) return 0;
+  double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
+  return t > (double)ray->tnear && t < (double)ray->tfar;
+}

@@ -63,6 +63,10 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
  * `light` at distance t with the hit's geometric normal n_hit (unit). */
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3],
                    float t, const float n_hit[3]);
+/* 0 when ray certainly misses area light `light`'s own shape (pbrt-v3 Light::Pdf_Li is then 0
+ * and the scene ray is not traced), else 1. */
+int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
+                           const clr_ray *ray);
 /* Radiance of an escaped ray from infinite light `light`. */
 void rs_light_le(const rs_light_set *set, int light, const float d[3], float le[3]);
 /* Radiance arriving along a ray that escaped the scene, summed over the infinite lights. */

@@ -49,6 +49,10 @@ float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, c
   return rs_light_pdf(&scene->lights, light, p, wi, t, n_hit);
 }
 
+int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light, const clr_ray *ray) {
+  return rs_light_shape_may_hit(&scene->lights, scene->shapes, light, ray);
+}
+
 void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
                                float le[3]) {
   rs_light_le(&scene->lights, light, d, le);

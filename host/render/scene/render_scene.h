@@ -77,6 +77,8 @@ void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
  * distance t with geometric normal n_hit (NULL for lights without a surface). */
 float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, const float p[3],
                                  const float wi[3], float t, const float n_hit[3]);
+/* 0 when `ray` misses light `light`'s own shape (pbrt-v3 Light::Pdf_Li == 0: skip the scene ray). */
+int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light, const clr_ray *ray);
 /* Radiance that light `light` sends along an escaped ray of direction d. */
 void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
                                float le[3]);
