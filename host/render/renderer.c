@@ -12,6 +12,7 @@
 #include "render_error.h"
 #include "clrender/film.h"
 #include "integrator.h"
+#include "pfm_output.h"
 #include "pcg32.h"
 #include "render_scene.h"
 #include "renderer.h"
@@ -113,6 +114,26 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
     fd->tau = clr_params_find_float(p, "tau", fd->tau);
   }
   return CLR_SUCCESS;
+}
+
+/* pbrt-v3 warns when the Sobol sampler rounds its pixel samples up to a power of two; the
+ * stratified sampler's x * y grid for --spp is reported the same way. */
+static void warn_spp_rounding(const clr_scene_desc *d, const clr_render_options *o,
+                              const clr_sampler_desc *sd, int32_t spp, clr_warn_fn warn, void *wu) {
+  int32_t asked = o->spp > 0 ? o->spp : sd->pixel_samples;
+  if (!warn) return;
+  if (sd->type == CLR_SAMPLER_STRATIFIED ? (o->spp <= 0 || spp == o->spp) : spp == asked) return;
+  char where[600], m[800];
+  const clr_param_list *p = &d->sampler.params;
+  if (o->spp > 0) snprintf(where, sizeof where, "--spp %d", (int)o->spp);
+  else snprintf(where, sizeof where, "%s:%d", p->file ? p->file : "<scene>", p->line);
+  if (sd->type == CLR_SAMPLER_SOBOL)
+    snprintf(m, sizeof m, "%s: non power-of-two sample count rounded up to %d for the sobol sampler",
+             where, (int)spp);
+  else
+    snprintf(m, sizeof m, "%s: the %s sampler renders %d samples per pixel", where,
+             clr_sampler_type_name(sd->type), (int)spp);
+  warn(wu, m);
 }
 
 /* ---------- scene values checked before any work ---------- */
@@ -563,19 +584,29 @@ static int has_suffix(const char *s, const char *suffix) {
   return 1;
 }
 
+/* The image format by the name's extension, as pbrt-v3: ".exr" (with a PNG preview beside it),
+ * ".pfm" (with the preview too), ".png" (alone); any other name is an error naming it. */
 static clr_result output_paths(const char *path, clr_render_stats *st) {
   if (strlen(path) + 8 >= sizeof st->exr_path)
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "output path too long: %s", path);
-  st->exr_path[0] = 0;
+  st->exr_path[0] = st->pfm_path[0] = 0;
   if (has_suffix(path, ".png")) {
     snprintf(st->png_path, sizeof st->png_path, "%s", path);
     return CLR_SUCCESS;
   }
-  snprintf(st->exr_path, sizeof st->exr_path, "%s", path);
-  if (has_suffix(path, ".exr"))
-    snprintf(st->png_path, sizeof st->png_path, "%.*s.png", (int)(strlen(path) - 4), path);
-  else
-    snprintf(st->png_path, sizeof st->png_path, "%s.png", path);
+  int exr = has_suffix(path, ".exr"), pfm = has_suffix(path, ".pfm");
+  if (!exr && !pfm) {
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    if (dot && (!slash || dot > slash))
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                                "output \"%s\": unknown image extension \"%s\" (clrender writes "
+                                ".exr, .png and .pfm)", path, dot);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "output \"%s\" has no image extension (clrender writes .exr, .png "
+                              "and .pfm)", path);
+  }
+  snprintf(exr ? st->exr_path : st->pfm_path, sizeof st->exr_path, "%s", path);
+  snprintf(st->png_path, sizeof st->png_path, "%.*s.png", (int)(strlen(path) - 4), path);
   return CLR_SUCCESS;
 }
 
@@ -612,6 +643,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   if (write_files) {
     r = output_paths(o->outfile ? o->outfile : settings.filename, st);
     if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
+    if (r == CLR_SUCCESS && st->pfm_path[0]) r = film_check_output_path(st->pfm_path);
     if (r == CLR_SUCCESS) r = film_check_output_path(st->png_path);
     if (r != CLR_SUCCESS && !o->outfile) /* the path came from the scene: say where */
       return clr_set_last_error(r, "%s:%d: Film \"filename\": %s", param_file(&d->film.params),
@@ -654,6 +686,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     sdesc.film.filter_radius[1] = fdesc.radius[1];
     r = clr_sampler_create(ctx, &sdesc, &sampler);
   }
+  if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
   if (r == CLR_SUCCESS) r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
   if (r == CLR_SUCCESS) {
@@ -706,6 +739,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     wo.metadata_values = vals;
     wo.metadata_count = 1;
     if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
+    if (r == CLR_SUCCESS && st->pfm_path[0]) r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
     if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
     st->seconds_output = now_seconds() - tw;
   }

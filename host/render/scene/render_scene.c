@@ -233,6 +233,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       CLR_CHECK(build_mesh(sd, &sh->mesh, warn, wu));
     } else {
       warn_fmt(warn, wu, "%s:%d: shape \"%s\" not supported: ignored", p->file, p->line, sd->type);
+      clr_params_mark_used(p); /* one warning for the skipped shape, not one per parameter */
       continue;
     }
     s->shape_count++;
