@@ -308,6 +308,195 @@ static void test_ray_count_pbrt_v3(void **state) {
   free(im.rgb);
 }
 
+
+/* ---- the command line ---- */
+
+static char tmpdir[512];
+
+static void write_text(const char *name, const char *text) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
+  fclose(f);
+}
+
+/* Runs `clrender ARGS` (ARGS may use %s for tmpdir, several times) with stderr captured into out;
+ * returns the exit status. */
+static int run_cli(char *out, size_t size, const char *args) {
+  char expanded[4096], cmd[5000];
+  const char *a = args;
+  size_t n = 0;
+  while (*a && n + 600 < sizeof expanded) {
+    if (a[0] == '%' && a[1] == 's') {
+      n += (size_t)snprintf(expanded + n, sizeof expanded - n, "%s", tmpdir);
+      a += 2;
+    } else {
+      expanded[n++] = *a++;
+    }
+  }
+  expanded[n] = 0;
+  snprintf(cmd, sizeof cmd, "%s %s 2>&1", CLR_CLI_PATH, expanded);
+  FILE *p = popen(cmd, "r");
+  assert_non_null(p);
+  size_t got = fread(out, 1, size - 1, p);
+  out[got] = 0;
+  int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+static int exists(const char *name) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+  return access(path, F_OK) == 0;
+}
+
+static clr_image read_image(const char *name) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+  clr_image im;
+  assert_int_equal(clr_image_read(path, &im), CLR_SUCCESS);
+  return im;
+}
+
+static const char *cli_scene =
+    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+    "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [12]\n"
+    "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"directlighting\"\nWorldBegin\n"
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
+    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
+    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "AttributeBegin\nTranslate 300 100 300\nShape \"sphere\" \"float radius\" [100]\nAttributeEnd\n"
+    "WorldEnd\n";
+
+/* Crops rendered by the CLI, merged by `clrender merge`, equal the full render; merge says what
+ * it wrote and writes the PNG preview. */
+static void test_cli_crops_merge(void **state) {
+  (void)state;
+  char out[8192];
+  write_text("box.pbrt", cli_scene);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/box.pbrt --outfile=%s/full.exr --quiet"), 0);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/box.pbrt --outfile %s/top.exr --cropwindow 0 1 0 0.5 --quiet"), 0);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/box.pbrt --outfile %s/bottom.exr --cropwindow 0 1 0.5 1 --quiet"), 0);
+  assert_int_equal(run_cli(out, sizeof out, "merge %s/top.exr %s/bottom.exr --output=%s/merged.exr"), 0);
+  assert_non_null(strstr(out, "wrote"));
+  assert_non_null(strstr(out, "merged.exr"));
+  assert_non_null(strstr(out, "merged.png"));
+  assert_true(exists("merged.png"));
+  clr_image full = read_image("full.exr"), merged = read_image("merged.exr");
+  assert_int_equal(full.width, merged.width);
+  assert_int_equal(full.height, merged.height);
+  size_t n = (size_t)full.width * full.height * 3;
+  double mean = 0;
+  for (size_t i = 0; i < n; ++i) mean += full.rgb[i];
+  mean /= (double)n;
+  assert_true(mean > 0.01);
+  for (size_t i = 0; i < n; ++i)
+    assert_true(fabs((double)merged.rgb[i] - full.rgb[i]) <= 1e-5 * fmax(fabs((double)full.rgb[i]), mean));
+  clr_image_free(&full);
+  clr_image_free(&merged);
+}
+
+/* Output by extension: .pfm holds the EXR's pixels (bottom row first), an unknown extension is an
+ * error naming it and writes nothing, --outfile overrides the Film's filename. */
+static void test_cli_output_formats(void **state) {
+  (void)state;
+  char out[8192], path[1024];
+  write_text("named.pbrt", cli_scene);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.exr --quiet"), 0);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.pfm --quiet"), 0);
+  assert_true(exists("img.png"));
+  clr_image exr = read_image("img.exr");
+  snprintf(path, sizeof path, "%s/img.pfm", tmpdir);
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  char header[32] = {0};
+  const char expect[] = "PF\n16 12\n-1\n";
+  assert_int_equal(fread(header, 1, strlen(expect), f), strlen(expect));
+  assert_string_equal(header, expect);
+  float *pix = malloc(16 * 12 * 3 * sizeof *pix);
+  assert_non_null(pix);
+  assert_int_equal(fread(pix, sizeof *pix, 16 * 12 * 3, f), 16 * 12 * 3);
+  assert_int_equal(fgetc(f), EOF);
+  fclose(f);
+  for (int y = 0; y < 12; ++y)
+    assert_memory_equal(pix + 3 * 16 * (11 - y), exr.rgb + 3 * 16 * y, 3 * 16 * sizeof(float));
+  free(pix);
+  clr_image_free(&exr);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.tga --quiet"), 1);
+  assert_non_null(strstr(out, "\".tga\""));
+  assert_false(exists("img.tga"));
+  /* the scene names a .jpg: an error at its Film line unless --outfile overrides it */
+  char scene[4096];
+  snprintf(scene, sizeof scene, "Film \"image\" \"string filename\" \"%s/scene.jpg\"\n%s", tmpdir,
+           strstr(cli_scene, "Sampler"));
+  write_text("jpg.pbrt", scene);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/jpg.pbrt --quiet"), 1);
+  assert_non_null(strstr(out, "jpg.pbrt:1"));
+  assert_non_null(strstr(out, "\".jpg\""));
+  assert_int_equal(run_cli(out, sizeof out, "render %s/jpg.pbrt --quiet --spp=1 --outfile=%s/over.png"), 0);
+  assert_true(exists("over.png"));
+  assert_false(exists("scene.jpg"));
+}
+
+/* --version, devices --help, --nthreads 0, --flag=value, and the warnings pbrt users see. */
+static void test_cli_habits(void **state) {
+  (void)state;
+  char out[8192], expect[64];
+  assert_int_equal(run_cli(out, sizeof out, "--version"), 0);
+  snprintf(expect, sizeof expect, "clrender %s\n", clr_version());
+  assert_string_equal(out, expect);
+  assert_int_equal(run_cli(out, sizeof out, "devices --help"), 0);
+  assert_non_null(strstr(out, "usage: clrender devices"));
+  assert_non_null(strstr(out, "--device"));
+  assert_int_equal(run_cli(out, sizeof out, "devices --bogus"), 2);
+  char scene[4096];
+  snprintf(scene, sizeof scene,
+           "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+           "Sampler \"sobol\" \"integer pixelsamples\" [10]\n"
+           "Accelerator \"bvh\" \"integer maxnodeprims\" [4]\nWorldBegin\n"
+           "Shape \"disk\" \"float radius\" [1] \"rgb Kd\" [1 0 0]\n"
+           "Shape \"sphere\" \"float radius\" [1] \"float bogus\" [2]\nWorldEnd\n");
+  write_text("habits.pbrt", scene);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --nthreads=0 --outfile=%s/h.exr --stats"), 0);
+  assert_true(exists("h.exr"));
+  assert_null(strstr(out, "Accelerator"));
+  assert_null(strstr(out, "'radius'"));
+  assert_null(strstr(out, "'Kd'"));
+  assert_non_null(strstr(out, "habits.pbrt:5: shape \"disk\" not supported"));
+  assert_non_null(strstr(out, "habits.pbrt:6: unused parameter 'bogus' in Shape 'sphere'"));
+  assert_non_null(strstr(out, "habits.pbrt:2: non power-of-two sample count rounded up to 16"));
+  assert_non_null(strstr(out, "\"spp\":16"));
+  assert_non_null(strstr(out, "\"threads\":"));
+  /* one format: every warning is "clrender: warning: FILE:LINE: ..." or names its flag */
+  int warnings = 0;
+  for (const char *l = out; (l = strstr(l, "clrender: warning: ")) != NULL; ++l, ++warnings) {
+    const char *m = l + strlen("clrender: warning: ");
+    assert_true(strncmp(m, tmpdir, strlen(tmpdir)) == 0 || strncmp(m, "--", 2) == 0);
+  }
+  assert_int_equal(warnings, 3);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --spp=10 --outfile=%s/h.exr"), 0);
+  assert_non_null(strstr(out, "--spp 10: non power-of-two sample count rounded up to 16"));
+  assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --spp=x --outfile=%s/h.exr"), 2);
+}
+
+static int cli_setup(void **state) {
+  (void)state;
+  snprintf(tmpdir, sizeof tmpdir, "%s/test_fidelity_tmp_XXXXXX", CLR_BINARY_DIR);
+  return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+static int cli_teardown(void **state) {
+  (void)state;
+  char cmd[1200];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_crop_halves_every_sampler),
@@ -316,6 +505,9 @@ int main(void) {
       cmocka_unit_test(test_sphere_light_irradiance),
       cmocka_unit_test(test_sphere_light_noise),
       cmocka_unit_test(test_ray_count_pbrt_v3),
+      cmocka_unit_test(test_cli_crops_merge),
+      cmocka_unit_test(test_cli_output_formats),
+      cmocka_unit_test(test_cli_habits),
   };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+  return cmocka_run_group_tests(tests, cli_setup, cli_teardown);
 }
