@@ -306,6 +306,19 @@ static void test_ray_count_pbrt_v3(void **state) {
   uint64_t samples = 8 * 6 * 4;
   assert_int_equal(st.rays, 4 * samples);
   free(im.rgb);
+  /* A sphere light alone, seen by an orthographic camera: a camera ray that hits it shades its
+   * (matte) surface, whose light samples lie behind it (f = 0: no shadow ray) and whose BSDF rays
+   * leave the sphere (Shape::Pdf misses: no ray). One ray per sample, hit or miss. */
+  const char *alone =
+      "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+      "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"directlighting\"\nWorldBegin\n"
+      "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"sphere\" \"float radius\" [0.7]\nWorldEnd\n";
+  clr_render_stats_init(&st);
+  im = render_opts(alone, NULL, &st);
+  assert_int_equal(st.rays, 8 * 8 * 4);
+  assert_true(im.rgb[3 * (4 * 8 + 4)] >= 1.0f); /* the centre pixel sees the light */
+  free(im.rgb);
 }
 
 

@@ -381,11 +381,29 @@ void rs_lights_escaped(const rs_light_set *set, const clr_ray *ray, float le[3])
 
 /* pbrt-v3 Light::Pdf_Li asks the light's own shape first: Shape::Pdf(ref, wi) intersects the ray
  * with that shape only (a triangle here) and is 0 when it misses; a sphere seen from outside
- * returns its cone pdf without a test, and a ray from inside always hits it. Double-precision
+ * returns its cone pdf without a test, and from on or inside it the ray is intersected with the
+ * sphere (an outward ray from its surface misses). Double-precision
  * Moller-Trumbore with closed edges. */
 int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
                            const clr_ray *ray) {
   const rs_light *l = &set->items[light];
+  if (l->type == RS_LIGHT_AREA_SPHERE) {
+    double oc[3] = {(double)ray->ox - l->pos[0], (double)ray->oy - l->pos[1], (double)ray->oz - l->pos[2]};
+    double c2 = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2], r2 = (double)l->radius * l->radius;
+    /* pbrt-v3 offsets the reference point toward the centre: a point on the sphere counts as
+     * inside; the ray origin here is already offset outward by the spawn epsilon */
+    float o[3] = {ray->ox, ray->oy, ray->oz};
+    double on = (double)l->radius + 2.0 * rs_spawn_eps(o);
+    if (c2 > on * on) return 1; /* outside: the cone pdf, no test */
+    /* on or inside the sphere: Shape::Pdf intersects the ray with it */
+    double b = oc[0] * ray->dx + oc[1] * ray->dy + oc[2] * ray->dz;
+    double dd = (double)ray->dx * ray->dx + (double)ray->dy * ray->dy + (double)ray->dz * ray->dz;
+    double disc = b * b - dd * (c2 - r2);
+    if (disc < 0.0) return 0;
+    double t = (-b + sqrt(disc)) / dd; /* the far root: the only one ahead when inside */
+    return t > (double)ray->tnear && t > 1e-6 * l->radius && t < (double)ray->tfar &&
+           (c2 < r2 || b < 0.0);
+  }
   if (l->type != RS_LIGHT_AREA_TRIANGLE) return 1;
   const float *p0, *p1, *p2;
   tri_vertices(&shapes[l->shape], l->prim, &p0, &p1, &p2);
