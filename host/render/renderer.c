@@ -596,6 +596,7 @@ static clr_result output_paths(const char *path, clr_render_stats *st) {
   }
   int exr = has_suffix(path, ".exr"), pfm = has_suffix(path, ".pfm");
   if (!exr && !pfm) {
+    CLR_CHECK(film_check_output_path(path)); /* a device or directory is reported as such */
     const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
     if (dot && (!slash || dot > slash))
       return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
