@@ -322,6 +322,63 @@ static void test_ray_count_pbrt_v3(void **state) {
 }
 
 
+/* ---- matte "sigma": Oren-Nayar ---- */
+
+/* pbrt-v3 OrenNayar::f * pi / R for polar angles ti, to (radians) and azimuth difference dphi. */
+static double oren_nayar(double sigma_deg, double ti, double to, double dphi) {
+  double s = sigma_deg * PI_D / 180.0, s2 = s * s;
+  double A = 1.0 - s2 / (2.0 * (s2 + 0.33)), B = 0.45 * s2 / (s2 + 0.09);
+  double max_cos = (sin(ti) > 1e-4 && sin(to) > 1e-4) ? fmax(0.0, cos(dphi)) : 0.0;
+  double sin_alpha = cos(ti) > cos(to) ? sin(to) : sin(ti);
+  double tan_beta = cos(ti) > cos(to) ? tan(ti) : tan(to);
+  return A + B * max_cos * sin_alpha * tan_beta;
+}
+
+/* A matte plane with "sigma" seen by an orthographic camera from polar angle `to` (azimuth 0)
+ * under a distant light from polar angle ti, azimuth phi: every pixel is
+ * Kd/pi * factor * L cos(ti). */
+static double render_oren_nayar(double sigma, double ti, double phi, double to) {
+  char scene[2048];
+  snprintf(scene, sizeof scene,
+           "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+           "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
+           "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+           "Integrator \"directlighting\"\nWorldBegin\n"
+           "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
+           "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5] \"float sigma\" [%g]\n"
+           "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+           "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+           10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti), sigma);
+  clr_render_image im = render_opts(scene, NULL, NULL);
+  double v = im.rgb[0];
+  for (int i = 0; i < im.width * im.height * 3; ++i) assert_true(fabs(im.rgb[i] - v) <= 1e-5 * v);
+  free(im.rgb);
+  return v;
+}
+
+static void test_matte_sigma_oren_nayar(void **state) {
+  (void)state;
+  const double deg = PI_D / 180.0;
+  const double cases[][4] = {/* sigma, theta_i, phi_i, theta_o (degrees) */
+                             {20, 30, 0, 0},  {20, 40, 180, 50}, {35, 60, 30, 20},
+                             {35, 20, 30, 60}, {0, 45, 0, 30},   {90, 70, 10, 45}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    double sg = cases[c][0], ti = cases[c][1] * deg, phi = cases[c][2] * deg, to = cases[c][3] * deg;
+    double got = render_oren_nayar(sg, ti, phi, to);
+    double expect = 0.5 / PI_D * oren_nayar(sg, ti, to, phi) * 2.0 * cos(ti);
+    if (fabs(got - expect) > 2e-4 * expect)
+      fprintf(stderr, "sigma %g ti %g phi %g to %g: got %g expect %g\n", sg, cases[c][1],
+              cases[c][2], cases[c][3], got, expect);
+    assert_true(fabs(got - expect) <= 2e-4 * expect);
+  }
+  /* reciprocity: f(wo, wi) = f(wi, wo), i.e. L / cos(theta_light) with camera and light swapped */
+  double a = render_oren_nayar(35, 60 * deg, 30 * deg, 20 * deg) / cos(60 * deg);
+  double b = render_oren_nayar(35, 20 * deg, 30 * deg, 60 * deg) / cos(20 * deg);
+  assert_true(fabs(a - b) <= 2e-4 * a);
+  /* sigma 0 is Lambertian: Kd/pi L cos */
+  assert_true(fabs(render_oren_nayar(0, 50 * deg, 0, 10 * deg) - 0.5 / PI_D * 2.0 * cos(50 * deg)) < 1e-6);
+}
+
 /* ---- the command line ---- */
 
 static char tmpdir[512];
@@ -518,6 +575,7 @@ int main(void) {
       cmocka_unit_test(test_sphere_light_irradiance),
       cmocka_unit_test(test_sphere_light_noise),
       cmocka_unit_test(test_ray_count_pbrt_v3),
+      cmocka_unit_test(test_matte_sigma_oren_nayar),
       cmocka_unit_test(test_cli_crops_merge),
       cmocka_unit_test(test_cli_output_formats),
       cmocka_unit_test(test_cli_habits),

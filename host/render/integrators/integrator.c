@@ -282,10 +282,38 @@ static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
   rs_cross(s->ns, ss, ts);
 }
 
-/* Lambertian BSDF value times |cos| for world directions, pbrt BSDF::f reflect rule. */
+/* pbrt-v3 OrenNayar::f / R * pi: A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta), in the
+ * shading frame (1 for a Lambertian surface). */
+static float oren_nayar_factor(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (s->on_b == 0.0f) return s->on_a;
+  float ss[3], ts[3];
+  shading_frame(s, ss, ts);
+  float o[3] = {rs_dot(wo, ss), rs_dot(wo, ts), rs_dot(wo, s->ns)};
+  float i[3] = {rs_dot(wi, ss), rs_dot(wi, ts), rs_dot(wi, s->ns)};
+  float sin_o = sqrtf(fmaxf(0.0f, 1.0f - o[2] * o[2])), sin_i = sqrtf(fmaxf(0.0f, 1.0f - i[2] * i[2]));
+  float max_cos = 0.0f;
+  if (sin_i > 1e-4f && sin_o > 1e-4f) {
+    float cpi = fminf(1.0f, fmaxf(-1.0f, i[0] / sin_i)), spi = fminf(1.0f, fmaxf(-1.0f, i[1] / sin_i));
+    float cpo = fminf(1.0f, fmaxf(-1.0f, o[0] / sin_o)), spo = fminf(1.0f, fmaxf(-1.0f, o[1] / sin_o));
+    max_cos = fmaxf(0.0f, cpi * cpo + spi * spo);
+  }
+  float sin_alpha, tan_beta;
+  if (fabsf(i[2]) > fabsf(o[2])) {
+    sin_alpha = sin_o;
+    tan_beta = sin_i / fabsf(i[2]);
+  } else {
+    sin_alpha = sin_i;
+    tan_beta = sin_o / fabsf(o[2]);
+  }
+  return s->on_a + s->on_b * max_cos * sin_alpha * tan_beta;
+}
+
+/* Matte BSDF value / Kd times |cos| for world directions, pbrt BSDF::f reflect rule:
+ * Lambertian, or Oren-Nayar when the material has "sigma". */
 static float lambert_cos(const clr_surface *s, const float wo[3], const float wi[3]) {
   if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0.0f;
-  return fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
+  float f = fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
+  return s->on_b == 0.0f && s->on_a == 1.0f ? f : f * oren_nayar_factor(s, wo, wi);
 }
 
 static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {

@@ -202,6 +202,23 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
 
 static int material_is_supported(const char *type) { return strcmp(type, "matte") == 0; }
 
+/* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
+ * OrenNayar with A = 1 - s^2 / (2 (s^2 + 0.33)), B = 0.45 s^2 / (s^2 + 0.09), s in radians. A
+ * shape's own parameter overrides the material's, as for Kd. */
+static void oren_nayar_params(const clr_shape_desc *sd, const clr_material_desc *md,
+                              const char *mtype, rs_shape *sh) {
+  sh->on_a = 1.0f;
+  sh->on_b = 0.0f;
+  if (strcmp(mtype, "matte") != 0) return;
+  float sigma = clr_params_find_float(&md->params, "sigma", 0.0f);
+  sigma = clr_params_find_float(&sd->params, "sigma", sigma);
+  sigma = fminf(90.0f, fmaxf(0.0f, sigma));
+  if (sigma == 0.0f) return;
+  float s = sigma * RS_PI / 180.0f, s2 = s * s;
+  sh->on_a = 1.0f - s2 / (2.0f * (s2 + 0.33f));
+  sh->on_b = 0.45f * s2 / (s2 + 0.09f);
+}
+
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
                                void *wu, int32_t *object_group) {
   char warned[32][64];
@@ -241,6 +258,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     const char *mtype = md->type ? md->type : "";
     sh->has_material = !(mtype[0] == 0 || strcmp(mtype, "none") == 0);
     rs_colour_param(&sd->params, &md->params, "Kd", 0.5f, &sh->kd);
+    oren_nayar_params(sd, md, mtype, sh);
     if (sh->has_material && !material_is_supported(mtype)) {
       int seen = 0;
       for (int k = 0; k < warned_count; ++k) seen |= strcmp(warned[k], mtype) == 0;
@@ -487,6 +505,8 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     memcpy(out->ns, out->ng, sizeof n);
   }
   out->has_material = sh->has_material;
+  out->on_a = sh->on_a;
+  out->on_b = sh->on_b;
   if (sh->has_material) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
   else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
