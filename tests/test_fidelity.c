@@ -379,6 +379,86 @@ static void test_matte_sigma_oren_nayar(void **state) {
   assert_true(fabs(render_oren_nayar(0, 50 * deg, 0, 10 * deg) - 0.5 / PI_D * 2.0 * cos(50 * deg)) < 1e-6);
 }
 
+/* ---- Material "mirror" ---- */
+
+/* A mirror plane (Kr) seen from above under a constant infinite light L: every pixel is Kr L,
+ * with the path tracer and with direct lighting (pbrt-v3 SpecularReflect); with maxdepth 1 the
+ * direct lighting integrator stops at the mirror (0), as pbrt-v3's depth + 1 < maxDepth. */
+static void test_mirror_sky(void **state) {
+  (void)state;
+  const char *integrators[] = {"\"path\" \"integer maxdepth\" [5]", "\"directlighting\"",
+                               "\"directlighting\" \"integer maxdepth\" [1]"};
+  const double expect_scale[] = {1.0, 1.0, 0.0};
+  for (int t = 0; t < 3; ++t) {
+    char scene[2048];
+    snprintf(scene, sizeof scene,
+             "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+             "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+             "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator %s\nWorldBegin\n"
+             "LightSource \"infinite\" \"rgb L\" [2 1 0.5]\n"
+             "Material \"mirror\" \"rgb Kr\" [0.8 0.6 0.4]\n"
+             "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+             "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+             integrators[t]);
+    clr_render_image im = render_opts(scene, NULL, NULL);
+    const double e[3] = {1.6, 0.6, 0.2};
+    for (int i = 0; i < im.width * im.height; ++i)
+      for (int c = 0; c < 3; ++c)
+        assert_true(fabs(im.rgb[3 * i + c] - expect_scale[t] * e[c]) <= 1e-5 * e[c]);
+    free(im.rgb);
+  }
+}
+
+/* Path tracer: a mirror shows an emitter (Material "none", facing it) that the camera cannot see
+ * directly: after a specular bounce the emitter's Le counts (pbrt-v3 specularBounce), the ray
+ * passes through it and escapes: Kr L exactly. */
+static void test_mirror_path_sees_emitter(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 1  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+      "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"path\"\nWorldBegin\n"
+      "AttributeBegin\nMaterial \"none\"\nAreaLightSource \"diffuse\" \"rgb L\" [3 2 1]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 2 1 0 3 2]\n"
+      "\"point P\" [-10 -10 2  10 -10 2  10 10 2  -10 10 2]\nAttributeEnd\n"
+      "Material \"mirror\" \"rgb Kr\" [0.5 0.5 0.5]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+      "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n";
+  clr_render_image im = render_opts(scene, NULL, NULL);
+  const double e[3] = {1.5, 1.0, 0.5};
+  for (int i = 0; i < im.width * im.height; ++i)
+    for (int c = 0; c < 3; ++c) assert_true(fabs(im.rgb[3 * i + c] - e[c]) <= 1e-5 * e[c]);
+  free(im.rgb);
+}
+
+/* The camera looks down at a mirror at z = 0 that shows a matte plane at z = 2 facing it, lit by a
+ * point light at z = 1: direct lighting gives Kr * Kd/pi * I cos(theta) / r^2 at the reflected
+ * point (pixel centres, no interreflection in direct lighting). */
+static void test_mirror_reflects_lit_plane(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 1.5  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+      "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"directlighting\"\nWorldBegin\n"
+      "LightSource \"point\" \"point from\" [0.3 -0.2 1] \"rgb I\" [5 5 5]\n"
+      "AttributeBegin\nMaterial \"mirror\" \"rgb Kr\" [0.7 0.7 0.7]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+      "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nAttributeEnd\n"
+      "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 2 1 0 3 2]\n"
+      "\"point P\" [-10 -10 2  10 -10 2  10 10 2  -10 10 2]\nWorldEnd\n";
+  clr_render_image im = render_opts(scene, NULL, NULL);
+  for (int py = 0; py < 16; ++py)
+    for (int px = 0; px < 16; ++px) {
+      double wx = -(-1.0 + 2.0 * (px + 0.5) / 16.0), wy = 1.0 - 2.0 * (py + 0.5) / 16.0;
+      double dx = 0.3 - wx, dy = -0.2 - wy, r2 = dx * dx + dy * dy + 1.0;
+      double expect = 0.7 * 0.5 / PI_D * 5.0 * (1.0 / sqrt(r2)) / r2;
+      assert_true(fabs(im.rgb[3 * (py * 16 + px)] - expect) <= 1e-4 * expect);
+    }
+  free(im.rgb);
+}
+
 /* ---- the command line ---- */
 
 static char tmpdir[512];
@@ -576,6 +656,9 @@ int main(void) {
       cmocka_unit_test(test_sphere_light_noise),
       cmocka_unit_test(test_ray_count_pbrt_v3),
       cmocka_unit_test(test_matte_sigma_oren_nayar),
+      cmocka_unit_test(test_mirror_sky),
+      cmocka_unit_test(test_mirror_reflects_lit_plane),
+      cmocka_unit_test(test_mirror_path_sees_emitter),
       cmocka_unit_test(test_cli_crops_merge),
       cmocka_unit_test(test_cli_output_formats),
       cmocka_unit_test(test_cli_habits),

@@ -532,65 +532,146 @@ static void add_jobs(const direct_job *jobs, int njobs, float *L) {
     for (int k = 0; k < 3; ++k) L[3 * jobs[j].sample + k] += jobs[j].scale[k] * jobs[j].result[k];
 }
 
+/* pbrt-v3 SpecularReflection::Sample_f: wi is wo mirrored about the shading normal. */
+static void mirror_direction(const clr_surface *sf, const float wo[3], float wi[3]) {
+  float d = 2.0f * rs_dot(wo, sf->ns);
+  for (int a = 0; a < 3; ++a) wi[a] = -wo[a] + d * sf->ns[a];
+}
+
+/* Direct lighting of the surfaces s->surfaces[0..n) hit by s->rays2[0..n) (n samples mapped to
+ * the caller's samples by map) into Lk; mirror surfaces continue into next[] (pbrt-v3
+ * SpecularReflect while depth + 1 < maxdepth). Light sample values: the layout's depth-0 arrays,
+ * hashed values deeper. */
+static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *sc,
+                              clr_integrator_scratch *s, const float *values, const uint64_t *keys,
+                              int n, const int *map, int depth, float *Lk, int *cont, clr_ray *next,
+                              clr_integrator_counters *c) {
+  float *wo = s->beta;
+  int nj = 0;
+  for (int k = 0; k < n; ++k) {
+    const clr_surface *sf = &s->surfaces[k];
+    int i = map[k];
+    const float *v = values + (size_t)i * (size_t)it->values_per_sample;
+    const float one[3] = {1, 1, 1};
+    Lk[3 * k] = Lk[3 * k + 1] = Lk[3 * k + 2] = 0.0f;
+    cont[k] = 0;
+    if (sf->has_material < 0) {
+      add_escaped(sc, &s->rays2[k], one, Lk + 3 * k);
+      continue;
+    }
+    wo[3 * k] = -s->rays2[k].dx; wo[3 * k + 1] = -s->rays2[k].dy; wo[3 * k + 2] = -s->rays2[k].dz;
+    for (int a = 0; a < 3; ++a) Lk[3 * k + a] += sf->le[a];
+    if (sf->mirror) { /* no non-specular component: no light sampling */
+      if (depth + 1 < it->max_depth && !is_black(sf->kr)) {
+        float wi[3];
+        mirror_direction(sf, wo + 3 * k, wi);
+        if (rs_dot(wi, sf->ns) != 0.0f) {
+          clr_render_scene_spawn_ray(sf, wi, &next[k]);
+          cont[k] = 1;
+        }
+      }
+      continue;
+    }
+    if (!it->light_count) continue;
+    if (it->direct_all) {
+      int dim = 0;
+      for (int j = 0; j < it->light_count; ++j) {
+        int ns = it->light_samples[j], off = depth == 0 ? it->light_offsets[j] : -1;
+        for (int q = 0; q < ns; ++q) {
+          direct_job *jb = &s->jobs[nj++];
+          jb->sample = k;
+          jb->light = j;
+          int base = depth == 0 ? 100 : 5000 + 1000 * depth;
+          for (int a = 0; a < 2; ++a) {
+            jb->u_light[a] = off >= 0 ? v[off + 2 * q + a] : fallback(keys[i], base + dim++);
+            jb->u_scatter[a] = off >= 0 ? v[off + 2 * ns + 2 * q + a] : fallback(keys[i], base + dim++);
+          }
+          jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)ns;
+        }
+      }
+    } else {
+      float u[5];
+      for (int a = 0; a < 5; ++a)
+        u[a] = depth == 0 ? v[it->value_offset + a] : fallback(keys[i], 5000 + 1000 * depth + a);
+      direct_job *jb = &s->jobs[nj++];
+      int nl = it->light_count;
+      jb->light = (int)fminf(u[0] * (float)nl, (float)(nl - 1));
+      jb->sample = k;
+      memcpy(jb->u_light, u + 1, 2 * sizeof(float));
+      memcpy(jb->u_scatter, u + 3, 2 * sizeof(float));
+      jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)nl;
+    }
+  }
+  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
+  add_jobs(s->jobs, nj, Lk);
+  return CLR_SUCCESS;
+}
+
 static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc,
                             clr_integrator_scratch *s, const float *values, const uint64_t *keys,
                             int count, float *L, clr_integrator_counters *c) {
-  intersect_visible(sc, s, count, c);
-  float *wo = s->beta;
   size_t per = 0;
   if (it->direct_all)
     for (int j = 0; j < it->light_count; ++j) per += (size_t)it->light_samples[j];
   else
     per = it->light_count ? 1 : 0;
   CLR_CHECK(reserve_jobs(s, (size_t)count * per + 1));
-  int nj = 0;
-  for (int i = 0; i < count; ++i) {
-    const clr_surface *sf = &s->surfaces[i];
-    const float *v = values + (size_t)i * (size_t)it->values_per_sample;
-    const float one[3] = {1, 1, 1};
+  size_t nc = (size_t)(count > 0 ? count : 1);
+  float *Lk = malloc(nc * 3 * sizeof *Lk), *weight = malloc(nc * 3 * sizeof *weight);
+  int *map = malloc(nc * sizeof *map), *cont = malloc(nc * sizeof *cont);
+  clr_ray *next = malloc(nc * sizeof *next);
+  clr_result r = CLR_SUCCESS;
+  if (!Lk || !weight || !map || !cont || !next)
+    r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+  int n = count;
+  for (int i = 0; r == CLR_SUCCESS && i < count; ++i) {
+    map[i] = i;
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
-    if (sf->has_material < 0) {
-      add_escaped(sc, &s->rays2[i], one, L + 3 * i);
-      continue;
-    }
-    wo[3 * i] = -s->rays2[i].dx; wo[3 * i + 1] = -s->rays2[i].dy; wo[3 * i + 2] = -s->rays2[i].dz;
-    for (int k = 0; k < 3; ++k) L[3 * i + k] += sf->le[k];
-    if (!it->light_count) continue;
-    if (it->direct_all) {
-      int dim = 0;
-      for (int j = 0; j < it->light_count; ++j) {
-        int n = it->light_samples[j], off = it->light_offsets[j];
-        for (int k = 0; k < n; ++k) {
-          direct_job *jb = &s->jobs[nj++];
-          jb->sample = i;
-          jb->light = j;
-          for (int a = 0; a < 2; ++a) {
-            jb->u_light[a] = off >= 0 ? v[off + 2 * k + a] : fallback(keys[i], 100 + dim++);
-            jb->u_scatter[a] = off >= 0 ? v[off + 2 * n + 2 * k + a] : fallback(keys[i], 100 + dim++);
-          }
-          jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)n;
-        }
-      }
-    } else {
-      const float *u = v + it->value_offset;
-      direct_job *jb = &s->jobs[nj++];
-      int n = it->light_count;
-      jb->light = (int)fminf(u[0] * (float)n, (float)(n - 1));
-      jb->sample = i;
-      memcpy(jb->u_light, u + 1, 2 * sizeof(float));
-      memcpy(jb->u_scatter, u + 3, 2 * sizeof(float));
-      jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)n;
-    }
+    weight[3 * i] = weight[3 * i + 1] = weight[3 * i + 2] = 1.0f;
   }
-  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
-  add_jobs(s->jobs, nj, L);
-  return CLR_SUCCESS;
+  /* s->rays2[0..count) holds the camera rays: the first wave */
+  for (int depth = 0; r == CLR_SUCCESS && n > 0; ++depth) {
+    intersect_visible(sc, s, n, c);
+    r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, c);
+    if (r != CLR_SUCCESS) break;
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+      int i = map[k];
+      for (int a = 0; a < 3; ++a) L[3 * i + a] += weight[3 * i + a] * Lk[3 * k + a];
+      if (!cont[k]) continue;
+      for (int a = 0; a < 3; ++a) weight[3 * i + a] *= s->surfaces[k].kr[a]; /* f |cos| / pdf */
+      map[m] = i;
+      s->rays2[m] = next[k];
+      ++m;
+    }
+    n = m;
+  }
+  free(Lk);
+  free(weight);
+  free(map);
+  free(cont);
+  free(next);
+  return r;
 }
 
 static float path_value(const clr_integrator *it, const float *v, uint64_t key, int bounce, int k) {
   if (bounce < it->path_bounces_in_layout)
     return v[it->value_offset + bounce * CLR_PATH_VALUES_PER_BOUNCE + k];
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
+}
+
+/* pbrt-v3 Russian roulette after bounce 3. */
+static void path_roulette(const clr_integrator *it, const float *v, uint64_t key, int bounces,
+                          float b[3], int32_t *active) {
+  float m = fmaxf(b[0], fmaxf(b[1], b[2]));
+  if (m < it->rr_threshold && bounces > 3) {
+    float q = fmaxf(0.05f, 1.0f - m);
+    if (path_value(it, v, key, bounces, 7) < q) {
+      *active = 0;
+    } else {
+      for (int a = 0; a < 3; ++a) b[a] /= 1.0f - q;
+    }
+  }
 }
 
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
@@ -602,9 +683,11 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   CLR_CHECK(reserve_jobs(s, (size_t)count + 1));
   float *wos = malloc((size_t)count * 3 * sizeof(float));
   int *idx = malloc((size_t)count * sizeof(int));
-  if (!wos || !idx) {
+  int *specular = calloc((size_t)(count > 0 ? count : 1), sizeof(int)); /* last bounce a mirror */
+  if (!wos || !idx || !specular) {
     free(wos);
     free(idx);
+    free(specular);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
   for (int i = 0; i < count; ++i) {
@@ -630,22 +713,23 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       const clr_ray *ray = &s->rays[k];
       const clr_hit *h = &s->hits[k];
       int bounces = s->bounces[i];
+      int seen = bounces == 0 || specular[i]; /* pbrt-v3: emission counted here, else by MIS */
       if (h->geom_id == CLR_TRACER_INVALID_ID) {
-        if (bounces == 0) add_escaped(sc, ray, b, Li);
+        if (seen) add_escaped(sc, ray, b, Li);
         s->active[i] = 0;
         continue;
       }
       clr_surface *sf = &s->surfaces[i];
       clr_render_scene_surface(sc, ray, h, sf);
       if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
-        if (bounces == 0)
+        if (seen)
           for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
         float d[3] = {ray->dx, ray->dy, ray->dz};
         clr_render_scene_spawn_ray(sf, d, &s->rays2[i]);
         if (++nulls > MAX_NULL_SURFACES * count) s->active[i] = 0;
         continue;
       }
-      if (bounces == 0)
+      if (seen)
         for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
       if (bounces >= it->max_depth) {
         s->active[i] = 0;
@@ -654,6 +738,20 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       const float *v = values + (size_t)i * (size_t)it->values_per_sample;
       float *w = wos + 3 * i;
       w[0] = -ray->dx; w[1] = -ray->dy; w[2] = -ray->dz;
+      specular[i] = sf->mirror;
+      if (sf->mirror) { /* pbrt-v3: no light sampling; beta *= Kr (f |cos| / pdf) */
+        float wi[3];
+        mirror_direction(sf, w, wi);
+        if (is_black(sf->kr) || rs_dot(wi, sf->ns) == 0.0f) {
+          s->active[i] = 0;
+          continue;
+        }
+        for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
+        clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+        path_roulette(it, v, keys[i], bounces, b, &s->active[i]);
+        s->bounces[i] = bounces + 1;
+        continue;
+      }
       if (it->light_count) {
         float lpdf;
         int light = choose_light(it, path_value(it, v, keys[i], bounces, 0), &lpdf);
@@ -677,15 +775,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       for (int a = 0; a < 3; ++a) b[a] *= sf->kd[a] * fc / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-      float m = fmaxf(b[0], fmaxf(b[1], b[2]));
-      if (m < it->rr_threshold && bounces > 3) {
-        float q = fmaxf(0.05f, 1.0f - m);
-        if (path_value(it, v, keys[i], bounces, 7) < q) {
-          s->active[i] = 0;
-        } else {
-          for (int a = 0; a < 3; ++a) b[a] /= 1.0f - q;
-        }
-      }
+      path_roulette(it, v, keys[i], bounces, b, &s->active[i]);
       s->bounces[i] = bounces + 1;
     }
     if (nj) {
@@ -698,6 +788,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   }
   free(wos);
   free(idx);
+  free(specular);
   return r;
 }
 

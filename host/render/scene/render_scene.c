@@ -200,7 +200,9 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   }
 }
 
-static int material_is_supported(const char *type) { return strcmp(type, "matte") == 0; }
+static int material_is_supported(const char *type) {
+  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0;
+}
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
  * OrenNayar with A = 1 - s^2 / (2 (s^2 + 0.33)), B = 0.45 s^2 / (s^2 + 0.09), s in radians. A
@@ -257,7 +259,9 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     const clr_material_desc *md = &d->materials[sd->material >= 0 ? sd->material : 0];
     const char *mtype = md->type ? md->type : "";
     sh->has_material = !(mtype[0] == 0 || strcmp(mtype, "none") == 0);
-    rs_colour_param(&sd->params, &md->params, "Kd", 0.5f, &sh->kd);
+    sh->mirror = strcmp(mtype, "mirror") == 0;
+    if (sh->mirror) rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
+    else rs_colour_param(&sd->params, &md->params, "Kd", 0.5f, &sh->kd);
     oren_nayar_params(sd, md, mtype, sh);
     if (sh->has_material && !material_is_supported(mtype)) {
       int seen = 0;
@@ -507,7 +511,10 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   out->has_material = sh->has_material;
   out->on_a = sh->on_a;
   out->on_b = sh->on_b;
-  if (sh->has_material) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  out->mirror = sh->has_material && sh->mirror;
+  out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
+  if (out->mirror) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
+  if (sh->has_material && !sh->mirror) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
   else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;

@@ -53,6 +53,8 @@ typedef struct clr_surface {
   float n_geom[3];     /* pbrt isect.n: geometric normal oriented as the shape's (unit) */
   float kd[3];         /* diffuse reflectance (matte Kd, textures evaluated) */
   float on_a, on_b;    /* matte "sigma": pbrt-v3 Oren-Nayar A and B (Lambertian: 1 and 0) */
+  int32_t mirror;      /* 1: material "mirror", a perfect specular reflector with kr */
+  float kr[3];         /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */
   float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */
   int32_t has_material;/* 0 for material "none" (invisible: continue the ray) */
   int32_t area_light;  /* index of the area light (into the light list) or -1 */

@@ -18,6 +18,8 @@ typedef struct rs_shape {
   int has_material;
   rs_colour kd;
   float on_a, on_b;         /* Oren-Nayar A, B from matte "sigma" (1, 0: Lambertian) */
+  int mirror;               /* material "mirror": specular reflection with kr */
+  rs_colour kr;
   int first_light;          /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
 } rs_shape;
