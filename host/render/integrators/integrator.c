@@ -8,6 +8,7 @@
 #include "render_error.h"
 #include "grow.h"
 #include "integrator.h"
+#include "microfacet.h"
 #include "pcg32.h"
 #include "render_scene.h"
 #include "vec3.h"
@@ -333,6 +334,86 @@ static float lambert_sample(const clr_surface *s, const float wo[3], const float
   return lambert_cos(s, wo, wi);
 }
 
+static int is_black_c(const float c[3]) { return c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f; }
+
+/* ---------- material BSDFs (pbrt-v3 BSDF: components summed, pdfs averaged) ---------- */
+
+static void to_local(const float ss[3], const float ts[3], const float ns[3], const float w[3],
+                     float l[3]) {
+  l[0] = rs_dot(w, ss);
+  l[1] = rs_dot(w, ts);
+  l[2] = rs_dot(w, ns);
+}
+
+static int plastic_components(const clr_surface *s, int *diffuse, int *glossy) {
+  *diffuse = !is_black_c(s->kd);
+  *glossy = !is_black_c(s->ks);
+  return *diffuse + *glossy;
+}
+
+/* f * |cos(wi, ns)| (colour) with BSDF::f's reflect rule; 1 when not black. */
+static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3], float f[3]) {
+  float fc = lambert_cos(s, wo, wi);
+  if (!s->plastic) {
+    for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc;
+    return fc > 0.0f && !is_black_c(f);
+  }
+  f[0] = f[1] = f[2] = 0.0f;
+  if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
+  float ss[3], ts[3], lo[3], li[3];
+  shading_frame(s, ss, ts);
+  to_local(ss, ts, s->ns, wo, lo);
+  to_local(ss, ts, s->ns, wi, li);
+  if (lo[2] == 0.0f) return 0;
+  float g = clr_microfacet_f(lo, li, s->alpha) * fabsf(li[2]);
+  for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc + s->ks[k] * g;
+  return !is_black_c(f);
+}
+
+static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (!s->plastic) return lambert_pdf(s, wo, wi);
+  int d, g, n = plastic_components(s, &d, &g);
+  if (!n) return 0.0f;
+  float ss[3], ts[3], lo[3], li[3];
+  shading_frame(s, ss, ts);
+  to_local(ss, ts, s->ns, wo, lo);
+  to_local(ss, ts, s->ns, wi, li);
+  if (lo[2] == 0.0f) return 0.0f;
+  float pdf = (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
+  return pdf / (float)n;
+}
+
+/* BSDF::Sample_f: wi, pdf and f * |cos| (colour); 1 when usable. */
+static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in[2], float wi[3],
+                       float *pdf, float f[3]) {
+  if (!s->plastic) {
+    float fc = lambert_sample(s, wo, u_in, wi, pdf);
+    for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc;
+    return fc > 0.0f && *pdf > 0.0f && !is_black_c(f);
+  }
+  int d, g, n = plastic_components(s, &d, &g);
+  *pdf = 0.0f;
+  if (!n) return 0;
+  int comp = (int)fminf(floorf(u_in[0] * (float)n), (float)(n - 1));
+  float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
+  int glossy = g && (comp == 1 || !d);
+  float ss[3], ts[3], lo[3];
+  shading_frame(s, ss, ts);
+  to_local(ss, ts, s->ns, wo, lo);
+  if (lo[2] == 0.0f) return 0;
+  if (glossy) {
+    float li[3], p;
+    if (!(clr_microfacet_sample(lo, u, s->alpha, li, &p) > 0.0f) || !(p > 0.0f)) return 0;
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+  } else {
+    float p;
+    lambert_sample(s, wo, u, wi, &p);
+    if (!(p > 0.0f)) return 0;
+  }
+  *pdf = bsdf_pdf(s, wo, wi);
+  return bsdf_eval(s, wo, wi, f) && *pdf > 0.0f;
+}
+
 static float power_heuristic(float f, float g) {
   float f2 = f * f, g2 = g * g;
   return (f2 + g2) > 0.0f ? f2 / (f2 + g2) : 0.0f;
@@ -385,11 +466,11 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     clr_light_sample ls;
     clr_render_scene_sample_light(sc, jb->light, sf->p, sf->ng, jb->u_light, &ls);
     if (ls.pdf > 0.0f && !is_black(ls.li)) {
-      float fc = lambert_cos(sf, wo, ls.wi);
-      if (fc > 0.0f) {
+      float f3[3];
+      if (bsdf_eval(sf, wo, ls.wi, f3)) {
         float w = 1.0f;
-        if (!ls.is_delta) w = power_heuristic(ls.pdf, lambert_pdf(sf, wo, ls.wi));
-        for (int k = 0; k < 3; ++k) jb->shadow_contrib[k] = sf->kd[k] * fc * ls.li[k] * w / ls.pdf;
+        if (!ls.is_delta) w = power_heuristic(ls.pdf, bsdf_pdf(sf, wo, ls.wi));
+        for (int k = 0; k < 3; ++k) jb->shadow_contrib[k] = f3[k] * ls.li[k] * w / ls.pdf;
         jb->shadow_index = nshadow;
         s->rays[nshadow++] = ls.shadow;
       }
@@ -407,9 +488,9 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     const clr_surface *sf = &s->surfaces[jb->sample];
     const float *wo = wo_all + 3 * jb->sample;
     float wi[3], pdf;
-    float fc = lambert_sample(sf, wo, jb->u_scatter, wi, &pdf);
-    if (!(fc > 0.0f) || !(pdf > 0.0f)) continue;
-    for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = sf->kd[k] * fc;
+    float f3[3];
+    if (!bsdf_sample(sf, wo, jb->u_scatter, wi, &pdf, f3)) continue;
+    for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = f3[k];
     jb->bsdf_pdf = pdf;
     clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis]);
     /* pbrt-v3 asks the light's shape for the pdf first and traces nothing when it is 0 */
@@ -768,12 +849,12 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       float u[2] = {path_value(it, v, keys[i], bounces, 5), path_value(it, v, keys[i], bounces, 6)};
       float wi[3], pdf;
-      float fc = lambert_sample(sf, w, u, wi, &pdf);
-      if (!(fc > 0.0f) || !(pdf > 0.0f) || is_black(sf->kd)) {
+      float f3[3];
+      if (!bsdf_sample(sf, w, u, wi, &pdf, f3)) {
         s->active[i] = 0;
         continue;
       }
-      for (int a = 0; a < 3; ++a) b[a] *= sf->kd[a] * fc / pdf;
+      for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
       path_roulette(it, v, keys[i], bounces, b, &s->active[i]);
       s->bounces[i] = bounces + 1;

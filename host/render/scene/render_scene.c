@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "microfacet.h"
 #include "render_error.h"
 #include "loop_subdiv.h"
 #include "ply_reader.h"
@@ -201,7 +202,7 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
 }
 
 static int material_is_supported(const char *type) {
-  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0;
+  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 || strcmp(type, "plastic") == 0;
 }
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
@@ -260,8 +261,16 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     const char *mtype = md->type ? md->type : "";
     sh->has_material = !(mtype[0] == 0 || strcmp(mtype, "none") == 0);
     sh->mirror = strcmp(mtype, "mirror") == 0;
+    sh->plastic = strcmp(mtype, "plastic") == 0;
     if (sh->mirror) rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
-    else rs_colour_param(&sd->params, &md->params, "Kd", 0.5f, &sh->kd);
+    else rs_colour_param(&sd->params, &md->params, "Kd", sh->plastic ? 0.25f : 0.5f, &sh->kd);
+    if (sh->plastic) { /* pbrt-v3 CreatePlasticMaterial defaults */
+      rs_colour_param(&sd->params, &md->params, "Ks", 0.25f, &sh->ks);
+      float rough = clr_params_find_float(&md->params, "roughness", 0.1f);
+      rough = clr_params_find_float(&sd->params, "roughness", rough);
+      int remap = clr_params_find_bool(&md->params, "remaproughness", true);
+      sh->alpha = remap ? clr_tr_roughness_to_alpha(rough) : rough;
+    }
     oren_nayar_params(sd, md, mtype, sh);
     if (sh->has_material && !material_is_supported(mtype)) {
       int seen = 0;
@@ -512,6 +521,10 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   out->on_a = sh->on_a;
   out->on_b = sh->on_b;
   out->mirror = sh->has_material && sh->mirror;
+  out->plastic = sh->has_material && sh->plastic;
+  out->alpha = sh->alpha;
+  out->ks[0] = out->ks[1] = out->ks[2] = 0.0f;
+  if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
   out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
   if (out->mirror) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
   if (sh->has_material && !sh->mirror) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);

@@ -54,6 +54,8 @@ typedef struct clr_surface {
   float kd[3];         /* diffuse reflectance (matte Kd, textures evaluated) */
   float on_a, on_b;    /* matte "sigma": pbrt-v3 Oren-Nayar A and B (Lambertian: 1 and 0) */
   int32_t mirror;      /* 1: material "mirror", a perfect specular reflector with kr */
+  int32_t plastic;     /* 1: material "plastic": kd Lambertian + ks TrowbridgeReitz lobe */
+  float ks[3], alpha;  /* plastic Ks and microfacet alpha (roughness remapped) */
   float kr[3];         /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */
   float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */
   int32_t has_material;/* 0 for material "none" (invisible: continue the ray) */

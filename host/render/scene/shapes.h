@@ -20,6 +20,9 @@ typedef struct rs_shape {
   float on_a, on_b;         /* Oren-Nayar A, B from matte "sigma" (1, 0: Lambertian) */
   int mirror;               /* material "mirror": specular reflection with kr */
   rs_colour kr;
+  int plastic;              /* material "plastic": kd + ks microfacet lobe of alpha */
+  rs_colour ks;
+  float alpha;
   int first_light;          /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
 } rs_shape;
