@@ -156,6 +156,12 @@ clr_result rs_area_lights_add(rs_light_set *set, rs_shape *sh, int shape_index,
     l.power = luminance(l.colour) * sides * RS_PI * 4.0f * RS_PI * l.radius * l.radius;
     return push_light(set, &l);
   }
+  if (sh->type == RS_SHAPE_DISK) {
+    l.type = RS_LIGHT_AREA_DISK;
+    l.area = sh->phimax * 0.5f * (sh->radius * sh->radius - sh->inner_radius * sh->inner_radius);
+    l.power = luminance(l.colour) * sides * RS_PI * l.area;
+    return push_light(set, &l);
+  }
   l.type = RS_LIGHT_AREA_TRIANGLE;
   for (int t = 0; t < sh->mesh.triangle_count; ++t) {
     const float *p0, *p1, *p2;
@@ -179,6 +185,25 @@ int rs_light_is_delta(const rs_light *l) {
 static void area_emit(const rs_light *l, const float n[3], const float w[3], float li[3]) {
   if (l->two_sided || rs_dot(n, w) > 0.0f) memcpy(li, l->colour, 3 * sizeof(float));
   else li[0] = li[1] = li[2] = 0.0f;
+}
+
+/* pbrt-v3 ConcentricSampleDisk. */
+static void disk_concentric(const float u[2], float *x, float *y) {
+  float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
+  if (ox == 0.0f && oy == 0.0f) {
+    *x = *y = 0.0f;
+    return;
+  }
+  float r, theta;
+  if (fabsf(ox) > fabsf(oy)) {
+    r = ox;
+    theta = (RS_PI / 4.0f) * (oy / ox);
+  } else {
+    r = oy;
+    theta = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy);
+  }
+  *x = r * cosf(theta);
+  *y = r * sinf(theta);
 }
 
 /* Points on the sphere itself count as inside (pbrt-v3 tests its offset ray origin): cone
@@ -210,6 +235,20 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     } else if (sh->flip_normal) {
       n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2];
     }
+    *pdf = 1.0f / l->area;
+    return;
+  }
+  if (l->type == RS_LIGHT_AREA_DISK) {
+    /* pbrt-v3 Disk::Sample(u): the full disk of `radius` (innerradius and phimax are ignored
+     * there too), pdf 1 / Area() */
+    const rs_shape *sh = &shapes[l->shape];
+    float dx, dy, z[3] = {0.0f, 0.0f, 1.0f};
+    disk_concentric(u, &dx, &dy);
+    float po[3] = {dx * sh->radius, dy * sh->radius, sh->height};
+    clr_transform_point(&sh->object_to_world, po, pt);
+    clr_transform_normal(&sh->object_to_world, z, n);
+    rs_normalize(n);
+    if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
     *pdf = 1.0f / l->area;
     return;
   }
@@ -356,7 +395,7 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     float c = fabsf(rs_dot(n_hit, wi));
     return c > 0.0f ? t * t / (c * 4.0f * RS_PI * l->radius * l->radius) : 0.0f;
   }
-  if (l->type == RS_LIGHT_AREA_TRIANGLE) {
+  if (l->type == RS_LIGHT_AREA_TRIANGLE || l->type == RS_LIGHT_AREA_DISK) {
     float c = fabsf(rs_dot(n_hit, wi));
     return c > 0.0f ? t * t / (c * l->area) : 0.0f;
   }
@@ -403,6 +442,22 @@ int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int 
     double t = (-b + sqrt(disc)) / dd; /* the far root: the only one ahead when inside */
     return t > (double)ray->tnear && t > 1e-6 * l->radius && t < (double)ray->tfar &&
            (c2 < r2 || b < 0.0);
+  }
+  if (l->type == RS_LIGHT_AREA_DISK) { /* Disk::Intersect in object space */
+    const rs_shape *sh = &shapes[l->shape];
+    clr_transform w2o = clr_transform_inverse(&sh->object_to_world);
+    float ow[3] = {ray->ox, ray->oy, ray->oz}, dw[3] = {ray->dx, ray->dy, ray->dz}, o[3], d[3];
+    clr_transform_point(&w2o, ow, o);
+    clr_transform_vector(&w2o, dw, d);
+    if (d[2] == 0.0f) return 0;
+    double t = ((double)sh->height - o[2]) / d[2];
+    if (!(t > 0.0) || !(t > (double)ray->tnear) || !(t < (double)ray->tfar)) return 0;
+    double x = o[0] + t * d[0], y = o[1] + t * d[1], r2 = x * x + y * y;
+    if (r2 > (double)sh->radius * sh->radius || r2 < (double)sh->inner_radius * sh->inner_radius)
+      return 0;
+    double phi = atan2(y, x);
+    if (phi < 0.0) phi += 2.0 * RS_PI;
+    return phi <= (double)sh->phimax * (1.0 + 1e-6);
   }
   if (l->type != RS_LIGHT_AREA_TRIANGLE) return 1;
   const float *p0, *p1, *p2;

@@ -11,7 +11,7 @@
 
 typedef enum {
   RS_LIGHT_POINT, RS_LIGHT_SPOT, RS_LIGHT_DISTANT, RS_LIGHT_INFINITE, RS_LIGHT_AREA_TRIANGLE,
-  RS_LIGHT_AREA_SPHERE
+  RS_LIGHT_AREA_SPHERE, RS_LIGHT_AREA_DISK
 } rs_light_type;
 
 typedef struct rs_light {
@@ -23,7 +23,7 @@ typedef struct rs_light {
   float light_to_world[3][3]; /* infinite */
   float cos_total, cos_falloff_start;
   int shape, prim, two_sided;
-  float area;         /* triangle area */
+  float area;         /* triangle area; disk: pbrt-v3 Disk::Area (object space) */
   float radius;       /* sphere */
   int nsamples;
   float power;

@@ -196,6 +196,7 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   for (int c = 0; c < 8; ++c) {
     float q[3] = {(c & 1) ? sh->radius : -sh->radius, (c & 2) ? sh->radius : -sh->radius,
                   (c & 4) ? sh->radius : -sh->radius}, w[3];
+    if (sh->type == RS_SHAPE_DISK) q[2] = sh->height;
     clr_transform_point(&sh->object_to_world, q, w);
     for (int i = 0; i < 3; ++i) { lo[i] = fminf(lo[i], w[i]); hi[i] = fmaxf(hi[i], w[i]); }
   }
@@ -243,10 +244,23 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
         return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"sphere\": \"radius\" must be "
                                   "positive, got %g", p->file ? p->file : "?", p->line,
                                   (double)sh->radius);
-      const char *extra[] = {"zmin", "zmax", "phimax"};
+      const char *extra[] = {"zmin", "zmax", "phimax"}; /* partial spheres: not yet */
       for (int k = 0; k < 3; ++k)
         if (clr_params_find(p, extra[k], CLR_PARAM_FLOAT))
           warn_fmt(warn, wu, "%s:%d: sphere \"%s\" not supported: full sphere used", p->file, p->line, extra[k]);
+    } else if (strcmp(sd->type, "disk") == 0) { /* pbrt-v3 CreateDiskShape */
+      sh->type = RS_SHAPE_DISK;
+      sh->height = clr_params_find_float(p, "height", 0.0f);
+      sh->radius = clr_params_find_float(p, "radius", 1.0f);
+      sh->inner_radius = clr_params_find_float(p, "innerradius", 0.0f);
+      float phimax = clr_params_find_float(p, "phimax", 360.0f);
+      if (!(sh->radius > 0.0f) || !(sh->inner_radius >= 0.0f) || !(sh->inner_radius < sh->radius) ||
+          !(phimax > 0.0f && phimax <= 360.0f) || !isfinite(sh->height))
+        return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"disk\": needs 0 <= \"innerradius\" "
+                                  "< \"radius\" and 0 < \"phimax\" <= 360, got %g, %g, %g",
+                                  p->file ? p->file : "?", p->line, (double)sh->inner_radius,
+                                  (double)sh->radius, (double)phimax);
+      sh->phimax = phimax * RS_PI / 180.0f;
     } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
@@ -289,6 +303,11 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     int index = s->shape_count - 1;
     if (sh->type == RS_SHAPE_MESH) {
       CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
+    } else if (sh->type == RS_SHAPE_DISK) {
+      float xf[16];
+      rs_xform_m16(&sh->object_to_world, xf);
+      CLR_CHECK(clr_tracer_add_disk(s->tracer, group, xf, sh->height, sh->radius, sh->inner_radius,
+                                    sh->phimax * 180.0f / RS_PI, (uint32_t)index, NULL));
     } else {
       float xf[16];
       rs_xform_m16(&sh->object_to_world, xf);
@@ -479,6 +498,25 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
   if (sh->flip_normal) negate(n);
 }
 
+/* pbrt-v3 Disk::Intersect's interaction: the hit refined onto z = height, n the object z axis,
+ * uv (phi / phimax, (radius - r) / (radius - innerradius)), dpdu (-phimax y, phimax x, 0). */
+static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr_ray *ray,
+                         const clr_hit *hit, float p[3], float n[3], float uv[2], float dpdu[3]) {
+  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy, ray->oz + hit->t * ray->dz};
+  float po[3], z[3] = {0.0f, 0.0f, 1.0f};
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  po[2] = sh->height;
+  float du_o[3] = {-sh->phimax * po[1], sh->phimax * po[0], 0.0f};
+  clr_transform_point(o2w, po, p);
+  clr_transform_normal(o2w, z, n);
+  rs_normalize(n);
+  clr_transform_vector(o2w, du_o, dpdu);
+  uv[0] = hit->u;
+  uv[1] = hit->v;
+  if (sh->flip_normal) negate(n);
+}
+
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
@@ -499,6 +537,9 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
       clr_transform_vector(inst, dpdu, q); memcpy(dpdu, q, sizeof q);
       if (has_ns) { clr_transform_normal(inst, ns, q); memcpy(ns, q, sizeof q); }
     }
+  } else if (sh->type == RS_SHAPE_DISK) {
+    clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    disk_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   } else {
     clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);

@@ -7,12 +7,13 @@
 #include "textures.h"
 #include "transform.h"
 
-typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE } rs_shape_type;
+typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK } rs_shape_type;
 
 typedef struct rs_shape {
   rs_shape_type type;
   clr_mesh mesh;            /* world space, or object space for shapes of an object */
   float radius;
+  float height, inner_radius, phimax; /* disk (phimax in radians) */
   clr_transform object_to_world; /* sphere: object to world (or to instance) */
   int flip_normal;          /* pbrt reverseOrientation ^ transformSwapsHandedness */
   int has_material;
