@@ -626,7 +626,7 @@ static void mirror_direction(const clr_surface *sf, const float wo[3], float wi[
 static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *sc,
                               clr_integrator_scratch *s, const float *values, const uint64_t *keys,
                               int n, const int *map, int depth, float *Lk, int *cont, clr_ray *next,
-                              clr_integrator_counters *c) {
+                              float *factor, clr_integrator_counters *c) {
   float *wo = s->beta;
   int nj = 0;
   for (int k = 0; k < n; ++k) {
@@ -635,20 +635,47 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
     const float *v = values + (size_t)i * (size_t)it->values_per_sample;
     const float one[3] = {1, 1, 1};
     Lk[3 * k] = Lk[3 * k + 1] = Lk[3 * k + 2] = 0.0f;
-    cont[k] = 0;
+    cont[2 * k] = cont[2 * k + 1] = 0;
     if (sf->has_material < 0) {
       add_escaped(sc, &s->rays2[k], one, Lk + 3 * k);
       continue;
     }
     wo[3 * k] = -s->rays2[k].dx; wo[3 * k + 1] = -s->rays2[k].dy; wo[3 * k + 2] = -s->rays2[k].dz;
     for (int a = 0; a < 3; ++a) Lk[3 * k + a] += sf->le[a];
+    if (sf->glass) { /* pbrt-v3 without multiple lobes: SpecularReflection + SpecularTransmission,
+                      * SpecularReflect and SpecularTransmit both followed */
+      if (depth + 1 >= it->max_depth) continue;
+      const float *w = wo + 3 * k;
+      float wi[3], cos_o = rs_dot(w, sf->ns);
+      int entering = rs_dot(w, sf->n_geom) > 0.0f;
+      float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
+      mirror_direction(sf, w, wi);
+      for (int a = 0; a < 3; ++a) factor[6 * k + a] = sf->kr[a] * F;
+      if (!is_black(factor + 6 * k) && rs_dot(wi, sf->ns) != 0.0f) {
+        clr_render_scene_spawn_ray(sf, wi, &next[2 * k]);
+        cont[2 * k] = 1;
+      }
+      float eta = entering ? 1.0f / sf->eta : sf->eta;
+      float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+      if (sin2_t < 1.0f) {
+        float cos_t = sqrtf(1.0f - sin2_t);
+        for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
+        for (int a = 0; a < 3; ++a) factor[6 * k + 3 + a] = sf->kt[a] * (1.0f - F) * eta * eta;
+        if (!is_black(factor + 6 * k + 3)) {
+          clr_render_scene_spawn_ray(sf, wi, &next[2 * k + 1]);
+          cont[2 * k + 1] = 1;
+        }
+      }
+      continue;
+    }
     if (sf->mirror) { /* no non-specular component: no light sampling */
       if (depth + 1 < it->max_depth && !is_black(sf->kr)) {
         float wi[3];
         mirror_direction(sf, wo + 3 * k, wi);
         if (rs_dot(wi, sf->ns) != 0.0f) {
-          clr_render_scene_spawn_ray(sf, wi, &next[k]);
-          cont[k] = 1;
+          clr_render_scene_spawn_ray(sf, wi, &next[2 * k]);
+          for (int a = 0; a < 3; ++a) factor[6 * k + a] = sf->kr[a]; /* f |cos| / pdf */
+          cont[2 * k] = 1;
         }
       }
       continue;
@@ -696,39 +723,84 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     for (int j = 0; j < it->light_count; ++j) per += (size_t)it->light_samples[j];
   else
     per = it->light_count ? 1 : 0;
-  CLR_CHECK(reserve_jobs(s, (size_t)count * per + 1));
-  size_t nc = (size_t)(count > 0 ? count : 1);
-  float *Lk = malloc(nc * 3 * sizeof *Lk), *weight = malloc(nc * 3 * sizeof *weight);
-  int *map = malloc(nc * sizeof *map), *cont = malloc(nc * sizeof *cont);
-  clr_ray *next = malloc(nc * sizeof *next);
+  /* entries: a camera sample's path through mirrors and glass (glass splits one in two) */
+  size_t cap = (size_t)(count > 0 ? count : 1);
+  float *Lk = NULL, *weight = NULL, *factor = NULL;
+  int *map = NULL, *cont = NULL;
+  clr_ray *next = NULL;
   clr_result r = CLR_SUCCESS;
-  if (!Lk || !weight || !map || !cont || !next)
-    r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
   int n = count;
-  for (int i = 0; r == CLR_SUCCESS && i < count; ++i) {
-    map[i] = i;
-    L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
-    weight[3 * i] = weight[3 * i + 1] = weight[3 * i + 2] = 1.0f;
-  }
-  /* s->rays2[0..count) holds the camera rays: the first wave */
   for (int depth = 0; r == CLR_SUCCESS && n > 0; ++depth) {
+    if (depth == 0 || (size_t)n > cap || !Lk) {
+      cap = (size_t)n > cap ? (size_t)n : cap;
+      float *a = realloc(Lk, cap * 3 * sizeof *a), *b = a ? realloc(weight, cap * 3 * sizeof *b) : NULL;
+      if (a) Lk = a;
+      if (b) weight = b;
+      float *f = b ? realloc(factor, cap * 6 * sizeof *f) : NULL;
+      if (f) factor = f;
+      int *m1 = f ? realloc(map, cap * sizeof *m1) : NULL;
+      if (m1) map = m1;
+      int *c1 = m1 ? realloc(cont, cap * 2 * sizeof *c1) : NULL;
+      if (c1) cont = c1;
+      clr_ray *nx = c1 ? realloc(next, cap * 2 * sizeof *nx) : NULL;
+      if (nx) next = nx;
+      if (!nx) {
+        r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+        break;
+      }
+    }
+    if (depth == 0)
+      for (int i = 0; i < count; ++i) { /* s->rays2[0..count) holds the camera rays */
+        map[i] = i;
+        L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
+        weight[3 * i] = weight[3 * i + 1] = weight[3 * i + 2] = 1.0f;
+      }
+    r = reserve_samples(s, (size_t)n);
+    if (r == CLR_SUCCESS) r = reserve_rays(s, (size_t)n);
+    if (r == CLR_SUCCESS) r = reserve_jobs(s, (size_t)n * per + 1);
+    if (r != CLR_SUCCESS) break;
     intersect_visible(sc, s, n, c);
-    r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, c);
+    r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, factor, c);
     if (r != CLR_SUCCESS) break;
     int m = 0;
-    for (int k = 0; k < n; ++k) {
-      int i = map[k];
-      for (int a = 0; a < 3; ++a) L[3 * i + a] += weight[3 * i + a] * Lk[3 * k + a];
-      if (!cont[k]) continue;
-      for (int a = 0; a < 3; ++a) weight[3 * i + a] *= s->surfaces[k].kr[a]; /* f |cos| / pdf */
-      map[m] = i;
-      s->rays2[m] = next[k];
-      ++m;
+    for (int k = 0; k < n; ++k)
+      for (int a = 0; a < 3; ++a) L[3 * map[k] + a] += weight[3 * k + a] * Lk[3 * k + a];
+    for (int k = 0; k < n; ++k) m += cont[2 * k] + cont[2 * k + 1];
+    if (m == 0) break;
+    r = reserve_samples(s, (size_t)m);
+    float *nw = r == CLR_SUCCESS ? malloc((size_t)m * 3 * sizeof *nw) : NULL;
+    int *nm = nw ? malloc((size_t)m * sizeof *nm) : NULL;
+    if (!nm) {
+      free(nw);
+      if (r == CLR_SUCCESS) r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+      break;
+    }
+    int at = 0;
+    for (int k = 0; k < n; ++k)
+      for (int q = 0; q < 2; ++q) {
+        if (!cont[2 * k + q]) continue;
+        const float *f = factor + 6 * k + 3 * q;
+        s->rays2[at] = next[2 * k + q];
+        for (int a = 0; a < 3; ++a) nw[3 * at + a] = weight[3 * k + a] * f[a];
+        nm[at++] = map[k];
+      }
+    free(weight);
+    free(map);
+    weight = nw;
+    map = nm;
+    if ((size_t)m > cap) { /* the other per-entry arrays are grown at the top of the loop */
+      float *a = realloc(Lk, (size_t)m * 3 * sizeof *a);
+      if (!a) {
+        r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+        break;
+      }
+      Lk = a;
     }
     n = m;
   }
   free(Lk);
   free(weight);
+  free(factor);
   free(map);
   free(cont);
   free(next);
@@ -741,10 +813,10 @@ static float path_value(const clr_integrator *it, const float *v, uint64_t key, 
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
 }
 
-/* pbrt-v3 Russian roulette after bounce 3. */
+/* pbrt-v3 Russian roulette after bounce 3, on beta * etaScale. */
 static void path_roulette(const clr_integrator *it, const float *v, uint64_t key, int bounces,
-                          float b[3], int32_t *active) {
-  float m = fmaxf(b[0], fmaxf(b[1], b[2]));
+                          float eta_scale, float b[3], int32_t *active) {
+  float m = fmaxf(b[0] * eta_scale, fmaxf(b[1] * eta_scale, b[2] * eta_scale));
   if (m < it->rr_threshold && bounces > 3) {
     float q = fmaxf(0.05f, 1.0f - m);
     if (path_value(it, v, key, bounces, 7) < q) {
@@ -764,14 +836,17 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   CLR_CHECK(reserve_jobs(s, (size_t)count + 1));
   float *wos = malloc((size_t)count * 3 * sizeof(float));
   int *idx = malloc((size_t)count * sizeof(int));
-  int *specular = calloc((size_t)(count > 0 ? count : 1), sizeof(int)); /* last bounce a mirror */
-  if (!wos || !idx || !specular) {
+  int *specular = calloc((size_t)(count > 0 ? count : 1), sizeof(int)); /* last bounce specular */
+  float *eta_scale = malloc((size_t)(count > 0 ? count : 1) * sizeof(float));
+  if (!wos || !idx || !specular || !eta_scale) {
     free(wos);
     free(idx);
     free(specular);
+    free(eta_scale);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
   for (int i = 0; i < count; ++i) {
+    eta_scale[i] = 1.0f;
     beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
     s->bounces[i] = 0;
@@ -819,7 +894,35 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       const float *v = values + (size_t)i * (size_t)it->values_per_sample;
       float *w = wos + 3 * i;
       w[0] = -ray->dx; w[1] = -ray->dy; w[2] = -ray->dz;
-      specular[i] = sf->mirror;
+      specular[i] = sf->mirror || sf->glass;
+      if (sf->glass) { /* pbrt-v3 FresnelSpecular::Sample_f */
+        float wi[3], cos_o = rs_dot(w, sf->ns);
+        int entering = rs_dot(w, sf->n_geom) > 0.0f;
+        float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
+        if (path_value(it, v, keys[i], bounces, 5) < F) {
+          mirror_direction(sf, w, wi);
+          for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a]; /* Kr F / F */
+        } else {
+          float eta = entering ? 1.0f / sf->eta : sf->eta; /* eta_i / eta_t */
+          float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+          if (sin2_t >= 1.0f) {
+            s->active[i] = 0;
+            continue;
+          }
+          float cos_t = sqrtf(1.0f - sin2_t);
+          for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
+          for (int a = 0; a < 3; ++a) b[a] *= sf->kt[a] * eta * eta; /* T (1-F) (eta_i/eta_t)^2 / (1-F) */
+          eta_scale[i] *= entering ? sf->eta * sf->eta : 1.0f / (sf->eta * sf->eta);
+        }
+        if (is_black(b)) {
+          s->active[i] = 0;
+          continue;
+        }
+        clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+        path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+        s->bounces[i] = bounces + 1;
+        continue;
+      }
       if (sf->mirror) { /* pbrt-v3: no light sampling; beta *= Kr (f |cos| / pdf) */
         float wi[3];
         mirror_direction(sf, w, wi);
@@ -829,7 +932,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         }
         for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
         clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-        path_roulette(it, v, keys[i], bounces, b, &s->active[i]);
+        path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
         s->bounces[i] = bounces + 1;
         continue;
       }
@@ -856,7 +959,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-      path_roulette(it, v, keys[i], bounces, b, &s->active[i]);
+      path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
       s->bounces[i] = bounces + 1;
     }
     if (nj) {
@@ -870,6 +973,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   free(wos);
   free(idx);
   free(specular);
+  free(eta_scale);
   return r;
 }
 

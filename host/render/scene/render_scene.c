@@ -203,7 +203,8 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
 }
 
 static int material_is_supported(const char *type) {
-  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 || strcmp(type, "plastic") == 0;
+  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 || strcmp(type, "plastic") == 0 ||
+         strcmp(type, "glass") == 0;
 }
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
@@ -276,7 +277,20 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     sh->has_material = !(mtype[0] == 0 || strcmp(mtype, "none") == 0);
     sh->mirror = strcmp(mtype, "mirror") == 0;
     sh->plastic = strcmp(mtype, "plastic") == 0;
+    sh->glass = strcmp(mtype, "glass") == 0;
+    if (sh->glass) { /* pbrt-v3 CreateGlassMaterial: Kr 1, Kt 1, eta ("index" in old scenes) 1.5 */
+      rs_colour_param(&sd->params, &md->params, "Kr", 1.0f, &sh->kr);
+      rs_colour_param(&sd->params, &md->params, "Kt", 1.0f, &sh->kt);
+      float eta = clr_params_find_float(&md->params, "index", 1.5f);
+      sh->eta = clr_params_find_float(&md->params, "eta", eta);
+      float ur = clr_params_find_float(&md->params, "uroughness", 0.0f);
+      float vr = clr_params_find_float(&md->params, "vroughness", 0.0f);
+      if (ur != 0.0f || vr != 0.0f)
+        warn_fmt(warn, wu, "%s:%d: rough glass not supported: rendered as smooth glass",
+                 md->params.file ? md->params.file : p->file, md->params.line);
+    }
     if (sh->mirror) rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
+    else if (sh->glass) sh->kd = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
     else rs_colour_param(&sd->params, &md->params, "Kd", sh->plastic ? 0.25f : 0.5f, &sh->kd);
     if (sh->plastic) { /* pbrt-v3 CreatePlasticMaterial defaults */
       rs_colour_param(&sd->params, &md->params, "Ks", 0.25f, &sh->ks);
@@ -562,13 +576,17 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   out->on_a = sh->on_a;
   out->on_b = sh->on_b;
   out->mirror = sh->has_material && sh->mirror;
+  out->glass = sh->has_material && sh->glass;
+  out->eta = sh->eta;
+  out->kt[0] = out->kt[1] = out->kt[2] = 0.0f;
+  if (out->glass) rs_colour_eval(&s->textures, &sh->kt, uv, out->kt);
   out->plastic = sh->has_material && sh->plastic;
   out->alpha = sh->alpha;
   out->ks[0] = out->ks[1] = out->ks[2] = 0.0f;
   if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
   out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
-  if (out->mirror) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
-  if (sh->has_material && !sh->mirror) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
+  if (sh->has_material && !sh->mirror && !sh->glass) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
   else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;

@@ -55,6 +55,8 @@ typedef struct clr_surface {
   float on_a, on_b;    /* matte "sigma": pbrt-v3 Oren-Nayar A and B (Lambertian: 1 and 0) */
   int32_t mirror;      /* 1: material "mirror", a perfect specular reflector with kr */
   int32_t plastic;     /* 1: material "plastic": kd Lambertian + ks TrowbridgeReitz lobe */
+  int32_t glass;       /* 1: material "glass" with roughness 0: FresnelSpecular (kr, kt, eta) */
+  float kt[3], eta;
   float ks[3], alpha;  /* plastic Ks and microfacet alpha (roughness remapped) */
   float kr[3];         /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */
   float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */

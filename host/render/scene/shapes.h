@@ -22,6 +22,9 @@ typedef struct rs_shape {
   int mirror;               /* material "mirror": specular reflection with kr */
   rs_colour kr;
   int plastic;              /* material "plastic": kd + ks microfacet lobe of alpha */
+  int glass;                /* material "glass" (smooth): kr, kt, eta */
+  rs_colour kt;
+  float eta;
   rs_colour ks;
   float alpha;
   int first_light;          /* light index of triangle 0 / the sphere, -1 when not emitting */
