@@ -351,8 +351,26 @@ static int plastic_components(const clr_surface *s, int *diffuse, int *glossy) {
   return *diffuse + *glossy;
 }
 
+/* pbrt-v3 metal: MicrofacetReflection(1, TrowbridgeReitz, FresnelConductor), f |cos| in
+ * local coordinates. */
+static int metal_eval_local(const clr_surface *s, const float lo[3], const float li[3], float f[3]) {
+  float cos_h, dg = clr_microfacet_dg(lo, li, s->alpha, &cos_h) * fabsf(li[2]);
+  for (int k = 0; k < 3; ++k) f[k] = dg > 0.0f ? dg * clr_fr_conductor(cos_h, s->m_eta[k], s->m_k[k]) : 0.0f;
+  return !is_black_c(f);
+}
+
 /* f * |cos(wi, ns)| (colour) with BSDF::f's reflect rule; 1 when not black. */
 static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3], float f[3]) {
+  if (s->metal) {
+    f[0] = f[1] = f[2] = 0.0f;
+    if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
+    float ss[3], ts[3], lo[3], li[3];
+    shading_frame(s, ss, ts);
+    to_local(ss, ts, s->ns, wo, lo);
+    to_local(ss, ts, s->ns, wi, li);
+    if (lo[2] == 0.0f) return 0;
+    return metal_eval_local(s, lo, li, f);
+  }
   float fc = lambert_cos(s, wo, wi);
   if (!s->plastic) {
     for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc;
@@ -371,6 +389,13 @@ static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3],
 }
 
 static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (s->metal) {
+    float ss[3], ts[3], lo[3], li[3];
+    shading_frame(s, ss, ts);
+    to_local(ss, ts, s->ns, wo, lo);
+    to_local(ss, ts, s->ns, wi, li);
+    return lo[2] == 0.0f ? 0.0f : clr_microfacet_pdf(lo, li, s->alpha);
+  }
   if (!s->plastic) return lambert_pdf(s, wo, wi);
   int d, g, n = plastic_components(s, &d, &g);
   if (!n) return 0.0f;
@@ -386,6 +411,15 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
 /* BSDF::Sample_f: wi, pdf and f * |cos| (colour); 1 when usable. */
 static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in[2], float wi[3],
                        float *pdf, float f[3]) {
+  if (s->metal) {
+    float ss[3], ts[3], lo[3], li[3];
+    *pdf = 0.0f;
+    shading_frame(s, ss, ts);
+    to_local(ss, ts, s->ns, wo, lo);
+    if (!clr_microfacet_sample_wi(lo, u_in, s->alpha, li, pdf)) return 0;
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+    return bsdf_eval(s, wo, wi, f) && *pdf > 0.0f;
+  }
   if (!s->plastic) {
     float fc = lambert_sample(s, wo, u_in, wi, pdf);
     for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc;

@@ -118,6 +118,43 @@ float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
   return tr_d(wh, alpha) * tr_g(wo, wi, alpha) * F / (4.0f * ci * co);
 }
 
+float clr_fr_conductor(float cos_i, float eta, float k) {
+  cos_i = fminf(1.0f, fabsf(cos_i));
+  float c2 = cos_i * cos_i, s2 = 1.0f - c2, eta2 = eta * eta, k2 = k * k;
+  float t0 = eta2 - k2 - s2, a2b2 = sqrtf(t0 * t0 + 4.0f * eta2 * k2), t1 = a2b2 + c2;
+  float a = sqrtf(fmaxf(0.0f, 0.5f * (a2b2 + t0))), t2 = 2.0f * cos_i * a;
+  float rs = (t1 - t2) / (t1 + t2), t3 = c2 * a2b2 + s2 * s2, t4 = t2 * s2;
+  float rp = rs * (t3 - t4) / (t3 + t4);
+  return 0.5f * (rp + rs);
+}
+
+float clr_microfacet_dg(const float wo[3], const float wi[3], float alpha, float *cos_h) {
+  float co = fabsf(wo[2]), ci = fabsf(wi[2]);
+  float wh[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
+  *cos_h = 0.0f;
+  if (ci == 0.0f || co == 0.0f) return 0.0f;
+  if (wh[0] == 0.0f && wh[1] == 0.0f && wh[2] == 0.0f) return 0.0f;
+  float l = sqrtf(dot3(wh, wh));
+  for (int i = 0; i < 3; ++i) wh[i] /= l;
+  float ff[3] = {wh[0], wh[1], wh[2]};
+  if (ff[2] < 0.0f) for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
+  *cos_h = dot3(wi, ff);
+  return tr_d(wh, alpha) * tr_g(wo, wi, alpha) / (4.0f * ci * co);
+}
+
+int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf) {
+  *pdf = 0.0f;
+  if (wo[2] == 0.0f) return 0;
+  float wh[3];
+  tr_sample_wh(wo, alpha, u, wh);
+  float d = dot3(wo, wh);
+  if (d < 0.0f) return 0;
+  for (int i = 0; i < 3; ++i) wi[i] = -wo[i] + 2.0f * d * wh[i];
+  if (!(wo[2] * wi[2] > 0.0f)) return 0;
+  *pdf = tr_pdf_wh(wo, wh, alpha) / (4.0f * d);
+  return *pdf > 0.0f;
+}
+
 float clr_microfacet_pdf(const float wo[3], const float wi[3], float alpha) {
   if (!(wo[2] * wi[2] > 0.0f)) return 0.0f;
   float wh[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};

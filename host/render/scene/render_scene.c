@@ -204,7 +204,7 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
 
 static int material_is_supported(const char *type) {
   return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 || strcmp(type, "plastic") == 0 ||
-         strcmp(type, "glass") == 0;
+         strcmp(type, "glass") == 0 || strcmp(type, "metal") == 0;
 }
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
@@ -222,6 +222,31 @@ static void oren_nayar_params(const clr_shape_desc *sd, const clr_material_desc 
   float s = sigma * RS_PI / 180.0f, s2 = s * s;
   sh->on_a = 1.0f - s2 / (2.0f * (s2 + 0.33f));
   sh->on_b = 0.45f * s2 / (s2 + 0.09f);
+}
+
+/* pbrt-v3 CreateMetalMaterial: eta and k default to copper (its spectra as RGB), roughness 0.01
+ * (uroughness/vroughness override it; anisotropic is rendered isotropic with their mean),
+ * remaproughness true. Only rgb eta and k; other spectra fall back to copper with a warning. */
+static void metal_params(const clr_shape_desc *sd, const clr_material_desc *md,
+                         const clr_param_list *p, clr_warn_fn warn, void *wu, rs_shape *sh) {
+  static const float cu_eta[3] = {0.2004376970f, 0.9240334304f, 1.1022119527f};
+  static const float cu_k[3] = {3.9129485033f, 2.4528477015f, 2.1421879552f};
+  clr_params_find_rgb(&md->params, "eta", cu_eta, sh->m_eta);
+  clr_params_find_rgb(&md->params, "k", cu_k, sh->m_k);
+  const char *spectra[2] = {"eta", "k"};
+  for (int i = 0; i < 2; ++i)
+    if (clr_params_find(&md->params, spectra[i], CLR_PARAM_SPECTRUM))
+      warn_fmt(warn, wu, "%s:%d: metal \"%s\" given as a spectrum: not supported, copper used",
+               md->params.file ? md->params.file : p->file, md->params.line, spectra[i]);
+  float rough = clr_params_find_float(&md->params, "roughness", 0.01f);
+  float ur = clr_params_find_float(&md->params, "uroughness", rough);
+  float vr = clr_params_find_float(&md->params, "vroughness", rough);
+  (void)sd;
+  if (ur != vr)
+    warn_fmt(warn, wu, "%s:%d: anisotropic metal roughness not supported: using their mean",
+             md->params.file ? md->params.file : p->file, md->params.line);
+  float r = 0.5f * (ur + vr);
+  sh->alpha = clr_params_find_bool(&md->params, "remaproughness", true) ? clr_tr_roughness_to_alpha(r) : r;
 }
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
@@ -289,8 +314,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
         warn_fmt(warn, wu, "%s:%d: rough glass not supported: rendered as smooth glass",
                  md->params.file ? md->params.file : p->file, md->params.line);
     }
+    sh->metal = strcmp(mtype, "metal") == 0;
+    if (sh->metal) metal_params(sd, md, p, warn, wu, sh);
     if (sh->mirror) rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
-    else if (sh->glass) sh->kd = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
+    else if (sh->glass || sh->metal) sh->kd = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
     else rs_colour_param(&sd->params, &md->params, "Kd", sh->plastic ? 0.25f : 0.5f, &sh->kd);
     if (sh->plastic) { /* pbrt-v3 CreatePlasticMaterial defaults */
       rs_colour_param(&sd->params, &md->params, "Ks", 0.25f, &sh->ks);
@@ -577,6 +604,9 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   out->on_b = sh->on_b;
   out->mirror = sh->has_material && sh->mirror;
   out->glass = sh->has_material && sh->glass;
+  out->metal = sh->has_material && sh->metal;
+  memcpy(out->m_eta, sh->m_eta, sizeof out->m_eta);
+  memcpy(out->m_k, sh->m_k, sizeof out->m_k);
   out->eta = sh->eta;
   out->kt[0] = out->kt[1] = out->kt[2] = 0.0f;
   if (out->glass) rs_colour_eval(&s->textures, &sh->kt, uv, out->kt);
@@ -586,7 +616,7 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
   out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
   if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
-  if (sh->has_material && !sh->mirror && !sh->glass) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
   else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;

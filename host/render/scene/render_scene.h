@@ -56,6 +56,8 @@ typedef struct clr_surface {
   int32_t mirror;      /* 1: material "mirror", a perfect specular reflector with kr */
   int32_t plastic;     /* 1: material "plastic": kd Lambertian + ks TrowbridgeReitz lobe */
   int32_t glass;       /* 1: material "glass" with roughness 0: FresnelSpecular (kr, kt, eta) */
+  int32_t metal;       /* 1: material "metal": TrowbridgeReitz lobe (alpha), conductor m_eta, m_k */
+  float m_eta[3], m_k[3];
   float kt[3], eta;
   float ks[3], alpha;  /* plastic Ks and microfacet alpha (roughness remapped) */
   float kr[3];         /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */

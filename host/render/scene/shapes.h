@@ -23,6 +23,8 @@ typedef struct rs_shape {
   rs_colour kr;
   int plastic;              /* material "plastic": kd + ks microfacet lobe of alpha */
   int glass;                /* material "glass" (smooth): kr, kt, eta */
+  int metal;                /* material "metal": m_eta, m_k (rgb), alpha */
+  float m_eta[3], m_k[3];
   rs_colour kt;
   float eta;
   rs_colour ks;
