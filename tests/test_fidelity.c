@@ -840,6 +840,38 @@ static void test_metal_sky_albedo(void **state) {
   }
 }
 
+/* A partial sphere (radius 1, zmin -0.5, zmax 0.8, phimax 270) seen from above: a ray at distance
+ * rho from the axis meets the top at z = sqrt(1 - rho^2): kept when z <= 0.8; else it passes the
+ * cut to the bottom, at z <= -0.8 < zmin: clipped too. So exactly the pixel centres with
+ * 0.6 <= rho <= 1 and phi <= 270 degrees see the sphere (AO > 0), the others nothing. */
+static void test_partial_sphere(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-1.1 1.1 -1.1 1.1]\n"
+      "Film \"image\" \"integer xresolution\" [48] \"integer yresolution\" [48]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"ambientocclusion\" \"integer nsamples\" [4]\nWorldBegin\n"
+      "Shape \"sphere\" \"float radius\" [1] \"float zmin\" [-0.5] \"float zmax\" [0.8] \"float phimax\" [270]\n"
+      "WorldEnd\n";
+  clr_render_image im = render_opts(scene, NULL, NULL);
+  int hits = 0, checked = 0;
+  for (int py = 0; py < 48; ++py)
+    for (int px = 0; px < 48; ++px) {
+      double wx = -1.1 * (-1.0 + 2.0 * (px + 0.5) / 48.0), wy = 1.1 * (1.0 - 2.0 * (py + 0.5) / 48.0);
+      double rho = sqrt(wx * wx + wy * wy), phi = atan2(wy, wx);
+      if (phi < 0) phi += 2 * PI_D;
+      if (fabs(rho - 0.6) < 1e-3 || fabs(rho - 1.0) < 1e-3 || fabs(phi - 1.5 * PI_D) < 1e-3) continue;
+      int in = rho >= 0.6 && rho <= 1.0 && phi <= 1.5 * PI_D;
+      float v = im.rgb[3 * (py * 48 + px)];
+      if (in != (v > 0.0f)) fprintf(stderr, "pixel (%d,%d) rho %g phi %g: %g\n", px, py, rho, phi, (double)v);
+      assert_int_equal(in, v > 0.0f);
+      hits += in;
+      ++checked;
+    }
+  assert_true(hits > 300 && checked > 48 * 48 - 20);
+  free(im.rgb);
+}
+
 /* ---- the command line ---- */
 
 static char tmpdir[512];
@@ -1049,6 +1081,7 @@ int main(void) {
       cmocka_unit_test(test_glass_fresnel),
       cmocka_unit_test(test_metal_plane),
       cmocka_unit_test(test_metal_sky_albedo),
+      cmocka_unit_test(test_partial_sphere),
       cmocka_unit_test(test_cli_crops_merge),
       cmocka_unit_test(test_cli_output_formats),
       cmocka_unit_test(test_cli_habits),

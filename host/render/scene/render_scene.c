@@ -270,10 +270,16 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
         return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"sphere\": \"radius\" must be "
                                   "positive, got %g", p->file ? p->file : "?", p->line,
                                   (double)sh->radius);
-      const char *extra[] = {"zmin", "zmax", "phimax"}; /* partial spheres: not yet */
-      for (int k = 0; k < 3; ++k)
-        if (clr_params_find(p, extra[k], CLR_PARAM_FLOAT))
-          warn_fmt(warn, wu, "%s:%d: sphere \"%s\" not supported: full sphere used", p->file, p->line, extra[k]);
+      /* pbrt-v3 CreateSphereShape: zmin, zmax (clamped and sorted), phimax degrees */
+      float r = sh->radius, z0 = clr_params_find_float(p, "zmin", -r), z1 = clr_params_find_float(p, "zmax", r);
+      float pm = clr_params_find_float(p, "phimax", 360.0f);
+      sh->zmin = fminf(fmaxf(fminf(z0, z1), -r), r);
+      sh->zmax = fminf(fmaxf(fmaxf(z0, z1), -r), r);
+      sh->phimax = fminf(fmaxf(pm, 0.0f), 360.0f) * RS_PI / 180.0f;
+      sh->partial = !(sh->zmin <= -r && sh->zmax >= r && pm >= 360.0f);
+      if (sh->partial && sd->area_light >= 0)
+        warn_fmt(warn, wu, "%s:%d: partial sphere as an area light: sampled as the full sphere (as "
+                 "pbrt-v3 does)", p->file ? p->file : "?", p->line);
     } else if (strcmp(sd->type, "disk") == 0) { /* pbrt-v3 CreateDiskShape */
       sh->type = RS_SHAPE_DISK;
       sh->height = clr_params_find_float(p, "height", 0.0f);
@@ -352,7 +358,11 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     } else {
       float xf[16];
       rs_xform_m16(&sh->object_to_world, xf);
-      CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
+      if (sh->partial)
+        CLR_CHECK(clr_tracer_add_partial_sphere(s->tracer, group, xf, sh->radius, sh->zmin, sh->zmax,
+                                                sh->phimax * 180.0f / RS_PI, (uint32_t)index, NULL));
+      else
+        CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
     }
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
@@ -532,6 +542,14 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
   uv[0] = phi / (2.0f * RS_PI);
   uv[1] = 1.0f - acosf(ct) / RS_PI;
   float du_o[3] = {-2.0f * RS_PI * po[1], 2.0f * RS_PI * po[0], 0.0f};
+  if (sh->partial) { /* pbrt-v3's (u, v) over the clipped ranges */
+    float tz0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmin / sh->radius)));
+    float tz1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmax / sh->radius)));
+    uv[0] = phi / sh->phimax;
+    uv[1] = (acosf(ct) - tz0) / (tz1 - tz0);
+    du_o[0] = -sh->phimax * po[1];
+    du_o[1] = sh->phimax * po[0];
+  }
   clr_transform_point(o2w, po, p);
   clr_transform_normal(o2w, po, n);
   rs_normalize(n);

@@ -13,7 +13,9 @@ typedef struct rs_shape {
   rs_shape_type type;
   clr_mesh mesh;            /* world space, or object space for shapes of an object */
   float radius;
-  float height, inner_radius, phimax; /* disk (phimax in radians) */
+  float height, inner_radius, phimax; /* disk (phimax in radians); sphere: phimax too */
+  float zmin, zmax;         /* sphere: pbrt-v3's clipping (object space), with phimax */
+  int partial;              /* sphere clipped by zmin/zmax/phimax */
   clr_transform object_to_world; /* sphere: object to world (or to instance) */
   int flip_normal;          /* pbrt reverseOrientation ^ transformSwapsHandedness */
   int has_material;

@@ -26,6 +26,8 @@ typedef struct tracer_mesh { /* the tracer's own copy; p has one padding float f
 typedef struct sphere_shape { /* Embree's user data for one sphere: a stable heap address */
   affine object_to_group;
   double radius;
+  int partial;                         /* pbrt-v3 zmin/zmax/phimax clip the sphere */
+  double zmin, zmax, phimax, theta_zmin, theta_zmax;
 } sphere_shape;
 
 typedef struct disk_shape { /* pbrt-v3 Disk: z = height, innerradius <= r <= radius, phi <= phimax */
@@ -162,21 +164,33 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
     t0 = t1;
     t1 = tmp;
   }
-  double t = t0;
-  if (!((float)t0 >= tnear && (float)t0 <= tfar)) {
-    if (!((float)t1 >= tnear && (float)t1 <= tfar)) return 0;
-    t = t1;
+  double p[3], phi = 0.0, t = 0.0;
+  int found = 0;
+  for (int root = 0; root < 2 && !found; ++root) {
+    t = root ? t1 : t0;
+    if (!((float)t >= tnear && (float)t <= tfar)) continue;
+    for (int k = 0; k < 3; ++k) p[k] = o[k] + t * d[k];
+    double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
+    if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
+    phi = atan2(p[1], p[0]);
+    if (phi < 0.0) phi += 2.0 * PI_D;
+    /* pbrt-v3 Sphere::Intersect: a clipped first root tries the second */
+    if (s->partial && ((s->zmin > -s->radius && p[2] < s->zmin) ||
+                       (s->zmax < s->radius && p[2] > s->zmax) || phi > s->phimax))
+      continue;
+    found = 1;
   }
-  double p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
-  double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-  for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
-  if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
-  double phi = atan2(p[1], p[0]);
-  if (phi < 0.0) phi += 2.0 * PI_D;
+  if (!found) return 0;
   double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
   hit->t = (float)t;
-  hit->u = (float)(phi / (2.0 * PI_D));
-  hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
+  if (s->partial) {
+    hit->u = (float)(phi / s->phimax);
+    hit->v = (float)((acos(cos_theta) - s->theta_zmin) / (s->theta_zmax - s->theta_zmin));
+  } else {
+    hit->u = (float)(phi / (2.0 * PI_D));
+    hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
+  }
   map_normal(&s->object_to_group, p, hit->ng);
   return 1;
 }
@@ -508,6 +522,13 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
 
 clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
                                  float radius, uint32_t user_id, uint32_t *geom_id) {
+  return clr_tracer_add_partial_sphere(t, g, object_to_group, radius, -radius, radius, 360.0f,
+                                       user_id, geom_id);
+}
+
+clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
+                                         float radius, float zmin, float zmax, float phimax_deg,
+                                         uint32_t user_id, uint32_t *geom_id) {
   static const char fn[] = "clr_tracer_add_sphere";
   CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
   if (!(radius > 0.0f) || !isfinite(radius))
@@ -516,6 +537,19 @@ clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_
   record.sphere = malloc(sizeof *record.sphere);
   if (!record.sphere) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
   record.sphere->radius = radius;
+  { /* pbrt-v3 Sphere: z clamped to [-radius, radius] and sorted, phimax clamped to [0, 360] */
+    double r = radius, z0 = fmin(zmin, zmax), z1 = fmax(zmin, zmax);
+    z0 = fmin(fmax(z0, -r), r);
+    z1 = fmin(fmax(z1, -r), r);
+    double pm = fmin(fmax((double)phimax_deg, 0.0), 360.0) * PI_D / 180.0;
+    sphere_shape *sp = record.sphere;
+    sp->partial = !(z0 <= -r && z1 >= r && pm >= 2.0 * PI_D);
+    sp->zmin = z0;
+    sp->zmax = z1;
+    sp->phimax = pm;
+    sp->theta_zmin = acos(fmin(fmax(z0 / r, -1.0), 1.0));
+    sp->theta_zmax = acos(fmin(fmax(z1 / r, -1.0), 1.0));
+  }
   if (!affine_from_matrix(object_to_group, &record.sphere->object_to_group)) {
     free_record(&record);
     return clr_set_last_error(CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
@@ -822,6 +856,10 @@ static void triangle_surface(const tracer_mesh *m, const clr_hit *hit, double p[
 static void sphere_surface(const sphere_shape *s, const clr_hit *hit, double p[3], double n[3],
                            float uv[2]) {
   double phi = 2.0 * PI_D * hit->u, theta = PI_D * (1.0 - hit->v);
+  if (s->partial) {
+    phi = s->phimax * hit->u;
+    theta = s->theta_zmin + hit->v * (s->theta_zmax - s->theta_zmin);
+  }
   double o[3] = {s->radius * sin(theta) * cos(phi), s->radius * sin(theta) * sin(phi),
                  s->radius * cos(theta)};
   map_point(s->object_to_group.m, o, p);
