@@ -872,6 +872,45 @@ static void test_partial_sphere(void **state) {
   free(im.rgb);
 }
 
+/* ---- textures: scale, mix, uv ---- */
+
+/* A matte plane lit straight down by a distant light (L = pi, so each pixel is Kd), seen by an
+ * orthographic camera, its Kd from pbrt-v3's scale (tex1 * tex2), mix ((1 - amount) tex1 +
+ * amount tex2, tex1 itself a scale texture) and uv ((u - floor u, v - floor v, 0), uv = xy of
+ * the plane's vertices scaled by 2) textures. */
+static void test_textures_scale_mix_uv(void **state) {
+  (void)state;
+  const char *kinds[] = {"scaled", "mixed", "uvs"};
+  for (int t = 0; t < 3; ++t) {
+    char scene[4096];
+    snprintf(scene, sizeof scene,
+             "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+             "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+             "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+             "Integrator \"directlighting\"\nWorldBegin\n"
+             "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" [%.9g %.9g %.9g]\n"
+             "Texture \"a\" \"spectrum\" \"constant\" \"rgb value\" [0.5 0.5 0.5]\n"
+             "Texture \"scaled\" \"spectrum\" \"scale\" \"texture tex1\" \"a\" \"rgb tex2\" [0.4 0.8 1]\n"
+             "Texture \"mixed\" \"spectrum\" \"mix\" \"texture tex1\" \"scaled\" \"rgb tex2\" [1 0 0] \"float amount\" [0.25]\n"
+             "Texture \"uvs\" \"spectrum\" \"uv\" \"float uscale\" [2] \"float vscale\" [2]\n"
+             "Material \"matte\" \"texture Kd\" \"%s\"\n"
+             "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+             "\"point P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] \"float uv\" [-1 -1  1 -1  1 1  -1 1]\nWorldEnd\n",
+             PI_D, PI_D, PI_D, kinds[t]);
+    clr_render_image im = render_opts(scene, NULL, NULL);
+    for (int py = 0; py < 8; ++py)
+      for (int px = 0; px < 8; ++px) {
+        double wx = -(-1.0 + 2.0 * (px + 0.5) / 8.0), wy = 1.0 - 2.0 * (py + 0.5) / 8.0, e[3];
+        if (t == 0) e[0] = 0.2, e[1] = 0.4, e[2] = 0.5;
+        else if (t == 1) e[0] = 0.75 * 0.2 + 0.25, e[1] = 0.75 * 0.4, e[2] = 0.75 * 0.5;
+        else e[0] = 2 * wx - floor(2 * wx), e[1] = 2 * wy - floor(2 * wy), e[2] = 0;
+        for (int c = 0; c < 3; ++c)
+          assert_true(fabs(im.rgb[3 * (py * 8 + px) + c] - e[c]) <= 1e-5 * fmax(1.0, e[c]));
+      }
+    free(im.rgb);
+  }
+}
+
 /* ---- the command line ---- */
 
 static char tmpdir[512];
@@ -1082,6 +1121,7 @@ int main(void) {
       cmocka_unit_test(test_metal_plane),
       cmocka_unit_test(test_metal_sky_albedo),
       cmocka_unit_test(test_partial_sphere),
+      cmocka_unit_test(test_textures_scale_mix_uv),
       cmocka_unit_test(test_cli_crops_merge),
       cmocka_unit_test(test_cli_output_formats),
       cmocka_unit_test(test_cli_habits),
