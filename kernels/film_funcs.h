@@ -32,8 +32,12 @@ CLR_INLINE clr_i32 clr_film_prepare(const clr_film_params *fp, const clr_filter_
     return CLR_FILM_SAMPLE_DROPPED;
   float lum = clr_film_luminance(r, g, b);
   if (!clr_film_is_finite(lum) || lum < CLR_FILM_MIN_LUMINANCE) return CLR_FILM_SAMPLE_DROPPED;
-  if (!(x >= (float)fp->sample_x0 && x < (float)fp->sample_x1 && y >= (float)fp->sample_y0 &&
-        y < (float)fp->sample_y1))
+  /* Half-open sample bounds, plus a sample exactly at distance `radius` past the last pixel's
+   * centre: it reaches that pixel (pbrt-v3's footprint includes it), so crops merge exactly. */
+  if (!(x >= (float)fp->sample_x0 &&
+        (x < (float)fp->sample_x1 || x == (float)fp->pixel_x1 - 0.5f + f->radius_x) &&
+        y >= (float)fp->sample_y0 &&
+        (y < (float)fp->sample_y1 || y == (float)fp->pixel_y1 - 0.5f + f->radius_y)))
     return CLR_FILM_SAMPLE_OUTSIDE;
   if (fp->clamp_luminance && lum > fp->max_luminance) {
     float s = fp->max_luminance / lum;

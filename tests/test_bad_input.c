@@ -66,7 +66,7 @@ static const bad_case cases[] = {
     {"spp-text", {{"s.pbrt", GOOD}}, "render s.pbrt --spp abc", 2, {"\"--spp\"", NULL}, NULL},
     {"spp-missing", {{"s.pbrt", GOOD}}, "render s.pbrt --spp", 2, {"\"--spp\"", NULL}, NULL},
     {"spp-huge", {{"s.pbrt", GOOD}}, "render s.pbrt --spp 99999999999", 2, {"\"--spp\"", NULL}, NULL},
-    {"nthreads-zero", {{"s.pbrt", GOOD}}, "render s.pbrt --nthreads 0", 2, {"\"--nthreads\"", NULL}, NULL},
+    {"nthreads-negative", {{"s.pbrt", GOOD}}, "render s.pbrt --nthreads -1", 2, {"\"--nthreads\"", NULL}, NULL},
     {"nthreads-huge", {{"s.pbrt", GOOD}}, "render s.pbrt --nthreads 99999", 2, {"\"--nthreads\"", NULL}, NULL},
     {"tile-size-zero", {{"s.pbrt", GOOD}}, "render s.pbrt --tile-size 0", 2, {"\"--tile-size\"", NULL}, NULL},
     {"seed-negative", {{"s.pbrt", GOOD}}, "render s.pbrt --seed -1", 2, {"\"--seed\"", NULL}, NULL},

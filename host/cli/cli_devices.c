@@ -4,12 +4,23 @@
 #include "cli.h"
 #include "clrender.h"
 
+static void devices_usage(FILE *f) {
+  fprintf(f, "usage: clrender devices [--help]\n"
+             "Lists every OpenCL platform and device with the index --device accepts; * marks\n"
+             "the default device (the CLRENDER_DEVICE environment variable, else the first GPU,\n"
+             "else the first device). Exit status: 0 ok, 1 no OpenCL platform, 2 usage error.\n");
+}
+
 int cli_devices(int argc, char **argv) {
+  if (argc == 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+    devices_usage(stdout);
+    return 0;
+  }
   if (argc > 1) {
-    fprintf(stderr, "usage: clrender devices\n");
+    fprintf(stderr, "clrender devices: unknown option \"%s\"\n", argv[1]);
+    devices_usage(stderr);
     return 2;
   }
-  (void)argv;
   clr_device_info infos[64];
   int count = 0;
   clr_result r = clr_device_list(infos, 64, &count);

@@ -9,7 +9,8 @@ static void merge_usage(FILE *f) {
   fprintf(f, "usage: clrender merge A.exr B.exr ... -o OUT.exr [--device D]\n"
              "Merges films rendered with their sums (crop windows of one frame, or independent\n"
              "sample passes of the same frame) into the image a single render would produce.\n"
-             "Resolutions, filters and scales must match.\n");
+             "Resolutions, filters and scales must match. Writes OUT.exr (with the sums, so it\n"
+             "can be merged again) and its PNG preview OUT.png, and says so on stderr.\n");
 }
 
 int cli_merge(int argc, char **argv) {
@@ -50,6 +51,21 @@ int cli_merge(int argc, char **argv) {
       film_merge_files(ctx, inputs, n, out) != CLR_SUCCESS) {
     fprintf(stderr, "clrender merge: %s\n", clr_last_error_message());
     status = 1;
+  } else {
+    /* the PNG preview beside it, as `clrender render` writes one */
+    char png[4096];
+    size_t len = strlen(out);
+    int exr = len > 4 && (strcmp(out + len - 4, ".exr") == 0 || strcmp(out + len - 4, ".EXR") == 0);
+    snprintf(png, sizeof png, "%.*s.png", (int)(exr ? len - 4 : len), out);
+    clr_image im;
+    if (clr_image_read(out, &im) != CLR_SUCCESS || clr_image_write_png(png, &im) != CLR_SUCCESS) {
+      fprintf(stderr, "clrender merge: wrote %s; PNG preview: %s\n", out, clr_last_error_message());
+      status = 1;
+    } else {
+      fprintf(stderr, "clrender merge: wrote %s and %s (%d films, %dx%d)\n", out, png, n,
+              (int)im.width, (int)im.height);
+    }
+    clr_image_free(&im);
   }
   clr_context_release(ctx);
   free(inputs);

@@ -25,11 +25,13 @@ static int cancel_on_signal(void *user, int32_t tiles_done, int32_t tiles_total)
 static void usage(FILE *f) {
   fprintf(f,
           "usage: clrender render SCENE.pbrt [options]\n"
-          "Renders a pbrt-v3 scene: writes the Film's filename (EXR, float RGB) and a PNG preview\n"
-          "with the same name. Flags override the scene file.\n"
+          "Renders a pbrt-v3 scene: writes the Film's filename (.exr, .pfm or .png) and a PNG preview\n"
+          "with the same name. Flags override the scene file; \"--flag=value\" works as\n"
+          "\"--flag value\".\n"
           "  --spp N                 samples per pixel\n"
-          "  --nthreads N            worker threads (default: all cores)\n"
-          "  --outfile F             output EXR (a .png name writes only the PNG)\n"
+          "  --nthreads N            worker threads (default and 0: all cores)\n"
+          "  --outfile F             output image by extension: .exr or .pfm (with a PNG preview\n"
+          "                          beside it) or .png; overrides the scene's Film filename\n"
           "  --cropwindow x0 x1 y0 y1  render only this part of the film (NDC, [0,1])\n"
           "  --seed N                seed of the per-pixel sample streams (default 0)\n"
           "  --seeding pbrt-v3|pixel sample stream seeding (default pixel: crops render exactly\n"
@@ -85,7 +87,7 @@ int cli_render(int argc, char **argv) {
       o.spp = (int32_t)v;
     } else if (strcmp(a, "--nthreads") == 0) {
       NEED(1);
-      if (!parse_int(argv[++i], 1, 4096, &v)) goto bad;
+      if (!parse_int(argv[++i], 0, 4096, &v)) goto bad; /* 0: every core, as pbrt-v3 */
       o.nthreads = (int32_t)v;
     } else if (strcmp(a, "--tile-size") == 0) {
       NEED(1);
@@ -178,7 +180,8 @@ int cli_render(int argc, char **argv) {
     fprintf(stderr, "%s\n", buf);
   }
   if (!o.quiet) {
-    fprintf(stderr, "clrender: wrote %s%s%s%s\n", st.exr_path, st.exr_path[0] ? " and " : "",
+    const char *main_image = st.exr_path[0] ? st.exr_path : st.pfm_path;
+    fprintf(stderr, "clrender: wrote %s%s%s%s\n", main_image, main_image[0] ? " and " : "",
             st.png_path, st.partial ? " (partial)" : "");
     if (st.dropped_samples)
       fprintf(stderr, "clrender: %llu samples with NaN/Inf/negative radiance dropped\n",

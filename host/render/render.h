@@ -30,7 +30,8 @@ typedef struct clr_render_options {
   int32_t crop_given;      /* 1: crop_window overrides the Film's "cropwindow" */
   float crop_window[4];    /* x0 x1 y0 y1 in [0,1] */
   int32_t xresolution, yresolution; /* overrides when > 0 */
-  const char *outfile;     /* EXR path (PNG written beside it); NULL: the Film's "filename" */
+  const char *outfile;     /* output by extension: .exr or .pfm (PNG preview beside it), .png;
+                              overrides the Film's "filename" */
   const char *device;      /* OpenCL device selector (see clr_context_desc) or NULL */
   int32_t quiet;           /* 1: no warnings on stderr */
   int32_t progress;        /* 1: progress bar on stderr */
@@ -53,6 +54,7 @@ typedef struct clr_render_stats {
   int32_t tiles_done, tiles_total, threads, spp, partial;
   char sampler[32], integrator[32];
   char exr_path[1024], png_path[1024];
+  char pfm_path[1024]; /* the PFM written (an output name ending in .pfm), else "" */
 } clr_render_stats;
 
 void clr_render_options_init(clr_render_options *options);

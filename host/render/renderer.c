@@ -13,6 +13,7 @@
 #include "clrender/film.h"
 #include "clrender/kernels.h"
 #include "integrator.h"
+#include "pfm_output.h"
 #include "pcg32.h"
 #include "render_scene.h"
 #include "renderer.h"
@@ -114,6 +115,26 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
     fd->tau = clr_params_find_float(p, "tau", fd->tau);
   }
   return CLR_SUCCESS;
+}
+
+/* pbrt-v3 warns when the Sobol sampler rounds its pixel samples up to a power of two; the
+ * stratified sampler's x * y grid for --spp is reported the same way. */
+static void warn_spp_rounding(const clr_scene_desc *d, const clr_render_options *o,
+                              const clr_sampler_desc *sd, int32_t spp, clr_warn_fn warn, void *wu) {
+  int32_t asked = o->spp > 0 ? o->spp : sd->pixel_samples;
+  if (!warn) return;
+  if (sd->type == CLR_SAMPLER_STRATIFIED ? (o->spp <= 0 || spp == o->spp) : spp == asked) return;
+  char where[600], m[800];
+  const clr_param_list *p = &d->sampler.params;
+  if (o->spp > 0) snprintf(where, sizeof where, "--spp %d", (int)o->spp);
+  else snprintf(where, sizeof where, "%s:%d", p->file ? p->file : "<scene>", p->line);
+  if (sd->type == CLR_SAMPLER_SOBOL)
+    snprintf(m, sizeof m, "%s: non power-of-two sample count rounded up to %d for the sobol sampler",
+             where, (int)spp);
+  else
+    snprintf(m, sizeof m, "%s: the %s sampler renders %d samples per pixel", where,
+             clr_sampler_type_name(sd->type), (int)spp);
+  warn(wu, m);
 }
 
 /* ---------- scene values checked before any work ---------- */
@@ -220,6 +241,7 @@ typedef struct render_job {
   int host_samples; /* options->reference_samples: host reference generator (comparison) */
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
+  clr_bounds2i region; /* the sample pixels rendered (render_region) */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -479,7 +501,8 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
 static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
-  g.bounds = clr_sampler_sample_bounds(sampler);
+  (void)sampler;
+  g.bounds = job->region;
   g.size = o->tile_size > 0 ? o->tile_size : 16;
   g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
   g.nty = (g.bounds.y1 - g.bounds.y0 + g.size - 1) / g.size;
@@ -522,6 +545,33 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   return r;
 }
 
+/* The sample pixels to render. pbrt-v3 renders the crop's sample bounds (GetSampleBounds), which
+ * miss a sample exactly at distance `radius` past the crop's last pixel centre (Halton and Sobol
+ * put every pixel's sample 0 at offset 0; a box filter of radius 0.5 reaches the pixel above it).
+ * With per-pixel seeding the samples of a pixel do not depend on the crop, so a crop renders every
+ * sample pixel whose samples can reach its pixels, [floor(x0 + 0.5 - r), floor(x1 - 0.5 + r) + 1),
+ * clipped to the full frame's sample bounds: exactly the samples the full render filters into the
+ * crop's pixels, and crops merge into the full image. pbrt-v3 seeding keeps pbrt-v3's bounds. */
+static clr_bounds2i render_region(clr_sampler sampler, const clr_sampler_desc *sd) {
+  clr_bounds2i sb = clr_sampler_sample_bounds(sampler);
+  if (sd->seeding == CLR_SEEDING_PBRT_V3) return sb;
+  clr_bounds2i pb = clr_sampler_pixel_bounds(sampler), r;
+  float rx = sd->film.filter_radius[0], ry = sd->film.filter_radius[1];
+  r.x0 = (int32_t)floorf((float)pb.x0 + 0.5f - rx);
+  r.y0 = (int32_t)floorf((float)pb.y0 + 0.5f - ry);
+  r.x1 = (int32_t)floorf((float)pb.x1 - 0.5f + rx) + 1;
+  r.y1 = (int32_t)floorf((float)pb.y1 - 0.5f + ry) + 1;
+  /* the full frame's sample bounds (film_geometry.c's formula over the uncropped pixels) */
+  clr_bounds2i full = {(int32_t)floorf(0.5f - rx), (int32_t)floorf(0.5f - ry),
+                       (int32_t)ceilf((float)sd->film.x_resolution - 0.5f + rx),
+                       (int32_t)ceilf((float)sd->film.y_resolution - 0.5f + ry)};
+  if (r.x0 < full.x0) r.x0 = full.x0;
+  if (r.y0 < full.y0) r.y0 = full.y0;
+  if (r.x1 > full.x1) r.x1 = full.x1;
+  if (r.y1 > full.y1) r.y1 = full.y1;
+  return r;
+}
+
 /* ---------- output paths ---------- */
 
 static int has_suffix(const char *s, const char *suffix) {
@@ -535,19 +585,30 @@ static int has_suffix(const char *s, const char *suffix) {
   return 1;
 }
 
+/* The image format by the name's extension, as pbrt-v3: ".exr" (with a PNG preview beside it),
+ * ".pfm" (with the preview too), ".png" (alone); any other name is an error naming it. */
 static clr_result output_paths(const char *path, clr_render_stats *st) {
   if (strlen(path) + 8 >= sizeof st->exr_path)
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "output path too long: %s", path);
-  st->exr_path[0] = 0;
+  st->exr_path[0] = st->pfm_path[0] = 0;
   if (has_suffix(path, ".png")) {
     snprintf(st->png_path, sizeof st->png_path, "%s", path);
     return CLR_SUCCESS;
   }
-  snprintf(st->exr_path, sizeof st->exr_path, "%s", path);
-  if (has_suffix(path, ".exr"))
-    snprintf(st->png_path, sizeof st->png_path, "%.*s.png", (int)(strlen(path) - 4), path);
-  else
-    snprintf(st->png_path, sizeof st->png_path, "%s.png", path);
+  int exr = has_suffix(path, ".exr"), pfm = has_suffix(path, ".pfm");
+  if (!exr && !pfm) {
+    CLR_CHECK(film_check_output_path(path)); /* a device or directory is reported as such */
+    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+    if (dot && (!slash || dot > slash))
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                                "output \"%s\": unknown image extension \"%s\" (clrender writes "
+                                ".exr, .png and .pfm)", path, dot);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "output \"%s\" has no image extension (clrender writes .exr, .png "
+                              "and .pfm)", path);
+  }
+  snprintf(exr ? st->exr_path : st->pfm_path, sizeof st->exr_path, "%s", path);
+  snprintf(st->png_path, sizeof st->png_path, "%.*s.png", (int)(strlen(path) - 4), path);
   return CLR_SUCCESS;
 }
 
@@ -584,6 +645,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   if (write_files) {
     r = output_paths(o->outfile ? o->outfile : settings.filename, st);
     if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
+    if (r == CLR_SUCCESS && st->pfm_path[0]) r = film_check_output_path(st->pfm_path);
     if (r == CLR_SUCCESS) r = film_check_output_path(st->png_path);
     if (r != CLR_SUCCESS && !o->outfile) /* the path came from the scene: say where */
       return clr_set_last_error(r, "%s:%d: Film \"filename\": %s", param_file(&d->film.params),
@@ -631,6 +693,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     sdesc.film.filter_radius[1] = fdesc.radius[1];
     r = clr_sampler_create(ctx, &sdesc, &sampler);
   }
+  if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
   if (r == CLR_SUCCESS) r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
   if (r == CLR_SUCCESS) {
@@ -642,6 +705,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0;
+    job.region = render_region(sampler, &sdesc);
     st->spp = job.spp;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
@@ -682,6 +746,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     wo.metadata_values = vals;
     wo.metadata_count = 1;
     if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
+    if (r == CLR_SUCCESS && st->pfm_path[0]) r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
     if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
     st->seconds_output = now_seconds() - tw;
   }

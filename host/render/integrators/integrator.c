@@ -8,6 +8,7 @@
 #include "render_error.h"
 #include "grow.h"
 #include "integrator.h"
+#include "microfacet.h"
 #include "pcg32.h"
 #include "render_scene.h"
 #include "vec3.h"
@@ -282,10 +283,38 @@ static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
   rs_cross(s->ns, ss, ts);
 }
 
-/* Lambertian BSDF value times |cos| for world directions, pbrt BSDF::f reflect rule. */
+/* pbrt-v3 OrenNayar::f / R * pi: A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta), in the
+ * shading frame (1 for a Lambertian surface). */
+static float oren_nayar_factor(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (s->on_b == 0.0f) return s->on_a;
+  float ss[3], ts[3];
+  shading_frame(s, ss, ts);
+  float o[3] = {rs_dot(wo, ss), rs_dot(wo, ts), rs_dot(wo, s->ns)};
+  float i[3] = {rs_dot(wi, ss), rs_dot(wi, ts), rs_dot(wi, s->ns)};
+  float sin_o = sqrtf(fmaxf(0.0f, 1.0f - o[2] * o[2])), sin_i = sqrtf(fmaxf(0.0f, 1.0f - i[2] * i[2]));
+  float max_cos = 0.0f;
+  if (sin_i > 1e-4f && sin_o > 1e-4f) {
+    float cpi = fminf(1.0f, fmaxf(-1.0f, i[0] / sin_i)), spi = fminf(1.0f, fmaxf(-1.0f, i[1] / sin_i));
+    float cpo = fminf(1.0f, fmaxf(-1.0f, o[0] / sin_o)), spo = fminf(1.0f, fmaxf(-1.0f, o[1] / sin_o));
+    max_cos = fmaxf(0.0f, cpi * cpo + spi * spo);
+  }
+  float sin_alpha, tan_beta;
+  if (fabsf(i[2]) > fabsf(o[2])) {
+    sin_alpha = sin_o;
+    tan_beta = sin_i / fabsf(i[2]);
+  } else {
+    sin_alpha = sin_i;
+    tan_beta = sin_o / fabsf(o[2]);
+  }
+  return s->on_a + s->on_b * max_cos * sin_alpha * tan_beta;
+}
+
+/* Matte BSDF value / Kd times |cos| for world directions, pbrt BSDF::f reflect rule:
+ * Lambertian, or Oren-Nayar when the material has "sigma". */
 static float lambert_cos(const clr_surface *s, const float wo[3], const float wi[3]) {
   if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0.0f;
-  return fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
+  float f = fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
+  return s->on_b == 0.0f && s->on_a == 1.0f ? f : f * oren_nayar_factor(s, wo, wi);
 }
 
 static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
@@ -303,6 +332,120 @@ static float lambert_sample(const clr_surface *s, const float wo[3], const float
   for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + s->ns[i] * l[2];
   *pdf = fabsf(l[2]) * RS_INV_PI;
   return lambert_cos(s, wo, wi);
+}
+
+static int is_black_c(const float c[3]) { return c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f; }
+
+/* ---------- material BSDFs (pbrt-v3 BSDF: components summed, pdfs averaged) ---------- */
+
+static void to_local(const float ss[3], const float ts[3], const float ns[3], const float w[3],
+                     float l[3]) {
+  l[0] = rs_dot(w, ss);
+  l[1] = rs_dot(w, ts);
+  l[2] = rs_dot(w, ns);
+}
+
+static int plastic_components(const clr_surface *s, int *diffuse, int *glossy) {
+  *diffuse = !is_black_c(s->kd);
+  *glossy = !is_black_c(s->ks);
+  return *diffuse + *glossy;
+}
+
+/* pbrt-v3 metal: MicrofacetReflection(1, TrowbridgeReitz, FresnelConductor), f |cos| in
+ * local coordinates. */
+static int metal_eval_local(const clr_surface *s, const float lo[3], const float li[3], float f[3]) {
+  float cos_h, dg = clr_microfacet_dg(lo, li, s->alpha, &cos_h) * fabsf(li[2]);
+  for (int k = 0; k < 3; ++k) f[k] = dg > 0.0f ? dg * clr_fr_conductor(cos_h, s->m_eta[k], s->m_k[k]) : 0.0f;
+  return !is_black_c(f);
+}
+
+/* f * |cos(wi, ns)| (colour) with BSDF::f's reflect rule; 1 when not black. */
+static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3], float f[3]) {
+  if (s->metal) {
+    f[0] = f[1] = f[2] = 0.0f;
+    if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
+    float ss[3], ts[3], lo[3], li[3];
+    shading_frame(s, ss, ts);
+    to_local(ss, ts, s->ns, wo, lo);
+    to_local(ss, ts, s->ns, wi, li);
+    if (lo[2] == 0.0f) return 0;
+    return metal_eval_local(s, lo, li, f);
+  }
+  float fc = lambert_cos(s, wo, wi);
+  if (!s->plastic) {
+    for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc;
+    return fc > 0.0f && !is_black_c(f);
+  }
+  f[0] = f[1] = f[2] = 0.0f;
+  if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
+  float ss[3], ts[3], lo[3], li[3];
+  shading_frame(s, ss, ts);
+  to_local(ss, ts, s->ns, wo, lo);
+  to_local(ss, ts, s->ns, wi, li);
+  if (lo[2] == 0.0f) return 0;
+  float g = clr_microfacet_f(lo, li, s->alpha) * fabsf(li[2]);
+  for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc + s->ks[k] * g;
+  return !is_black_c(f);
+}
+
+static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (s->metal) {
+    float ss[3], ts[3], lo[3], li[3];
+    shading_frame(s, ss, ts);
+    to_local(ss, ts, s->ns, wo, lo);
+    to_local(ss, ts, s->ns, wi, li);
+    return lo[2] == 0.0f ? 0.0f : clr_microfacet_pdf(lo, li, s->alpha);
+  }
+  if (!s->plastic) return lambert_pdf(s, wo, wi);
+  int d, g, n = plastic_components(s, &d, &g);
+  if (!n) return 0.0f;
+  float ss[3], ts[3], lo[3], li[3];
+  shading_frame(s, ss, ts);
+  to_local(ss, ts, s->ns, wo, lo);
+  to_local(ss, ts, s->ns, wi, li);
+  if (lo[2] == 0.0f) return 0.0f;
+  float pdf = (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
+  return pdf / (float)n;
+}
+
+/* BSDF::Sample_f: wi, pdf and f * |cos| (colour); 1 when usable. */
+static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in[2], float wi[3],
+                       float *pdf, float f[3]) {
+  if (s->metal) {
+    float ss[3], ts[3], lo[3], li[3];
+    *pdf = 0.0f;
+    shading_frame(s, ss, ts);
+    to_local(ss, ts, s->ns, wo, lo);
+    if (!clr_microfacet_sample_wi(lo, u_in, s->alpha, li, pdf)) return 0;
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+    return bsdf_eval(s, wo, wi, f) && *pdf > 0.0f;
+  }
+  if (!s->plastic) {
+    float fc = lambert_sample(s, wo, u_in, wi, pdf);
+    for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc;
+    return fc > 0.0f && *pdf > 0.0f && !is_black_c(f);
+  }
+  int d, g, n = plastic_components(s, &d, &g);
+  *pdf = 0.0f;
+  if (!n) return 0;
+  int comp = (int)fminf(floorf(u_in[0] * (float)n), (float)(n - 1));
+  float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
+  int glossy = g && (comp == 1 || !d);
+  float ss[3], ts[3], lo[3];
+  shading_frame(s, ss, ts);
+  to_local(ss, ts, s->ns, wo, lo);
+  if (lo[2] == 0.0f) return 0;
+  if (glossy) {
+    float li[3], p;
+    if (!(clr_microfacet_sample(lo, u, s->alpha, li, &p) > 0.0f) || !(p > 0.0f)) return 0;
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+  } else {
+    float p;
+    lambert_sample(s, wo, u, wi, &p);
+    if (!(p > 0.0f)) return 0;
+  }
+  *pdf = bsdf_pdf(s, wo, wi);
+  return bsdf_eval(s, wo, wi, f) && *pdf > 0.0f;
 }
 
 static float power_heuristic(float f, float g) {
@@ -357,11 +500,11 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     clr_light_sample ls;
     clr_render_scene_sample_light(sc, jb->light, sf->p, sf->ng, jb->u_light, &ls);
     if (ls.pdf > 0.0f && !is_black(ls.li)) {
-      float fc = lambert_cos(sf, wo, ls.wi);
-      if (fc > 0.0f) {
+      float f3[3];
+      if (bsdf_eval(sf, wo, ls.wi, f3)) {
         float w = 1.0f;
-        if (!ls.is_delta) w = power_heuristic(ls.pdf, lambert_pdf(sf, wo, ls.wi));
-        for (int k = 0; k < 3; ++k) jb->shadow_contrib[k] = sf->kd[k] * fc * ls.li[k] * w / ls.pdf;
+        if (!ls.is_delta) w = power_heuristic(ls.pdf, bsdf_pdf(sf, wo, ls.wi));
+        for (int k = 0; k < 3; ++k) jb->shadow_contrib[k] = f3[k] * ls.li[k] * w / ls.pdf;
         jb->shadow_index = nshadow;
         s->rays[nshadow++] = ls.shadow;
       }
@@ -379,12 +522,14 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     const clr_surface *sf = &s->surfaces[jb->sample];
     const float *wo = wo_all + 3 * jb->sample;
     float wi[3], pdf;
-    float fc = lambert_sample(sf, wo, jb->u_scatter, wi, &pdf);
-    if (!(fc > 0.0f) || !(pdf > 0.0f)) continue;
-    for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = sf->kd[k] * fc;
+    float f3[3];
+    if (!bsdf_sample(sf, wo, jb->u_scatter, wi, &pdf, f3)) continue;
+    for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = f3[k];
     jb->bsdf_pdf = pdf;
-    jb->mis_index = nmis;
-    clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis++]);
+    clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis]);
+    /* pbrt-v3 asks the light's shape for the pdf first and traces nothing when it is 0 */
+    if (!clr_render_scene_light_may_hit(sc, jb->light, &s->rays[nmis])) continue;
+    jb->mis_index = nmis++;
   }
   trace(sc, s->rays, s->hits, (size_t)nmis, c);
   for (int j = 0; j < njobs; ++j) {
@@ -502,65 +647,218 @@ static void add_jobs(const direct_job *jobs, int njobs, float *L) {
     for (int k = 0; k < 3; ++k) L[3 * jobs[j].sample + k] += jobs[j].scale[k] * jobs[j].result[k];
 }
 
+/* pbrt-v3 SpecularReflection::Sample_f: wi is wo mirrored about the shading normal. */
+static void mirror_direction(const clr_surface *sf, const float wo[3], float wi[3]) {
+  float d = 2.0f * rs_dot(wo, sf->ns);
+  for (int a = 0; a < 3; ++a) wi[a] = -wo[a] + d * sf->ns[a];
+}
+
+/* Direct lighting of the surfaces s->surfaces[0..n) hit by s->rays2[0..n) (n samples mapped to
+ * the caller's samples by map) into Lk; mirror surfaces continue into next[] (pbrt-v3
+ * SpecularReflect while depth + 1 < maxdepth). Light sample values: the layout's depth-0 arrays,
+ * hashed values deeper. */
+static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *sc,
+                              clr_integrator_scratch *s, const float *values, const uint64_t *keys,
+                              int n, const int *map, int depth, float *Lk, int *cont, clr_ray *next,
+                              float *factor, clr_integrator_counters *c) {
+  float *wo = s->beta;
+  int nj = 0;
+  for (int k = 0; k < n; ++k) {
+    const clr_surface *sf = &s->surfaces[k];
+    int i = map[k];
+    const float *v = values + (size_t)i * (size_t)it->values_per_sample;
+    const float one[3] = {1, 1, 1};
+    Lk[3 * k] = Lk[3 * k + 1] = Lk[3 * k + 2] = 0.0f;
+    cont[2 * k] = cont[2 * k + 1] = 0;
+    if (sf->has_material < 0) {
+      add_escaped(sc, &s->rays2[k], one, Lk + 3 * k);
+      continue;
+    }
+    wo[3 * k] = -s->rays2[k].dx; wo[3 * k + 1] = -s->rays2[k].dy; wo[3 * k + 2] = -s->rays2[k].dz;
+    for (int a = 0; a < 3; ++a) Lk[3 * k + a] += sf->le[a];
+    if (sf->glass) { /* pbrt-v3 without multiple lobes: SpecularReflection + SpecularTransmission,
+                      * SpecularReflect and SpecularTransmit both followed */
+      if (depth + 1 >= it->max_depth) continue;
+      const float *w = wo + 3 * k;
+      float wi[3], cos_o = rs_dot(w, sf->ns);
+      int entering = rs_dot(w, sf->n_geom) > 0.0f;
+      float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
+      mirror_direction(sf, w, wi);
+      for (int a = 0; a < 3; ++a) factor[6 * k + a] = sf->kr[a] * F;
+      if (!is_black(factor + 6 * k) && rs_dot(wi, sf->ns) != 0.0f) {
+        clr_render_scene_spawn_ray(sf, wi, &next[2 * k]);
+        cont[2 * k] = 1;
+      }
+      float eta = entering ? 1.0f / sf->eta : sf->eta;
+      float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+      if (sin2_t < 1.0f) {
+        float cos_t = sqrtf(1.0f - sin2_t);
+        for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
+        for (int a = 0; a < 3; ++a) factor[6 * k + 3 + a] = sf->kt[a] * (1.0f - F) * eta * eta;
+        if (!is_black(factor + 6 * k + 3)) {
+          clr_render_scene_spawn_ray(sf, wi, &next[2 * k + 1]);
+          cont[2 * k + 1] = 1;
+        }
+      }
+      continue;
+    }
+    if (sf->mirror) { /* no non-specular component: no light sampling */
+      if (depth + 1 < it->max_depth && !is_black(sf->kr)) {
+        float wi[3];
+        mirror_direction(sf, wo + 3 * k, wi);
+        if (rs_dot(wi, sf->ns) != 0.0f) {
+          clr_render_scene_spawn_ray(sf, wi, &next[2 * k]);
+          for (int a = 0; a < 3; ++a) factor[6 * k + a] = sf->kr[a]; /* f |cos| / pdf */
+          cont[2 * k] = 1;
+        }
+      }
+      continue;
+    }
+    if (!it->light_count) continue;
+    if (it->direct_all) {
+      int dim = 0;
+      for (int j = 0; j < it->light_count; ++j) {
+        int ns = it->light_samples[j], off = depth == 0 ? it->light_offsets[j] : -1;
+        for (int q = 0; q < ns; ++q) {
+          direct_job *jb = &s->jobs[nj++];
+          jb->sample = k;
+          jb->light = j;
+          int base = depth == 0 ? 100 : 5000 + 1000 * depth;
+          for (int a = 0; a < 2; ++a) {
+            jb->u_light[a] = off >= 0 ? v[off + 2 * q + a] : fallback(keys[i], base + dim++);
+            jb->u_scatter[a] = off >= 0 ? v[off + 2 * ns + 2 * q + a] : fallback(keys[i], base + dim++);
+          }
+          jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)ns;
+        }
+      }
+    } else {
+      float u[5];
+      for (int a = 0; a < 5; ++a)
+        u[a] = depth == 0 ? v[it->value_offset + a] : fallback(keys[i], 5000 + 1000 * depth + a);
+      direct_job *jb = &s->jobs[nj++];
+      int nl = it->light_count;
+      jb->light = (int)fminf(u[0] * (float)nl, (float)(nl - 1));
+      jb->sample = k;
+      memcpy(jb->u_light, u + 1, 2 * sizeof(float));
+      memcpy(jb->u_scatter, u + 3, 2 * sizeof(float));
+      jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)nl;
+    }
+  }
+  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
+  add_jobs(s->jobs, nj, Lk);
+  return CLR_SUCCESS;
+}
+
 static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc,
                             clr_integrator_scratch *s, const float *values, const uint64_t *keys,
                             int count, float *L, clr_integrator_counters *c) {
-  intersect_visible(sc, s, count, c);
-  float *wo = s->beta;
   size_t per = 0;
   if (it->direct_all)
     for (int j = 0; j < it->light_count; ++j) per += (size_t)it->light_samples[j];
   else
     per = it->light_count ? 1 : 0;
-  CLR_CHECK(reserve_jobs(s, (size_t)count * per + 1));
-  int nj = 0;
-  for (int i = 0; i < count; ++i) {
-    const clr_surface *sf = &s->surfaces[i];
-    const float *v = values + (size_t)i * (size_t)it->values_per_sample;
-    const float one[3] = {1, 1, 1};
-    L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
-    if (sf->has_material < 0) {
-      add_escaped(sc, &s->rays2[i], one, L + 3 * i);
-      continue;
-    }
-    wo[3 * i] = -s->rays2[i].dx; wo[3 * i + 1] = -s->rays2[i].dy; wo[3 * i + 2] = -s->rays2[i].dz;
-    for (int k = 0; k < 3; ++k) L[3 * i + k] += sf->le[k];
-    if (!it->light_count) continue;
-    if (it->direct_all) {
-      int dim = 0;
-      for (int j = 0; j < it->light_count; ++j) {
-        int n = it->light_samples[j], off = it->light_offsets[j];
-        for (int k = 0; k < n; ++k) {
-          direct_job *jb = &s->jobs[nj++];
-          jb->sample = i;
-          jb->light = j;
-          for (int a = 0; a < 2; ++a) {
-            jb->u_light[a] = off >= 0 ? v[off + 2 * k + a] : fallback(keys[i], 100 + dim++);
-            jb->u_scatter[a] = off >= 0 ? v[off + 2 * n + 2 * k + a] : fallback(keys[i], 100 + dim++);
-          }
-          jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)n;
-        }
+  /* entries: a camera sample's path through mirrors and glass (glass splits one in two) */
+  size_t cap = (size_t)(count > 0 ? count : 1);
+  float *Lk = NULL, *weight = NULL, *factor = NULL;
+  int *map = NULL, *cont = NULL;
+  clr_ray *next = NULL;
+  clr_result r = CLR_SUCCESS;
+  int n = count;
+  for (int depth = 0; r == CLR_SUCCESS && n > 0; ++depth) {
+    if (depth == 0 || (size_t)n > cap || !Lk) {
+      cap = (size_t)n > cap ? (size_t)n : cap;
+      float *a = realloc(Lk, cap * 3 * sizeof *a), *b = a ? realloc(weight, cap * 3 * sizeof *b) : NULL;
+      if (a) Lk = a;
+      if (b) weight = b;
+      float *f = b ? realloc(factor, cap * 6 * sizeof *f) : NULL;
+      if (f) factor = f;
+      int *m1 = f ? realloc(map, cap * sizeof *m1) : NULL;
+      if (m1) map = m1;
+      int *c1 = m1 ? realloc(cont, cap * 2 * sizeof *c1) : NULL;
+      if (c1) cont = c1;
+      clr_ray *nx = c1 ? realloc(next, cap * 2 * sizeof *nx) : NULL;
+      if (nx) next = nx;
+      if (!nx) {
+        r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+        break;
       }
-    } else {
-      const float *u = v + it->value_offset;
-      direct_job *jb = &s->jobs[nj++];
-      int n = it->light_count;
-      jb->light = (int)fminf(u[0] * (float)n, (float)(n - 1));
-      jb->sample = i;
-      memcpy(jb->u_light, u + 1, 2 * sizeof(float));
-      memcpy(jb->u_scatter, u + 3, 2 * sizeof(float));
-      jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)n;
     }
+    if (depth == 0)
+      for (int i = 0; i < count; ++i) { /* s->rays2[0..count) holds the camera rays */
+        map[i] = i;
+        L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
+        weight[3 * i] = weight[3 * i + 1] = weight[3 * i + 2] = 1.0f;
+      }
+    r = reserve_samples(s, (size_t)n);
+    if (r == CLR_SUCCESS) r = reserve_rays(s, (size_t)n);
+    if (r == CLR_SUCCESS) r = reserve_jobs(s, (size_t)n * per + 1);
+    if (r != CLR_SUCCESS) break;
+    intersect_visible(sc, s, n, c);
+    r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, factor, c);
+    if (r != CLR_SUCCESS) break;
+    int m = 0;
+    for (int k = 0; k < n; ++k)
+      for (int a = 0; a < 3; ++a) L[3 * map[k] + a] += weight[3 * k + a] * Lk[3 * k + a];
+    for (int k = 0; k < n; ++k) m += cont[2 * k] + cont[2 * k + 1];
+    if (m == 0) break;
+    r = reserve_samples(s, (size_t)m);
+    float *nw = r == CLR_SUCCESS ? malloc((size_t)m * 3 * sizeof *nw) : NULL;
+    int *nm = nw ? malloc((size_t)m * sizeof *nm) : NULL;
+    if (!nm) {
+      free(nw);
+      if (r == CLR_SUCCESS) r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+      break;
+    }
+    int at = 0;
+    for (int k = 0; k < n; ++k)
+      for (int q = 0; q < 2; ++q) {
+        if (!cont[2 * k + q]) continue;
+        const float *f = factor + 6 * k + 3 * q;
+        s->rays2[at] = next[2 * k + q];
+        for (int a = 0; a < 3; ++a) nw[3 * at + a] = weight[3 * k + a] * f[a];
+        nm[at++] = map[k];
+      }
+    free(weight);
+    free(map);
+    weight = nw;
+    map = nm;
+    if ((size_t)m > cap) { /* the other per-entry arrays are grown at the top of the loop */
+      float *a = realloc(Lk, (size_t)m * 3 * sizeof *a);
+      if (!a) {
+        r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+        break;
+      }
+      Lk = a;
+    }
+    n = m;
   }
-  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
-  add_jobs(s->jobs, nj, L);
-  return CLR_SUCCESS;
+  free(Lk);
+  free(weight);
+  free(factor);
+  free(map);
+  free(cont);
+  free(next);
+  return r;
 }
 
 static float path_value(const clr_integrator *it, const float *v, uint64_t key, int bounce, int k) {
   if (bounce < it->path_bounces_in_layout)
     return v[it->value_offset + bounce * CLR_PATH_VALUES_PER_BOUNCE + k];
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
+}
+
+/* pbrt-v3 Russian roulette after bounce 3, on beta * etaScale. */
+static void path_roulette(const clr_integrator *it, const float *v, uint64_t key, int bounces,
+                          float eta_scale, float b[3], int32_t *active) {
+  float m = fmaxf(b[0] * eta_scale, fmaxf(b[1] * eta_scale, b[2] * eta_scale));
+  if (m < it->rr_threshold && bounces > 3) {
+    float q = fmaxf(0.05f, 1.0f - m);
+    if (path_value(it, v, key, bounces, 7) < q) {
+      *active = 0;
+    } else {
+      for (int a = 0; a < 3; ++a) b[a] /= 1.0f - q;
+    }
+  }
 }
 
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
@@ -572,12 +870,17 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   CLR_CHECK(reserve_jobs(s, (size_t)count + 1));
   float *wos = malloc((size_t)count * 3 * sizeof(float));
   int *idx = malloc((size_t)count * sizeof(int));
-  if (!wos || !idx) {
+  int *specular = calloc((size_t)(count > 0 ? count : 1), sizeof(int)); /* last bounce specular */
+  float *eta_scale = malloc((size_t)(count > 0 ? count : 1) * sizeof(float));
+  if (!wos || !idx || !specular || !eta_scale) {
     free(wos);
     free(idx);
+    free(specular);
+    free(eta_scale);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
   for (int i = 0; i < count; ++i) {
+    eta_scale[i] = 1.0f;
     beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
     s->bounces[i] = 0;
@@ -600,20 +903,23 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       const clr_ray *ray = &s->rays[k];
       const clr_hit *h = &s->hits[k];
       int bounces = s->bounces[i];
+      int seen = bounces == 0 || specular[i]; /* pbrt-v3: emission counted here, else by MIS */
       if (h->geom_id == CLR_TRACER_INVALID_ID) {
-        if (bounces == 0) add_escaped(sc, ray, b, Li);
+        if (seen) add_escaped(sc, ray, b, Li);
         s->active[i] = 0;
         continue;
       }
       clr_surface *sf = &s->surfaces[i];
       clr_render_scene_surface(sc, ray, h, sf);
-      if (!sf->has_material) {
+      if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
+        if (seen)
+          for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
         float d[3] = {ray->dx, ray->dy, ray->dz};
         clr_render_scene_spawn_ray(sf, d, &s->rays2[i]);
         if (++nulls > MAX_NULL_SURFACES * count) s->active[i] = 0;
         continue;
       }
-      if (bounces == 0)
+      if (seen)
         for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
       if (bounces >= it->max_depth) {
         s->active[i] = 0;
@@ -622,6 +928,48 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       const float *v = values + (size_t)i * (size_t)it->values_per_sample;
       float *w = wos + 3 * i;
       w[0] = -ray->dx; w[1] = -ray->dy; w[2] = -ray->dz;
+      specular[i] = sf->mirror || sf->glass;
+      if (sf->glass) { /* pbrt-v3 FresnelSpecular::Sample_f */
+        float wi[3], cos_o = rs_dot(w, sf->ns);
+        int entering = rs_dot(w, sf->n_geom) > 0.0f;
+        float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
+        if (path_value(it, v, keys[i], bounces, 5) < F) {
+          mirror_direction(sf, w, wi);
+          for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a]; /* Kr F / F */
+        } else {
+          float eta = entering ? 1.0f / sf->eta : sf->eta; /* eta_i / eta_t */
+          float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+          if (sin2_t >= 1.0f) {
+            s->active[i] = 0;
+            continue;
+          }
+          float cos_t = sqrtf(1.0f - sin2_t);
+          for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
+          for (int a = 0; a < 3; ++a) b[a] *= sf->kt[a] * eta * eta; /* T (1-F) (eta_i/eta_t)^2 / (1-F) */
+          eta_scale[i] *= entering ? sf->eta * sf->eta : 1.0f / (sf->eta * sf->eta);
+        }
+        if (is_black(b)) {
+          s->active[i] = 0;
+          continue;
+        }
+        clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+        path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+        s->bounces[i] = bounces + 1;
+        continue;
+      }
+      if (sf->mirror) { /* pbrt-v3: no light sampling; beta *= Kr (f |cos| / pdf) */
+        float wi[3];
+        mirror_direction(sf, w, wi);
+        if (is_black(sf->kr) || rs_dot(wi, sf->ns) == 0.0f) {
+          s->active[i] = 0;
+          continue;
+        }
+        for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
+        clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+        path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+        s->bounces[i] = bounces + 1;
+        continue;
+      }
       if (it->light_count) {
         float lpdf;
         int light = choose_light(it, path_value(it, v, keys[i], bounces, 0), &lpdf);
@@ -638,22 +986,14 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       float u[2] = {path_value(it, v, keys[i], bounces, 5), path_value(it, v, keys[i], bounces, 6)};
       float wi[3], pdf;
-      float fc = lambert_sample(sf, w, u, wi, &pdf);
-      if (!(fc > 0.0f) || !(pdf > 0.0f) || is_black(sf->kd)) {
+      float f3[3];
+      if (!bsdf_sample(sf, w, u, wi, &pdf, f3)) {
         s->active[i] = 0;
         continue;
       }
-      for (int a = 0; a < 3; ++a) b[a] *= sf->kd[a] * fc / pdf;
+      for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-      float m = fmaxf(b[0], fmaxf(b[1], b[2]));
-      if (m < it->rr_threshold && bounces > 3) {
-        float q = fmaxf(0.05f, 1.0f - m);
-        if (path_value(it, v, keys[i], bounces, 7) < q) {
-          s->active[i] = 0;
-        } else {
-          for (int a = 0; a < 3; ++a) b[a] /= 1.0f - q;
-        }
-      }
+      path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
       s->bounces[i] = bounces + 1;
     }
     if (nj) {
@@ -666,6 +1006,8 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   }
   free(wos);
   free(idx);
+  free(specular);
+  free(eta_scale);
   return r;
 }
 

@@ -69,7 +69,7 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
     if (spot) {
       clr_params_find_point3(p, "to", zdir, to);
       float cone = clr_params_find_float(p, "coneangle", 30.0f);
-      float delta = clr_params_find_float(p, "conedelta", 5.0f);
+      float delta = clr_params_find_float(p, "conedeltaangle", 5.0f); /* pbrt-v3's name */
       l.cos_total = cosf(cone * RS_PI / 180.0f);
       l.cos_falloff_start = cosf((cone - delta) * RS_PI / 180.0f);
       float dir[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]}, du[3], dv[3];
@@ -156,6 +156,12 @@ clr_result rs_area_lights_add(rs_light_set *set, rs_shape *sh, int shape_index,
     l.power = luminance(l.colour) * sides * RS_PI * 4.0f * RS_PI * l.radius * l.radius;
     return push_light(set, &l);
   }
+  if (sh->type == RS_SHAPE_DISK) {
+    l.type = RS_LIGHT_AREA_DISK;
+    l.area = sh->phimax * 0.5f * (sh->radius * sh->radius - sh->inner_radius * sh->inner_radius);
+    l.power = luminance(l.colour) * sides * RS_PI * l.area;
+    return push_light(set, &l);
+  }
   l.type = RS_LIGHT_AREA_TRIANGLE;
   for (int t = 0; t < sh->mesh.triangle_count; ++t) {
     const float *p0, *p1, *p2;
@@ -179,6 +185,25 @@ int rs_light_is_delta(const rs_light *l) {
 static void area_emit(const rs_light *l, const float n[3], const float w[3], float li[3]) {
   if (l->two_sided || rs_dot(n, w) > 0.0f) memcpy(li, l->colour, 3 * sizeof(float));
   else li[0] = li[1] = li[2] = 0.0f;
+}
+
+/* pbrt-v3 ConcentricSampleDisk. */
+static void disk_concentric(const float u[2], float *x, float *y) {
+  float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
+  if (ox == 0.0f && oy == 0.0f) {
+    *x = *y = 0.0f;
+    return;
+  }
+  float r, theta;
+  if (fabsf(ox) > fabsf(oy)) {
+    r = ox;
+    theta = (RS_PI / 4.0f) * (oy / ox);
+  } else {
+    r = oy;
+    theta = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy);
+  }
+  *x = r * cosf(theta);
+  *y = r * sinf(theta);
 }
 
 /* Points on the sphere itself count as inside (pbrt-v3 tests its offset ray origin): cone
@@ -210,6 +235,20 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     } else if (sh->flip_normal) {
       n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2];
     }
+    *pdf = 1.0f / l->area;
+    return;
+  }
+  if (l->type == RS_LIGHT_AREA_DISK) {
+    /* pbrt-v3 Disk::Sample(u): the full disk of `radius` (innerradius and phimax are ignored
+     * there too), pdf 1 / Area() */
+    const rs_shape *sh = &shapes[l->shape];
+    float dx, dy, z[3] = {0.0f, 0.0f, 1.0f};
+    disk_concentric(u, &dx, &dy);
+    float po[3] = {dx * sh->radius, dy * sh->radius, sh->height};
+    clr_transform_point(&sh->object_to_world, po, pt);
+    clr_transform_normal(&sh->object_to_world, z, n);
+    rs_normalize(n);
+    if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
     *pdf = 1.0f / l->area;
     return;
   }
@@ -356,7 +395,7 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     float c = fabsf(rs_dot(n_hit, wi));
     return c > 0.0f ? t * t / (c * 4.0f * RS_PI * l->radius * l->radius) : 0.0f;
   }
-  if (l->type == RS_LIGHT_AREA_TRIANGLE) {
+  if (l->type == RS_LIGHT_AREA_TRIANGLE || l->type == RS_LIGHT_AREA_DISK) {
     float c = fabsf(rs_dot(n_hit, wi));
     return c > 0.0f ? t * t / (c * l->area) : 0.0f;
   }
@@ -377,4 +416,71 @@ void rs_lights_escaped(const rs_light_set *set, const clr_ray *ray, float le[3])
     rs_light_le(set, set->infinite[i], d, c);
     for (int k = 0; k < 3; ++k) le[k] += c[k];
   }
+}
+
+/* pbrt-v3 Light::Pdf_Li asks the light's own shape first: Shape::Pdf(ref, wi) intersects the ray
+ * with that shape only (a triangle here) and is 0 when it misses; a sphere seen from outside
+ * returns its cone pdf without a test, and from on or inside it the ray is intersected with the
+ * sphere (an outward ray from its surface misses). Double-precision
+ * Moller-Trumbore with closed edges. */
+int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
+                           const clr_ray *ray) {
+  const rs_light *l = &set->items[light];
+  if (l->type == RS_LIGHT_AREA_SPHERE) {
+    double oc[3] = {(double)ray->ox - l->pos[0], (double)ray->oy - l->pos[1], (double)ray->oz - l->pos[2]};
+    double c2 = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2], r2 = (double)l->radius * l->radius;
+    /* pbrt-v3 offsets the reference point toward the centre: a point on the sphere counts as
+     * inside; the ray origin here is already offset outward by the spawn epsilon */
+    float o[3] = {ray->ox, ray->oy, ray->oz};
+    double on = (double)l->radius + 2.0 * rs_spawn_eps(o);
+    if (c2 > on * on) return 1; /* outside: the cone pdf, no test */
+    /* on or inside the sphere: Shape::Pdf intersects the ray with it */
+    double b = oc[0] * ray->dx + oc[1] * ray->dy + oc[2] * ray->dz;
+    double dd = (double)ray->dx * ray->dx + (double)ray->dy * ray->dy + (double)ray->dz * ray->dz;
+    double disc = b * b - dd * (c2 - r2);
+    if (disc < 0.0) return 0;
+    double t = (-b + sqrt(disc)) / dd; /* the far root: the only one ahead when inside */
+    return t > (double)ray->tnear && t > 1e-6 * l->radius && t < (double)ray->tfar &&
+           (c2 < r2 || b < 0.0);
+  }
+  if (l->type == RS_LIGHT_AREA_DISK) { /* Disk::Intersect in object space */
+    const rs_shape *sh = &shapes[l->shape];
+    clr_transform w2o = clr_transform_inverse(&sh->object_to_world);
+    float ow[3] = {ray->ox, ray->oy, ray->oz}, dw[3] = {ray->dx, ray->dy, ray->dz}, o[3], d[3];
+    clr_transform_point(&w2o, ow, o);
+    clr_transform_vector(&w2o, dw, d);
+    if (d[2] == 0.0f) return 0;
+    double t = ((double)sh->height - o[2]) / d[2];
+    if (!(t > 0.0) || !(t > (double)ray->tnear) || !(t < (double)ray->tfar)) return 0;
+    double x = o[0] + t * d[0], y = o[1] + t * d[1], r2 = x * x + y * y;
+    if (r2 > (double)sh->radius * sh->radius || r2 < (double)sh->inner_radius * sh->inner_radius)
+      return 0;
+    double phi = atan2(y, x);
+    if (phi < 0.0) phi += 2.0 * RS_PI;
+    return phi <= (double)sh->phimax * (1.0 + 1e-6);
+  }
+  if (l->type != RS_LIGHT_AREA_TRIANGLE) return 1;
+  const float *p0, *p1, *p2;
+  tri_vertices(&shapes[l->shape], l->prim, &p0, &p1, &p2);
+  double o[3] = {ray->ox, ray->oy, ray->oz}, d[3] = {ray->dx, ray->dy, ray->dz};
+  double e1[3], e2[3], s[3], pv[3], q[3];
+  for (int i = 0; i < 3; ++i) {
+    e1[i] = (double)p1[i] - p0[i];
+    e2[i] = (double)p2[i] - p0[i];
+    s[i] = o[i] - p0[i];
+  }
+  pv[0] = d[1] * e2[2] - d[2] * e2[1];
+  pv[1] = d[2] * e2[0] - d[0] * e2[2];
+  pv[2] = d[0] * e2[1] - d[1] * e2[0];
+  double det = e1[0] * pv[0] + e1[1] * pv[1] + e1[2] * pv[2];
+  if (det == 0.0) return 0;
+  double inv = 1.0 / det, u = (s[0] * pv[0] + s[1] * pv[1] + s[2] * pv[2]) * inv;
+  if (u < 0.0 || u > 1.0) return 0;
+  q[0] = s[1] * e1[2] - s[2] * e1[1];
+  q[1] = s[2] * e1[0] - s[0] * e1[2];
+  q[2] = s[0] * e1[1] - s[1] * e1[0];
+  double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
+  if (v < 0.0 || u + v > 1.0) return 0;
+  double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
+  return t > (double)ray->tnear && t < (double)ray->tfar;
 }

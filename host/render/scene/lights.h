@@ -11,7 +11,7 @@
 
 typedef enum {
   RS_LIGHT_POINT, RS_LIGHT_SPOT, RS_LIGHT_DISTANT, RS_LIGHT_INFINITE, RS_LIGHT_AREA_TRIANGLE,
-  RS_LIGHT_AREA_SPHERE
+  RS_LIGHT_AREA_SPHERE, RS_LIGHT_AREA_DISK
 } rs_light_type;
 
 typedef struct rs_light {
@@ -23,7 +23,7 @@ typedef struct rs_light {
   float light_to_world[3][3]; /* infinite */
   float cos_total, cos_falloff_start;
   int shape, prim, two_sided;
-  float area;         /* triangle area */
+  float area;         /* triangle area; disk: pbrt-v3 Disk::Area (object space) */
   float radius;       /* sphere */
   int nsamples;
   float power;
@@ -63,6 +63,10 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
  * `light` at distance t with the hit's geometric normal n_hit (unit). */
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3],
                    float t, const float n_hit[3]);
+/* 0 when ray certainly misses area light `light`'s own shape (pbrt-v3 Light::Pdf_Li is then 0
+ * and the scene ray is not traced), else 1. */
+int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
+                           const clr_ray *ray);
 /* Radiance of an escaped ray from infinite light `light`. */
 void rs_light_le(const rs_light_set *set, int light, const float d[3], float le[3]);
 /* Radiance arriving along a ray that escaped the scene, summed over the infinite lights. */

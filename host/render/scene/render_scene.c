@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "microfacet.h"
 #include "render_error.h"
 #include "loop_subdiv.h"
 #include "ply_reader.h"
@@ -47,6 +48,10 @@ void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
 float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, const float p[3],
                                  const float wi[3], float t, const float n_hit[3]) {
   return rs_light_pdf(&scene->lights, light, p, wi, t, n_hit);
+}
+
+int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light, const clr_ray *ray) {
+  return rs_light_shape_may_hit(&scene->lights, scene->shapes, light, ray);
 }
 
 void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
@@ -191,12 +196,58 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   for (int c = 0; c < 8; ++c) {
     float q[3] = {(c & 1) ? sh->radius : -sh->radius, (c & 2) ? sh->radius : -sh->radius,
                   (c & 4) ? sh->radius : -sh->radius}, w[3];
+    if (sh->type == RS_SHAPE_DISK) q[2] = sh->height;
     clr_transform_point(&sh->object_to_world, q, w);
     for (int i = 0; i < 3; ++i) { lo[i] = fminf(lo[i], w[i]); hi[i] = fmaxf(hi[i], w[i]); }
   }
 }
 
-static int material_is_supported(const char *type) { return strcmp(type, "matte") == 0; }
+static int material_is_supported(const char *type) {
+  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 || strcmp(type, "plastic") == 0 ||
+         strcmp(type, "glass") == 0 || strcmp(type, "metal") == 0;
+}
+
+/* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
+ * OrenNayar with A = 1 - s^2 / (2 (s^2 + 0.33)), B = 0.45 s^2 / (s^2 + 0.09), s in radians. A
+ * shape's own parameter overrides the material's, as for Kd. */
+static void oren_nayar_params(const clr_shape_desc *sd, const clr_material_desc *md,
+                              const char *mtype, rs_shape *sh) {
+  sh->on_a = 1.0f;
+  sh->on_b = 0.0f;
+  if (strcmp(mtype, "matte") != 0) return;
+  float sigma = clr_params_find_float(&md->params, "sigma", 0.0f);
+  sigma = clr_params_find_float(&sd->params, "sigma", sigma);
+  sigma = fminf(90.0f, fmaxf(0.0f, sigma));
+  if (sigma == 0.0f) return;
+  float s = sigma * RS_PI / 180.0f, s2 = s * s;
+  sh->on_a = 1.0f - s2 / (2.0f * (s2 + 0.33f));
+  sh->on_b = 0.45f * s2 / (s2 + 0.09f);
+}
+
+/* pbrt-v3 CreateMetalMaterial: eta and k default to copper (its spectra as RGB), roughness 0.01
+ * (uroughness/vroughness override it; anisotropic is rendered isotropic with their mean),
+ * remaproughness true. Only rgb eta and k; other spectra fall back to copper with a warning. */
+static void metal_params(const clr_shape_desc *sd, const clr_material_desc *md,
+                         const clr_param_list *p, clr_warn_fn warn, void *wu, rs_shape *sh) {
+  static const float cu_eta[3] = {0.2004376970f, 0.9240334304f, 1.1022119527f};
+  static const float cu_k[3] = {3.9129485033f, 2.4528477015f, 2.1421879552f};
+  clr_params_find_rgb(&md->params, "eta", cu_eta, sh->m_eta);
+  clr_params_find_rgb(&md->params, "k", cu_k, sh->m_k);
+  const char *spectra[2] = {"eta", "k"};
+  for (int i = 0; i < 2; ++i)
+    if (clr_params_find(&md->params, spectra[i], CLR_PARAM_SPECTRUM))
+      warn_fmt(warn, wu, "%s:%d: metal \"%s\" given as a spectrum: not supported, copper used",
+               md->params.file ? md->params.file : p->file, md->params.line, spectra[i]);
+  float rough = clr_params_find_float(&md->params, "roughness", 0.01f);
+  float ur = clr_params_find_float(&md->params, "uroughness", rough);
+  float vr = clr_params_find_float(&md->params, "vroughness", rough);
+  (void)sd;
+  if (ur != vr)
+    warn_fmt(warn, wu, "%s:%d: anisotropic metal roughness not supported: using their mean",
+             md->params.file ? md->params.file : p->file, md->params.line);
+  float r = 0.5f * (ur + vr);
+  sh->alpha = clr_params_find_bool(&md->params, "remaproughness", true) ? clr_tr_roughness_to_alpha(r) : r;
+}
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
                                void *wu, int32_t *object_group) {
@@ -219,23 +270,69 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
         return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"sphere\": \"radius\" must be "
                                   "positive, got %g", p->file ? p->file : "?", p->line,
                                   (double)sh->radius);
-      const char *extra[] = {"zmin", "zmax", "phimax"};
-      for (int k = 0; k < 3; ++k)
-        if (clr_params_find(p, extra[k], CLR_PARAM_FLOAT))
-          warn_fmt(warn, wu, "%s:%d: sphere \"%s\" not supported: full sphere used", p->file, p->line, extra[k]);
+      /* pbrt-v3 CreateSphereShape: zmin, zmax (clamped and sorted), phimax degrees */
+      float r = sh->radius, z0 = clr_params_find_float(p, "zmin", -r), z1 = clr_params_find_float(p, "zmax", r);
+      float pm = clr_params_find_float(p, "phimax", 360.0f);
+      sh->zmin = fminf(fmaxf(fminf(z0, z1), -r), r);
+      sh->zmax = fminf(fmaxf(fmaxf(z0, z1), -r), r);
+      sh->phimax = fminf(fmaxf(pm, 0.0f), 360.0f) * RS_PI / 180.0f;
+      sh->partial = !(sh->zmin <= -r && sh->zmax >= r && pm >= 360.0f);
+      if (sh->partial && sd->area_light >= 0)
+        warn_fmt(warn, wu, "%s:%d: partial sphere as an area light: sampled as the full sphere (as "
+                 "pbrt-v3 does)", p->file ? p->file : "?", p->line);
+    } else if (strcmp(sd->type, "disk") == 0) { /* pbrt-v3 CreateDiskShape */
+      sh->type = RS_SHAPE_DISK;
+      sh->height = clr_params_find_float(p, "height", 0.0f);
+      sh->radius = clr_params_find_float(p, "radius", 1.0f);
+      sh->inner_radius = clr_params_find_float(p, "innerradius", 0.0f);
+      float phimax = clr_params_find_float(p, "phimax", 360.0f);
+      if (!(sh->radius > 0.0f) || !(sh->inner_radius >= 0.0f) || !(sh->inner_radius < sh->radius) ||
+          !(phimax > 0.0f && phimax <= 360.0f) || !isfinite(sh->height))
+        return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"disk\": needs 0 <= \"innerradius\" "
+                                  "< \"radius\" and 0 < \"phimax\" <= 360, got %g, %g, %g",
+                                  p->file ? p->file : "?", p->line, (double)sh->inner_radius,
+                                  (double)sh->radius, (double)phimax);
+      sh->phimax = phimax * RS_PI / 180.0f;
     } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
       CLR_CHECK(build_mesh(sd, &sh->mesh, warn, wu));
     } else {
       warn_fmt(warn, wu, "%s:%d: shape \"%s\" not supported: ignored", p->file, p->line, sd->type);
+      clr_params_mark_used(p); /* one warning for the skipped shape, not one per parameter */
       continue;
     }
     s->shape_count++;
     const clr_material_desc *md = &d->materials[sd->material >= 0 ? sd->material : 0];
     const char *mtype = md->type ? md->type : "";
     sh->has_material = !(mtype[0] == 0 || strcmp(mtype, "none") == 0);
-    rs_colour_param(&sd->params, &md->params, "Kd", 0.5f, &sh->kd);
+    sh->mirror = strcmp(mtype, "mirror") == 0;
+    sh->plastic = strcmp(mtype, "plastic") == 0;
+    sh->glass = strcmp(mtype, "glass") == 0;
+    if (sh->glass) { /* pbrt-v3 CreateGlassMaterial: Kr 1, Kt 1, eta ("index" in old scenes) 1.5 */
+      rs_colour_param(&sd->params, &md->params, "Kr", 1.0f, &sh->kr);
+      rs_colour_param(&sd->params, &md->params, "Kt", 1.0f, &sh->kt);
+      float eta = clr_params_find_float(&md->params, "index", 1.5f);
+      sh->eta = clr_params_find_float(&md->params, "eta", eta);
+      float ur = clr_params_find_float(&md->params, "uroughness", 0.0f);
+      float vr = clr_params_find_float(&md->params, "vroughness", 0.0f);
+      if (ur != 0.0f || vr != 0.0f)
+        warn_fmt(warn, wu, "%s:%d: rough glass not supported: rendered as smooth glass",
+                 md->params.file ? md->params.file : p->file, md->params.line);
+    }
+    sh->metal = strcmp(mtype, "metal") == 0;
+    if (sh->metal) metal_params(sd, md, p, warn, wu, sh);
+    if (sh->mirror) rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
+    else if (sh->glass || sh->metal) sh->kd = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
+    else rs_colour_param(&sd->params, &md->params, "Kd", sh->plastic ? 0.25f : 0.5f, &sh->kd);
+    if (sh->plastic) { /* pbrt-v3 CreatePlasticMaterial defaults */
+      rs_colour_param(&sd->params, &md->params, "Ks", 0.25f, &sh->ks);
+      float rough = clr_params_find_float(&md->params, "roughness", 0.1f);
+      rough = clr_params_find_float(&sd->params, "roughness", rough);
+      int remap = clr_params_find_bool(&md->params, "remaproughness", true);
+      sh->alpha = remap ? clr_tr_roughness_to_alpha(rough) : rough;
+    }
+    oren_nayar_params(sd, md, mtype, sh);
     if (sh->has_material && !material_is_supported(mtype)) {
       int seen = 0;
       for (int k = 0; k < warned_count; ++k) seen |= strcmp(warned[k], mtype) == 0;
@@ -253,10 +350,19 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     int index = s->shape_count - 1;
     if (sh->type == RS_SHAPE_MESH) {
       CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
+    } else if (sh->type == RS_SHAPE_DISK) {
+      float xf[16];
+      rs_xform_m16(&sh->object_to_world, xf);
+      CLR_CHECK(clr_tracer_add_disk(s->tracer, group, xf, sh->height, sh->radius, sh->inner_radius,
+                                    sh->phimax * 180.0f / RS_PI, (uint32_t)index, NULL));
     } else {
       float xf[16];
       rs_xform_m16(&sh->object_to_world, xf);
-      CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
+      if (sh->partial)
+        CLR_CHECK(clr_tracer_add_partial_sphere(s->tracer, group, xf, sh->radius, sh->zmin, sh->zmax,
+                                                sh->phimax * 180.0f / RS_PI, (uint32_t)index, NULL));
+      else
+        CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
     }
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
@@ -436,10 +542,37 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
   uv[0] = phi / (2.0f * RS_PI);
   uv[1] = 1.0f - acosf(ct) / RS_PI;
   float du_o[3] = {-2.0f * RS_PI * po[1], 2.0f * RS_PI * po[0], 0.0f};
+  if (sh->partial) { /* pbrt-v3's (u, v) over the clipped ranges */
+    float tz0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmin / sh->radius)));
+    float tz1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmax / sh->radius)));
+    uv[0] = phi / sh->phimax;
+    uv[1] = (acosf(ct) - tz0) / (tz1 - tz0);
+    du_o[0] = -sh->phimax * po[1];
+    du_o[1] = sh->phimax * po[0];
+  }
   clr_transform_point(o2w, po, p);
   clr_transform_normal(o2w, po, n);
   rs_normalize(n);
   clr_transform_vector(o2w, du_o, dpdu);
+  if (sh->flip_normal) negate(n);
+}
+
+/* pbrt-v3 Disk::Intersect's interaction: the hit refined onto z = height, n the object z axis,
+ * uv (phi / phimax, (radius - r) / (radius - innerradius)), dpdu (-phimax y, phimax x, 0). */
+static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr_ray *ray,
+                         const clr_hit *hit, float p[3], float n[3], float uv[2], float dpdu[3]) {
+  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy, ray->oz + hit->t * ray->dz};
+  float po[3], z[3] = {0.0f, 0.0f, 1.0f};
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  po[2] = sh->height;
+  float du_o[3] = {-sh->phimax * po[1], sh->phimax * po[0], 0.0f};
+  clr_transform_point(o2w, po, p);
+  clr_transform_normal(o2w, z, n);
+  rs_normalize(n);
+  clr_transform_vector(o2w, du_o, dpdu);
+  uv[0] = hit->u;
+  uv[1] = hit->v;
   if (sh->flip_normal) negate(n);
 }
 
@@ -463,6 +596,9 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
       clr_transform_vector(inst, dpdu, q); memcpy(dpdu, q, sizeof q);
       if (has_ns) { clr_transform_normal(inst, ns, q); memcpy(ns, q, sizeof q); }
     }
+  } else if (sh->type == RS_SHAPE_DISK) {
+    clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    disk_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   } else {
     clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
@@ -482,7 +618,23 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     memcpy(out->ns, out->ng, sizeof n);
   }
   out->has_material = sh->has_material;
-  if (sh->has_material) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  out->on_a = sh->on_a;
+  out->on_b = sh->on_b;
+  out->mirror = sh->has_material && sh->mirror;
+  out->glass = sh->has_material && sh->glass;
+  out->metal = sh->has_material && sh->metal;
+  memcpy(out->m_eta, sh->m_eta, sizeof out->m_eta);
+  memcpy(out->m_k, sh->m_k, sizeof out->m_k);
+  out->eta = sh->eta;
+  out->kt[0] = out->kt[1] = out->kt[2] = 0.0f;
+  if (out->glass) rs_colour_eval(&s->textures, &sh->kt, uv, out->kt);
+  out->plastic = sh->has_material && sh->plastic;
+  out->alpha = sh->alpha;
+  out->ks[0] = out->ks[1] = out->ks[2] = 0.0f;
+  if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
+  out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
+  if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
+  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
   else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;

@@ -52,6 +52,15 @@ typedef struct clr_surface {
   float dpdu[3];       /* pbrt dpdu (world), for the AO frame */
   float n_geom[3];     /* pbrt isect.n: geometric normal oriented as the shape's (unit) */
   float kd[3];         /* diffuse reflectance (matte Kd, textures evaluated) */
+  float on_a, on_b;    /* matte "sigma": pbrt-v3 Oren-Nayar A and B (Lambertian: 1 and 0) */
+  int32_t mirror;      /* 1: material "mirror", a perfect specular reflector with kr */
+  int32_t plastic;     /* 1: material "plastic": kd Lambertian + ks TrowbridgeReitz lobe */
+  int32_t glass;       /* 1: material "glass" with roughness 0: FresnelSpecular (kr, kt, eta) */
+  int32_t metal;       /* 1: material "metal": TrowbridgeReitz lobe (alpha), conductor m_eta, m_k */
+  float m_eta[3], m_k[3];
+  float kt[3], eta;
+  float ks[3], alpha;  /* plastic Ks and microfacet alpha (roughness remapped) */
+  float kr[3];         /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */
   float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */
   int32_t has_material;/* 0 for material "none" (invisible: continue the ray) */
   int32_t area_light;  /* index of the area light (into the light list) or -1 */
@@ -77,6 +86,8 @@ void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
  * distance t with geometric normal n_hit (NULL for lights without a surface). */
 float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, const float p[3],
                                  const float wi[3], float t, const float n_hit[3]);
+/* 0 when `ray` misses light `light`'s own shape (pbrt-v3 Light::Pdf_Li == 0: skip the scene ray). */
+int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light, const clr_ray *ray);
 /* Radiance that light `light` sends along an escaped ray of direction d. */
 void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
                                float le[3]);

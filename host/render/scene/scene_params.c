@@ -219,11 +219,16 @@ int clr_params_report_unused(const clr_param_list *list, clr_warn_fn warn, void 
     const clr_param *p = &list->items[i];
     if (p->used) continue;
     char message[512];
-    snprintf(message, sizeof message, "unused parameter '%s' in %s '%s' at %s:%d", p->name,
-             list->directive ? list->directive : "directive", list->type ? list->type : "",
-             list->file ? list->file : "<unknown>", p->line);
+    snprintf(message, sizeof message, "%s:%d: unused parameter '%s' in %s '%s'",
+             list->file ? list->file : "<unknown>", p->line, p->name,
+             list->directive ? list->directive : "directive", list->type ? list->type : "");
     warn(user, message);
     ++reported;
   }
   return reported;
+}
+
+void clr_params_mark_used(const clr_param_list *list) {
+  if (!list) return;
+  for (int i = 0; i < list->count; ++i) list->items[i].used = true;
 }

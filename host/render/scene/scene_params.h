@@ -106,8 +106,10 @@ const float *clr_params_find_point3s(const clr_param_list *list, const char *nam
 const float *clr_params_find_vector3s(const clr_param_list *list, const char *name, int *count);
 const float *clr_params_find_normals(const clr_param_list *list, const char *name, int *count);
 
-/* Warns once per parameter never looked up: "unused parameter 'foo' in Shape 'sphere' at
- * FILE:LINE". warn NULL prints to stderr. Returns the number of warnings. */
+/* Warns once per parameter never looked up: "FILE:LINE: unused parameter 'foo' in Shape
+ * 'sphere'" (every warning starts with FILE:LINE). warn NULL prints to stderr. Returns the number of warnings. */
 int clr_params_report_unused(const clr_param_list *list, clr_warn_fn warn, void *user);
+/* Marks every parameter used (a directive skipped whole was warned about once already). */
+void clr_params_mark_used(const clr_param_list *list);
 
 #endif

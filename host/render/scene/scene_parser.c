@@ -1055,6 +1055,17 @@ static clr_result d_unsupported_typed(parser *p, const directive *d, location at
   return CLR_SUCCESS;
 }
 
+/* Accelerator: pbrt-v3 accepts it silently when built without that accelerator choice; Embree
+ * always builds its own BVH, so the directive and its parameters are parsed and dropped. */
+static clr_result d_accelerator(parser *p, const directive *d, location at) {
+  char *type;
+  clr_param_list params;
+  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
+  free(type);
+  clr_params_free(&params);
+  return CLR_SUCCESS;
+}
+
 static clr_result d_medium_interface(parser *p, const directive *d, location at) {
   char *inside = NULL;
   CLR_CHECK(expect_string(p, "a quoted medium name after MediumInterface", &inside));
@@ -1125,7 +1136,7 @@ static const directive directives[] = {
     {"WorldBegin", d_world_begin, PHASE_OPTIONS, 0, NULL},
     {"WorldEnd", d_world_end, PHASE_WORLD, 0, NULL},
     /* pbrt-v3 directives outside the subset. */
-    {"Accelerator", d_unsupported_typed, PHASE_ANY, 0, NULL},
+    {"Accelerator", d_accelerator, PHASE_ANY, 0, NULL},
     {"ActiveTransform", d_active_transform, PHASE_ANY, 0, NULL},
     {"MakeNamedMedium", d_unsupported_typed, PHASE_ANY, 0, NULL},
     {"MediumInterface", d_medium_interface, PHASE_ANY, 0, NULL},

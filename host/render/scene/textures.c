@@ -104,6 +104,19 @@ clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_w
       rs_colour_param(p, NULL, "tex2", 0.0f, &t->tex2);
       if (clr_params_find_int(p, "dimension", 2) != 2) warn_at(warn, wu, p, "checkerboard dimension", "3");
       clr_params_find_string(p, "aamode", "none"); /* always unfiltered */
+    } else if (strcmp(td->type, "scale") == 0) { /* pbrt-v3 ScaleTexture: tex1 * tex2 */
+      t->type = RS_TEX_SCALE;
+      rs_colour_param(p, NULL, "tex1", 1.0f, &t->tex1);
+      rs_colour_param(p, NULL, "tex2", 1.0f, &t->tex2);
+    } else if (strcmp(td->type, "mix") == 0) { /* pbrt-v3 MixTexture: lerp(amount, tex1, tex2) */
+      t->type = RS_TEX_MIX;
+      rs_colour_param(p, NULL, "tex1", 0.0f, &t->tex1);
+      rs_colour_param(p, NULL, "tex2", 1.0f, &t->tex2);
+      t->amount = clr_params_find_float(p, "amount", 0.5f);
+      if (clr_params_find(p, "amount", CLR_PARAM_TEXTURE))
+        warn_at(warn, wu, p, "mix \"amount\" as a texture (using 0.5)", "texture");
+    } else if (strcmp(td->type, "uv") == 0) { /* pbrt-v3 UVTexture: (s - floor s, t - floor t, 0) */
+      t->type = RS_TEX_UV;
     } else if (strcmp(td->type, "imagemap") == 0) {
       t->type = RS_TEX_IMAGE;
       CLR_CHECK(build_image(t, td, warn, wu));
@@ -151,9 +164,9 @@ static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[
   for (int k = 0; k < 3; ++k) out[k] *= t->scale;
 }
 
-void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
-                    float out[3]) {
-  for (int depth = 0; depth < 16; ++depth) {
+static void colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
+                        float out[3], int depth) {
+  for (; depth < 16; ++depth) {
     if (c->texture < 0) { memcpy(out, c->rgb, 3 * sizeof(float)); return; }
     const rs_texture *t = &set->items[c->texture];
     float st_s = t->su * uv[0] + t->du, st_t = t->sv * uv[1] + t->dv;
@@ -163,7 +176,26 @@ void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float u
         c = (((int)floorf(st_s) + (int)floorf(st_t)) % 2 == 0) ? &t->tex1 : &t->tex2;
         break;
       case RS_TEX_IMAGE: image_lookup(t, st_s, st_t, out); return;
+      case RS_TEX_UV:
+        out[0] = st_s - floorf(st_s);
+        out[1] = st_t - floorf(st_t);
+        out[2] = 0.0f;
+        return;
+      case RS_TEX_SCALE:
+      case RS_TEX_MIX: {
+        float a[3], b[3];
+        colour_eval(set, &t->tex1, uv, a, depth + 1);
+        colour_eval(set, &t->tex2, uv, b, depth + 1);
+        for (int k = 0; k < 3; ++k)
+          out[k] = t->type == RS_TEX_SCALE ? a[k] * b[k] : (1.0f - t->amount) * a[k] + t->amount * b[k];
+        return;
+      }
     }
   }
   out[0] = out[1] = out[2] = 0.5f;
+}
+
+void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
+                    float out[3]) {
+  colour_eval(set, c, uv, out, 0);
 }

@@ -1,4 +1,5 @@
-/* Spectrum textures (constant, checkerboard, imagemap) and colour parameters that may name one. */
+/* Spectrum textures (constant, checkerboard, imagemap, scale, mix, uv) and colour parameters that
+ * may name one. */
 #ifndef CLR_RENDER_TEXTURES_H
 #define CLR_RENDER_TEXTURES_H
 
@@ -12,12 +13,15 @@ typedef struct rs_colour {
   float rgb[3];
 } rs_colour;
 
-typedef enum { RS_TEX_CONSTANT, RS_TEX_CHECKER, RS_TEX_IMAGE } rs_texture_type;
+typedef enum {
+  RS_TEX_CONSTANT, RS_TEX_CHECKER, RS_TEX_IMAGE, RS_TEX_SCALE, RS_TEX_MIX, RS_TEX_UV
+} rs_texture_type;
 
 typedef struct rs_texture {
   rs_texture_type type;
   float su, sv, du, dv; /* pbrt UVMapping2D */
   rs_colour value, tex1, tex2;
+  float amount;  /* mix: constant "amount" (float textures are not evaluated) */
   int32_t width, height;
   float *rgb;   /* image texels, row 0 = top of the file */
   float scale;

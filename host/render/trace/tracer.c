@@ -26,15 +26,23 @@ typedef struct tracer_mesh { /* the tracer's own copy; p has one padding float f
 typedef struct sphere_shape { /* Embree's user data for one sphere: a stable heap address */
   affine object_to_group;
   double radius;
+  int partial;                         /* pbrt-v3 zmin/zmax/phimax clip the sphere */
+  double zmin, zmax, phimax, theta_zmin, theta_zmax;
 } sphere_shape;
 
-typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE } geom_kind;
+typedef struct disk_shape { /* pbrt-v3 Disk: z = height, innerradius <= r <= radius, phi <= phimax */
+  affine object_to_group;
+  double height, radius, inner, phimax;
+} disk_shape;
+
+typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE, GEOM_DISK } geom_kind;
 
 typedef struct geom_record { /* indexed by Embree geometry id within its group */
   geom_kind kind;
   uint32_t user_id;
   tracer_mesh mesh;       /* GEOM_MESH */
   sphere_shape *sphere;   /* GEOM_SPHERE */
+  disk_shape *disk;       /* GEOM_DISK */
   int32_t instanced_group; /* GEOM_INSTANCE */
   affine instance_to_world;
 } geom_record;
@@ -156,21 +164,33 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
     t0 = t1;
     t1 = tmp;
   }
-  double t = t0;
-  if (!((float)t0 >= tnear && (float)t0 <= tfar)) {
-    if (!((float)t1 >= tnear && (float)t1 <= tfar)) return 0;
-    t = t1;
+  double p[3], phi = 0.0, t = 0.0;
+  int found = 0;
+  for (int root = 0; root < 2 && !found; ++root) {
+    t = root ? t1 : t0;
+    if (!((float)t >= tnear && (float)t <= tfar)) continue;
+    for (int k = 0; k < 3; ++k) p[k] = o[k] + t * d[k];
+    double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
+    if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
+    phi = atan2(p[1], p[0]);
+    if (phi < 0.0) phi += 2.0 * PI_D;
+    /* pbrt-v3 Sphere::Intersect: a clipped first root tries the second */
+    if (s->partial && ((s->zmin > -s->radius && p[2] < s->zmin) ||
+                       (s->zmax < s->radius && p[2] > s->zmax) || phi > s->phimax))
+      continue;
+    found = 1;
   }
-  double p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
-  double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-  for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
-  if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
-  double phi = atan2(p[1], p[0]);
-  if (phi < 0.0) phi += 2.0 * PI_D;
+  if (!found) return 0;
   double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
   hit->t = (float)t;
-  hit->u = (float)(phi / (2.0 * PI_D));
-  hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
+  if (s->partial) {
+    hit->u = (float)(phi / s->phimax);
+    hit->v = (float)((acos(cos_theta) - s->theta_zmin) / (s->theta_zmax - s->theta_zmin));
+  } else {
+    hit->u = (float)(phi / (2.0 * PI_D));
+    hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
+  }
   map_normal(&s->object_to_group, p, hit->ng);
   return 1;
 }
@@ -231,6 +251,80 @@ static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
   }
 }
 
+/* ---- disks: pbrt-v3 Disk::Intersect in object space ---- */
+
+static int disk_hit_test(const disk_shape *s, const float org[3], const float dir[3], float tnear,
+                         float tfar, sphere_hit *hit) {
+  double og[3] = {org[0], org[1], org[2]}, dg[3] = {dir[0], dir[1], dir[2]}, o[3], d[3];
+  map_point(s->object_to_group.inv, og, o);
+  map_vector(s->object_to_group.inv, dg, d);
+  if (d[2] == 0.0) return 0;
+  double t = (s->height - o[2]) / d[2];
+  if (!((float)t >= tnear && (float)t <= tfar) || !(t > 0.0)) return 0;
+  double x = o[0] + t * d[0], y = o[1] + t * d[1], r2 = x * x + y * y;
+  if (r2 > s->radius * s->radius || r2 < s->inner * s->inner) return 0;
+  double phi = atan2(y, x);
+  if (phi < 0.0) phi += 2.0 * PI_D;
+  if (phi > s->phimax) return 0;
+  double r = sqrt(r2), z[3] = {0.0, 0.0, 1.0};
+  hit->t = (float)t;
+  hit->u = (float)(phi / s->phimax);
+  hit->v = (float)((s->radius - r) / (s->radius - s->inner));
+  map_normal(&s->object_to_group, z, hit->ng);
+  return 1;
+}
+
+static void disk_bounds(const struct RTCBoundsFunctionArguments *args) {
+  const disk_shape *s = args->geometryUserPtr;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int corner = 0; corner < 4; ++corner) {
+    double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius, s->height}, g[3];
+    map_point(s->object_to_group.m, c, g);
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = fmin(lo[k], g[k]);
+      hi[k] = fmax(hi[k], g[k]);
+    }
+  }
+  double pad = 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]) + 1e-7;
+  struct RTCBounds *b = args->bounds_o;
+  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad), b->lower_z = (float)(lo[2] - pad);
+  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad), b->upper_z = (float)(hi[2] + pad);
+}
+
+static void disk_intersect(const struct RTCIntersectFunctionNArguments *args) {
+  const unsigned n = args->N;
+  float *f = (float *)args->rayhit;
+  unsigned *w = (unsigned *)args->rayhit;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
+    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
+    sphere_hit h;
+    if (!disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+      continue;
+    f[RAY_TFAR * n + i] = h.t;
+    for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
+    f[HIT_U * n + i] = h.u;
+    f[HIT_V * n + i] = h.v;
+    w[HIT_PRIM * n + i] = args->primID;
+    w[HIT_GEOM * n + i] = args->geomID;
+    w[HIT_INST * n + i] = args->context->instID[0];
+  }
+}
+
+static void disk_occluded(const struct RTCOccludedFunctionNArguments *args) {
+  const unsigned n = args->N;
+  float *f = (float *)args->ray;
+  for (unsigned i = 0; i < n; ++i) {
+    if (!args->valid[i]) continue;
+    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
+    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
+    sphere_hit h;
+    if (disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+      f[RAY_TFAR * n + i] = -INFINITY;
+  }
+}
+
 /* ---- building ---- */
 
 static void free_record(geom_record *r) {
@@ -239,6 +333,7 @@ static void free_record(geom_record *r) {
   free(r->mesh.uv);
   free(r->mesh.indices);
   free(r->sphere);
+  free(r->disk);
   memset(r, 0, sizeof *r);
 }
 
@@ -427,6 +522,13 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
 
 clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
                                  float radius, uint32_t user_id, uint32_t *geom_id) {
+  return clr_tracer_add_partial_sphere(t, g, object_to_group, radius, -radius, radius, 360.0f,
+                                       user_id, geom_id);
+}
+
+clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
+                                         float radius, float zmin, float zmax, float phimax_deg,
+                                         uint32_t user_id, uint32_t *geom_id) {
   static const char fn[] = "clr_tracer_add_sphere";
   CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
   if (!(radius > 0.0f) || !isfinite(radius))
@@ -435,6 +537,19 @@ clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_
   record.sphere = malloc(sizeof *record.sphere);
   if (!record.sphere) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
   record.sphere->radius = radius;
+  { /* pbrt-v3 Sphere: z clamped to [-radius, radius] and sorted, phimax clamped to [0, 360] */
+    double r = radius, z0 = fmin(zmin, zmax), z1 = fmax(zmin, zmax);
+    z0 = fmin(fmax(z0, -r), r);
+    z1 = fmin(fmax(z1, -r), r);
+    double pm = fmin(fmax((double)phimax_deg, 0.0), 360.0) * PI_D / 180.0;
+    sphere_shape *sp = record.sphere;
+    sp->partial = !(z0 <= -r && z1 >= r && pm >= 2.0 * PI_D);
+    sp->zmin = z0;
+    sp->zmax = z1;
+    sp->phimax = pm;
+    sp->theta_zmin = acos(fmin(fmax(z0 / r, -1.0), 1.0));
+    sp->theta_zmax = acos(fmin(fmax(z1 / r, -1.0), 1.0));
+  }
   if (!affine_from_matrix(object_to_group, &record.sphere->object_to_group)) {
     free_record(&record);
     return clr_set_last_error(CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
@@ -453,6 +568,51 @@ clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_
     rtcSetGeometryBoundsFunction(geom, sphere_bounds, NULL);
     rtcSetGeometryIntersectFunction(geom, sphere_intersect);
     rtcSetGeometryOccludedFunction(geom, sphere_occluded);
+    r = embree_check(t, "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
+  }
+  if (r != CLR_SUCCESS) {
+    rtcReleaseGeometry(geom);
+    free_record(&record);
+    return r;
+  }
+  return attach(t, g, geom, &record, geom_id);
+}
+
+clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_group[16],
+                               float height, float radius, float inner_radius, float phimax_deg,
+                               uint32_t user_id, uint32_t *geom_id) {
+  static const char fn[] = "clr_tracer_add_disk";
+  CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
+  if (!(radius > 0.0f) || !isfinite(radius) || !(inner_radius >= 0.0f) || !(inner_radius < radius) ||
+      !isfinite(height) || !(phimax_deg > 0.0f) || !(phimax_deg <= 360.0f))
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: radius %g, innerradius %g, height %g, phimax %g "
+                              "(need 0 <= innerradius < radius, 0 < phimax <= 360)", fn,
+                              (double)radius, (double)inner_radius, (double)height, (double)phimax_deg);
+  geom_record record = {.kind = GEOM_DISK, .user_id = user_id};
+  record.disk = malloc(sizeof *record.disk);
+  if (!record.disk) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
+  record.disk->height = height;
+  record.disk->radius = radius;
+  record.disk->inner = inner_radius;
+  record.disk->phimax = phimax_deg * PI_D / 180.0;
+  if (!affine_from_matrix(object_to_group, &record.disk->object_to_group)) {
+    free_record(&record);
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
+                    "matrix", fn);
+  }
+  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
+  clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
+  if (r != CLR_SUCCESS) {
+    free_record(&record);
+    return r;
+  }
+  rtcSetGeometryUserPrimitiveCount(geom, 1);
+  r = embree_check(t, "rtcSetGeometryUserPrimitiveCount");
+  if (r == CLR_SUCCESS) {
+    rtcSetGeometryUserData(geom, record.disk);
+    rtcSetGeometryBoundsFunction(geom, disk_bounds, NULL);
+    rtcSetGeometryIntersectFunction(geom, disk_intersect);
+    rtcSetGeometryOccludedFunction(geom, disk_occluded);
     r = embree_check(t, "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
   }
   if (r != CLR_SUCCESS) {
@@ -696,6 +856,10 @@ static void triangle_surface(const tracer_mesh *m, const clr_hit *hit, double p[
 static void sphere_surface(const sphere_shape *s, const clr_hit *hit, double p[3], double n[3],
                            float uv[2]) {
   double phi = 2.0 * PI_D * hit->u, theta = PI_D * (1.0 - hit->v);
+  if (s->partial) {
+    phi = s->phimax * hit->u;
+    theta = s->theta_zmin + hit->v * (s->theta_zmax - s->theta_zmin);
+  }
   double o[3] = {s->radius * sin(theta) * cos(phi), s->radius * sin(theta) * sin(phi),
                  s->radius * cos(theta)};
   map_point(s->object_to_group.m, o, p);
@@ -729,6 +893,14 @@ clr_result clr_tracer_mesh_interpolate(clr_tracer t, const clr_hit *hit, float p
       return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: prim_id %lu out of range (%ld triangles)",
                       fn, (unsigned long)hit->prim_id, (long)rec->mesh.triangle_count);
     triangle_surface(&rec->mesh, hit, p, n, uv);
+  } else if (rec->kind == GEOM_DISK) {
+    const disk_shape *s = rec->disk;
+    double phi = hit->u * s->phimax, r = s->radius - hit->v * (s->radius - s->inner);
+    double o[3] = {r * cos(phi), r * sin(phi), s->height}, z[3] = {0.0, 0.0, 1.0};
+    map_point(s->object_to_group.m, o, p);
+    map_normal(&s->object_to_group, z, n);
+    uv[0] = hit->u;
+    uv[1] = hit->v;
   } else {
     sphere_surface(rec->sphere, hit, p, n, uv);
   }

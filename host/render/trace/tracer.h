@@ -59,6 +59,20 @@ clr_result clr_tracer_add_mesh(clr_tracer tracer, int32_t group, const clr_mesh 
 clr_result clr_tracer_add_sphere(clr_tracer tracer, int32_t group, const float object_to_group[16],
                                  float radius, uint32_t user_id, uint32_t *geom_id);
 
+/* A pbrt-v3 partial sphere: z clipped to [zmin, zmax] (object space, clamped to the radius),
+ * phi to [0, phimax degrees]; a clipped nearer hit lets the farther one count. Hits of a partial
+ * sphere have pbrt-v3's u = phi / phimax, v = (theta - theta(zmin)) / (theta(zmax) - theta(zmin)). */
+clr_result clr_tracer_add_partial_sphere(clr_tracer tracer, int32_t group, const float object_to_group[16],
+                                         float radius, float zmin, float zmax, float phimax_deg,
+                                         uint32_t user_id, uint32_t *geom_id);
+
+/* Adds pbrt-v3's disk (z = height in object space, innerradius <= r <= radius, phi <= phimax
+ * degrees) as exact user geometry; hits: u = phi / phimax, v = (radius - r) / (radius -
+ * innerradius), ng the object z axis mapped as a normal. */
+clr_result clr_tracer_add_disk(clr_tracer tracer, int32_t group, const float object_to_group[16],
+                               float height, float radius, float inner_radius, float phimax_deg,
+                               uint32_t user_id, uint32_t *geom_id);
+
 /* Places group `group` (>= 1) into the world with the row-major affine 4x4 `instance_to_world`.
  * Instances and world geometry share the world's id sequence: the n-th mesh, sphere or instance
  * added to group 0 gets id n (from 0); hits inside this instance report that id as inst_id. */

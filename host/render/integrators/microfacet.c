@@ -1,0 +1,178 @@
+/* pbrt-v3 microfacet.cpp / reflection.cpp for the plastic material, transcribed in float. */
+#include <math.h>
+#include "microfacet.h"
+
+#define MF_PI 3.14159265358979323846f
+
+static float cos2_theta(const float w[3]) { return w[2] * w[2]; }
+static float sin2_theta(const float w[3]) { return fmaxf(0.0f, 1.0f - cos2_theta(w)); }
+static float tan2_theta(const float w[3]) { return sin2_theta(w) / cos2_theta(w); }
+
+float clr_tr_roughness_to_alpha(float roughness) {
+  float r = fmaxf(roughness, 1e-3f), x = logf(r);
+  return 1.62142f + 0.819955f * x + 0.1734f * x * x + 0.0171201f * x * x * x +
+         0.000640711f * x * x * x * x;
+}
+
+float clr_fr_dielectric(float cos_i, float eta_i, float eta_t) {
+  cos_i = fminf(1.0f, fmaxf(-1.0f, cos_i));
+  if (!(cos_i > 0.0f)) {
+    float t = eta_i;
+    eta_i = eta_t;
+    eta_t = t;
+    cos_i = fabsf(cos_i);
+  }
+  float sin_i = sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i)), sin_t = eta_i / eta_t * sin_i;
+  if (sin_t >= 1.0f) return 1.0f;
+  float cos_t = sqrtf(fmaxf(0.0f, 1.0f - sin_t * sin_t));
+  float rparl = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+  float rperp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+  return (rparl * rparl + rperp * rperp) / 2.0f;
+}
+
+/* isotropic TrowbridgeReitz D(wh) */
+static float tr_d(const float wh[3], float alpha) {
+  float t2 = tan2_theta(wh);
+  if (isinf(t2) || isnan(t2)) return 0.0f;
+  float c4 = cos2_theta(wh) * cos2_theta(wh), e = t2 / (alpha * alpha);
+  return 1.0f / (MF_PI * alpha * alpha * c4 * (1.0f + e) * (1.0f + e));
+}
+
+static float tr_lambda(const float w[3], float alpha) {
+  float t2 = tan2_theta(w);
+  if (isinf(t2) || isnan(t2)) return 0.0f;
+  float a2t2 = alpha * alpha * t2;
+  return (-1.0f + sqrtf(1.0f + a2t2)) / 2.0f;
+}
+
+static float tr_g1(const float w[3], float alpha) { return 1.0f / (1.0f + tr_lambda(w, alpha)); }
+static float tr_g(const float wo[3], const float wi[3], float alpha) {
+  return 1.0f / (1.0f + tr_lambda(wo, alpha) + tr_lambda(wi, alpha));
+}
+
+static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* TrowbridgeReitzDistribution::Pdf with sampleVisibleArea */
+static float tr_pdf_wh(const float wo[3], const float wh[3], float alpha) {
+  return tr_d(wh, alpha) * tr_g1(wo, alpha) * fabsf(dot3(wo, wh)) / fabsf(wo[2]);
+}
+
+static void tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
+  if (cos_t > 0.9999f) {
+    float r = sqrtf(u1 / (1.0f - u1)), phi = 6.28318530718f * u2;
+    *sx = r * cosf(phi);
+    *sy = r * sinf(phi);
+    return;
+  }
+  float sin_t = sqrtf(fmaxf(0.0f, 1.0f - cos_t * cos_t)), tan_t = sin_t / cos_t, a = 1.0f / tan_t;
+  float g1 = 2.0f / (1.0f + sqrtf(1.0f + 1.0f / (a * a)));
+  float A = 2.0f * u1 / g1 - 1.0f, tmp = 1.0f / (A * A - 1.0f);
+  if (tmp > 1e10f) tmp = 1e10f;
+  float B = tan_t, D = sqrtf(fmaxf(B * B * tmp * tmp - (A * A - B * B) * tmp, 0.0f));
+  float x1 = B * tmp - D, x2 = B * tmp + D;
+  *sx = (A < 0.0f || x2 > 1.0f / tan_t) ? x1 : x2;
+  float S;
+  if (u2 > 0.5f) {
+    S = 1.0f;
+    u2 = 2.0f * (u2 - 0.5f);
+  } else {
+    S = -1.0f;
+    u2 = 2.0f * (0.5f - u2);
+  }
+  float z = (u2 * (u2 * (u2 * 0.27385f - 0.73369f) + 0.46341f)) /
+            (u2 * (u2 * (u2 * 0.093073f + 0.309420f) - 1.000000f) + 0.597999f);
+  *sy = S * z * sqrtf(1.0f + *sx * *sx);
+}
+
+static void tr_sample_wh(const float wo_in[3], float alpha, const float u[2], float wh[3]) {
+  int flip = wo_in[2] < 0.0f;
+  float wo[3] = {flip ? -wo_in[0] : wo_in[0], flip ? -wo_in[1] : wo_in[1], flip ? -wo_in[2] : wo_in[2]};
+  float ws[3] = {alpha * wo[0], alpha * wo[1], wo[2]};
+  float l = sqrtf(dot3(ws, ws));
+  for (int i = 0; i < 3; ++i) ws[i] /= l;
+  float sx, sy;
+  tr_sample11(ws[2], u[0], u[1], &sx, &sy);
+  float st = sqrtf(fmaxf(0.0f, 1.0f - ws[2] * ws[2]));
+  float cphi = st == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, ws[0] / st));
+  float sphi = st == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, ws[1] / st));
+  float tmp = cphi * sx - sphi * sy;
+  sy = sphi * sx + cphi * sy;
+  sx = tmp;
+  sx *= alpha;
+  sy *= alpha;
+  float h[3] = {-sx, -sy, 1.0f};
+  l = sqrtf(dot3(h, h));
+  for (int i = 0; i < 3; ++i) wh[i] = (flip ? -h[i] : h[i]) / l;
+}
+
+float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
+  float co = fabsf(wo[2]), ci = fabsf(wi[2]);
+  float wh[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
+  if (ci == 0.0f || co == 0.0f) return 0.0f;
+  if (wh[0] == 0.0f && wh[1] == 0.0f && wh[2] == 0.0f) return 0.0f;
+  float l = sqrtf(dot3(wh, wh));
+  for (int i = 0; i < 3; ++i) wh[i] /= l;
+  float ff[3] = {wh[0], wh[1], wh[2]};
+  if (ff[2] < 0.0f) for (int i = 0; i < 3; ++i) ff[i] = -ff[i]; /* Faceforward(wh, (0,0,1)) */
+  float F = clr_fr_dielectric(dot3(wi, ff), 1.5f, 1.0f);
+  return tr_d(wh, alpha) * tr_g(wo, wi, alpha) * F / (4.0f * ci * co);
+}
+
+float clr_fr_conductor(float cos_i, float eta, float k) {
+  cos_i = fminf(1.0f, fabsf(cos_i));
+  float c2 = cos_i * cos_i, s2 = 1.0f - c2, eta2 = eta * eta, k2 = k * k;
+  float t0 = eta2 - k2 - s2, a2b2 = sqrtf(t0 * t0 + 4.0f * eta2 * k2), t1 = a2b2 + c2;
+  float a = sqrtf(fmaxf(0.0f, 0.5f * (a2b2 + t0))), t2 = 2.0f * cos_i * a;
+  float rs = (t1 - t2) / (t1 + t2), t3 = c2 * a2b2 + s2 * s2, t4 = t2 * s2;
+  float rp = rs * (t3 - t4) / (t3 + t4);
+  return 0.5f * (rp + rs);
+}
+
+float clr_microfacet_dg(const float wo[3], const float wi[3], float alpha, float *cos_h) {
+  float co = fabsf(wo[2]), ci = fabsf(wi[2]);
+  float wh[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
+  *cos_h = 0.0f;
+  if (ci == 0.0f || co == 0.0f) return 0.0f;
+  if (wh[0] == 0.0f && wh[1] == 0.0f && wh[2] == 0.0f) return 0.0f;
+  float l = sqrtf(dot3(wh, wh));
+  for (int i = 0; i < 3; ++i) wh[i] /= l;
+  float ff[3] = {wh[0], wh[1], wh[2]};
+  if (ff[2] < 0.0f) for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
+  *cos_h = dot3(wi, ff);
+  return tr_d(wh, alpha) * tr_g(wo, wi, alpha) / (4.0f * ci * co);
+}
+
+int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf) {
+  *pdf = 0.0f;
+  if (wo[2] == 0.0f) return 0;
+  float wh[3];
+  tr_sample_wh(wo, alpha, u, wh);
+  float d = dot3(wo, wh);
+  if (d < 0.0f) return 0;
+  for (int i = 0; i < 3; ++i) wi[i] = -wo[i] + 2.0f * d * wh[i];
+  if (!(wo[2] * wi[2] > 0.0f)) return 0;
+  *pdf = tr_pdf_wh(wo, wh, alpha) / (4.0f * d);
+  return *pdf > 0.0f;
+}
+
+float clr_microfacet_pdf(const float wo[3], const float wi[3], float alpha) {
+  if (!(wo[2] * wi[2] > 0.0f)) return 0.0f;
+  float wh[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
+  float l = sqrtf(dot3(wh, wh));
+  if (!(l > 0.0f)) return 0.0f;
+  for (int i = 0; i < 3; ++i) wh[i] /= l;
+  return tr_pdf_wh(wo, wh, alpha) / (4.0f * dot3(wo, wh));
+}
+
+float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf) {
+  *pdf = 0.0f;
+  if (wo[2] == 0.0f) return 0.0f;
+  float wh[3];
+  tr_sample_wh(wo, alpha, u, wh);
+  float d = dot3(wo, wh);
+  if (d < 0.0f) return 0.0f;
+  for (int i = 0; i < 3; ++i) wi[i] = -wo[i] + 2.0f * d * wh[i];
+  if (!(wo[2] * wi[2] > 0.0f)) return 0.0f;
+  *pdf = tr_pdf_wh(wo, wh, alpha) / (4.0f * d);
+  return clr_microfacet_f(wo, wi, alpha);
+}
