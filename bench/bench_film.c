@@ -126,18 +126,20 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
           double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &bpp);
           printf("{\"bench\":\"film\",");
           bench_json_device(ctx);
-          printf(",\"filter\":\"%s\",\"radius\":%g,\"mode\":\"%s\",\"input\":\"%s\","
-                 "\"resolution\":\"%dx%d\",\"spp\":%zu",
-                 filter_name(filter_types[t]), (double)FILM_RADIUS, m ? "table" : "exact",
-                 path ? "device_buffer" : "host", FILM_W, FILM_H, spp);
+          printf(
+              ",\"filter\":\"%s\",\"radius\":%g,\"mode\":\"%s\",\"input\":\"%s\","
+              "\"resolution\":\"%dx%d\",\"spp\":%zu",
+              filter_name(filter_types[t]), (double)FILM_RADIUS, m ? "table" : "exact",
+              path ? "device_buffer" : "host", FILM_W, FILM_H, spp);
           if (v < 0) {
             printf(",\"error\":");
             bench_json_escape(stdout, clr_last_error_message());
           } else {
-            printf(",\"samples_per_s\":%.4g,\"peak_bytes_per_pixel\":%.1f,"
-                   "\"baseline\":\"host reference, 1 thread\",\"baseline_samples_per_s\":%.4g,"
-                   "\"ratio\":%.2f",
-                   v, bpp, baseline[t][m], baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
+            printf(
+                ",\"samples_per_s\":%.4g,\"peak_bytes_per_pixel\":%.1f,"
+                "\"baseline\":\"host reference, 1 thread\",\"baseline_samples_per_s\":%.4g,"
+                "\"ratio\":%.2f",
+                v, bpp, baseline[t][m], baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
           }
           printf("}\n");
           fflush(stdout);

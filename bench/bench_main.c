@@ -77,23 +77,28 @@ int bench_is_simulator(const clr_device_info *device) {
 }
 
 static void usage(void) {
-  fprintf(stderr, "usage: clrender_bench [--quick] [--device INDEX|NAME] "
-                  "[--only samples|film|tracer|render|kernels] [--kernels simd|portable|both]\n"
-                  "Prints one JSON object per line: each device's figure (per kernel shape, both\n"
-                  "by default) and the single-thread host reference measured in the same run, with\n"
-                  "their ratio. Simulators (Oclgrind) are checked against the host reference, not\n"
-                  "timed. `tracer`: Embree packets against single rays on the host. `kernels`: gfx90a\n"
-                  "registers, spills and private bytes per kernel (from test_kernel_portability).\n");
+  fprintf(stderr,
+          "usage: clrender_bench [--quick] [--device INDEX|NAME] "
+          "[--only samples|film|tracer|render|kernels] [--kernels simd|portable|both]\n"
+          "Prints one JSON object per line: each device's figure (per kernel shape, both\n"
+          "by default) and the single-thread host reference measured in the same run, with\n"
+          "their ratio. Simulators (Oclgrind) are checked against the host reference, not\n"
+          "timed. `tracer`: Embree packets against single rays on the host. `kernels`: gfx90a\n"
+          "registers, spills and private bytes per kernel (from test_kernel_portability).\n");
 }
 
 int main(int argc, char **argv) {
   bench_options o = {0, NULL, CLR_KERNELS_AUTO};
   const char *only = NULL, *kernels = "both";
   for (int i = 1; i < argc; ++i) {
-    if (strcmp(argv[i], "--quick") == 0) o.quick = 1;
-    else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc) o.only_device = argv[++i];
-    else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc) only = argv[++i];
-    else if (strcmp(argv[i], "--kernels") == 0 && i + 1 < argc) kernels = argv[++i];
+    if (strcmp(argv[i], "--quick") == 0)
+      o.quick = 1;
+    else if (strcmp(argv[i], "--device") == 0 && i + 1 < argc)
+      o.only_device = argv[++i];
+    else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc)
+      only = argv[++i];
+    else if (strcmp(argv[i], "--kernels") == 0 && i + 1 < argc)
+      kernels = argv[++i];
     else {
       usage();
       return 2;

@@ -19,7 +19,10 @@ static char *read_text(const char *path) {
   long n = ftell(f);
   fseek(f, 0, SEEK_SET);
   char *t = malloc((size_t)n + 1);
-  if (t && fread(t, 1, (size_t)n, f) != (size_t)n) { free(t); t = NULL; }
+  if (t && fread(t, 1, (size_t)n, f) != (size_t)n) {
+    free(t);
+    t = NULL;
+  }
   if (t) t[n] = 0;
   fclose(f);
   return t;
@@ -42,8 +45,8 @@ static const char *pass_device;
 static clr_kernel_shape pass_shape;
 static char pass_device_name[300];
 
-static void run(const char *label, const char *text, const char *path, const char *sampler,
-                int spp, int nthreads, int xres) {
+static void run(const char *label, const char *text, const char *path, const char *sampler, int spp,
+                int nthreads, int xres) {
   clr_scene_desc *desc = NULL;
   clr_parse_options po;
   clr_parse_options_init(&po);
@@ -108,7 +111,10 @@ static void render_cases(const bench_options *o) {
   for (int s = 0; s < 3; ++s) {
     snprintf(path, sizeof path, "%s/%s", CLR_SOURCE_DIR, scenes[s]);
     char *text = read_text(path);
-    if (!text) { fprintf(stderr, "bench_render: cannot read %s\n", path); continue; }
+    if (!text) {
+      fprintf(stderr, "bench_render: cannot read %s\n", path);
+      continue;
+    }
     int killeroo = s == 2;
     for (int k = 0; k < 4; ++k) {
       char label[256];
@@ -123,7 +129,8 @@ static void render_cases(const bench_options *o) {
         char *t = with_integrator(text, ao[a]);
         for (int k = 2; t && k < 4; ++k) {
           char label[256];
-          snprintf(label, sizeof label, "cornell-box 256x256 ambientocclusion nsamples %d, 16 spp, 2 threads, %s",
+          snprintf(label, sizeof label,
+                   "cornell-box 256x256 ambientocclusion nsamples %d, 16 spp, 2 threads, %s",
                    a == 0 ? 64 : 1, samplers[k]);
           run(label, t, path, samplers[k], 16, 2, o->quick ? 128 : 256);
         }

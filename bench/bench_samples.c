@@ -85,9 +85,10 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
         printf(",\"error\":");
         bench_json_escape(stdout, clr_last_error_message());
       } else {
-        printf(",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
-               "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
-               rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
+        printf(
+            ",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
+            "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
+            rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
       }
       printf("}\n");
       fflush(stdout);

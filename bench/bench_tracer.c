@@ -16,7 +16,8 @@ static double rnd(void) { /* 53-bit uniform in [0,1) from a 64-bit LCG */
 }
 
 static clr_ray ray(double ox, double oy, double oz, double dx, double dy, double dz) {
-  return (clr_ray){(float)ox, (float)oy, (float)oz, 0.0f, (float)dx, (float)dy, (float)dz, INFINITY};
+  return (clr_ray){(float)ox, (float)oy, (float)oz, 0.0f,
+                   (float)dx, (float)dy, (float)dz, INFINITY};
 }
 
 static int build_grid(clr_tracer *t) {
@@ -34,7 +35,8 @@ static int build_grid(clr_tracer *t) {
       uint32_t a = (uint32_t)(y * (GRID + 1) + x), b = a + 1, c = a + GRID + 1, d = c + 1;
       *idx++ = a, *idx++ = b, *idx++ = d, *idx++ = a, *idx++ = d, *idx++ = c;
     }
-  int ok = clr_tracer_create(t) == CLR_SUCCESS && clr_tracer_add_mesh(*t, 0, &m, 0, NULL) == CLR_SUCCESS &&
+  int ok = clr_tracer_create(t) == CLR_SUCCESS &&
+           clr_tracer_add_mesh(*t, 0, &m, 0, NULL) == CLR_SUCCESS &&
            clr_tracer_commit(*t) == CLR_SUCCESS;
   clr_mesh_free(&m);
   return ok;
@@ -51,8 +53,9 @@ typedef struct trace_run {
 static int trace_once(void *user) {
   trace_run *r = user;
   clr_result res = r->mode == 0 ? clr_tracer_intersect(r->tracer, r->rays, r->hits, r->count)
-                   : r->mode == 1 ? clr_tracer_intersect_single(r->tracer, r->rays, r->hits, r->count)
-                                  : clr_tracer_occluded(r->tracer, r->rays, r->occluded, r->count);
+                   : r->mode == 1
+                       ? clr_tracer_intersect_single(r->tracer, r->rays, r->hits, r->count)
+                       : clr_tracer_occluded(r->tracer, r->rays, r->occluded, r->count);
   return res == CLR_SUCCESS;
 }
 
@@ -63,10 +66,11 @@ static void report(const char *rays_kind, trace_run *r, int reps) {
     double t = bench_median(reps, trace_once, r);
     rate[mode] = t > 0 ? r->count / t : -1;
   }
-  printf("{\"bench\":\"tracer\",\"rays\":\"%s\",\"triangles\":%d,\"threads\":1,"
-         "\"intersect16_rays_per_s\":%.4g,\"occluded16_rays_per_s\":%.4g,"
-         "\"baseline\":\"intersect1\",\"baseline_rays_per_s\":%.4g,\"ratio\":%.3f}\n",
-         rays_kind, 2 * GRID * GRID, rate[0], rate[2], rate[1], rate[0] / rate[1]);
+  printf(
+      "{\"bench\":\"tracer\",\"rays\":\"%s\",\"triangles\":%d,\"threads\":1,"
+      "\"intersect16_rays_per_s\":%.4g,\"occluded16_rays_per_s\":%.4g,"
+      "\"baseline\":\"intersect1\",\"baseline_rays_per_s\":%.4g,\"ratio\":%.3f}\n",
+      rays_kind, 2 * GRID * GRID, rate[0], rate[2], rate[1], rate[0] / rate[1]);
 }
 
 void bench_tracer(const bench_options *o) {

@@ -46,8 +46,16 @@ typedef uint64_t clr_u64;
 #define CLR_INLINE static inline
 #define CLR_ALWAYS_INLINE static inline
 #define CLR_DEVICE 0
-static inline float clr_as_float(clr_u32 u) { float f; memcpy(&f, &u, 4); return f; }
-static inline clr_u32 clr_as_uint(float f) { clr_u32 u; memcpy(&u, &f, 4); return u; }
+static inline float clr_as_float(clr_u32 u) {
+  float f;
+  memcpy(&f, &u, 4);
+  return f;
+}
+static inline clr_u32 clr_as_uint(float f) {
+  clr_u32 u;
+  memcpy(&u, &f, 4);
+  return u;
+}
 #define clr_floorf(x) floorf(x)
 #define clr_ceilf(x) ceilf(x)
 #define clr_fabsf(x) fabsf(x)

@@ -6,9 +6,7 @@
 #include "film_types.h"
 #include "filter_funcs.h"
 
-CLR_INLINE int clr_film_is_finite(float v) {
-  return (clr_as_uint(v) & 0x7f800000u) != 0x7f800000u;
-}
+CLR_INLINE int clr_film_is_finite(float v) { return (clr_as_uint(v) & 0x7f800000u) != 0x7f800000u; }
 
 /* pbrt-v3 RGBSpectrum::y(), evaluated left to right. */
 CLR_INLINE float clr_film_luminance(float r, float g, float b) {
@@ -24,8 +22,8 @@ CLR_INLINE clr_i32 clr_film_last_pixel(float d, float radius) {
 }
 
 /* Checks sample s (CLR_FILM_SAMPLE_FLOATS values) and fills *out; returns CLR_FILM_SAMPLE_*. */
-CLR_INLINE clr_i32 clr_film_prepare(const clr_film_params *fp, const clr_filter_params *f,
-                                    float x, float y, float r, float g, float b, float w,
+CLR_INLINE clr_i32 clr_film_prepare(const clr_film_params *fp, const clr_filter_params *f, float x,
+                                    float y, float r, float g, float b, float w,
                                     clr_film_prepared *out) {
   if (!clr_film_is_finite(x) || !clr_film_is_finite(y) || !clr_film_is_finite(r) ||
       !clr_film_is_finite(g) || !clr_film_is_finite(b) || !clr_film_is_finite(w))

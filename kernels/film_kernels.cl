@@ -52,9 +52,8 @@ static inline void clr_film_add_row(__global const float *s, float fy, int kx, f
  * samples in bin order; starts[b]..starts[b+1]: bin b's range (bins_x * bins_y + 1 entries);
  * sums: CLR_FILM_SUM_FLOATS per pixel of the output region, row-major. Global size: (runs per
  * row rounded up to the work-group size, out_h). */
-__kernel void clr_film_gather(clr_film_params fp, clr_film_grid grid,
-                              __global const float *weighed, __global const uint *starts,
-                              __global float *sums) {
+__kernel void clr_film_gather(clr_film_params fp, clr_film_grid grid, __global const float *weighed,
+                              __global const uint *starts, __global float *sums) {
   const int out_x1 = grid.out_x0 + grid.out_w;
   const int run_x0 = grid.out_x0 + (int)get_global_id(0) * fp.tile_size;
   if (run_x0 >= out_x1) return;
@@ -79,8 +78,9 @@ __kernel void clr_film_gather(clr_film_params fp, clr_film_grid grid,
       clr_film_add_row(s, s[fy_at], kx, acc + at);
     }
   }
-  __global float *out = sums + ((size_t)get_global_id(1) * (size_t)grid.out_w +
-                                (size_t)(run_x0 - grid.out_x0)) * CLR_FILM_SUM_FLOATS;
+  __global float *out =
+      sums + ((size_t)get_global_id(1) * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
+                 CLR_FILM_SUM_FLOATS;
   for (int i = 0; i < run_x1 - run_x0; ++i) vstore4(acc[i + kx - 1], i, out);
 }
 

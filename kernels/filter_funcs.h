@@ -136,21 +136,21 @@ CLR_INLINE float clr_blackman_harris_1d(float u) {
 CLR_ALWAYS_INLINE float clr_filter_1d(const clr_filter_params *f, float a, float radius,
                                       float inv_radius, float exp_edge) {
   switch (f->type) {
-  case CLR_FILTER_TYPE_BOX:
-    return 1.0f;
-  case CLR_FILTER_TYPE_TRIANGLE:
-    return clr_fmaxf(0.0f, radius - a);
-  case CLR_FILTER_TYPE_GAUSSIAN:
-    return clr_fmaxf(0.0f, clr_exp_portable(-(f->alpha * (a * a))) - exp_edge);
-  case CLR_FILTER_TYPE_MITCHELL:
-  case CLR_FILTER_TYPE_CATMULLROM:
-    return clr_mitchell_1d(clr_fminf(a * inv_radius, 1.0f), f->b, f->c);
-  case CLR_FILTER_TYPE_SINC:
-    return clr_sinc_portable(a) * clr_sinc_portable(a * f->inv_tau);
-  case CLR_FILTER_TYPE_BLACKMANHARRIS:
-    return clr_blackman_harris_1d(clr_fminf(a * inv_radius, 1.0f));
-  default:
-    return 0.0f;
+    case CLR_FILTER_TYPE_BOX:
+      return 1.0f;
+    case CLR_FILTER_TYPE_TRIANGLE:
+      return clr_fmaxf(0.0f, radius - a);
+    case CLR_FILTER_TYPE_GAUSSIAN:
+      return clr_fmaxf(0.0f, clr_exp_portable(-(f->alpha * (a * a))) - exp_edge);
+    case CLR_FILTER_TYPE_MITCHELL:
+    case CLR_FILTER_TYPE_CATMULLROM:
+      return clr_mitchell_1d(clr_fminf(a * inv_radius, 1.0f), f->b, f->c);
+    case CLR_FILTER_TYPE_SINC:
+      return clr_sinc_portable(a) * clr_sinc_portable(a * f->inv_tau);
+    case CLR_FILTER_TYPE_BLACKMANHARRIS:
+      return clr_blackman_harris_1d(clr_fminf(a * inv_radius, 1.0f));
+    default:
+      return 0.0f;
   }
 }
 
@@ -196,7 +196,7 @@ CLR_INLINE float clr_filter_table_factor(const clr_filter_params *f, clr_i32 axi
  * clr_flush_subnormal(clr_filter_eval_1d(f, 0, x, factors) * clr_filter_eval_1d(f, 1, y, factors))
  * bit for bit. */
 CLR_ALWAYS_INLINE float clr_filter_eval_1d(const clr_filter_params *f, clr_i32 axis, float d,
-                                    CLR_GLOBAL const float *factors) {
+                                           CLR_GLOBAL const float *factors) {
   float radius = axis ? f->radius_y : f->radius_x;
   float inv_radius = axis ? f->inv_radius_y : f->inv_radius_x;
   if (f->use_table) {

@@ -7,7 +7,6 @@
 #include "sobol_funcs.h"
 #include "halton_funcs.h"
 
-
 CLR_INLINE clr_u64 clr_global_index(const clr_sampler_params *p, CLR_GLOBAL const clr_u64 *vdc,
                                     CLR_GLOBAL const clr_u64 *vdc_inv, clr_i32 px, clr_i32 py,
                                     clr_i64 sample_number) {
@@ -27,14 +26,11 @@ CLR_INLINE float clr_global_value(const clr_sampler_params *p, CLR_GLOBAL const 
 
 /* Writes the sample vector of batch item `item` (pixel-major, then sample) to `out` and its
  * global index to *index_out. */
-CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
-                                         CLR_GLOBAL const clr_request_slot *slots,
-                                         CLR_GLOBAL const clr_u32 *sobol32,
-                                         CLR_GLOBAL const clr_u64 *vdc,
-                                         CLR_GLOBAL const clr_u64 *vdc_inv,
-                                         CLR_GLOBAL const clr_halton_prime *primes,
-                                         CLR_GLOBAL const clr_u16 *perms, clr_i32 item,
-                                         CLR_GLOBAL float *out, clr_u64 *index_out) {
+CLR_INLINE void clr_global_sample_vector(
+    const clr_sampler_params *p, CLR_GLOBAL const clr_request_slot *slots,
+    CLR_GLOBAL const clr_u32 *sobol32, CLR_GLOBAL const clr_u64 *vdc,
+    CLR_GLOBAL const clr_u64 *vdc_inv, CLR_GLOBAL const clr_halton_prime *primes,
+    CLR_GLOBAL const clr_u16 *perms, clr_i32 item, CLR_GLOBAL float *out, clr_u64 *index_out) {
   clr_i32 pixel = item / p->sample_count;
   clr_i32 s = p->first_sample + (item - pixel * p->sample_count);
   clr_i32 px = p->batch_x0 + pixel % p->batch_width;
@@ -53,8 +49,8 @@ CLR_INLINE void clr_global_sample_vector(const clr_sampler_params *p,
       clr_i64 n = (clr_i64)s * slot.array_size + j;
       clr_u64 element_index = clr_global_index(p, vdc, vdc_inv, px, py, n);
       for (clr_i32 c = 0; c < slot.dims; ++c)
-        out[slot.first_value + j * slot.dims + c] = clr_global_value(
-            p, sobol32, primes, perms, element_index, slot.source + c, px, py);
+        out[slot.first_value + j * slot.dims + c] =
+            clr_global_value(p, sobol32, primes, perms, element_index, slot.source + c, px, py);
     }
   }
 }

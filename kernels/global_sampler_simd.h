@@ -57,8 +57,8 @@ typedef struct clr_items8 {
   int8 px, py;
 } clr_items8;
 
-static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, const clr_item_divisors *d,
-                                         int item_count) {
+static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p,
+                                                const clr_item_divisors *d, int item_count) {
   clr_items8 it;
   uint first = (uint)get_global_id(0) * CLR_LANES;
   /* min with a vector on both sides: Oclgrind mis-evaluates min(uint8, uint). */
@@ -72,8 +72,8 @@ static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p, con
 }
 
 /* Writes lane j's value to values[item_j * values_per_sample + value]. */
-CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_per_sample, int value,
-                       float8 v) {
+CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_per_sample,
+                                int value, float8 v) {
   size_t stride = (size_t)values_per_sample, at = (size_t)value;
   values[(size_t)item.s0 * stride + at] = v.s0;
   values[(size_t)item.s1 * stride + at] = v.s1;
@@ -104,7 +104,7 @@ CLR_SIMD_INLINE uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *col
 /* clr_sobol_interval_to_index for sample numbers below 2^CLR_SOBOL_FRAME_BITS: higher frame
  * bits are zero and the pixel bits b span 2m. */
 static inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulong *vdc,
-                              __global const ulong *vdc_inv) {
+                                     __global const ulong *vdc_inv) {
 #if CLR_SOBOL_M == 0
   (void)px;
   (void)py;
@@ -116,7 +116,8 @@ static inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global con
   uint8 delta = clr_xor_columns_low8(frame, vdc + row, CLR_SOBOL_FRAME_BITS);
   const uint mask = (1u << CLR_SOBOL_M) - 1u;
   uint8 b = (((as_uint8(px) & mask) << (uint)CLR_SOBOL_M) | (as_uint8(py) & mask)) ^ delta;
-  return (frame << (uint)(2 * CLR_SOBOL_M)) ^ clr_xor_columns_low8(b, vdc_inv + row, 2 * CLR_SOBOL_M);
+  return (frame << (uint)(2 * CLR_SOBOL_M)) ^
+         clr_xor_columns_low8(b, vdc_inv + row, 2 * CLR_SOBOL_M);
 #endif
 }
 
@@ -143,7 +144,7 @@ CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups
 /* clr_sobol_sampler_value: dims 0 and 1 become the offset inside the pixel; dims past the
  * tables the hash of clr_sobol_fallback_float. */
 CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global const uint *groups,
-                               uint8 index, int dim, int8 px, int8 py) {
+                                        uint8 index, int dim, int8 px, int8 py) {
   if ((uint)dim >= CLR_SOBOL_DIMENSIONS) {
     uint lanes[CLR_LANES];
     float out[CLR_LANES];
@@ -190,7 +191,8 @@ CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
   uint8 next = (t + ((a - t) >> 1u)) >> pr->chunk_shift;
   uint8 d = a - next * pr->chunk_base;
   int8 top = next == 0u;
-  uint8 entry = clr_gather_u16(perms, select((uint8)pr->chunk_offset, (uint8)pr->tail_offset, top) + d);
+  uint8 entry =
+      clr_gather_u16(perms, select((uint8)pr->chunk_offset, (uint8)pr->tail_offset, top) + d);
   *count = select((uint8)pr->chunk_digits, (entry >> tail_shift) + 1u, top);
   *value = entry & ((1u << tail_shift) - 1u);
   *scale = select((uint8)1u, (uint8)base, (*count & 1u) != 0u) *
@@ -203,8 +205,8 @@ CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
  * a == 0 and change nothing). reversed32: the host knows every reversed value is below 2^32
  * (base^digits of the largest argument), so it is formed in 32 bits; else in 64. */
 CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
-                                             __global const ushort *perms, uint8 a, int chunks,
-                                             int reversed32) {
+                                                      __global const ushort *perms, uint8 a,
+                                                      int chunks, int reversed32) {
   uint8 value, scale, count, digits = (uint8)0u;
   float8 reversed;
   if (reversed32) {
@@ -260,9 +262,9 @@ static inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8
 
 /* clr_halton_sampler_value for indices below 2^32. */
 static inline float8 clr_halton_value8(const clr_sampler_params *p,
-                                __global const clr_halton_prime *primes,
-                                __global const ushort *perms, uint8 index, int dim, int chunks,
-                                int reversed32) {
+                                       __global const clr_halton_prime *primes,
+                                       __global const ushort *perms, uint8 index, int dim,
+                                       int chunks, int reversed32) {
   uint udim = (uint)dim;
   if (udim <= 1u && p->sample_pixel_center) return (float8)0.5f;
   if (udim == 0u)

@@ -30,12 +30,12 @@
  * single u16 table of clr_halton_permutations(). 32-bit scalars only. */
 typedef struct clr_halton_prime {
   clr_u32 base;
-  clr_u32 perm_offset;  /* pbrt-v3's digit permutation of this base (PrimeSums[d]) */
-  float inv_base;       /* (float)1 / (float)base */
-  float scramble_tail;  /* inv_base * perm[0] / (1 - inv_base), in float, pbrt-v3's order */
+  clr_u32 perm_offset; /* pbrt-v3's digit permutation of this base (PrimeSums[d]) */
+  float inv_base;      /* (float)1 / (float)base */
+  float scramble_tail; /* inv_base * perm[0] / (1 - inv_base), in float, pbrt-v3's order */
   /* n / base for 32-bit n: t = mulhi32(n, div_magic), (t + ((n - t) >> 1)) >> div_shift */
   clr_u32 div_magic, div_shift;
-  clr_u32 chunk_base;   /* B = base^chunk_digits, the smallest power >= 128 */
+  clr_u32 chunk_base; /* B = base^chunk_digits, the smallest power >= 128 */
   clr_u32 chunk_digits;
   clr_u32 chunk_magic, chunk_shift; /* n / B, as div_magic */
   clr_u32 chunk_offset; /* B entries: chunk value D -> its m digits permuted, reversed */
@@ -119,10 +119,10 @@ CLR_HALTON_INLINE float clr_radical_inverse_base2(clr_u64 a) {
   clr_u32 bits = 64u - clr_halton_clz64(v);
   clr_u32 shift53 = clr_halton_excess(bits, 53u);
   clr_u64 q53 = clr_halton_round_shift(v, shift53); /* the double is q53 * 2^shift53 */
-  clr_u32 bits53 = bits > 53u ? 53u : bits;          /* q53 == 2^53 after a carry rounds exactly */
+  clr_u32 bits53 = bits > 53u ? 53u : bits;         /* q53 == 2^53 after a carry rounds exactly */
   clr_u32 shift24 = clr_halton_excess(bits53, 24u);
   clr_u32 q24 = (clr_u32)clr_halton_round_shift(q53, shift24); /* <= 2^24: exact in float */
-  clr_u32 exponent = shift53 + shift24;                         /* value = q24 * 2^(exponent-64) */
+  clr_u32 exponent = shift53 + shift24;                        /* value = q24 * 2^(exponent-64) */
   return (float)q24 * clr_as_float((127u + exponent - 64u) << 23u);
 }
 
@@ -155,7 +155,8 @@ CLR_HALTON_INLINE float clr_radical_inverse(clr_u32 base, float inv_base, clr_u6
  * chunk uses the tail table, which keeps only its significant digits. The integer `reversed`
  * and the digit count k are pbrt-v3's, so inv_base_pow[k] is its invBaseN. */
 CLR_HALTON_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_halton_prime *pr,
-                                                 CLR_GLOBAL const clr_u16 *perms, clr_u32 a) {
+                                                        CLR_GLOBAL const clr_u16 *perms,
+                                                        clr_u32 a) {
   clr_u32 base = pr->base, chunk_base = pr->chunk_base, chunk_digits = pr->chunk_digits;
   clr_u32 magic = pr->chunk_magic, shift = pr->chunk_shift;
   clr_u32 chunk_offset = pr->chunk_offset, tail_offset = pr->tail_offset;
@@ -192,7 +193,7 @@ CLR_HALTON_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_hal
  * a < 2^32) only the loop-free 32-bit path is compiled: define it in kernels whenever the largest
  * index of a launch is below 2^32, so that the work-item loop can be vectorised. */
 CLR_HALTON_INLINE float clr_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr,
-                                               CLR_GLOBAL const clr_u16 *perms, clr_u64 a) {
+                                                      CLR_GLOBAL const clr_u16 *perms, clr_u64 a) {
 #ifdef CLR_HALTON_INDEX32
   return clr_scrambled_radical_inverse32(pr, perms, (clr_u32)a);
 #else
@@ -222,7 +223,8 @@ CLR_HALTON_INLINE float clr_scrambled_radical_inverse(CLR_GLOBAL const clr_halto
 
 /* pbrt-v3 InverseRadicalInverse<base>(inverse, nDigits): the index whose n_digits lowest base-b
  * digits, reversed, are the lowest digits of `inverse`. */
-CLR_HALTON_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inverse, clr_i32 n_digits) {
+CLR_HALTON_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inverse,
+                                                      clr_i32 n_digits) {
   clr_u64 index = 0u;
   for (clr_i32 i = 0; i < n_digits; ++i) {
     clr_u64 next = inverse / base;
@@ -233,7 +235,8 @@ CLR_HALTON_INLINE clr_u64 clr_inverse_radical_inverse(clr_u32 base, clr_u64 inve
 }
 
 /* Same for small values, in 32 bits. */
-CLR_HALTON_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse, clr_i32 n_digits) {
+CLR_HALTON_INLINE clr_u32 clr_halton_inverse_digits32(clr_u32 base, clr_u32 inverse,
+                                                      clr_i32 n_digits) {
   clr_u32 index = 0u;
   for (clr_i32 i = 0; i < n_digits; ++i) {
     clr_u32 next = inverse / base;
@@ -256,8 +259,8 @@ CLR_HALTON_INLINE clr_u32 clr_halton_div_pow3(clr_u32 v, clr_i32 n) {
  * the pixel's sample `sample_number`. Pixels are taken modulo 128 like pbrt-v3's Mod (p & 127,
  * negatives included). pbrt-v3's offset (d0 * scale1 * inv0 + d1 * scale0 * inv1) mod stride is
  * formed from its two CRT terms reduced mod scale0 and scale1 (same value, no runtime division). */
-CLR_HALTON_INLINE clr_u64 clr_halton_sampler_index(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
-                                            clr_i64 sample_number) {
+CLR_HALTON_INLINE clr_u64 clr_halton_sampler_index(const clr_sampler_params *p, clr_i32 px,
+                                                   clr_i32 py, clr_i64 sample_number) {
   clr_u32 scale0 = (clr_u32)p->halton_scale[0], scale1 = (clr_u32)p->halton_scale[1];
   clr_u32 stride = (clr_u32)p->halton_stride;
   clr_i32 exponent1 = p->halton_exponent[1];

@@ -112,7 +112,8 @@ CLR_LANE_INLINE void clr_scatter8(__global float *scratch, uint8 at, float8 v) {
 }
 
 /* The lanes' pixels: values of lane j go to values[out[j] + offset]. */
-CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, size_t offset, float8 v) {
+CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, size_t offset,
+                                      float8 v) {
   values[out[0] + offset] = v.s0;
   values[out[1] + offset] = v.s1;
   values[out[2] + offset] = v.s2;
@@ -125,7 +126,7 @@ CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, 
 
 /* clr_shuffle of `count` items of `dims` floats in scratch. */
 static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng,
-                         __global const uint4 *bounded) {
+                                __global const uint4 *bounded) {
   for (int i = 0; i < count; ++i) {
     uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
     for (int c = 0; c < dims; ++c) {
@@ -143,7 +144,7 @@ static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng, __global cons
 
 /* clr_stratified_sample_1d into scratch rows 0..n-1. */
 static inline void clr_stratified_sample_1d8(__global float *buf, int n, float inv_n, int jitter,
-                                      clr_pcg32x8 *rng) {
+                                             clr_pcg32x8 *rng) {
   for (int i = 0; i < n; ++i) {
     float8 delta = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
     vstore8(clr_below_one_x8(((float)i + delta) * inv_n), i, buf);
@@ -152,7 +153,7 @@ static inline void clr_stratified_sample_1d8(__global float *buf, int n, float i
 
 /* clr_stratified_sample_2d into scratch rows 0..2n-1. */
 static inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float inv_nx,
-                                      float inv_ny, int jitter, clr_pcg32x8 *rng) {
+                                             float inv_ny, int jitter, clr_pcg32x8 *rng) {
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) {
       float8 jx = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
@@ -164,8 +165,8 @@ static inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny
 }
 
 /* clr_latin_hypercube_2d into scratch rows 0..2n-1. */
-static inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n, clr_pcg32x8 *rng,
-                                    __global const uint4 *bounded) {
+static inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n,
+                                           clr_pcg32x8 *rng, __global const uint4 *bounded) {
   for (int i = 0; i < 2 * n; ++i)
     vstore8(clr_below_one_x8(((float)(i >> 1) + clr_pcg32x8_float(rng)) * inv_n), i, buf);
   for (int c = 0; c < 2; ++c)
@@ -178,17 +179,19 @@ static inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv
     }
 }
 
-static inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+static inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng,
+                                                 __global const uint4 *bounded) {
   clr_pcg32x8_advance(rng, 2u * (ulong)n);
   clr_shuffle_draws8(n, rng, bounded);
   clr_shuffle_draws8(n, rng, bounded);
 }
 
 /* clr_stratified_streams: a used stream's points go straight from scratch to every slot fed. */
-static inline void clr_stratified_streams8(const clr_sampler_params *p, __global const clr_request_slot *slots,
-                                    int dims, clr_pcg32x8 *rng, __global float *values,
-                                    const ulong *out, __global float *buf,
-                                    __global const uint4 *bounded) {
+static inline void clr_stratified_streams8(const clr_sampler_params *p,
+                                           __global const clr_request_slot *slots, int dims,
+                                           clr_pcg32x8 *rng, __global float *values,
+                                           const ulong *out, __global float *buf,
+                                           __global const uint4 *bounded) {
   int n = p->x_samples * p->y_samples;
   for (int d = 0; d < p->dimensions; ++d) {
     if (!clr_slots_use(p, slots, dims, 0, d)) {
@@ -199,25 +202,27 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p, __global
     if (dims == 1)
       clr_stratified_sample_1d8(buf, n, p->inv_spp, p->jitter, rng);
     else
-      clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples,
-                                p->inv_y_samples, p->jitter, rng);
+      clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples, p->inv_y_samples,
+                                p->jitter, rng);
     clr_shuffle8(buf, n, dims, rng, bounded);
     for (int k = 0; k < p->request_count; ++k) {
       if (!clr_slot_is(&slots[k], dims, 0, d)) continue;
       for (int s = 0; s < p->sample_count; ++s)
         for (int c = 0; c < dims; ++c)
-          clr_store_lanes8(values, out,
-                           (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c),
-                           vload8((p->first_sample + s) * dims + c, buf));
+          clr_store_lanes8(
+              values, out,
+              (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c),
+              vload8((p->first_sample + s) * dims + c, buf));
     }
   }
 }
 
 /* clr_stratified_arrays. */
-static inline void clr_stratified_arrays8(const clr_sampler_params *p, __global const clr_request_slot *slots,
-                                   int dims, clr_pcg32x8 *rng, __global float *values,
-                                   const ulong *out, __global float *buf,
-                                   __global const uint4 *bounded) {
+static inline void clr_stratified_arrays8(const clr_sampler_params *p,
+                                          __global const clr_request_slot *slots, int dims,
+                                          clr_pcg32x8 *rng, __global float *values,
+                                          const ulong *out, __global float *buf,
+                                          __global const uint4 *bounded) {
   int arrays = clr_slots_array_count(p, slots, dims);
   for (int a = 0; a < arrays; ++a) {
     int size = clr_slots_array_size(p, slots, dims, a);
@@ -253,8 +258,9 @@ static inline void clr_stratified_arrays8(const clr_sampler_params *p, __global 
 /* clr_pixel_store_fallbacks: the single values past the streams, drawn in order (their
  * rng_offsets number the fallback_draws_per_sample draws of a sample in slot order). */
 static inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
-                                       __global const clr_request_slot *slots, clr_pcg32x8 rng,
-                                       __global float *values, const ulong *out) {
+                                              __global const clr_request_slot *slots,
+                                              clr_pcg32x8 rng, __global float *values,
+                                              const ulong *out) {
   if (p->fallback_draws_per_sample == 0) return;
   clr_pcg32x8_advance(&rng, (ulong)p->first_sample * (ulong)p->fallback_draws_per_sample);
   for (int s = 0; s < p->sample_count; ++s) {
@@ -269,9 +275,9 @@ static inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
 }
 
 /* clr_random_array. */
-static inline void clr_random_array8(const clr_sampler_params *p, __global const clr_request_slot *slots,
-                              int dims, int source, clr_pcg32x8 *rng, __global float *values,
-                              const ulong *out) {
+static inline void clr_random_array8(const clr_sampler_params *p,
+                                     __global const clr_request_slot *slots, int dims, int source,
+                                     clr_pcg32x8 *rng, __global float *values, const ulong *out) {
   int size = clr_slots_array_size(p, slots, dims, source);
   ulong draws_per_sample = (ulong)size * (ulong)dims;
   for (int k = 0; k < p->request_count; ++k) {
@@ -289,10 +295,10 @@ static inline void clr_random_array8(const clr_sampler_params *p, __global const
 
 /* StartPixel of p->type for the 8 lanes, then the fallback values. */
 static inline void clr_pixel_sampler_start_pixel8(const clr_sampler_params *p,
-                                           __global const clr_request_slot *slots,
-                                           clr_pcg32x8 *rng, __global float *values,
-                                           const ulong *out, __global float *buf,
-                                           __global const uint4 *bounded) {
+                                                  __global const clr_request_slot *slots,
+                                                  clr_pcg32x8 *rng, __global float *values,
+                                                  const ulong *out, __global float *buf,
+                                                  __global const uint4 *bounded) {
   if (p->type == CLR_SAMPLER_TYPE_STRATIFIED) {
     clr_stratified_streams8(p, slots, 1, rng, values, out, buf, bounded);
     clr_stratified_streams8(p, slots, 2, rng, values, out, buf, bounded);

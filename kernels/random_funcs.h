@@ -54,16 +54,19 @@ CLR_INLINE clr_i32 clr_slots_max_array_size(const clr_sampler_params *p,
  * after StartPixel, because pbrt-v3 draws them while rendering sample after sample. */
 CLR_INLINE void clr_pixel_store_fallbacks(const clr_sampler_params *p,
                                           CLR_GLOBAL const clr_request_slot *slots,
-                                          const clr_pcg32 *after_start, CLR_GLOBAL float *out_pixel) {
+                                          const clr_pcg32 *after_start,
+                                          CLR_GLOBAL float *out_pixel) {
   clr_pcg32 sample_start = *after_start;
-  clr_pcg32_advance(&sample_start, (clr_u64)p->first_sample * (clr_u64)p->fallback_draws_per_sample);
+  clr_pcg32_advance(&sample_start,
+                    (clr_u64)p->first_sample * (clr_u64)p->fallback_draws_per_sample);
   for (clr_i32 s = 0; s < p->sample_count; ++s) {
     CLR_GLOBAL float *out = out_pixel + (clr_i64)s * p->values_per_sample;
     for (clr_i32 k = 0; k < p->request_count; ++k) {
       if (slots[k].array_size != 0 || slots[k].source >= 0) continue;
       clr_pcg32 r = sample_start;
       clr_pcg32_advance(&r, (clr_u64)slots[k].rng_offset);
-      for (clr_i32 c = 0; c < slots[k].dims; ++c) out[slots[k].first_value + c] = clr_pcg32_float(&r);
+      for (clr_i32 c = 0; c < slots[k].dims; ++c)
+        out[slots[k].first_value + c] = clr_pcg32_float(&r);
     }
     clr_pcg32_advance(&sample_start, (clr_u64)p->fallback_draws_per_sample);
   }
@@ -72,9 +75,9 @@ CLR_INLINE void clr_pixel_store_fallbacks(const clr_sampler_params *p,
 /* RandomSampler arrays: array number `source` holds spp * size elements of `dims` draws each,
  * sample-major; writes the elements of samples [first_sample, first_sample + sample_count) to
  * every slot fed by it and leaves *rng past the whole array. */
-CLR_INLINE void clr_random_array(const clr_sampler_params *p, CLR_GLOBAL const clr_request_slot *slots,
-                                 clr_i32 dims, clr_i32 source, clr_pcg32 *rng,
-                                 CLR_GLOBAL float *out_pixel) {
+CLR_INLINE void clr_random_array(const clr_sampler_params *p,
+                                 CLR_GLOBAL const clr_request_slot *slots, clr_i32 dims,
+                                 clr_i32 source, clr_pcg32 *rng, CLR_GLOBAL float *out_pixel) {
   clr_i32 size = clr_slots_array_size(p, slots, dims, source);
   clr_u64 draws_per_sample = (clr_u64)size * (clr_u64)dims;
   for (clr_i32 k = 0; out_pixel && k < p->request_count; ++k) {

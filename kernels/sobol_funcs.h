@@ -55,7 +55,8 @@ CLR_INLINE clr_u64 clr_sobol_interval_to_index(clr_u32 m, clr_u64 frame, clr_i32
   clr_u64 frame_bits = frame & ((((clr_u64)1) << (CLR_SOBOL_INDEX_BITS - m2)) - 1u);
   clr_u64 delta = clr_sobol_xor_columns64(frame_bits, vdc + row);
   clr_u64 pixel_mask = (((clr_u64)1) << m) - 1u;
-  clr_u64 b = ((((clr_u64)(clr_u32)px & pixel_mask) << m) | ((clr_u64)(clr_u32)py & pixel_mask)) ^ delta;
+  clr_u64 b =
+      ((((clr_u64)(clr_u32)px & pixel_mask) << m) | ((clr_u64)(clr_u32)py & pixel_mask)) ^ delta;
   /* Low 2m index bits that move the point into the pixel. */
   return index ^ clr_sobol_xor_columns64(b, vdc_inv + row);
 }
@@ -72,8 +73,8 @@ CLR_INLINE float clr_sobol_sample_float(clr_u64 index, clr_i32 dim,
   if ((clr_u32)dim >= CLR_SOBOL_DIMENSIONS) return clr_sobol_fallback_float(index, dim);
   CLR_GLOBAL const clr_u32 *cols = matrices32 + (clr_u32)dim * CLR_SOBOL_MATRIX_SIZE;
   clr_u32 high = (clr_u32)(index >> 32) & ((1u << (CLR_SOBOL_INDEX_BITS - 32)) - 1u);
-  clr_u32 v = clr_sobol_xor_columns32((clr_u32)index, cols) ^
-              clr_sobol_xor_columns32(high, cols + 32);
+  clr_u32 v =
+      clr_sobol_xor_columns32((clr_u32)index, cols) ^ clr_sobol_xor_columns32(high, cols + 32);
   float f = (float)v * 0x1p-32f;
   return f < CLR_ONE_MINUS_EPSILON ? f : CLR_ONE_MINUS_EPSILON;
 }

@@ -23,8 +23,9 @@ CLR_INLINE void clr_stratified_sample_1d(CLR_GLOBAL float *buf, clr_i32 n, float
 }
 
 /* StratifiedSample2D: cell (x, y) at buf[2 * (y * nx + x)], y outer, jx drawn before jy. */
-CLR_INLINE void clr_stratified_sample_2d(CLR_GLOBAL float *buf, clr_i32 nx, clr_i32 ny, float inv_nx,
-                                         float inv_ny, clr_i32 jitter, clr_pcg32 *rng) {
+CLR_INLINE void clr_stratified_sample_2d(CLR_GLOBAL float *buf, clr_i32 nx, clr_i32 ny,
+                                         float inv_nx, float inv_ny, clr_i32 jitter,
+                                         clr_pcg32 *rng) {
   for (clr_i32 y = 0; y < ny; ++y)
     for (clr_i32 x = 0; x < nx; ++x) {
       float jx = jitter ? clr_pcg32_float(rng) : 0.5f;
@@ -54,8 +55,10 @@ CLR_INLINE void clr_shuffle_draws(clr_i32 count, clr_pcg32 *rng) {
 
 /* LatinHypercube(n, 2): point i = ((i + u) * inv_n, (i + u') * inv_n), then each coordinate
  * permuted separately (x first). */
-CLR_INLINE void clr_latin_hypercube_2d(CLR_GLOBAL float *buf, clr_i32 n, float inv_n, clr_pcg32 *rng) {
-  for (clr_i32 i = 0; i < 2 * n; ++i) buf[i] = clr_below_one(((float)(i >> 1) + clr_pcg32_float(rng)) * inv_n);
+CLR_INLINE void clr_latin_hypercube_2d(CLR_GLOBAL float *buf, clr_i32 n, float inv_n,
+                                       clr_pcg32 *rng) {
+  for (clr_i32 i = 0; i < 2 * n; ++i)
+    buf[i] = clr_below_one(((float)(i >> 1) + clr_pcg32_float(rng)) * inv_n);
   for (clr_i32 c = 0; c < 2; ++c)
     for (clr_i32 j = 0; j < n; ++j) {
       clr_i32 other = j + (clr_i32)clr_pcg32_bounded(rng, (clr_u32)(n - j));
@@ -89,7 +92,8 @@ CLR_INLINE void clr_stratified_store_stream(const clr_sampler_params *p,
 /* Copies one sample's array (buf: size elements of dims floats) to the slots it feeds. */
 CLR_INLINE void clr_stratified_store_array(const clr_sampler_params *p,
                                            CLR_GLOBAL const clr_request_slot *slots, clr_i32 dims,
-                                           clr_i32 source, clr_i32 size, CLR_GLOBAL const float *buf,
+                                           clr_i32 source, clr_i32 size,
+                                           CLR_GLOBAL const float *buf,
                                            CLR_GLOBAL float *out_sample) {
   for (clr_i32 k = 0; k < p->request_count; ++k) {
     if (!clr_slot_is(&slots[k], dims, 1, source)) continue;

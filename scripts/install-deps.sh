@@ -9,6 +9,7 @@ packages=(
   clang libclang-rt-14-dev  # libFuzzer + sanitizer runtimes: the fuzz targets (scripts/fuzz.sh)
   oclgrind  # second OpenCL implementation of tests/test_devices.c (registered privately there)
   clang-15  # tests/test_kernel_portability.c: kernels compiled for spir64, nvptx64 and amdgcn
+  clang-format  # tests/format/check_format.sh: the sources follow .clang-format
 )
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

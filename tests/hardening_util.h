@@ -71,7 +71,11 @@ static inline char *hu_read_file(const char *path, size_t *size) {
     n += got;
     if (n == cap) {
       char *grown = realloc(buf, 2 * cap + 1);
-      if (!grown) { free(buf); buf = NULL; break; }
+      if (!grown) {
+        free(buf);
+        buf = NULL;
+        break;
+      }
       buf = grown;
       cap *= 2;
     }
@@ -111,13 +115,14 @@ static inline char *hu_snapshot(const char *dir) {
     if (S_ISREG(st.st_mode) && st.st_size <= (16 << 20)) { /* big (sparse) fixtures: size only */
       size_t size = 0;
       char *data = hu_read_file(path, &size);
-      for (size_t k = 0; data && k < size; ++k) hash = (hash ^ (unsigned char)data[k]) * 1099511628211ull;
+      for (size_t k = 0; data && k < size; ++k)
+        hash = (hash ^ (unsigned char)data[k]) * 1099511628211ull;
       free(data);
     }
-    len += (size_t)snprintf(out + len, cap - len, "%s mode=%o size=%lld mtime=%lld.%09ld hash=%016llx\n",
-                            names[i], (unsigned)st.st_mode, (long long)st.st_size,
-                            (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec,
-                            (unsigned long long)hash);
+    len += (size_t)snprintf(
+        out + len, cap - len, "%s mode=%o size=%lld mtime=%lld.%09ld hash=%016llx\n", names[i],
+        (unsigned)st.st_mode, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
+        (long)st.st_mtim.tv_nsec, (unsigned long long)hash);
     free(names[i]);
   }
   return out;

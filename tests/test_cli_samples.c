@@ -72,7 +72,8 @@ static void test_plot_png(void **state) {
   assert_true(fd >= 0);
   close(fd);
   char args[512], out[256];
-  snprintf(args, sizeof args, "samples --sampler random --pixels 0,0,4,4 --plot %s --proj 0,1", path);
+  snprintf(args, sizeof args, "samples --sampler random --pixels 0,0,4,4 --plot %s --proj 0,1",
+           path);
   assert_int_equal(run(args, out, sizeof out), 0);
   FILE *f = fopen(path, "rb");
   assert_non_null(f);

@@ -52,7 +52,8 @@ static void test_device_selection(void **state) {
   const char *colon = strstr(name, ": ");
   assert_non_null(colon);
   char sub[8] = {0};
-  for (int i = 0; i < 6 && colon[2 + i]; ++i) sub[i] = (char)((i % 2) ? colon[2 + i] : toupper(colon[2 + i]));
+  for (int i = 0; i < 6 && colon[2 + i]; ++i)
+    sub[i] = (char)((i % 2) ? colon[2 + i] : toupper(colon[2 + i]));
   desc.device = sub;
   assert_int_equal(clr_context_create(&desc, &ctx), CLR_SUCCESS);
   clr_context_release(ctx);
@@ -80,9 +81,9 @@ static void test_embedded_program_runs(void **state) {
   assert_int_equal(clSetKernelArg(k, 0, sizeof buf, &buf), CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 1, sizeof value, &value), CL_SUCCESS);
   size_t global = 64;
-  assert_int_equal(clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, NULL, 0,
-                                          NULL, NULL),
-                   CL_SUCCESS);
+  assert_int_equal(
+      clEnqueueNDRangeKernel(clr_context_cl_queue(ctx), k, 1, NULL, &global, NULL, 0, NULL, NULL),
+      CL_SUCCESS);
   cl_uint out[64];
   assert_int_equal(clEnqueueReadBuffer(clr_context_cl_queue(ctx), buf, CL_TRUE, 0, sizeof out, out,
                                        0, NULL, NULL),

@@ -17,12 +17,13 @@
 #include "exr_io.h"
 #include "hardening_util.h"
 
-#define SCENE_TEXT(res)                                                                   \
-  "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [40]\n"             \
-  "Film \"image\" \"integer xresolution\" [" res "] \"integer yresolution\" [" res "]\n" \
-  "Sampler \"random\" \"integer pixelsamples\" [2]\nPixelFilter \"gaussian\"\n"          \
-  "Integrator \"ambientocclusion\" \"integer nsamples\" [1]\n"                           \
-  "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" "   \
+#define SCENE_TEXT(res)                                                               \
+  "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [40]\n"           \
+  "Film \"image\" \"integer xresolution\" [" res "] \"integer yresolution\" [" res    \
+  "]\n"                                                                               \
+  "Sampler \"random\" \"integer pixelsamples\" [2]\nPixelFilter \"gaussian\"\n"       \
+  "Integrator \"ambientocclusion\" \"integer nsamples\" [1]\n"                        \
+  "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" " \
   "[-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nShape \"sphere\"\nWorldEnd\n"
 
 /* Starts `clrender render s.pbrt --quiet --outfile OUT [--seed SEED]` in `dir`; with `stop`,

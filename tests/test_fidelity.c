@@ -93,7 +93,8 @@ static void check_crops(const char *sampler, const char *filter, const float *xs
       for (int y = 0; y < c.height; ++y)
         for (int x = 0; x < c.width; ++x)
           for (int k = 0; k < 3; ++k) {
-            size_t at = 3 * ((size_t)(y + c.pixel_bounds.y0) * full.width + x + c.pixel_bounds.x0) + k;
+            size_t at =
+                3 * ((size_t)(y + c.pixel_bounds.y0) * full.width + x + c.pixel_bounds.x0) + k;
             merged[at] = c.rgb[3 * ((size_t)y * c.width + x) + k];
             covered[at]++;
           }
@@ -124,7 +125,7 @@ static void test_crop_halves_every_sampler(void **state) {
   (void)state;
   const char *samplers[] = {"halton", "sobol", "random", "stratified"};
   for (int s = 0; s < 4; ++s) {
-    check_crops(samplers[s], "box", whole, 2, halves, 3); /* top and bottom halves */
+    check_crops(samplers[s], "box", whole, 2, halves, 3);      /* top and bottom halves */
     check_crops(samplers[s], "gaussian", halves, 3, whole, 2); /* left and right halves */
   }
 }
@@ -137,7 +138,6 @@ static void test_crop_quarters_and_odd(void **state) {
   check_crops("sobol", "box", odd, 3, odd, 3);
   check_crops("stratified", "box", odd, 3, whole, 2);
 }
-
 
 /* ---- spot light ---- */
 
@@ -160,7 +160,8 @@ static void test_spot_conedeltaangle(void **state) {
       "Film \"image\" \"integer xresolution\" [32] \"integer yresolution\" [32]\n"
       "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
       "Integrator \"directlighting\"\n"
-      "WorldBegin\nLightSource \"spot\" \"point from\" [0 0 1.5] \"point to\" [0 0 0] \"rgb I\" [5 5 5]\n"
+      "WorldBegin\nLightSource \"spot\" \"point from\" [0 0 1.5] \"point to\" [0 0 0] \"rgb I\" [5 "
+      "5 5]\n"
       "\"float coneangle\" [30] \"float conedeltaangle\" [10]\n"
       "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
@@ -181,14 +182,14 @@ static void test_spot_conedeltaangle(void **state) {
   free(im.rgb);
 }
 
-
 /* ---- sphere area lights ---- */
 
 /* Relative RMSE of `a` against reference `ref`: sqrt(mean((a - ref)^2)) / mean(ref). */
 static double rel_rmse(const clr_render_image *a, const clr_render_image *ref) {
   size_t n = (size_t)ref->width * ref->height * 3;
   double e = 0;
-  for (size_t i = 0; i < n; ++i) e += ((double)a->rgb[i] - ref->rgb[i]) * ((double)a->rgb[i] - ref->rgb[i]);
+  for (size_t i = 0; i < n; ++i)
+    e += ((double)a->rgb[i] - ref->rgb[i]) * ((double)a->rgb[i] - ref->rgb[i]);
   return sqrt(e / (double)n) / image_mean(ref);
 }
 
@@ -204,7 +205,6 @@ static const char *sphere_light_scene =
     "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
     "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
     "\"point P\" [-10 -1 -10  10 -1 -10  10 -1 10  -10 -1 10]\nWorldEnd\n";
-
 
 /* Lambertian plane z = 0 under a sphere light (radius r, radiance L, centre c): a sphere wholly
  * above a point's horizon gives irradiance E = pi L r^2 cos(phi) / d^2 (it acts as a point
@@ -222,7 +222,8 @@ static void test_sphere_light_irradiance(void **state) {
            "Sampler \"halton\" \"integer pixelsamples\" [64] \"bool samplepixelcenter\" \"true\"\n"
            "Integrator \"directlighting\"\nWorldBegin\n"
            "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [%g %g %g]\n"
-           "Material \"none\"\nTranslate %g %g %g\nShape \"sphere\" \"float radius\" [%g]\nAttributeEnd\n"
+           "Material \"none\"\nTranslate %g %g %g\nShape \"sphere\" \"float radius\" "
+           "[%g]\nAttributeEnd\n"
            "Material \"matte\" \"rgb Kd\" [%g %g %g]\n"
            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
            "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
@@ -266,8 +267,10 @@ static void test_sphere_light_noise(void **state) {
       ref_sum += ref.rgb[i];
       ++n2;
     }
-  fprintf(stderr, "sphere light: 16 spp relative RMSE %.4f (without the light's pixels %.4f), mean ratio %.4f\n", e,
-          sqrt(e2 / n2) / (ref_sum / n2), m);
+  fprintf(stderr,
+          "sphere light: 16 spp relative RMSE %.4f (without the light's pixels %.4f), mean ratio "
+          "%.4f\n",
+          e, sqrt(e2 / n2) / (ref_sum / n2), m);
   /* regression bounds (measured 0.223 and 0.992 with cone sampling; pbrt-v3's own 16-spp error
    * on this scene is not measured here) */
   assert_true(e < 0.26);
@@ -275,7 +278,6 @@ static void test_sphere_light_noise(void **state) {
   free(ref.rgb);
   free(lo.rgb);
 }
-
 
 /* ---- rays toward area lights ---- */
 
@@ -314,14 +316,14 @@ static void test_ray_count_pbrt_v3(void **state) {
       "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
       "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
       "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"directlighting\"\nWorldBegin\n"
-      "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"sphere\" \"float radius\" [0.7]\nWorldEnd\n";
+      "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nShape \"sphere\" \"float radius\" "
+      "[0.7]\nWorldEnd\n";
   clr_render_stats_init(&st);
   im = render_opts(alone, NULL, &st);
   assert_int_equal(st.rays, 8 * 8 * 4);
   assert_true(im.rgb[3 * (4 * 8 + 4)] >= 1.0f); /* the centre pixel sees the light */
   free(im.rgb);
 }
-
 
 /* ---- matte "sigma": Oren-Nayar ---- */
 
@@ -340,16 +342,18 @@ static double oren_nayar(double sigma_deg, double ti, double to, double dphi) {
  * Kd/pi * factor * L cos(ti). */
 static double render_oren_nayar(double sigma, double ti, double phi, double to) {
   char scene[2048];
-  snprintf(scene, sizeof scene,
-           "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-           "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
-           "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
-           "Integrator \"directlighting\"\nWorldBegin\n"
-           "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
-           "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5] \"float sigma\" [%g]\n"
-           "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-           "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
-           10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti), sigma);
+  snprintf(
+      scene, sizeof scene,
+      "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 "
+      "0.5]\n"
+      "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"directlighting\"\nWorldBegin\n"
+      "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
+      "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5] \"float sigma\" [%g]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+      "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+      10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti), sigma);
   clr_render_image im = render_opts(scene, NULL, NULL);
   double v = im.rgb[0];
   for (int i = 0; i < im.width * im.height * 3; ++i) assert_true(fabs(im.rgb[i] - v) <= 1e-5 * v);
@@ -361,10 +365,11 @@ static void test_matte_sigma_oren_nayar(void **state) {
   (void)state;
   const double deg = PI_D / 180.0;
   const double cases[][4] = {/* sigma, theta_i, phi_i, theta_o (degrees) */
-                             {20, 30, 0, 0},  {20, 40, 180, 50}, {35, 60, 30, 20},
-                             {35, 20, 30, 60}, {0, 45, 0, 30},   {90, 70, 10, 45}};
+                             {20, 30, 0, 0},   {20, 40, 180, 50}, {35, 60, 30, 20},
+                             {35, 20, 30, 60}, {0, 45, 0, 30},    {90, 70, 10, 45}};
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-    double sg = cases[c][0], ti = cases[c][1] * deg, phi = cases[c][2] * deg, to = cases[c][3] * deg;
+    double sg = cases[c][0], ti = cases[c][1] * deg, phi = cases[c][2] * deg,
+           to = cases[c][3] * deg;
     double got = render_oren_nayar(sg, ti, phi, to);
     double expect = 0.5 / PI_D * oren_nayar(sg, ti, to, phi) * 2.0 * cos(ti);
     if (fabs(got - expect) > 2e-4 * expect)
@@ -377,7 +382,8 @@ static void test_matte_sigma_oren_nayar(void **state) {
   double b = render_oren_nayar(35, 20 * deg, 30 * deg, 60 * deg) / cos(20 * deg);
   assert_true(fabs(a - b) <= 2e-4 * a);
   /* sigma 0 is Lambertian: Kd/pi L cos */
-  assert_true(fabs(render_oren_nayar(0, 50 * deg, 0, 10 * deg) - 0.5 / PI_D * 2.0 * cos(50 * deg)) < 1e-6);
+  assert_true(fabs(render_oren_nayar(0, 50 * deg, 0, 10 * deg) - 0.5 / PI_D * 2.0 * cos(50 * deg)) <
+              1e-6);
 }
 
 /* ---- Material "mirror" ---- */
@@ -463,13 +469,21 @@ static void test_mirror_reflects_lit_plane(void **state) {
 /* ---- Material "plastic" ---- */
 
 /* pbrt-v3's plastic glossy lobe in double: TrowbridgeReitz D and Smith G, FrDielectric(1.5, 1). */
-static double ref_lambda(double tan2, double alpha) { return (-1.0 + sqrt(1.0 + alpha * alpha * tan2)) / 2.0; }
+static double ref_lambda(double tan2, double alpha) {
+  return (-1.0 + sqrt(1.0 + alpha * alpha * tan2)) / 2.0;
+}
 static double ref_fr(double ci, double ei, double et) {
-  if (ci < 0) { double t = ei; ei = et; et = t; ci = -ci; }
+  if (ci < 0) {
+    double t = ei;
+    ei = et;
+    et = t;
+    ci = -ci;
+  }
   double si = sqrt(fmax(0, 1 - ci * ci)), st = ei / et * si;
   if (st >= 1) return 1;
   double ct = sqrt(fmax(0, 1 - st * st));
-  double a = (et * ci - ei * ct) / (et * ci + ei * ct), b = (ei * ci - et * ct) / (ei * ci + et * ct);
+  double a = (et * ci - ei * ct) / (et * ci + ei * ct),
+         b = (ei * ci - et * ct) / (ei * ci + et * ct);
   return (a * a + b * b) / 2;
 }
 static double ref_microfacet_f(const double wo[3], const double wi[3], double alpha) {
@@ -536,9 +550,12 @@ static void test_plastic_lobe(void **state) {
           assert_true(fabsf(pdf - clr_microfacet_pdf(wo, wi, alpha)) <= 1e-3f * pdf);
         }
       }
-    fprintf(stderr, "plastic lobe alpha %.3f: pdf integral %.5f (sampled fraction %.5f), mean z %.5f vs %.5f\n",
-            (double)alpha, integral, valid / 65536.0, mean_z / integral, sum_z / valid);
-    assert_true(integral <= 1.0 + 2e-3 && integral > 0.75); /* the rest reflects below the horizon */
+    fprintf(
+        stderr,
+        "plastic lobe alpha %.3f: pdf integral %.5f (sampled fraction %.5f), mean z %.5f vs %.5f\n",
+        (double)alpha, integral, valid / 65536.0, mean_z / integral, sum_z / valid);
+    assert_true(integral <= 1.0 + 2e-3 &&
+                integral > 0.75); /* the rest reflects below the horizon */
     assert_true(fabs(valid / 65536.0 - integral) < 5e-3);
     assert_true(fabs(sum_z / valid - mean_z / integral) < 2e-3);
   }
@@ -553,16 +570,19 @@ static void test_plastic_plane(void **state) {
   for (int c = 0; c < 4; ++c) {
     double ti = cases[c][0] * deg, phi = cases[c][1] * deg, to = cases[c][2] * deg;
     char scene[2048];
-    snprintf(scene, sizeof scene,
-             "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-             "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
-             "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
-             "Integrator \"directlighting\"\nWorldBegin\n"
-             "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
-             "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] \"float roughness\" [0.1]\n"
-             "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-             "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
-             10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti));
+    snprintf(
+        scene, sizeof scene,
+        "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 "
+        "-0.5 0.5]\n"
+        "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
+        "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+        "Integrator \"directlighting\"\nWorldBegin\n"
+        "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
+        "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] \"float "
+        "roughness\" [0.1]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+        "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+        10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti));
     clr_render_image im = render_opts(scene, NULL, NULL);
     double wo[3], wi[3];
     dir_from(to, 0.0, wo);
@@ -589,7 +609,8 @@ static void test_plastic_sky_albedo(void **state) {
       "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
       "Sampler \"halton\" \"integer pixelsamples\" [64]\nIntegrator \"%s\"\nWorldBegin\n"
       "LightSource \"infinite\" \"rgb L\" [1 1 1]\n"
-      "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] \"float roughness\" [0.3]\n"
+      "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] \"float roughness\" "
+      "[0.3]\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
       "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n";
   double alpha = clr_tr_roughness_to_alpha(0.3f), wo[3] = {0, 0, 1}, glossy = 0;
@@ -607,7 +628,8 @@ static void test_plastic_sky_albedo(void **state) {
     snprintf(scene, sizeof scene, scene_fmt, integrators[t]);
     clr_render_image im = render_opts(scene, NULL, NULL);
     double m = image_mean(&im);
-    fprintf(stderr, "plastic under a sky (%s): mean %.5f, albedo %.5f\n", integrators[t], m, expect);
+    fprintf(stderr, "plastic under a sky (%s): mean %.5f, albedo %.5f\n", integrators[t], m,
+            expect);
     assert_true(fabs(m - expect) <= 0.01 * expect);
     free(im.rgb);
   }
@@ -675,7 +697,8 @@ static void test_disk_light_irradiance(void **state) {
       sum += got;
       sum_expect += expect;
     }
-  fprintf(stderr, "disk light irradiance: worst pixel %.4f, mean ratio %.5f\n", worst, sum / sum_expect);
+  fprintf(stderr, "disk light irradiance: worst pixel %.4f, mean ratio %.5f\n", worst,
+          sum / sum_expect);
   assert_true(worst < 0.08); /* measured 0.050: MIS noise where the light is small */
   assert_true(fabs(sum / sum_expect - 1.0) < 0.005);
   free(im.rgb);
@@ -694,7 +717,8 @@ static void test_glass_furnace(void **state) {
   for (int t = 0; t < 2; ++t) {
     char scene[2048];
     snprintf(scene, sizeof scene,
-             "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.7 0.7 -0.7 0.7]\n"
+             "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.7 0.7 "
+             "-0.7 0.7]\n"
              "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
              "Sampler \"halton\" \"integer pixelsamples\" [16]\nIntegrator %s\nWorldBegin\n"
              "LightSource \"infinite\" \"rgb L\" [1 1 1]\n"
@@ -721,7 +745,8 @@ static void test_glass_fresnel(void **state) {
     for (int t = 0; t < 2; ++t) {
       char scene[2048];
       snprintf(scene, sizeof scene,
-               "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
+               "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 "
+               "0.5 -0.5 0.5]\n"
                "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
                "Sampler \"halton\" \"integer pixelsamples\" [64]\nIntegrator \"%s\"\nWorldBegin\n"
                "LightSource \"infinite\" \"rgb L\" [1 1 1]\n"
@@ -747,18 +772,21 @@ static void test_glass_fresnel(void **state) {
 static double ref_fr_conductor(double c, double eta, double k) {
   c = fabs(c);
   double c2 = c * c, s2 = 1 - c2, eta2 = eta * eta, k2 = k * k, t0 = eta2 - k2 - s2;
-  double a2b2 = sqrt(t0 * t0 + 4 * eta2 * k2), t1 = a2b2 + c2, a = sqrt(0.5 * (a2b2 + t0)), t2 = 2 * c * a;
+  double a2b2 = sqrt(t0 * t0 + 4 * eta2 * k2), t1 = a2b2 + c2, a = sqrt(0.5 * (a2b2 + t0)),
+         t2 = 2 * c * a;
   double rs = (t1 - t2) / (t1 + t2), t3 = c2 * a2b2 + s2 * s2, t4 = t2 * s2;
   return 0.5 * (rs * (t3 - t4) / (t3 + t4) + rs);
 }
 
 /* The lobe of ref_microfacet_f with a conductor's Fresnel instead of plastic's dielectric one. */
-static double ref_metal_f(const double wo[3], const double wi[3], double alpha, double eta, double k) {
+static double ref_metal_f(const double wo[3], const double wi[3], double alpha, double eta,
+                          double k) {
   double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
   double l = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
   for (int i = 0; i < 3; ++i) h[i] /= l;
   double cos_h = wi[0] * h[0] + wi[1] * h[1] + wi[2] * h[2];
-  return ref_microfacet_f(wo, wi, alpha) / ref_fr(cos_h, 1.5, 1.0) * ref_fr_conductor(cos_h, eta, k);
+  return ref_microfacet_f(wo, wi, alpha) / ref_fr(cos_h, 1.5, 1.0) *
+         ref_fr_conductor(cos_h, eta, k);
 }
 
 /* A metal plane (rgb eta and k, roughness 0.2) under a distant light, orthographic camera: every
@@ -766,23 +794,27 @@ static double ref_metal_f(const double wo[3], const double wi[3], double alpha, 
 static void test_metal_plane(void **state) {
   (void)state;
   const double eta[3] = {0.2, 0.92, 1.1}, k[3] = {3.9, 2.45, 2.14};
-  assert_float_equal(clr_fr_conductor(1.0f, 0.92f, 2.45f),
-                     ((0.92 - 1) * (0.92 - 1) + 2.45 * 2.45) / ((0.92 + 1) * (0.92 + 1) + 2.45 * 2.45), 1e-6);
+  assert_float_equal(
+      clr_fr_conductor(1.0f, 0.92f, 2.45f),
+      ((0.92 - 1) * (0.92 - 1) + 2.45 * 2.45) / ((0.92 + 1) * (0.92 + 1) + 2.45 * 2.45), 1e-6);
   const double deg = PI_D / 180.0;
   const double cases[][3] = {{30, 180, 20}, {40, 160, 35}, {60, 90, 20}};
   for (int c = 0; c < 3; ++c) {
     double ti = cases[c][0] * deg, phi = cases[c][1] * deg, to = cases[c][2] * deg;
     char scene[2048];
-    snprintf(scene, sizeof scene,
-             "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 -0.5 0.5]\n"
-             "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
-             "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
-             "Integrator \"directlighting\"\nWorldBegin\n"
-             "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
-             "Material \"metal\" \"rgb eta\" [0.2 0.92 1.1] \"rgb k\" [3.9 2.45 2.14] \"float roughness\" [0.2]\n"
-             "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-             "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
-             10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti));
+    snprintf(
+        scene, sizeof scene,
+        "LookAt %g 0 %g  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.5 0.5 "
+        "-0.5 0.5]\n"
+        "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
+        "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+        "Integrator \"directlighting\"\nWorldBegin\n"
+        "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
+        "Material \"metal\" \"rgb eta\" [0.2 0.92 1.1] \"rgb k\" [3.9 2.45 2.14] \"float "
+        "roughness\" [0.2]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+        "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+        10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti));
     clr_render_image im = render_opts(scene, NULL, NULL);
     double wo[3], wi[3];
     dir_from(to, 0.0, wo);
@@ -793,7 +825,8 @@ static void test_metal_plane(void **state) {
       assert_true(expect > 1e-3);
       for (int i = 0; i < im.width * im.height; ++i) {
         double got = im.rgb[3 * i + ch];
-        if (fabs(got - expect) > 2e-4 * expect) fprintf(stderr, "case %d ch %d: got %g expect %g\n", c, ch, got, expect);
+        if (fabs(got - expect) > 2e-4 * expect)
+          fprintf(stderr, "case %d ch %d: got %g expect %g\n", c, ch, got, expect);
         assert_true(fabs(got - expect) <= 2e-4 * expect);
       }
     }
@@ -820,20 +853,22 @@ static void test_metal_sky_albedo(void **state) {
   const char *integrators[] = {"directlighting", "path"};
   for (int t = 0; t < 2; ++t) {
     char scene[2048];
-    snprintf(scene, sizeof scene,
-             "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
-             "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
-             "Sampler \"halton\" \"integer pixelsamples\" [64]\nIntegrator \"%s\"\nWorldBegin\n"
-             "LightSource \"infinite\" \"rgb L\" [1 1 1]\nMaterial \"metal\" \"float roughness\" [0.3]\n"
-             "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-             "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
-             integrators[t]);
+    snprintf(
+        scene, sizeof scene,
+        "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+        "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
+        "Sampler \"halton\" \"integer pixelsamples\" [64]\nIntegrator \"%s\"\nWorldBegin\n"
+        "LightSource \"infinite\" \"rgb L\" [1 1 1]\nMaterial \"metal\" \"float roughness\" [0.3]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+        "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+        integrators[t]);
     clr_render_image im = render_opts(scene, NULL, NULL);
     for (int c = 0; c < 3; ++c) {
       double m = 0;
       for (int i = 0; i < im.width * im.height; ++i) m += im.rgb[3 * i + c];
       m /= im.width * im.height;
-      fprintf(stderr, "metal under a sky (%s) channel %d: mean %.5f, albedo %.5f\n", integrators[t], c, m, expect[c]);
+      fprintf(stderr, "metal under a sky (%s) channel %d: mean %.5f, albedo %.5f\n", integrators[t],
+              c, m, expect[c]);
       assert_true(fabs(m - expect[c]) <= 0.01 * expect[c]);
     }
     free(im.rgb);
@@ -847,23 +882,28 @@ static void test_metal_sky_albedo(void **state) {
 static void test_partial_sphere(void **state) {
   (void)state;
   const char *scene =
-      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-1.1 1.1 -1.1 1.1]\n"
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-1.1 1.1 -1.1 "
+      "1.1]\n"
       "Film \"image\" \"integer xresolution\" [48] \"integer yresolution\" [48]\n"
       "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
       "Integrator \"ambientocclusion\" \"integer nsamples\" [4]\nWorldBegin\n"
-      "Shape \"sphere\" \"float radius\" [1] \"float zmin\" [-0.5] \"float zmax\" [0.8] \"float phimax\" [270]\n"
+      "Shape \"sphere\" \"float radius\" [1] \"float zmin\" [-0.5] \"float zmax\" [0.8] \"float "
+      "phimax\" [270]\n"
       "WorldEnd\n";
   clr_render_image im = render_opts(scene, NULL, NULL);
   int hits = 0, checked = 0;
   for (int py = 0; py < 48; ++py)
     for (int px = 0; px < 48; ++px) {
-      double wx = -1.1 * (-1.0 + 2.0 * (px + 0.5) / 48.0), wy = 1.1 * (1.0 - 2.0 * (py + 0.5) / 48.0);
+      double wx = -1.1 * (-1.0 + 2.0 * (px + 0.5) / 48.0),
+             wy = 1.1 * (1.0 - 2.0 * (py + 0.5) / 48.0);
       double rho = sqrt(wx * wx + wy * wy), phi = atan2(wy, wx);
       if (phi < 0) phi += 2 * PI_D;
-      if (fabs(rho - 0.6) < 1e-3 || fabs(rho - 1.0) < 1e-3 || fabs(phi - 1.5 * PI_D) < 1e-3) continue;
+      if (fabs(rho - 0.6) < 1e-3 || fabs(rho - 1.0) < 1e-3 || fabs(phi - 1.5 * PI_D) < 1e-3)
+        continue;
       int in = rho >= 0.6 && rho <= 1.0 && phi <= 1.5 * PI_D;
       float v = im.rgb[3 * (py * 48 + px)];
-      if (in != (v > 0.0f)) fprintf(stderr, "pixel (%d,%d) rho %g phi %g: %g\n", px, py, rho, phi, (double)v);
+      if (in != (v > 0.0f))
+        fprintf(stderr, "pixel (%d,%d) rho %g phi %g: %g\n", px, py, rho, phi, (double)v);
       assert_int_equal(in, v > 0.0f);
       hits += in;
       ++checked;
@@ -888,22 +928,29 @@ static void test_textures_scale_mix_uv(void **state) {
              "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
              "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
              "Integrator \"directlighting\"\nWorldBegin\n"
-             "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" [%.9g %.9g %.9g]\n"
+             "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" [%.9g "
+             "%.9g %.9g]\n"
              "Texture \"a\" \"spectrum\" \"constant\" \"rgb value\" [0.5 0.5 0.5]\n"
-             "Texture \"scaled\" \"spectrum\" \"scale\" \"texture tex1\" \"a\" \"rgb tex2\" [0.4 0.8 1]\n"
-             "Texture \"mixed\" \"spectrum\" \"mix\" \"texture tex1\" \"scaled\" \"rgb tex2\" [1 0 0] \"float amount\" [0.25]\n"
+             "Texture \"scaled\" \"spectrum\" \"scale\" \"texture tex1\" \"a\" \"rgb tex2\" [0.4 "
+             "0.8 1]\n"
+             "Texture \"mixed\" \"spectrum\" \"mix\" \"texture tex1\" \"scaled\" \"rgb tex2\" [1 0 "
+             "0] \"float amount\" [0.25]\n"
              "Texture \"uvs\" \"spectrum\" \"uv\" \"float uscale\" [2] \"float vscale\" [2]\n"
              "Material \"matte\" \"texture Kd\" \"%s\"\n"
              "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-             "\"point P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] \"float uv\" [-1 -1  1 -1  1 1  -1 1]\nWorldEnd\n",
+             "\"point P\" [-1 -1 0  1 -1 0  1 1 0  -1 1 0] \"float uv\" [-1 -1  1 -1  1 1  -1 "
+             "1]\nWorldEnd\n",
              PI_D, PI_D, PI_D, kinds[t]);
     clr_render_image im = render_opts(scene, NULL, NULL);
     for (int py = 0; py < 8; ++py)
       for (int px = 0; px < 8; ++px) {
         double wx = -(-1.0 + 2.0 * (px + 0.5) / 8.0), wy = 1.0 - 2.0 * (py + 0.5) / 8.0, e[3];
-        if (t == 0) e[0] = 0.2, e[1] = 0.4, e[2] = 0.5;
-        else if (t == 1) e[0] = 0.75 * 0.2 + 0.25, e[1] = 0.75 * 0.4, e[2] = 0.75 * 0.5;
-        else e[0] = 2 * wx - floor(2 * wx), e[1] = 2 * wy - floor(2 * wy), e[2] = 0;
+        if (t == 0)
+          e[0] = 0.2, e[1] = 0.4, e[2] = 0.5;
+        else if (t == 1)
+          e[0] = 0.75 * 0.2 + 0.25, e[1] = 0.75 * 0.4, e[2] = 0.75 * 0.5;
+        else
+          e[0] = 2 * wx - floor(2 * wx), e[1] = 2 * wy - floor(2 * wy), e[2] = 0;
         for (int c = 0; c < 3; ++c)
           assert_true(fabs(im.rgb[3 * (py * 8 + px) + c] - e[c]) <= 1e-5 * fmax(1.0, e[c]));
       }
@@ -982,9 +1029,16 @@ static void test_cli_crops_merge(void **state) {
   char out[8192];
   write_text("box.pbrt", cli_scene);
   assert_int_equal(run_cli(out, sizeof out, "render %s/box.pbrt --outfile=%s/full.exr --quiet"), 0);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/box.pbrt --outfile %s/top.exr --cropwindow 0 1 0 0.5 --quiet"), 0);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/box.pbrt --outfile %s/bottom.exr --cropwindow 0 1 0.5 1 --quiet"), 0);
-  assert_int_equal(run_cli(out, sizeof out, "merge %s/top.exr %s/bottom.exr --output=%s/merged.exr"), 0);
+  assert_int_equal(
+      run_cli(out, sizeof out,
+              "render %s/box.pbrt --outfile %s/top.exr --cropwindow 0 1 0 0.5 --quiet"),
+      0);
+  assert_int_equal(
+      run_cli(out, sizeof out,
+              "render %s/box.pbrt --outfile %s/bottom.exr --cropwindow 0 1 0.5 1 --quiet"),
+      0);
+  assert_int_equal(
+      run_cli(out, sizeof out, "merge %s/top.exr %s/bottom.exr --output=%s/merged.exr"), 0);
   assert_non_null(strstr(out, "wrote"));
   assert_non_null(strstr(out, "merged.exr"));
   assert_non_null(strstr(out, "merged.png"));
@@ -998,7 +1052,8 @@ static void test_cli_crops_merge(void **state) {
   mean /= (double)n;
   assert_true(mean > 0.01);
   for (size_t i = 0; i < n; ++i)
-    assert_true(fabs((double)merged.rgb[i] - full.rgb[i]) <= 1e-5 * fmax(fabs((double)full.rgb[i]), mean));
+    assert_true(fabs((double)merged.rgb[i] - full.rgb[i]) <=
+                1e-5 * fmax(fabs((double)full.rgb[i]), mean));
   clr_image_free(&full);
   clr_image_free(&merged);
 }
@@ -1009,8 +1064,10 @@ static void test_cli_output_formats(void **state) {
   (void)state;
   char out[8192], path[1024];
   write_text("named.pbrt", cli_scene);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.exr --quiet"), 0);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.pfm --quiet"), 0);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.exr --quiet"),
+                   0);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.pfm --quiet"),
+                   0);
   assert_true(exists("img.png"));
   clr_image exr = read_image("img.exr");
   snprintf(path, sizeof path, "%s/img.pfm", tmpdir);
@@ -1029,7 +1086,8 @@ static void test_cli_output_formats(void **state) {
     assert_memory_equal(pix + 3 * 16 * (11 - y), exr.rgb + 3 * 16 * y, 3 * 16 * sizeof(float));
   free(pix);
   clr_image_free(&exr);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.tga --quiet"), 1);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/named.pbrt --outfile %s/img.tga --quiet"),
+                   1);
   assert_non_null(strstr(out, "\".tga\""));
   assert_false(exists("img.tga"));
   /* the scene names a .jpg: an error at its Film line unless --outfile overrides it */
@@ -1040,7 +1098,8 @@ static void test_cli_output_formats(void **state) {
   assert_int_equal(run_cli(out, sizeof out, "render %s/jpg.pbrt --quiet"), 1);
   assert_non_null(strstr(out, "jpg.pbrt:1"));
   assert_non_null(strstr(out, "\".jpg\""));
-  assert_int_equal(run_cli(out, sizeof out, "render %s/jpg.pbrt --quiet --spp=1 --outfile=%s/over.png"), 0);
+  assert_int_equal(
+      run_cli(out, sizeof out, "render %s/jpg.pbrt --quiet --spp=1 --outfile=%s/over.png"), 0);
   assert_true(exists("over.png"));
   assert_false(exists("scene.jpg"));
 }
@@ -1064,7 +1123,8 @@ static void test_cli_habits(void **state) {
            "Shape \"cylinder\" \"float radius\" [1] \"rgb Kd\" [1 0 0]\n"
            "Shape \"sphere\" \"float radius\" [1] \"float bogus\" [2]\nWorldEnd\n");
   write_text("habits.pbrt", scene);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --nthreads=0 --outfile=%s/h.exr --stats"), 0);
+  assert_int_equal(
+      run_cli(out, sizeof out, "render %s/habits.pbrt --nthreads=0 --outfile=%s/h.exr --stats"), 0);
   assert_true(exists("h.exr"));
   assert_null(strstr(out, "Accelerator"));
   assert_null(strstr(out, "'radius'"));
@@ -1081,7 +1141,8 @@ static void test_cli_habits(void **state) {
     assert_true(strncmp(m, tmpdir, strlen(tmpdir)) == 0 || strncmp(m, "--", 2) == 0);
   }
   assert_int_equal(warnings, 3);
-  assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --spp=10 --outfile=%s/h.exr"), 0);
+  assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --spp=10 --outfile=%s/h.exr"),
+                   0);
   assert_non_null(strstr(out, "--spp 10: non power-of-two sample count rounded up to 16"));
   assert_int_equal(run_cli(out, sizeof out, "render %s/habits.pbrt --spp=x --outfile=%s/h.exr"), 2);
 }

@@ -224,8 +224,8 @@ static void test_bad_inputs(void **state) {
     assert_int_equal(film_create(ctx, &bad, &film), CLR_ERROR_INVALID_RESOLUTION);
     assert_null(film);
   }
-  float crops[][4] = {{-0.1f, 1, 0, 1}, {0, 1.5f, 0, 1}, {0, 1, NAN, 1}, {0.5f, 0.5f, 0, 1},
-                      {0, 1, 0.2f, 0.2f}};
+  float crops[][4] = {
+      {-0.1f, 1, 0, 1}, {0, 1.5f, 0, 1}, {0, 1, NAN, 1}, {0.5f, 0.5f, 0, 1}, {0, 1, 0.2f, 0.2f}};
   for (size_t i = 0; i < 5; ++i) {
     bad = d;
     memcpy(bad.crop_window, crops[i], sizeof bad.crop_window);
@@ -366,9 +366,11 @@ static void test_split_calls(void **state) {
   assert_int_equal(film_add_samples(one, samples, n), CLR_SUCCESS);
   const size_t cuts[] = {0, 1000, 1001, 9000, 17000, 30000};
   for (size_t i = 0; i + 1 < 6; ++i) {
-    assert_int_equal(film_add_samples(split, samples + cuts[i], cuts[i + 1] - cuts[i]), CLR_SUCCESS);
-    assert_int_equal(film_add_samples_reference(split_ref, samples + cuts[i], cuts[i + 1] - cuts[i]),
+    assert_int_equal(film_add_samples(split, samples + cuts[i], cuts[i + 1] - cuts[i]),
                      CLR_SUCCESS);
+    assert_int_equal(
+        film_add_samples_reference(split_ref, samples + cuts[i], cuts[i + 1] - cuts[i]),
+        CLR_SUCCESS);
   }
   float *a = get_rgb(one, 1.0f), *b = get_rgb(split, 1.0f);
   assert_rgb_close(b, a, 50 * 40 * 3, 1e-5);
@@ -403,7 +405,7 @@ static void test_box_pixel_centres_reproduce_image(void **state) {
       size_t i = (size_t)y * w + x;
       for (int c = 0; c < 3; ++c) image[3 * i + c] = rnd() * 10.0f;
       clr_film_sample smp = {(float)(b.x0 + x) + 0.5f, (float)(b.y0 + y) + 0.5f, image[3 * i],
-                             image[3 * i + 1], image[3 * i + 2], 1.0f};
+                             image[3 * i + 1],         image[3 * i + 2],         1.0f};
       samples[i] = smp;
     }
   assert_int_equal(film_add_samples(film, samples, (size_t)w * h), CLR_SUCCESS);
@@ -428,7 +430,10 @@ static void test_constant_radiance_triangle(void **state) {
     for (int x = sb.x0; x < sb.x1; ++x)
       for (int k = 0; k < 16; ++k) {
         clr_film_sample smp = {(float)x + ((float)(k % 4) + rnd()) * 0.25f,
-                               (float)y + ((float)(k / 4) + rnd()) * 0.25f, 0.25f, 0.5f, 2.0f,
+                               (float)y + ((float)(k / 4) + rnd()) * 0.25f,
+                               0.25f,
+                               0.5f,
+                               2.0f,
                                1.0f};
         samples[n++] = smp;
       }
@@ -486,16 +491,12 @@ static void test_bad_samples_dropped(void **state) {
                                   {8.0f, 8.0f, 0.5f, 0.25f, 0.125f, 2},
                                   {5.5f, 9.1f, -1e-5f, 0, 0, 1}, /* luminance -2e-6: kept */
                                   {12.9f, 0.4f, 4, 0, 1, 0.5f}};
-  const clr_film_sample bad[] = {{NAN, 3, 1, 1, 1, 1},
-                                 {3, 3, INFINITY, 1, 1, 1},
-                                 {3, 3, 1, 1, 1, NAN},
-                                 {3, 3, -1, 0, 0, 1},
-                                 {3, 3, 0, -2e-5f, 0, 1},
-                                 {3, 3, 1, 1, 1, -INFINITY},
+  const clr_film_sample bad[] = {{NAN, 3, 1, 1, 1, 1},     {3, 3, INFINITY, 1, 1, 1},
+                                 {3, 3, 1, 1, 1, NAN},     {3, 3, -1, 0, 0, 1},
+                                 {3, 3, 0, -2e-5f, 0, 1},  {3, 3, 1, 1, 1, -INFINITY},
                                  {3, INFINITY, 1, 1, 1, 1}};
-  const clr_film_sample outside[] = {{-5, 3, 1, 1, 1, 1},
-                                     {3, (float)sb.y1, 1, 1, 1, 1},
-                                     {(float)sb.x0 - 0.001f, 3, 1, 1, 1, 1}};
+  const clr_film_sample outside[] = {
+      {-5, 3, 1, 1, 1, 1}, {3, (float)sb.y1, 1, 1, 1, 1}, {(float)sb.x0 - 0.001f, 3, 1, 1, 1, 1}};
   clr_film_sample all[14];
   size_t n = 0;
   all[n++] = bad[0];
@@ -572,7 +573,8 @@ static void render_tiles(clr_film film, const clr_film_sample *samples, const si
         film_tile_add_samples(tiles[i], samples + starts[i], starts[i + 1] - starts[i]),
         CLR_SUCCESS);
   }
-  for (int i = 0; i < count; ++i) assert_int_equal(film_merge_tile(film, tiles[order[i]]), CLR_SUCCESS);
+  for (int i = 0; i < count; ++i)
+    assert_int_equal(film_merge_tile(film, tiles[order[i]]), CLR_SUCCESS);
   for (int i = 0; i < count; ++i) film_tile_release(tiles[i]);
 }
 
@@ -595,7 +597,10 @@ static void test_tiles_merge(void **state) {
       starts[count++] = n;
       for (size_t k = 0; k < per; ++k) {
         clr_film_sample smp = {(float)r.x0 + rnd() * (float)(r.x1 - r.x0),
-                               (float)r.y0 + rnd() * (float)(r.y1 - r.y0), rnd(), rnd() * 2, rnd(),
+                               (float)r.y0 + rnd() * (float)(r.y1 - r.y0),
+                               rnd(),
+                               rnd() * 2,
+                               rnd(),
                                1.0f};
         samples[n++] = smp;
       }
@@ -732,8 +737,11 @@ static void test_constant_radiance_every_filter(void **state) {
         for (int x = sb.x0; x < sb.x1; ++x)
           for (int k = 0; k < 16; ++k) {
             clr_film_sample smp = {(float)x + ((float)(k % 4) + rnd()) * 0.25f,
-                                   (float)y + ((float)(k / 4) + rnd()) * 0.25f, 0.25f, 0.5f,
-                                   2.0f, 1.0f};
+                                   (float)y + ((float)(k / 4) + rnd()) * 0.25f,
+                                   0.25f,
+                                   0.5f,
+                                   2.0f,
+                                   1.0f};
             samples[n++] = smp;
           }
       assert_int_equal(film_add_samples(film, samples, n), CLR_SUCCESS);
@@ -752,24 +760,27 @@ static double pbrt_filter_1d(int type, double x, double r, const clr_filter_desc
   double ax = fabs(x);
   if (ax > r) return 0.0;
   switch (type) {
-  case CLR_FILTER_TYPE_GAUSSIAN:
-    return fmax(0.0, exp(-(double)fd->alpha * x * x) - exp(-(double)fd->alpha * r * r));
-  case CLR_FILTER_TYPE_MITCHELL: {
-    double B = fd->b, C = fd->c, t = fabs(2.0 * x / r);
-    if (t > 1.0)
-      return ((-B - 6 * C) * t * t * t + (6 * B + 30 * C) * t * t + (-12 * B - 48 * C) * t +
-              (8 * B + 24 * C)) / 6.0;
-    return ((12 - 9 * B - 6 * C) * t * t * t + (-18 + 12 * B + 6 * C) * t * t + (6 - 2 * B)) / 6.0;
-  }
-  case CLR_FILTER_TYPE_SINC: {
-    double tau = fd->tau;
-    double s1 = ax < 1e-5 ? 1.0 : sin(3.14159265358979323846 * x) / (3.14159265358979323846 * x);
-    double xt = x / tau;
-    double s2 = fabs(xt) < 1e-5 ? 1.0 : sin(3.14159265358979323846 * xt) / (3.14159265358979323846 * xt);
-    return s1 * s2;
-  }
-  default:
-    return 0.0;
+    case CLR_FILTER_TYPE_GAUSSIAN:
+      return fmax(0.0, exp(-(double)fd->alpha * x * x) - exp(-(double)fd->alpha * r * r));
+    case CLR_FILTER_TYPE_MITCHELL: {
+      double B = fd->b, C = fd->c, t = fabs(2.0 * x / r);
+      if (t > 1.0)
+        return ((-B - 6 * C) * t * t * t + (6 * B + 30 * C) * t * t + (-12 * B - 48 * C) * t +
+                (8 * B + 24 * C)) /
+               6.0;
+      return ((12 - 9 * B - 6 * C) * t * t * t + (-18 + 12 * B + 6 * C) * t * t + (6 - 2 * B)) /
+             6.0;
+    }
+    case CLR_FILTER_TYPE_SINC: {
+      double tau = fd->tau;
+      double s1 = ax < 1e-5 ? 1.0 : sin(3.14159265358979323846 * x) / (3.14159265358979323846 * x);
+      double xt = x / tau;
+      double s2 =
+          fabs(xt) < 1e-5 ? 1.0 : sin(3.14159265358979323846 * xt) / (3.14159265358979323846 * xt);
+      return s1 * s2;
+    }
+    default:
+      return 0.0;
   }
 }
 
@@ -786,7 +797,8 @@ static void test_brute_force_double_every_filter(void **state) {
     clr_film film = make_film(&s);
     size_t n = 6000;
     clr_film_sample *samples = random_samples(film, n, 0.0f, 31u + (uint32_t)t);
-    for (size_t i = 0; i < n; ++i) samples[i].r = samples[i].g = samples[i].b = 0.5f + (float)(i % 7) * 0.25f;
+    for (size_t i = 0; i < n; ++i)
+      samples[i].r = samples[i].g = samples[i].b = 0.5f + (float)(i % 7) * 0.25f;
     assert_int_equal(film_add_samples(film, samples, n), CLR_SUCCESS);
     float *rgb = get_rgb(film, 1.0f);
     float *expect = malloc(16 * 12 * 3 * sizeof *expect);
@@ -802,8 +814,7 @@ static void test_brute_force_double_every_filter(void **state) {
           acc += samples[i].r * samples[i].weight * f;
           wsum += f;
         }
-        for (int c = 0; c < 3; ++c)
-          expect[(py * 16 + px) * 3 + c] = (float)fmax(0.0, acc / wsum);
+        for (int c = 0; c < 3; ++c) expect[(py * 16 + px) * 3 + c] = (float)fmax(0.0, acc / wsum);
       }
     assert_rgb_close(rgb, expect, 16 * 12 * 3, 2e-5);
     free(expect);
@@ -812,7 +823,6 @@ static void test_brute_force_double_every_filter(void **state) {
     film_release(film);
   }
 }
-
 
 /* The canonical order (film.h): a pixel adds its samples by bin p0 = ceil(d - r) (row, then
  * column), batch order only inside a bin. In batch order (1 + 1e8) - 1e8 rounds to 0; in bin order

@@ -125,10 +125,12 @@ static void test_exr_round_trip(void **state) {
   /* The raw sums: hi + lo reproduce the film's double sums. */
   double *w = malloc(n * sizeof(double));
   assert_int_equal(film_get_sums(f, NULL, w, NULL), CLR_SUCCESS);
-  const float *hi = clr_exr_image_channel(im, "weight"), *lo = clr_exr_image_channel(im, "weight.lo");
+  const float *hi = clr_exr_image_channel(im, "weight"),
+              *lo = clr_exr_image_channel(im, "weight.lo");
   assert_non_null(hi);
   assert_non_null(lo);
-  for (size_t i = 0; i < n; ++i) assert_true(fabs((double)hi[i] + (double)lo[i] - w[i]) <= 1e-12 * fabs(w[i]) + 1e-30);
+  for (size_t i = 0; i < n; ++i)
+    assert_true(fabs((double)hi[i] + (double)lo[i] - w[i]) <= 1e-12 * fabs(w[i]) + 1e-30);
   free(w);
   clr_exr_image_free(im);
 
@@ -140,7 +142,8 @@ static void test_exr_round_trip(void **state) {
   assert_int_equal(clr_exr_read(path, &im), CLR_SUCCESS);
   assert_null(clr_exr_image_channel(im, "weight"));
   const float *r = clr_exr_image_channel(im, "R");
-  for (size_t i = 0; i < n; ++i) assert_true(fabsf(r[i] - rgb[3 * i]) <= 1e-3f * fabsf(rgb[3 * i]) + 1e-6f);
+  for (size_t i = 0; i < n; ++i)
+    assert_true(fabsf(r[i] - rgb[3 * i]) <= 1e-3f * fabsf(rgb[3 * i]) + 1e-6f);
   clr_exr_image_free(im);
   /* PNG preview. */
   path_of(path, sizeof path, "preview.png");
@@ -245,7 +248,8 @@ static void test_merge_quarters_and_passes(void **state) {
 static void test_merge_refuses_mismatches(void **state) {
   (void)state;
   clr_film_sample *s = random_samples(1000, 3);
-  clr_film a = make_film(CLR_FILTER_BOX, 0, 1, 0, 1), b = make_film(CLR_FILTER_TRIANGLE, 0, 1, 0, 1);
+  clr_film a = make_film(CLR_FILTER_BOX, 0, 1, 0, 1),
+           b = make_film(CLR_FILTER_TRIANGLE, 0, 1, 0, 1);
   assert_int_equal(film_add_samples(a, s, 1000), CLR_SUCCESS);
   assert_int_equal(film_add_samples(b, s, 1000), CLR_SUCCESS);
   char pa[300], pb[300], pc[300], out[300];

@@ -63,22 +63,22 @@ static double ref_1d(const clr_filter_params *p, double x, double r) {
   double a = fabs(x);
   if (a > r) return 0;
   switch (p->type) {
-  case CLR_FILTER_TYPE_BOX:
-    return 1;
-  case CLR_FILTER_TYPE_TRIANGLE:
-    return fmax(0, r - a);
-  case CLR_FILTER_TYPE_GAUSSIAN:
-    return fmax(0, exp(-(double)p->alpha * a * a) - exp(-(double)p->alpha * r * r));
-  case CLR_FILTER_TYPE_MITCHELL:
-    return ref_mitchell(a / r, p->b, p->c);
-  case CLR_FILTER_TYPE_SINC:
-    return ref_sinc(a) * ref_sinc(a / p->tau);
-  case CLR_FILTER_TYPE_BLACKMANHARRIS:
-    return ref_blackman_harris(a / r);
-  case CLR_FILTER_TYPE_CATMULLROM:
-    return ref_mitchell(a / r, 0.0, 0.5);
-  default:
-    return NAN;
+    case CLR_FILTER_TYPE_BOX:
+      return 1;
+    case CLR_FILTER_TYPE_TRIANGLE:
+      return fmax(0, r - a);
+    case CLR_FILTER_TYPE_GAUSSIAN:
+      return fmax(0, exp(-(double)p->alpha * a * a) - exp(-(double)p->alpha * r * r));
+    case CLR_FILTER_TYPE_MITCHELL:
+      return ref_mitchell(a / r, p->b, p->c);
+    case CLR_FILTER_TYPE_SINC:
+      return ref_sinc(a) * ref_sinc(a / p->tau);
+    case CLR_FILTER_TYPE_BLACKMANHARRIS:
+      return ref_blackman_harris(a / r);
+    case CLR_FILTER_TYPE_CATMULLROM:
+      return ref_mitchell(a / r, 0.0, 0.5);
+    default:
+      return NAN;
   }
 }
 
@@ -89,21 +89,21 @@ static double ref_2d(const clr_filter_params *p, double x, double y) {
 /* Closed-form integral over [-r, r] of one factor, NAN where there is none (sinc). */
 static double closed_form_1d(const clr_filter_params *p, double r) {
   switch (p->type) {
-  case CLR_FILTER_TYPE_BOX:
-    return 2 * r;
-  case CLR_FILTER_TYPE_TRIANGLE:
-    return r * r;
-  case CLR_FILTER_TYPE_GAUSSIAN: {
-    double al = p->alpha;
-    return sqrt(PI / al) * erf(r * sqrt(al)) - 2 * r * exp(-al * r * r);
-  }
-  case CLR_FILTER_TYPE_MITCHELL:
-  case CLR_FILTER_TYPE_CATMULLROM:
-    return r / 2; /* the Mitchell kernel integrates to 1 over t */
-  case CLR_FILTER_TYPE_BLACKMANHARRIS:
-    return 2 * r * 0.35875;
-  default:
-    return NAN;
+    case CLR_FILTER_TYPE_BOX:
+      return 2 * r;
+    case CLR_FILTER_TYPE_TRIANGLE:
+      return r * r;
+    case CLR_FILTER_TYPE_GAUSSIAN: {
+      double al = p->alpha;
+      return sqrt(PI / al) * erf(r * sqrt(al)) - 2 * r * exp(-al * r * r);
+    }
+    case CLR_FILTER_TYPE_MITCHELL:
+    case CLR_FILTER_TYPE_CATMULLROM:
+      return r / 2; /* the Mitchell kernel integrates to 1 over t */
+    case CLR_FILTER_TYPE_BLACKMANHARRIS:
+      return 2 * r * 0.35875;
+    default:
+      return NAN;
   }
 }
 
@@ -184,12 +184,12 @@ static void test_defaults_and_names(void **state) {
  * 0 (the sinc at integer radii). */
 static double edge_1d(const clr_filter_params *p) {
   switch (p->type) {
-  case CLR_FILTER_TYPE_BOX:
-    return 1;
-  case CLR_FILTER_TYPE_BLACKMANHARRIS:
-    return BH_EDGE;
-  default:
-    return 0;
+    case CLR_FILTER_TYPE_BOX:
+      return 1;
+    case CLR_FILTER_TYPE_BLACKMANHARRIS:
+      return BH_EDGE;
+    default:
+      return 0;
   }
 }
 
@@ -209,7 +209,8 @@ static void check_support(const clr_filter_params *p, const float *table) {
   }
   if (!p->use_table) { /* the support is closed; the value on its edge is the formula's */
     double expect_x = edge_1d(p) * ref_1d(p, 0, ry), expect_y = edge_1d(p) * ref_1d(p, 0, rx);
-    float vx = clr_filter_params_evaluate(p, NULL, rx, 0), vy = clr_filter_params_evaluate(p, NULL, 0, ry);
+    float vx = clr_filter_params_evaluate(p, NULL, rx, 0),
+          vy = clr_filter_params_evaluate(p, NULL, 0, ry);
     if (fabs(vx - expect_x) > 1e-7 || (expect_x == 0 && vx != 0))
       fail_msg("%s: f(r, 0) = %g, expected %g", clr_filter_type_name(p->type), vx, expect_x);
     if (fabs(vy - expect_y) > 1e-7 || (expect_y == 0 && vy != 0))
@@ -422,8 +423,10 @@ static void test_table_matches_pbrt(void **state) {
         double cx = fabs(x) * 16 / p.radius_x, cy = fabs(y) * 16 / p.radius_y;
         if (fabs(cx - nearbyint(cx)) < 1e-4 || fabs(cy - nearbyint(cy)) < 1e-4) continue;
         int ix = (int)cx < 15 ? (int)cx : 15, iy = (int)cy < 15 ? (int)cy : 15;
-        assert_true(clr_filter_params_evaluate(&p, table, (float)x, (float)y) == table[iy * 16 + ix]);
-        assert_true(clr_filter_params_evaluate(&p, NULL, (float)x, (float)y) == table[iy * 16 + ix]);
+        assert_true(clr_filter_params_evaluate(&p, table, (float)x, (float)y) ==
+                    table[iy * 16 + ix]);
+        assert_true(clr_filter_params_evaluate(&p, NULL, (float)x, (float)y) ==
+                    table[iy * 16 + ix]);
       }
     }
 }
@@ -478,8 +481,8 @@ static void test_separable_product(void **state) {
   for (int type = 0; type < ALL_TYPES; ++type)
     for (size_t r = 0; r < sizeof radii / sizeof radii[0]; ++r)
       for (int use_table = 0; use_table < 2; ++use_table) {
-        clr_filter_params p = make_params((clr_filter_type)type, radii[r][0], radii[r][1],
-                                          use_table);
+        clr_filter_params p =
+            make_params((clr_filter_type)type, radii[r][0], radii[r][1], use_table);
         float table[CLR_FILTER_TABLE_ENTRIES], factors[2 * CLR_FILTER_TABLE_SIZE];
         assert_int_equal(clr_filter_params_table(&p, table), CLR_SUCCESS);
         for (int axis = 0; axis < 2; ++axis)
@@ -774,18 +777,12 @@ static void test_public_desc_api(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_defaults_and_names),
-      cmocka_unit_test(test_zero_outside_support),
-      cmocka_unit_test(test_symmetry),
-      cmocka_unit_test(test_exact_matches_formulas),
-      cmocka_unit_test(test_integrals),
-      cmocka_unit_test(test_mitchell_continuity),
-      cmocka_unit_test(test_portable_math),
-      cmocka_unit_test(test_table_matches_pbrt),
-      cmocka_unit_test(test_table_index_edges),
-      cmocka_unit_test(test_separable_product),
-      cmocka_unit_test(test_bad_params),
-      cmocka_unit_test(test_device_matches_host),
+      cmocka_unit_test(test_defaults_and_names), cmocka_unit_test(test_zero_outside_support),
+      cmocka_unit_test(test_symmetry),           cmocka_unit_test(test_exact_matches_formulas),
+      cmocka_unit_test(test_integrals),          cmocka_unit_test(test_mitchell_continuity),
+      cmocka_unit_test(test_portable_math),      cmocka_unit_test(test_table_matches_pbrt),
+      cmocka_unit_test(test_table_index_edges),  cmocka_unit_test(test_separable_product),
+      cmocka_unit_test(test_bad_params),         cmocka_unit_test(test_device_matches_host),
       cmocka_unit_test(test_public_desc_api),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -52,14 +52,30 @@ static void write_text(const char *name, const char *text, char *path) {
 static void put(FILE *fp, const char *type, double value, int big_endian) {
   unsigned char b[8];
   size_t size;
-  if (!strcmp(type, "char")) { int8_t v = (int8_t)value; memcpy(b, &v, size = 1); }
-  else if (!strcmp(type, "uchar")) { uint8_t v = (uint8_t)value; memcpy(b, &v, size = 1); }
-  else if (!strcmp(type, "short")) { int16_t v = (int16_t)value; memcpy(b, &v, size = 2); }
-  else if (!strcmp(type, "ushort")) { uint16_t v = (uint16_t)value; memcpy(b, &v, size = 2); }
-  else if (!strcmp(type, "int")) { int32_t v = (int32_t)value; memcpy(b, &v, size = 4); }
-  else if (!strcmp(type, "uint")) { uint32_t v = (uint32_t)value; memcpy(b, &v, size = 4); }
-  else if (!strcmp(type, "float")) { float v = (float)value; memcpy(b, &v, size = 4); }
-  else { memcpy(b, &value, size = 8); }
+  if (!strcmp(type, "char")) {
+    int8_t v = (int8_t)value;
+    memcpy(b, &v, size = 1);
+  } else if (!strcmp(type, "uchar")) {
+    uint8_t v = (uint8_t)value;
+    memcpy(b, &v, size = 1);
+  } else if (!strcmp(type, "short")) {
+    int16_t v = (int16_t)value;
+    memcpy(b, &v, size = 2);
+  } else if (!strcmp(type, "ushort")) {
+    uint16_t v = (uint16_t)value;
+    memcpy(b, &v, size = 2);
+  } else if (!strcmp(type, "int")) {
+    int32_t v = (int32_t)value;
+    memcpy(b, &v, size = 4);
+  } else if (!strcmp(type, "uint")) {
+    uint32_t v = (uint32_t)value;
+    memcpy(b, &v, size = 4);
+  } else if (!strcmp(type, "float")) {
+    float v = (float)value;
+    memcpy(b, &v, size = 4);
+  } else {
+    memcpy(b, &value, size = 8);
+  }
   const uint16_t one = 1;
   unsigned char first;
   memcpy(&first, &one, 1);
@@ -126,11 +142,12 @@ static void test_ply_ascii(void **state) {
 /* The same mesh in binary, with mixed property types, a double x, no normals. */
 static void write_binary(const char *name, int big_endian, char *path) {
   FILE *fp = temp_file(name, path);
-  fprintf(fp, "ply\nformat %s 1.0\nelement vertex 5\nproperty double x\nproperty float y\n"
-              "property float z\nproperty short junk\nproperty float texture_u\n"
-              "property float texture_v\nproperty float nx\nelement face 3\n"
-              "property list ushort uint vertex_index\nproperty list uchar char labels\n"
-              "element edge 2\nproperty list uint ushort ends\nend_header\n",
+  fprintf(fp,
+          "ply\nformat %s 1.0\nelement vertex 5\nproperty double x\nproperty float y\n"
+          "property float z\nproperty short junk\nproperty float texture_u\n"
+          "property float texture_v\nproperty float nx\nelement face 3\n"
+          "property list ushort uint vertex_index\nproperty list uchar char labels\n"
+          "element edge 2\nproperty list uint ushort ends\nend_header\n",
           big_endian ? "binary_big_endian" : "binary_little_endian");
   for (int v = 0; v < 5; ++v) {
     put(fp, "double", quad_p[3 * v], big_endian);
@@ -230,15 +247,21 @@ static void test_ply_errors(void **state) {
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("= -1 is outside");
 
-  write_text("ascii_truncated.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-             "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-             "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n", path);
+  write_text(
+      "ascii_truncated.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n",
+      path);
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("truncated data in element \"face\" instance 0");
 
-  write_text("ascii_garbage.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-             "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-             "end_header\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", path);
+  write_text(
+      "ascii_garbage.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n",
+      path);
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("bad value in element \"vertex\" instance 1");
 
@@ -246,7 +269,8 @@ static void test_ply_errors(void **state) {
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("malformed header, line 2: unknown format \"binary_middle_endian\"");
 
-  write_text("bad_type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", path);
+  write_text("bad_type.ply",
+             "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", path);
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("line 4: unknown property type \"float128\"");
 
@@ -258,14 +282,18 @@ static void test_ply_errors(void **state) {
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("not a PLY file");
 
-  write_text("no_z.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n0\n", path);
+  write_text("no_z.ply",
+             "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n0\n",
+             path);
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("x, y, z");
 
-  write_text("huge_count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\n"
+  write_text("huge_count.ply",
+             "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\n"
              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
-             "property list uchar int vertex_indices\nend_header\n", path);
+             "property list uchar int vertex_indices\nend_header\n",
+             path);
   assert_int_equal(clr_ply_read(path, &mesh), CLR_ERROR_FILE_FORMAT);
   assert_message_has("declares 2000000000 instances");
 
@@ -283,7 +311,8 @@ static void test_mesh_from_arrays(void **state) {
   const float uv[] = {0, 0, 1, 0, 0, 1, 1, 1};
   const int32_t indices[] = {0, 1, 2, 2, 1, 3};
   clr_mesh mesh;
-  assert_int_equal(clr_mesh_from_arrays("quad", indices, 6, P, 12, N, 12, uv, 8, &mesh), CLR_SUCCESS);
+  assert_int_equal(clr_mesh_from_arrays("quad", indices, 6, P, 12, N, 12, uv, 8, &mesh),
+                   CLR_SUCCESS);
   assert_int_equal(mesh.vertex_count, 4);
   assert_int_equal(mesh.triangle_count, 2);
   assert_floats(mesh.p, P, 12);
@@ -294,33 +323,43 @@ static void test_mesh_from_arrays(void **state) {
   clr_mesh_free(&mesh);
 
   /* Without indices, exactly three points make one triangle, as in pbrt. */
-  assert_int_equal(clr_mesh_from_arrays("tri", NULL, 0, P, 9, NULL, 0, NULL, 0, &mesh), CLR_SUCCESS);
+  assert_int_equal(clr_mesh_from_arrays("tri", NULL, 0, P, 9, NULL, 0, NULL, 0, &mesh),
+                   CLR_SUCCESS);
   assert_int_equal(mesh.triangle_count, 1);
   assert_int_equal(mesh.indices[2], 2);
   assert_null(mesh.n);
   clr_mesh_free(&mesh);
 
   const int32_t bad[] = {0, 1, 2, 2, 1, 4};
-  assert_int_equal(clr_mesh_from_arrays("m1", bad, 6, P, 12, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m1", bad, 6, P, 12, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("m1: vertex index 4 at position 5 (triangle 1) is out of range: 4 \"P\"");
   assert_null(mesh.p);
   const int32_t negative[] = {0, -1, 2};
-  assert_int_equal(clr_mesh_from_arrays("m2", negative, 3, P, 12, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m2", negative, 3, P, 12, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("vertex index -1 at position 1");
-  assert_int_equal(clr_mesh_from_arrays("m3", indices, 5, P, 12, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m3", indices, 5, P, 12, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("5 is not a multiple of 3");
-  assert_int_equal(clr_mesh_from_arrays("m4", indices, 6, P, 11, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m4", indices, 6, P, 11, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("11 values given for \"point P\"");
-  assert_int_equal(clr_mesh_from_arrays("m5", indices, 6, P, 12, N, 9, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m5", indices, 6, P, 12, N, 9, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("\"normal N\"");
-  assert_int_equal(clr_mesh_from_arrays("m6", indices, 6, P, 12, NULL, 0, uv, 7, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m6", indices, 6, P, 12, NULL, 0, uv, 7, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("\"uv\"");
-  assert_int_equal(clr_mesh_from_arrays("m7", NULL, 0, P, 12, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m7", NULL, 0, P, 12, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("\"indices\" not provided");
-  assert_int_equal(clr_mesh_from_arrays("m8", indices, 6, NULL, 0, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m8", indices, 6, NULL, 0, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("\"P\" parameter not provided");
   const float nan_p[] = {0, 0, 0, 1, NAN, 0, 0, 1, 0};
-  assert_int_equal(clr_mesh_from_arrays("m9", NULL, 0, nan_p, 9, NULL, 0, NULL, 0, &mesh), CLR_ERROR_SCENE);
+  assert_int_equal(clr_mesh_from_arrays("m9", NULL, 0, nan_p, 9, NULL, 0, NULL, 0, &mesh),
+                   CLR_ERROR_SCENE);
   assert_message_has("m9: position of vertex 1 is not finite");
 }
 
@@ -330,7 +369,9 @@ static void test_mesh_validate(void **state) {
   uint32_t idx[6] = {0, 1, 2, 0, 7, 1};
   clr_mesh mesh = {3, 2, p, NULL, NULL, idx};
   assert_int_equal(clr_mesh_validate(&mesh, "shape 3"), CLR_ERROR_SCENE);
-  assert_message_has("shape 3: vertex index 7 at position 4 (triangle 1) is out of range: the mesh has 3 vertices");
+  assert_message_has(
+      "shape 3: vertex index 7 at position 4 (triangle 1) is out of range: the mesh has 3 "
+      "vertices");
   mesh.triangle_count = 1;
   assert_int_equal(clr_mesh_validate(&mesh, "shape 3"), CLR_SUCCESS);
   p[8] = INFINITY;
@@ -364,8 +405,9 @@ static void test_mesh_transform(void **state) {
 /* ---- Loop subdivision ---- */
 
 static void make_mesh(clr_mesh *mesh, const float *p, int nv, const int32_t *indices, int nt) {
-  assert_int_equal(clr_mesh_from_arrays("test mesh", indices, 3 * (size_t)nt, p, 3 * (size_t)nv, NULL, 0,
-                                        NULL, 0, mesh), CLR_SUCCESS);
+  assert_int_equal(clr_mesh_from_arrays("test mesh", indices, 3 * (size_t)nt, p, 3 * (size_t)nv,
+                                        NULL, 0, NULL, 0, mesh),
+                   CLR_SUCCESS);
 }
 
 /* Regular tetrahedron centred at the origin, wound counter-clockwise seen from outside. */
@@ -374,15 +416,17 @@ static const int32_t tetra_i[] = {0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2};
 
 static void build_icosahedron(clr_mesh *mesh) {
   const float g = 1.6180339887f;
-  const float p[] = {-1, g, 0, 1, g, 0, -1, -g, 0, 1, -g, 0, 0, -1, g, 0, 1, g,
-                     0, -1, -g, 0, 1, -g, g, 0, -1, g, 0, 1, -g, 0, -1, -g, 0, 1};
-  const int32_t t[] = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4,
-                       11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8,
-                       3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  const float p[] = {-1, g,  0,  1, g, 0,  -1, -g, 0,  1, -g, 0, 0,  -1, g,  0,  1, g,
+                     0,  -1, -g, 0, 1, -g, g,  0,  -1, g, 0,  1, -g, 0,  -1, -g, 0, 1};
+  const int32_t t[] = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+                       4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
+                       6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
   make_mesh(mesh, p, 12, t, 20);
 }
 
-static float dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static float dot3(const float *a, const float *b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 static float len3(const float *a) { return sqrtf(dot3(a, a)); }
 
 /* Asserts that p lies behind every face plane of a convex control mesh centred at the origin
@@ -391,7 +435,8 @@ static void assert_in_hull(const float *p, const clr_mesh *control) {
   for (int f = 0; f < control->triangle_count; ++f) {
     float centroid[3] = {0, 0, 0};
     for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) centroid[c] += control->p[3 * control->indices[3 * f + k] + c] / 3;
+      for (int c = 0; c < 3; ++c)
+        centroid[c] += control->p[3 * control->indices[3 * f + k] + c] / 3;
     float d[3] = {p[0] - centroid[0], p[1] - centroid[1], p[2] - centroid[2]};
     assert_true(dot3(d, centroid) <= 1e-5f * dot3(centroid, centroid));
   }
@@ -429,7 +474,8 @@ static void test_loop_tetrahedron_limit(void **state) {
   for (int level = 0; level < 4; ++level) {
     assert_int_equal(clr_loop_subdivide(&tetra, level, &out), CLR_SUCCESS);
     for (int v = 0; v < 4; ++v)
-      for (int c = 0; c < 3; ++c) assert_float_equal(out.p[3 * v + c], 0.2f * tetra_p[3 * v + c], 2e-6);
+      for (int c = 0; c < 3; ++c)
+        assert_float_equal(out.p[3 * v + c], 0.2f * tetra_p[3 * v + c], 2e-6);
     /* Inside the tetrahedron, and by symmetry the normals at the original vertices are radial. */
     for (int v = 0; v < out.vertex_count; ++v) {
       const float *p = out.p + 3 * v, *n = out.n + 3 * v;
@@ -445,7 +491,8 @@ static void test_loop_icosahedron(void **state) {
   (void)state;
   clr_mesh ico, out[4];
   build_icosahedron(&ico);
-  for (int level = 0; level < 4; ++level) assert_int_equal(clr_loop_subdivide(&ico, level, &out[level]), CLR_SUCCESS);
+  for (int level = 0; level < 4; ++level)
+    assert_int_equal(clr_loop_subdivide(&ico, level, &out[level]), CLR_SUCCESS);
   /* Limit positions of the original vertices do not depend on the number of levels. */
   for (int level = 1; level < 4; ++level)
     for (int i = 0; i < 36; ++i) assert_float_equal(out[level].p[i], out[0].p[i], 2e-6);
@@ -457,10 +504,14 @@ static void test_loop_icosahedron(void **state) {
     assert_in_hull(p, &ico);
     /* Symmetry: vertices of one class share a radius; normals at the original and first-level
      * vertices are radial. As in pbrt-v3, counter-clockwise winding gives inward normals. */
-    if (v < 12) assert_float_equal(len3(p), r0, 2e-6);
-    else if (v < 42) assert_float_equal(len3(p), r_edge, 2e-6);
-    if (v < 42) assert_float_equal(dot3(n, p) / (len3(n) * len3(p)), -1.0f, 1e-5);
-    else assert_true(dot3(n, p) < 0);
+    if (v < 12)
+      assert_float_equal(len3(p), r0, 2e-6);
+    else if (v < 42)
+      assert_float_equal(len3(p), r_edge, 2e-6);
+    if (v < 42)
+      assert_float_equal(dot3(n, p) / (len3(n) * len3(p)), -1.0f, 1e-5);
+    else
+      assert_true(dot3(n, p) < 0);
   }
   for (int level = 0; level < 4; ++level) clr_mesh_free(&out[level]);
   clr_mesh_free(&ico);
@@ -472,12 +523,15 @@ static void test_loop_flat_grid(void **state) {
   float p[3 * N * N];
   int32_t t[6 * (N - 1) * (N - 1)], nt = 0;
   for (int y = 0; y < N; ++y)
-    for (int x = 0; x < N; ++x) p[3 * (y * N + x)] = (float)x, p[3 * (y * N + x) + 1] = (float)y, p[3 * (y * N + x) + 2] = 0;
+    for (int x = 0; x < N; ++x)
+      p[3 * (y * N + x)] = (float)x, p[3 * (y * N + x) + 1] = (float)y, p[3 * (y * N + x) + 2] = 0;
   for (int y = 0; y < N - 1; ++y)
     for (int x = 0; x < N - 1; ++x) {
       int32_t a = y * N + x, b = a + 1, c = a + N + 1, d = a + N;
-      if ((x + y) % 2) t[nt++] = a, t[nt++] = b, t[nt++] = c, t[nt++] = a, t[nt++] = c, t[nt++] = d;
-      else t[nt++] = a, t[nt++] = b, t[nt++] = d, t[nt++] = b, t[nt++] = c, t[nt++] = d;
+      if ((x + y) % 2)
+        t[nt++] = a, t[nt++] = b, t[nt++] = c, t[nt++] = a, t[nt++] = c, t[nt++] = d;
+      else
+        t[nt++] = a, t[nt++] = b, t[nt++] = d, t[nt++] = b, t[nt++] = c, t[nt++] = d;
     }
   clr_mesh grid, out;
   make_mesh(&grid, p, N * N, t, nt / 3);
@@ -493,11 +547,13 @@ static void test_loop_flat_grid(void **state) {
     assert_true(q[2] == 0.0f);                             /* stays planar */
     assert_true(n[0] == 0.0f && n[1] == 0.0f && n[2] < 0); /* perpendicular to the plane */
     assert_true(q[0] >= 0 && q[0] <= 3 && q[1] >= 0 && q[1] <= 3);
-    const float side_coord[4] = {q[1], q[0], 3 - q[1], 3 - q[0]}, along[4] = {q[0], q[1], q[0], q[1]};
+    const float side_coord[4] = {q[1], q[0], 3 - q[1], 3 - q[0]},
+                along[4] = {q[0], q[1], q[0], q[1]};
     for (int side = 0; side < 4; ++side) {
       if (side_coord[side] != 0.0f) continue;
       ++on_lines;
-      for (int k = 0; k < 5; ++k) found[side][k] += fabsf(along[side] - (1.0f + 0.25f * (float)k)) < 1e-6f;
+      for (int k = 0; k < 5; ++k)
+        found[side][k] += fabsf(along[side] - (1.0f + 0.25f * (float)k)) < 1e-6f;
     }
   }
   assert_int_equal(on_lines, 20);
@@ -540,7 +596,8 @@ static void test_loop_bad_input(void **state) {
   /* pbrt-v3's boundary limit rule: 3/5 p + 1/5 (each boundary neighbour). */
   const float limit0[3] = {0.6f * 1 + 0.2f * (0 - 1), 0.2f * 1, 0};
   for (int c = 0; c < 3; ++c) assert_float_equal(out.p[c], limit0[c], 1e-6);
-  for (int v = 0; v < 3; ++v) assert_true(out.n[3 * v + 2] < 0 && out.n[3 * v] == 0 && out.n[3 * v + 1] == 0);
+  for (int v = 0; v < 3; ++v)
+    assert_true(out.n[3 * v + 2] < 0 && out.n[3 * v] == 0 && out.n[3 * v + 1] == 0);
   clr_mesh_free(&out);
   assert_int_equal(clr_loop_subdivide(&mesh, 1, &out), CLR_SUCCESS);
   assert_int_equal(out.vertex_count, 6);
@@ -602,14 +659,16 @@ static void test_loop_killeroo(void **state) {
   text[size] = 0;
   double *levels = NULL, *idx = NULL, *pts = NULL;
   assert_int_equal(read_array(text, "\"integer nlevels\"", &levels), 1);
-  size_t ni = read_array(text, "\"integer indices\"", &idx), np = read_array(text, "\"point P\"", &pts);
+  size_t ni = read_array(text, "\"integer indices\"", &idx),
+         np = read_array(text, "\"point P\"", &pts);
   assert_true(ni > 0 && ni % 3 == 0 && np > 0 && np % 3 == 0);
   int32_t *indices = malloc(ni * sizeof *indices);
   float *P = malloc(np * sizeof *P);
   for (size_t i = 0; i < ni; ++i) indices[i] = (int32_t)idx[i];
   for (size_t i = 0; i < np; ++i) P[i] = (float)pts[i];
   clr_mesh mesh, out;
-  assert_int_equal(clr_mesh_from_arrays("killeroo", indices, ni, P, np, NULL, 0, NULL, 0, &mesh), CLR_SUCCESS);
+  assert_int_equal(clr_mesh_from_arrays("killeroo", indices, ni, P, np, NULL, 0, NULL, 0, &mesh),
+                   CLR_SUCCESS);
   int nlevels = (int)levels[0];
   assert_int_equal(nlevels, 1);
   assert_int_equal(clr_loop_subdivide(&mesh, nlevels, &out), CLR_SUCCESS);

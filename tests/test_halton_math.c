@@ -43,7 +43,9 @@ static float ref_scrambled(clr_u64 base, const clr_u16 *perm, clr_u64 a) {
 }
 
 /* pbrt-v3 RadicalInverse(0, a) with real double arithmetic. */
-static float ref_base2_double(clr_u64 a) { return (float)((double)clr_reverse_bits64(a) * 0x1p-64); }
+static float ref_base2_double(clr_u64 a) {
+  return (float)((double)clr_reverse_bits64(a) * 0x1p-64);
+}
 
 static clr_u64 random_u64(clr_pcg32 *rng) {
   clr_u64 hi = clr_pcg32_next(rng);
@@ -139,11 +141,10 @@ static void test_division_magic(void **state) {
   for (int i = 0; i < CLR_HALTON_PRIMES; ++i) {
     clr_u32 d = pr[i].base;
     clr_u32 top = 0xffffffffu / d * d;
-    const clr_u32 edges[] = {0, 1, d - 1, d, d + 1, 2 * d - 1, top - 1, top, 0xffffffffu,
-                             0x80000000u, 0x7fffffffu};
+    const clr_u32 edges[] = {0,       1,   d - 1,       d,           d + 1,      2 * d - 1,
+                             top - 1, top, 0xffffffffu, 0x80000000u, 0x7fffffffu};
     for (size_t k = 0; k < sizeof edges / sizeof edges[0]; ++k)
-      assert_int_equal(clr_halton_div32(edges[k], pr[i].div_magic, pr[i].div_shift),
-                       edges[k] / d);
+      assert_int_equal(clr_halton_div32(edges[k], pr[i].div_magic, pr[i].div_shift), edges[k] / d);
     for (int k = 0; k < 2000; ++k) {
       clr_u32 n = clr_pcg32_next(&rng) >> (k % 32);
       assert_int_equal(clr_halton_div32(n, pr[i].div_magic, pr[i].div_shift), n / d);
@@ -289,7 +290,8 @@ static void test_chunked_path(void **state) {
       float want = ref_scrambled(b, perm, values[i]);
       if (float_bits(got) != float_bits(want))
         fail_msg("record %d a %u: %a != %a", r, values[i], got, want);
-      if (r == CLR_HALTON_BASE3_RECORD) assert_float_bits_equal(got, ref_radical_inverse(3, values[i]));
+      if (r == CLR_HALTON_BASE3_RECORD)
+        assert_float_bits_equal(got, ref_radical_inverse(3, values[i]));
     }
   }
 }
@@ -380,8 +382,8 @@ static void index_cell(const clr_sampler_params *p, clr_u64 index, clr_u32 *cx, 
 /* clr_halton_sampler_index against pbrt-v3's formula written out with 64-bit arithmetic. */
 static void test_index_matches_pbrt_form(void **state) {
   (void)state;
-  const int bounds[][4] = {{-2, -2, 66, 34}, {0, 0, 1280, 720}, {0, 0, 5, 4}, {10, 10, 11, 40},
-                           {0, 0, 3, 200}, {-7, 3, 1, 4}};
+  const int bounds[][4] = {{-2, -2, 66, 34}, {0, 0, 1280, 720}, {0, 0, 5, 4},
+                           {10, 10, 11, 40}, {0, 0, 3, 200},    {-7, 3, 1, 4}};
   clr_pcg32 rng = clr_pcg32_sequence(23);
   for (int b = 0; b < 6; ++b) {
     clr_sampler_params p = halton_params(bounds[b][0], bounds[b][1], bounds[b][2], bounds[b][3]);
@@ -405,7 +407,7 @@ static void test_index_lands_in_pixel(void **state) {
   const clr_halton_prime *pr = clr_halton_primes();
   const clr_u16 *perms = clr_halton_permutations(NULL);
   clr_sampler_params p = halton_params(-2, -2, 66, 34);
-  const clr_i32 pixels[][2] = {{-2, -2}, {-1, 5}, {0, 0}, {65, 33}, {7, 20},
+  const clr_i32 pixels[][2] = {{-2, -2},   {-1, 5},     {0, 0},     {65, 33},   {7, 20},
                                {130, 200}, {-130, -50}, {127, 127}, {128, -129}};
   for (size_t k = 0; k < sizeof pixels / sizeof pixels[0]; ++k) {
     clr_i32 px = pixels[k][0], py = pixels[k][1];
@@ -564,8 +566,8 @@ static void device_setup(device_fixture *f, const clr_sampler_params *p, const c
   size_t count = 0;
   const clr_u16 *perms = clr_halton_permutations(&count);
   f->params = make_buffer(cl, sizeof *p, p);
-  f->primes = make_buffer(cl, sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
-                          clr_halton_primes());
+  f->primes =
+      make_buffer(cl, sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS, clr_halton_primes());
   f->perms = make_buffer(cl, sizeof(clr_u16) * count, perms);
 }
 
@@ -590,8 +592,10 @@ static void test_device_matches_host(void **state) {
   static float out[N * 40];
   clr_pcg32 rng = clr_pcg32_sequence(17);
   for (int i = 0; i < N; ++i) {
-    if (i < 4096) indices[i] = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
-    else indices[i] = clr_halton_sampler_index(&p, i % 70 - 3, i / 70, i % 37);
+    if (i < 4096)
+      indices[i] = random_u64(&rng) >> (clr_pcg32_next(&rng) % 64);
+    else
+      indices[i] = clr_halton_sampler_index(&p, i % 70 - 3, i / 70, i % 37);
   }
   cl_mem idx = make_buffer(cl, sizeof indices, indices);
   cl_mem res = make_buffer(cl, sizeof out, NULL);
@@ -605,8 +609,7 @@ static void test_device_matches_host(void **state) {
   assert_int_equal(clSetKernelArg(k, 4, sizeof dims, &dims), CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 5, sizeof(cl_mem), &res), CL_SUCCESS);
   size_t global = N;
-  assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, NULL),
-                   CL_SUCCESS);
+  assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, NULL), CL_SUCCESS);
   assert_int_equal(clEnqueueReadBuffer(q, res, CL_TRUE, 0, sizeof out, out, 0, NULL, NULL),
                    CL_SUCCESS);
   const clr_halton_prime *pr = clr_halton_primes();

@@ -29,7 +29,8 @@ static char *scene_error(const char *dir, const char *world) {
   char scene[2048], path[700];
   snprintf(scene, sizeof scene,
            "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
-           "WorldBegin\n%s\n", world);
+           "WorldBegin\n%s\n",
+           world);
   snprintf(path, sizeof path, "%s/s.pbrt", dir);
   assert_true(hu_write_file(path, scene, strlen(scene)));
   clr_scene_desc *d = NULL;
@@ -60,9 +61,10 @@ static void test_clean_messages(void **state) {
   const char *dir = hu_workdir("messages", 0);
   char path[700];
   /* PLY: truncated data */
-  static const char ply[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                            "property float y\nproperty float z\nelement face 1\n"
-                            "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n";
+  static const char ply[] =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n";
   snprintf(path, sizeof path, "%s/t.ply", dir);
   assert_true(hu_write_file(path, ply, strlen(ply)));
   clr_mesh m;
@@ -82,8 +84,9 @@ static void test_clean_messages(void **state) {
   assert_int_not_equal(clr_loop_subdivide(&in, 1, &out), CLR_SUCCESS);
   clr_mesh_free(&in);
   reason = strdup(clr_last_error_message());
-  msg = scene_error(dir, "Shape \"loopsubdiv\" \"integer nlevels\" [1] \"integer indices\" "
-                         "[0 1 2 0 1 3 0 1 4] \"point P\" [0 0 0 1 0 0 0 1 0 0 -1 0 0 0 1]");
+  msg = scene_error(dir,
+                    "Shape \"loopsubdiv\" \"integer nlevels\" [1] \"integer indices\" "
+                    "[0 1 2 0 1 3 0 1 4] \"point P\" [0 0 0 1 0 0 0 1 0 0 -1 0 0 0 1]");
   assert_clean(msg, dir, reason);
   free(reason);
   free(msg);
@@ -214,10 +217,10 @@ static void test_merge_records_samples(void **state) {
   snprintf(path, sizeof path, "%s/s.pbrt", dir);
   assert_true(hu_write_file(path, scene, strlen(scene)));
   snprintf(err, sizeof err, "%s/stderr.txt", dir);
-  char *left[] = {"clrender", "render", "s.pbrt", "--quiet", "--cropwindow", "0", "0.5", "0", "1",
-                  "--outfile", "a.exr", NULL};
-  char *right[] = {"clrender", "render", "s.pbrt", "--quiet", "--cropwindow", "0.5", "1", "0",
-                   "1", "--outfile", "b.exr", NULL};
+  char *left[] = {"clrender", "render", "s.pbrt", "--quiet",   "--cropwindow", "0",
+                  "0.5",      "0",      "1",      "--outfile", "a.exr",        NULL};
+  char *right[] = {"clrender", "render", "s.pbrt", "--quiet",   "--cropwindow", "0.5",
+                   "1",        "0",      "1",      "--outfile", "b.exr",        NULL};
   char *merge[] = {"clrender", "merge", "a.exr", "b.exr", "-o", "m.exr", NULL};
   assert_int_equal(hu_run_cli(dir, left, err), 0);
   assert_int_equal(hu_run_cli(dir, right, err), 0);
@@ -258,7 +261,8 @@ static void test_merge_sums_drops_non_finite(void **state) {
   assert_true(out_w[0] == 1.0 && out_rgb[0] == 0.5);
   for (int i = 1; i < 4; ++i) {
     assert_true(out_w[i] == 0.0);
-    for (int c = 0; c < 3; ++c) assert_true(out_rgb[3 * i + c] == 0.0 && out_splat[3 * i + c] == 0.0);
+    for (int c = 0; c < 3; ++c)
+      assert_true(out_rgb[3 * i + c] == 0.0 && out_splat[3 * i + c] == 0.0);
   }
   /* weight-only merges are checked too */
   double w_only[4] = {INFINITY, 2.0, 2.0, 2.0};

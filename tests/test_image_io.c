@@ -99,11 +99,11 @@ static void test_half_conversion(void **state) {
   assert_int_equal(clr_float_to_half(0.1f), 0x2e66);
   assert_int_equal(clr_float_to_half(65504.f), 0x7bff);
   assert_int_equal(clr_float_to_half(65519.f), 0x7bff);
-  assert_int_equal(clr_float_to_half(65520.f), 0x7c00);     /* ties to even overflow to inf */
+  assert_int_equal(clr_float_to_half(65520.f), 0x7c00);          /* ties to even overflow to inf */
   assert_int_equal(clr_float_to_half(ldexpf(1.f, -24)), 0x0001); /* smallest subnormal */
   assert_int_equal(clr_float_to_half(ldexpf(1.f, -25)), 0x0000); /* tie -> even (zero) */
   assert_int_equal(clr_float_to_half(ldexpf(1.5f, -25)), 0x0001);
-  assert_int_equal(clr_float_to_half(ldexpf(3.f, -25)), 0x0002); /* 1.5 units tie -> 2 */
+  assert_int_equal(clr_float_to_half(ldexpf(3.f, -25)), 0x0002);       /* 1.5 units tie -> 2 */
   assert_int_equal(clr_float_to_half(1.f + ldexpf(1.f, -11)), 0x3c00); /* tie -> even */
   assert_int_equal(clr_float_to_half(1.f + 3.f * ldexpf(1.f, -11)), 0x3c02);
   assert_int_equal(clr_float_to_half(INFINITY), 0x7c00);
@@ -146,8 +146,8 @@ static void test_exr_float_round_trip(void **state) {
   p.data[0][4] = 3.4e38f;
   p.data[0][5] = 1e-42f; /* float subnormal */
   /* Given out of order: the file sorts them (A, B, G, R). */
-  clr_exr_channel channels[4] = {{"R", p.data[0], 0}, {"G", p.data[1], 0}, {"B", p.data[2], 0},
-                                 {"A", p.data[3], 0}};
+  clr_exr_channel channels[4] = {
+      {"R", p.data[0], 0}, {"G", p.data[1], 0}, {"B", p.data[2], 0}, {"A", p.data[3], 0}};
   const char *path = in_dir("float.exr");
   assert_int_equal(clr_exr_write(path, w, h, (clr_bounds2i){0, 0, w, h}, channels, 4, NULL, 0),
                    CLR_SUCCESS);
@@ -335,9 +335,9 @@ static void test_exr_bad_files(void **state) {
   const int w = 40, h = 40;
   planes4 p = make_planes(w, h, 0, 0);
   clr_exr_channel channels[2] = {{"R", p.data[0], 0}, {"G", p.data[1], 1}};
-  assert_int_equal(clr_exr_write(in_dir("full.exr"), w, h, (clr_bounds2i){0, 0, w, h}, channels,
-                                 2, NULL, 0),
-                   CLR_SUCCESS);
+  assert_int_equal(
+      clr_exr_write(in_dir("full.exr"), w, h, (clr_bounds2i){0, 0, w, h}, channels, 2, NULL, 0),
+      CLR_SUCCESS);
   size_t size = 0;
   unsigned char *bytes = read_bytes(in_dir("full.exr"), &size);
   const size_t cuts[] = {4, 40, 300, 330, size / 2, size - 5};
@@ -476,9 +476,9 @@ static void test_image_read_dispatch(void **state) {
   assert_null(image.rgb);
 
   clr_exr_channel gray = {"Y", g, 1};
-  assert_int_equal(clr_exr_write(in_dir("y.exr"), 3, 2, (clr_bounds2i){0, 0, 3, 2}, &gray, 1,
-                                 NULL, 0),
-                   CLR_SUCCESS);
+  assert_int_equal(
+      clr_exr_write(in_dir("y.exr"), 3, 2, (clr_bounds2i){0, 0, 3, 2}, &gray, 1, NULL, 0),
+      CLR_SUCCESS);
   assert_int_equal(clr_image_read(in_dir("y.exr"), &image), CLR_SUCCESS);
   out = image.rgb;
   for (int i = 0; i < 6; ++i)
@@ -486,9 +486,9 @@ static void test_image_read_dispatch(void **state) {
   clr_image_free(&image);
 
   clr_exr_channel other = {"depth", g, 0};
-  assert_int_equal(clr_exr_write(in_dir("z.exr"), 3, 2, (clr_bounds2i){0, 0, 3, 2}, &other, 1,
-                                 NULL, 0),
-                   CLR_SUCCESS);
+  assert_int_equal(
+      clr_exr_write(in_dir("z.exr"), 3, 2, (clr_bounds2i){0, 0, 3, 2}, &other, 1, NULL, 0),
+      CLR_SUCCESS);
   assert_int_equal(clr_image_read(in_dir("z.exr"), &image), CLR_ERROR_FILE_FORMAT);
   assert_null(image.rgb);
   assert_non_null(strstr(clr_last_error_message(), "depth"));
@@ -563,15 +563,16 @@ static void test_openexr_tools_read(void **state) {
   static char out[65536];
   char cmd[1024];
   if (!tool_present("exrheader") || !tool_present("exrmaketiled"))
-    fail_msg("exrheader/exrmaketiled missing: install the Debian package openexr "
-             "(scripts/install-deps.sh)");
+    fail_msg(
+        "exrheader/exrmaketiled missing: install the Debian package openexr "
+        "(scripts/install-deps.sh)");
   planes4 p;
   const char *path = write_external_exr(&p);
   snprintf(cmd, sizeof cmd, "exrheader '%s' 2>&1", path);
   assert_int_equal(run_tool(cmd, out, sizeof out), 0);
   assert_non_null(strstr(out, "zip, multi-scanline blocks"));
-  assert_non_null(strstr(out, "(2 3) - (21 18)"));  /* data window, inclusive */
-  assert_non_null(strstr(out, "(0 0) - (23 19)"));  /* display window */
+  assert_non_null(strstr(out, "(2 3) - (21 18)")); /* data window, inclusive */
+  assert_non_null(strstr(out, "(0 0) - (23 19)")); /* display window */
   assert_non_null(strstr(out, "\"clrender-test\""));
   assert_non_null(strstr(out, "R, 16-bit floating-point"));
   assert_non_null(strstr(out, "G, 32-bit floating-point"));

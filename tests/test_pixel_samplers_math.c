@@ -27,7 +27,8 @@ typedef struct {
 
 /* ---------- the host side of the contract: params and slots from a request list ---------- */
 
-static void fill_layout(clr_sampler_params *p, clr_request_slot *slots, const request *req, int nreq) {
+static void fill_layout(clr_sampler_params *p, clr_request_slot *slots, const request *req,
+                        int nreq) {
   int offset = 0, singles[3] = {0, 0, 0}, arrays[3] = {0, 0, 0}, draws = 0;
   for (int k = 0; k < nreq; ++k) {
     clr_request_slot *s = &slots[k];
@@ -135,7 +136,8 @@ static void ref_shuffle(void *samp, int count, size_t elem, clr_pcg32 *r) {
 static void ref_latin_hypercube(float *samples, int n, int ndim, clr_pcg32 *r) {
   float inv = 1.0f / (float)n;
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < ndim; ++j) samples[ndim * i + j] = ref_min1(((float)i + ref_uniform(r)) * inv);
+    for (int j = 0; j < ndim; ++j)
+      samples[ndim * i + j] = ref_min1(((float)i + ref_uniform(r)) * inv);
   for (int i = 0; i < ndim; ++i)
     for (int j = 0; j < n; ++j) {
       int other = j + (int)ref_uint(r, (uint32_t)(n - j));
@@ -166,7 +168,8 @@ static void ref_init(const clr_sampler_params *p, const request *req, int nreq, 
   ref.nreq = nreq;
   ref.rng = rng;
   for (int k = 0; k < nreq; ++k)
-    if (req[k].array_size > 0) ref.arr_size[req[k].dims][ref.n_arr[req[k].dims]++] = req[k].array_size;
+    if (req[k].array_size > 0)
+      ref.arr_size[req[k].dims][ref.n_arr[req[k].dims]++] = req[k].array_size;
 }
 
 /* StratifiedSampler::StartPixel / RandomSampler::StartPixel. */
@@ -249,7 +252,8 @@ static void expect_pixel_equals_ref(const clr_sampler_params *p, const float *ou
       float want = ref_vecs[(p->first_sample + s) * MAX_VALUES + v];
       float got = out[s * p->values_per_sample + v];
       if (clr_as_uint(want) != clr_as_uint(got))
-        fail_msg("sample %d value %d: got %a want %a", p->first_sample + s, v, (double)got, (double)want);
+        fail_msg("sample %d value %d: got %a want %a", p->first_sample + s, v, (double)got,
+                 (double)want);
       assert_true(got >= 0.0f && got < 1.0f);
     }
 }
@@ -263,7 +267,8 @@ static void test_pcg32_reference_outputs(void **state) {
   clr_pcg32_next(&r);
   r.state += 42u;
   clr_pcg32_next(&r);
-  const uint32_t expected[6] = {0xa15c02b7u, 0x7b47f409u, 0xba1d3330u, 0x83d2f293u, 0xbfa4784bu, 0xcbed606eu};
+  const uint32_t expected[6] = {0xa15c02b7u, 0x7b47f409u, 0xba1d3330u,
+                                0x83d2f293u, 0xbfa4784bu, 0xcbed606eu};
   for (int i = 0; i < 6; ++i) assert_int_equal(clr_pcg32_next(&r), expected[i]);
   /* pbrt's SetSequence is the same with initstate = its default state. */
   clr_pcg32 a = clr_pcg32_sequence(54u), b = {0u, (54u << 1) | 1u};
@@ -292,9 +297,9 @@ static void test_pcg32_advance_matches_stepping(void **state) {
 
 /* ---------- strata and Latin hypercube properties ---------- */
 
-static const request property_layout[] = {
-    {1, 0}, {2, 0}, {1, 0}, {2, 0}, {1, 0}, {2, 0}, {1, 1}, {1, 3}, {1, 7},
-    {1, 16}, {2, 1}, {2, 3}, {2, 7}, {2, 16}, {1, 0}, {2, 0}};
+static const request property_layout[] = {{1, 0}, {2, 0},  {1, 0}, {2, 0},  {1, 0}, {2, 0},
+                                          {1, 1}, {1, 3},  {1, 7}, {1, 16}, {2, 1}, {2, 3},
+                                          {2, 7}, {2, 16}, {1, 0}, {2, 0}};
 
 static int stratum(float v, int n) { return (int)floor((double)v * n); }
 
@@ -320,9 +325,11 @@ static void check_properties(int jitter) {
     int n = p.spp, cells[MAX_SPP * MAX_N];
     for (int k = 0; k < nreq; ++k) {
       const clr_request_slot *s = &slots[k];
-      for (int j = 0; j < n * p.values_per_sample; ++j) assert_true(out[j] >= 0.0f && out[j] < 1.0f);
+      for (int j = 0; j < n * p.values_per_sample; ++j)
+        assert_true(out[j] >= 0.0f && out[j] < 1.0f);
       if (s->array_size == 0 && s->source >= 0 && s->dims == 1) {
-        for (int i = 0; i < n; ++i) cells[i] = stratum(out[i * p.values_per_sample + s->first_value], n);
+        for (int i = 0; i < n; ++i)
+          cells[i] = stratum(out[i * p.values_per_sample + s->first_value], n);
         expect_permutation(cells, n);
         if (!jitter)
           for (int i = 0; i < n; ++i) {
@@ -348,7 +355,8 @@ static void check_properties(int jitter) {
             for (int j = 0; j < m; ++j) cells[j] = stratum(v[j * s->dims + c], m);
             expect_permutation(cells, m);
             if (s->dims == 1 && !jitter)
-              for (int j = 0; j < m; ++j) assert_true(v[j] == ((float)cells[j] + 0.5f) * s->inv_array_size);
+              for (int j = 0; j < m; ++j)
+                assert_true(v[j] == ((float)cells[j] + 0.5f) * s->inv_array_size);
           }
         }
       }
@@ -368,9 +376,8 @@ static void test_stratified_strata_centred(void **state) {
 
 /* ---------- bit-exact agreement with the pbrt-v3 model ---------- */
 
-static const request mixed_layout[] = {
-    {2, 0}, {1, 0}, {2, 0}, {1, 3}, {2, 7}, {1, 0}, {2, 0}, {1, 16},
-    {1, 0}, {2, 0}, {2, 1}, {2, 0}, {1, 0}, {1, 0}};
+static const request mixed_layout[] = {{2, 0},  {1, 0}, {2, 0}, {1, 3}, {2, 7}, {1, 0}, {2, 0},
+                                       {1, 16}, {1, 0}, {2, 0}, {2, 1}, {2, 0}, {1, 0}, {1, 0}};
 
 static void check_pixel_against_ref(clr_sampler_params p) {
   clr_request_slot slots[MAX_REQ];
@@ -414,7 +421,8 @@ static void test_random_matches_pbrt_model(void **state) {
 }
 
 /* pbrt-v3's render loop for one tile: writes the model's vectors of (want_x, want_y). */
-static void ref_tile_pixel(const clr_sampler_params *p, int nreq, int tx, int ty, int want_x, int want_y) {
+static void ref_tile_pixel(const clr_sampler_params *p, int nreq, int tx, int ty, int want_x,
+                           int want_y) {
   ref_init(p, mixed_layout, nreq, clr_pcg32_sequence((uint64_t)(ty * p->tiles_x + tx)));
   int x0 = p->sample_x0 + tx * 16, y0 = p->sample_y0 + ty * 16;
   int x1 = x0 + 16 < p->sample_x1 ? x0 + 16 : p->sample_x1;
@@ -449,7 +457,8 @@ static void check_tiles_against_ref(clr_sampler_params p, int bx, int by, int bw
   for (int y = by; y < by + bh; ++y)
     for (int x = bx; x < bx + bw; ++x) {
       ref_tile_pixel(&p, nreq, (x - p.sample_x0) / 16, (y - p.sample_y0) / 16, x, y);
-      expect_pixel_equals_ref(&p, out + ((size_t)(y - by) * (size_t)bw + (size_t)(x - bx)) * pixel_floats);
+      expect_pixel_equals_ref(
+          &p, out + ((size_t)(y - by) * (size_t)bw + (size_t)(x - bx)) * pixel_floats);
     }
   free(out);
 }
@@ -485,7 +494,8 @@ static void test_tile_equals_manual_start_pixels(void **state) {
       clr_pcg32_advance(&rng, (uint64_t)p.spp * (uint64_t)p.fallback_draws_per_sample);
     }
   clr_pixel_sampler_start_pixel(&p, slots, &rng, manual_out, scratch);
-  assert_memory_equal(tile_out, manual_out, (size_t)p.spp * (size_t)p.values_per_sample * sizeof(float));
+  assert_memory_equal(tile_out, manual_out,
+                      (size_t)p.spp * (size_t)p.values_per_sample * sizeof(float));
 }
 
 /* ---------- per-pixel seeding and fallbacks ---------- */

@@ -69,7 +69,8 @@ static void assert_inverse_pair(const clr_transform *t, float tolerance) {
 }
 
 static void assert_point_near(const float p[3], float x, float y, float z, float tolerance) {
-  if (!(fabsf(p[0] - x) <= tolerance && fabsf(p[1] - y) <= tolerance && fabsf(p[2] - z) <= tolerance))
+  if (!(fabsf(p[0] - x) <= tolerance && fabsf(p[1] - y) <= tolerance &&
+        fabsf(p[2] - z) <= tolerance))
     fail_msg("point (%.7g %.7g %.7g), expected (%.7g %.7g %.7g)", p[0], p[1], p[2], x, y, z);
 }
 
@@ -161,7 +162,8 @@ static void test_look_at(void **state) {
   (void)state;
   /* Axis-aligned case by hand: camera at (1,2,3) looking down +z with y up is a translation. */
   clr_transform t;
-  assert_true(clr_transform_look_at((float[3]){1, 2, 3}, (float[3]){1, 2, 9}, (float[3]){0, 1, 0}, &t));
+  assert_true(
+      clr_transform_look_at((float[3]){1, 2, 3}, (float[3]){1, 2, 9}, (float[3]){0, 1, 0}, &t));
   clr_transform expect = clr_transform_translate(-1, -2, -3);
   assert_matrix_near(t.m, expect.m, 0);
   assert_matrix_near(t.m_inv, expect.m_inv, 0);
@@ -183,7 +185,8 @@ static void test_look_at(void **state) {
   assert_point_near(look_cam, 0, 0, (float)dist, 1e-3f);
 
   /* Up parallel to the view direction: identity and false, as pbrt-v3. */
-  assert_false(clr_transform_look_at((float[3]){0, 0, 0}, (float[3]){0, 0, 1}, (float[3]){0, 0, 2}, &t));
+  assert_false(
+      clr_transform_look_at((float[3]){0, 0, 0}, (float[3]){0, 0, 1}, (float[3]){0, 0, 2}, &t));
   assert_true(clr_transform_is_identity(&t));
 }
 
@@ -193,7 +196,8 @@ static const char *full_scene =
     "# every directive of the subset\n"
     "LookAt 0 0 5  0 0 0  0 1 0\n"
     "Camera \"perspective\" \"float fov\" [45] \"float screenwindow\" [-1 1 -0.5 0.5]\n"
-    "Sampler \"stratified\" \"integer xsamples\" 4 \"bool jitter\" \"false\" \"bool extra\" [true false]\n"
+    "Sampler \"stratified\" \"integer xsamples\" 4 \"bool jitter\" \"false\" \"bool extra\" [true "
+    "false]\n"
     "PixelFilter \"gaussian\" \"float xwidth\" 2.5\n"
     "Film \"image\" \"integer xresolution\" [64] \"integer yresolution\" [32]\n"
     "  \"string filename\" \"out \\\"q\\\".exr\"\n"
@@ -213,7 +217,8 @@ static const char *full_scene =
     "AttributeEnd\n"
     "NamedMaterial \"red\"\n"
     "Shape \"trianglemesh\" \"point P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\n"
-    "  \"normal N\" [0 0 1 0 0 1 0 0 1] \"point2 uv\" [0 0 1 0 0 1] \"vector3 S\" [1 0 0 1 0 0 1 0 0]\n"
+    "  \"normal N\" [0 0 1 0 0 1 0 0 1] \"point2 uv\" [0 0 1 0 0 1] \"vector3 S\" [1 0 0 1 0 0 1 0 "
+    "0]\n"
     "  \"normal3 N2\" [0 1 0] \"vector V\" [0 0 -1] \"point3 P3\" [4 5 6]\n"
     "TransformBegin\n"
     "  Scale 2 3 4\n"
@@ -316,9 +321,12 @@ static void test_options_and_parameter_types(void **state) {
   assert_true(red > 0);
   assert_string_equal(d->materials[red].type, "matte");
   assert_string_equal(clr_params_find_texture(&d->materials[red].params, "Kd", ""), "checks");
-  assert_int_equal(clr_params_find_texture_index(&d->materials[red].params, "Kd", CLR_TEXTURE_SPECTRUM), 0);
-  assert_int_equal(clr_params_find_texture_index(&d->materials[red].params, "Kd", CLR_TEXTURE_FLOAT), -1);
-  assert_int_equal(clr_params_find_texture_index(&d->materials[red].params, "bumpmap", CLR_TEXTURE_FLOAT), 1);
+  assert_int_equal(
+      clr_params_find_texture_index(&d->materials[red].params, "Kd", CLR_TEXTURE_SPECTRUM), 0);
+  assert_int_equal(
+      clr_params_find_texture_index(&d->materials[red].params, "Kd", CLR_TEXTURE_FLOAT), -1);
+  assert_int_equal(
+      clr_params_find_texture_index(&d->materials[red].params, "bumpmap", CLR_TEXTURE_FLOAT), 1);
 
   /* Shapes: sphere (plastic, area light, reversed, translated), mesh (named "red"), disk
    * (scaled), cylinder and cone in object "tree", sphere with Transform * ConcatTransform. */
@@ -391,7 +399,9 @@ static void test_options_and_parameter_types(void **state) {
   memset(&u, 0, sizeof u);
   clr_params_report_unused(&d->textures[0].params, capture_warning, &u);
   if (u.count != 1) fail_msg("%d unused: %s", u.count, u.messages[0]);
-  if (!strstr(u.messages[0], "scenes/test.pbrt:11: unused parameter 'uscale' in Texture 'checkerboard'")) fail_msg("%s", u.messages[0]);
+  if (!strstr(u.messages[0],
+              "scenes/test.pbrt:11: unused parameter 'uscale' in Texture 'checkerboard'"))
+    fail_msg("%s", u.messages[0]);
   clr_scene_desc_free(d);
 }
 
@@ -454,7 +464,8 @@ static void test_attribute_stack(void **state) {
   /* "inner" was scoped to the attribute block (pbrt-v3 keeps named materials in the graphics
    * state): warning, and the current Material is used. */
   assert_string_equal(d->materials[cone->material].type, "matte");
-  assert_int_equal(warnings_containing(&w, "scenes/test.pbrt:17", "undefined named material 'inner'"), 1);
+  assert_int_equal(
+      warnings_containing(&w, "scenes/test.pbrt:17", "undefined named material 'inner'"), 1);
   assert_int_equal(w.count, 1);
   clr_scene_desc_free(d);
 }
@@ -524,9 +535,14 @@ static void test_warnings(void **state) {
   memset(&u, 0, sizeof u);
   int reported = clr_scene_desc_report_unused(d, capture_warning, &u);
   assert_int_equal(reported, 3); /* bogus, alpha, and the area light's S */
-  assert_int_equal(warnings_containing(&u, "scenes/test.pbrt:10: unused parameter 'bogus' in Shape 'sphere'", NULL), 1);
+  assert_int_equal(warnings_containing(
+                       &u, "scenes/test.pbrt:10: unused parameter 'bogus' in Shape 'sphere'", NULL),
+                   1);
   assert_int_equal(warnings_containing(&u, "unused parameter 'alpha' in Shape 'sphere'", NULL), 1);
-  assert_int_equal(warnings_containing(&u, "scenes/test.pbrt:9: unused parameter 'S' in AreaLightSource 'diffuse'", NULL), 1);
+  assert_int_equal(
+      warnings_containing(
+          &u, "scenes/test.pbrt:9: unused parameter 'S' in AreaLightSource 'diffuse'", NULL),
+      1);
   clr_scene_desc_free(d);
 }
 
@@ -555,23 +571,29 @@ static void test_syntax_errors(void **state) {
   expect_parse_error("WorldBegin\nShape \"sphere\" \"float radius\" [ 1 \n", CLR_ERROR_PARSE,
                      "bad.pbrt:3:1: expected ']' closing the '[' at 2:31, got end of file");
   expect_parse_error("WorldBegin\nShape \"sphere\" \"float radius\" [ 1\nShape \"disk\"\n",
-                     CLR_ERROR_PARSE, "bad.pbrt:3:1: expected a number or ']' closing the '[' at 2:31, got 'Shape'");
+                     CLR_ERROR_PARSE,
+                     "bad.pbrt:3:1: expected a number or ']' closing the '[' at 2:31, got 'Shape'");
   expect_parse_error("WorldBegin\n  Shpe \"sphere\"\n", CLR_ERROR_PARSE,
                      "bad.pbrt:2:3: expected a directive, got 'Shpe'");
-  expect_parse_error("\"sphere\"\n", CLR_ERROR_PARSE, "bad.pbrt:1:1: expected a directive, got string \"sphere\"");
+  expect_parse_error("\"sphere\"\n", CLR_ERROR_PARSE,
+                     "bad.pbrt:1:1: expected a directive, got string \"sphere\"");
   expect_parse_error("WorldBegin\nShape \"sphere\" \"floot radius\" 1\n", CLR_ERROR_PARSE,
                      "bad.pbrt:2:16: expected a parameter type");
   expect_parse_error("WorldBegin\nShape \"sphere\" \"float\" 1\n", CLR_ERROR_PARSE,
                      "bad.pbrt:2:16: expected \"float NAME\"");
-  expect_parse_error("WorldBegin\nShape \"trianglemesh\" \"point P\" [0 0 0 1]\n", CLR_ERROR_PARSE,
-                     "bad.pbrt:2:22: expected a multiple of 3 values for point3 parameter 'P', got 4");
+  expect_parse_error(
+      "WorldBegin\nShape \"trianglemesh\" \"point P\" [0 0 0 1]\n", CLR_ERROR_PARSE,
+      "bad.pbrt:2:22: expected a multiple of 3 values for point3 parameter 'P', got 4");
   expect_parse_error("WorldBegin\nShape \"x\" \"point2 uv\" [0 0 1]\n", CLR_ERROR_PARSE,
                      "bad.pbrt:2:11: expected a multiple of 2 values for point2");
-  expect_parse_error("WorldBegin\nShape \"x\" \"rgb Kd\" [1 2]\n", CLR_ERROR_PARSE, "multiple of 3");
+  expect_parse_error("WorldBegin\nShape \"x\" \"rgb Kd\" [1 2]\n", CLR_ERROR_PARSE,
+                     "multiple of 3");
   expect_parse_error("WorldBegin\nShape \"x\" \"texture t\" [\"a\" \"b\"]\n", CLR_ERROR_PARSE,
                      "bad.pbrt:2:11: expected one texture name");
-  expect_parse_error("Translate 1 two 3\n", CLR_ERROR_PARSE, "bad.pbrt:1:13: expected a number, got 'two'");
-  expect_parse_error("LookAt 0 0 0 0 0 1 0 1\n", CLR_ERROR_PARSE, "bad.pbrt:2:1: expected a number, got end of file");
+  expect_parse_error("Translate 1 two 3\n", CLR_ERROR_PARSE,
+                     "bad.pbrt:1:13: expected a number, got 'two'");
+  expect_parse_error("LookAt 0 0 0 0 0 1 0 1\n", CLR_ERROR_PARSE,
+                     "bad.pbrt:2:1: expected a number, got end of file");
   expect_parse_error("WorldBegin\nShape \"x\" \"float r\" [1 \"a\"]\n", CLR_ERROR_PARSE,
                      "bad.pbrt:2:24: expected a number or ']'");
   expect_parse_error("WorldBegin\nShape \"x\" \"integer n\" [1.5]\n", CLR_ERROR_PARSE,
@@ -590,7 +612,8 @@ static void test_syntax_errors(void **state) {
                      "bad.pbrt:4:1: expected a AttributeBegin before AttributeEnd, got none");
   expect_parse_error("WorldBegin\nAttributeBegin\nTransformEnd\n", CLR_ERROR_PARSE,
                      "bad.pbrt:3:1: expected AttributeEnd (for the AttributeBegin at bad.pbrt:2)");
-  expect_parse_error("WorldBegin\nObjectEnd\n", CLR_ERROR_PARSE, "bad.pbrt:2:1: expected a ObjectBegin");
+  expect_parse_error("WorldBegin\nObjectEnd\n", CLR_ERROR_PARSE,
+                     "bad.pbrt:2:1: expected a ObjectBegin");
   expect_parse_error("WorldBegin\nObjectBegin \"a\"\nObjectBegin \"b\"\n", CLR_ERROR_PARSE,
                      "bad.pbrt:3:1: expected ObjectEnd for object 'a'");
   expect_parse_error("ActiveTransform Sometimes\n", CLR_ERROR_PARSE, "bad.pbrt:1:17: expected All");
@@ -614,12 +637,17 @@ static void test_file_errors(void **state) {
   assert_non_null(strstr(msg, "include_missing.pbrt:3:1: Include"));
   assert_non_null(strstr(msg, "tests/data/scenes/does-not-exist.pbrt"));
 
-  assert_int_equal(clr_scene_parse_file(SCENES "include_recursive.pbrt", &opts, &d), CLR_ERROR_PARSE);
-  assert_non_null(strstr(clr_last_error_message(), "include_recursive.pbrt:2:1: expected Include files nested at most 32 deep"));
+  assert_int_equal(clr_scene_parse_file(SCENES "include_recursive.pbrt", &opts, &d),
+                   CLR_ERROR_PARSE);
+  assert_non_null(
+      strstr(clr_last_error_message(),
+             "include_recursive.pbrt:2:1: expected Include files nested at most 32 deep"));
 
-  assert_int_equal(clr_scene_parse_file(SCENES "unterminated_bracket.pbrt", &opts, &d), CLR_ERROR_PARSE);
+  assert_int_equal(clr_scene_parse_file(SCENES "unterminated_bracket.pbrt", &opts, &d),
+                   CLR_ERROR_PARSE);
   assert_non_null(strstr(clr_last_error_message(),
-                         "unterminated_bracket.pbrt:3:3: expected a number or ']' closing the '[' at 2:32, got string \"integer indices\""));
+                         "unterminated_bracket.pbrt:3:3: expected a number or ']' closing the '[' "
+                         "at 2:32, got string \"integer indices\""));
 
   assert_int_equal(clr_scene_parse_file(SCENES "no-such-scene.pbrt", &opts, &d), CLR_ERROR_IO);
   assert_non_null(strstr(clr_last_error_message(), "no-such-scene.pbrt"));
@@ -658,7 +686,8 @@ static void test_killeroo_simple(void **state) {
 
   assert_int_equal(clr_params_find_int(&d->film.params, "xresolution", 0), 700);
   assert_int_equal(clr_params_find_int(&d->film.params, "yresolution", 0), 700);
-  assert_string_equal(clr_params_find_string(&d->film.params, "filename", ""), "killeroo-simple.exr");
+  assert_string_equal(clr_params_find_string(&d->film.params, "filename", ""),
+                      "killeroo-simple.exr");
   assert_string_equal(d->sampler.type, "halton");
   assert_int_equal(clr_params_find_int(&d->sampler.params, "pixelsamples", 0), 8);
   assert_string_equal(d->integrator.type, "path");
@@ -707,8 +736,10 @@ static void test_killeroo_simple(void **state) {
     for (int j = 0; j < ni; ++j) assert_true(indices[j] >= 0 && indices[j] < np);
     assert_string_equal(d->materials[k->material].type, "plastic");
   }
-  assert_true(clr_params_find_float(&d->materials[d->shapes[3].material].params, "roughness", 0) == .025f);
-  assert_true(clr_params_find_float(&d->materials[d->shapes[4].material].params, "roughness", 0) == .15f);
+  assert_true(clr_params_find_float(&d->materials[d->shapes[3].material].params, "roughness", 0) ==
+              .025f);
+  assert_true(clr_params_find_float(&d->materials[d->shapes[4].material].params, "roughness", 0) ==
+              .15f);
   /* Second killeroo = first one moved by Translate -200 0 0 in the scaled, rotated frame. */
   float a[3], b[3];
   clr_transform_point(&d->shapes[3].object_to_world, (float[3]){0, 0, 0}, a);

@@ -39,15 +39,38 @@ static uint32_t raw_sobol32(uint64_t index, int dim) {
  * VdCSobolMatricesInv): dimensions 0-4, 19 and 1023, m = 1, 2, 3, 5, 9, 17, 24, 25, 26. */
 static void test_tables_match_pbrt_v3(void **state) {
   (void)state;
-  static const struct { int index; uint32_t value; } m32[] = {
-      {0, 0x80000000u},      {31, 0x00000001u},     {32, 0},               {51, 0},
-      {52, 0x80000000u},     {53, 0xc0000000u},     {59, 0xff000000u},     {83, 0xffffffffu},
-      {84, 0x80000000u},     {103, 0xf000f000u},    {104, 0x80000000u},    {108, 0xe8000000u},
-      {135, 0xc5005555u},    {136, 0x68808000u},    {155, 0x90000000u},    {160, 0xf8000000u},
-      {207, 0x25d93000u},    {236, 0x800228f8u},    {259, 0x2d02d040u},    {19 * 52 + 0, 0x80000000u},
-      {19 * 52 + 6, 0xce000000u}, {19 * 52 + 28, 0x38000008u}, {19 * 52 + 30, 0x2e00000eu},
-      {1023 * 52 + 0, 0x80000000u}, {1023 * 52 + 12, 0xf3f80000u}, {1023 * 52 + 35, 0xc769c754u},
-      {1023 * 52 + 48, 0x6d8253b0u}, {1023 * 52 + 51, 0x1397876eu},
+  static const struct {
+    int index;
+    uint32_t value;
+  } m32[] = {
+      {0, 0x80000000u},
+      {31, 0x00000001u},
+      {32, 0},
+      {51, 0},
+      {52, 0x80000000u},
+      {53, 0xc0000000u},
+      {59, 0xff000000u},
+      {83, 0xffffffffu},
+      {84, 0x80000000u},
+      {103, 0xf000f000u},
+      {104, 0x80000000u},
+      {108, 0xe8000000u},
+      {135, 0xc5005555u},
+      {136, 0x68808000u},
+      {155, 0x90000000u},
+      {160, 0xf8000000u},
+      {207, 0x25d93000u},
+      {236, 0x800228f8u},
+      {259, 0x2d02d040u},
+      {19 * 52 + 0, 0x80000000u},
+      {19 * 52 + 6, 0xce000000u},
+      {19 * 52 + 28, 0x38000008u},
+      {19 * 52 + 30, 0x2e00000eu},
+      {1023 * 52 + 0, 0x80000000u},
+      {1023 * 52 + 12, 0xf3f80000u},
+      {1023 * 52 + 35, 0xc769c754u},
+      {1023 * 52 + 48, 0x6d8253b0u},
+      {1023 * 52 + 51, 0x1397876eu},
   };
   for (size_t i = 0; i < sizeof m32 / sizeof m32[0]; ++i)
     assert_int_equal(clr_sobol_matrices32[m32[i].index], m32[i].value);
@@ -67,7 +90,8 @@ static void test_tables_match_pbrt_v3(void **state) {
   assert_int_equal(clr_vdc_sobol_matrices[24][0], 0x1400140);
   assert_int_equal(clr_vdc_sobol_matrices[24][1], 0x1e001e0);
   assert_int_equal(clr_vdc_sobol_matrices[24][2], 0);
-  for (int c = 0; c < CLR_SOBOL_MATRIX_SIZE; ++c) assert_int_equal(clr_vdc_sobol_matrices[25][c], 0);
+  for (int c = 0; c < CLR_SOBOL_MATRIX_SIZE; ++c)
+    assert_int_equal(clr_vdc_sobol_matrices[25][c], 0);
 
   static const uint64_t inv1[2] = {0x2, 0x3}, inv2[4] = {0xc, 0x4, 0xa, 0x5};
   static const uint64_t inv3[6] = {0x28, 0x30, 0x10, 0x3c, 0x22, 0x11};
@@ -138,7 +162,8 @@ static void test_sequence_matches_joe_kuo(void **state) {
       assert_true(clr_sobol_sample_float(n ^ (n >> 1), d, clr_sobol_matrices32) == published[d][n]);
   /* Natural order, dimension 0 is the van der Corput sequence. */
   static const float vdc[8] = {0, .5f, .25f, .75f, .125f, .625f, .375f, .875f};
-  for (uint64_t i = 0; i < 8; ++i) assert_true(clr_sobol_sample_float(i, 0, clr_sobol_matrices32) == vdc[i]);
+  for (uint64_t i = 0; i < 8; ++i)
+    assert_true(clr_sobol_sample_float(i, 0, clr_sobol_matrices32) == vdc[i]);
 
   enum { DIMS = 40, POINTS = 1 << 12 };
   static uint32_t v[DIMS][33];
@@ -151,15 +176,18 @@ static void test_sequence_matches_joe_kuo(void **state) {
     }
     for (int d = 0; d < DIMS; ++d) {
       assert_int_equal(raw_sobol32(n ^ (n >> 1), d), x[d]);
-      assert_true(clr_sobol_sample_float(n ^ (n >> 1), d, clr_sobol_matrices32) == as_unit_float(x[d]));
+      assert_true(clr_sobol_sample_float(n ^ (n >> 1), d, clr_sobol_matrices32) ==
+                  as_unit_float(x[d]));
     }
   }
   /* Index bits past 31 use matrix columns 32..51. */
   uint64_t big = ((uint64_t)1 << 51) | ((uint64_t)1 << 40) | ((uint64_t)1 << 32) | 5u;
   for (int d = 0; d < CLR_SOBOL_DIMENSIONS; d += 97)
-    assert_true(clr_sobol_sample_float(big, d, clr_sobol_matrices32) == as_unit_float(raw_sobol32(big, d)));
+    assert_true(clr_sobol_sample_float(big, d, clr_sobol_matrices32) ==
+                as_unit_float(raw_sobol32(big, d)));
   /* Rounding up to 1 is clamped: dimension 0 at index 2^32-1 is 0xffffffff * 2^-32. */
-  assert_true(clr_sobol_sample_float(0xffffffffu, 0, clr_sobol_matrices32) == CLR_ONE_MINUS_EPSILON);
+  assert_true(clr_sobol_sample_float(0xffffffffu, 0, clr_sobol_matrices32) ==
+              CLR_ONE_MINUS_EPSILON);
 }
 
 /* The first 2^k points of dimensions (0, 1) form a (0, k, 2)-net. */
@@ -181,10 +209,12 @@ static void test_elementary_intervals(void **state) {
 
 static void test_setup(void **state) {
   (void)state;
-  static const struct { int x0, y0, x1, y1, log2; } cases[] = {
-      {0, 0, 1, 1, 0},   {5, 7, 6, 8, 0},     {0, 0, 2, 1, 1},     {-3, 0, 0, 3, 2},
-      {0, 0, 64, 10, 6}, {0, 0, 65, 1, 7},    {-2, -1, 35, 20, 6}, {0, 0, 1280, 720, 11},
-      {0, 0, 3, 0, 2},   {0, 0, 0, 0, 0},     {0, 0, 1 << 26, 1, 26}, {0, 0, (1 << 26) + 1, 1, 27},
+  static const struct {
+    int x0, y0, x1, y1, log2;
+  } cases[] = {
+      {0, 0, 1, 1, 0},   {5, 7, 6, 8, 0},  {0, 0, 2, 1, 1},        {-3, 0, 0, 3, 2},
+      {0, 0, 64, 10, 6}, {0, 0, 65, 1, 7}, {-2, -1, 35, 20, 6},    {0, 0, 1280, 720, 11},
+      {0, 0, 3, 0, 2},   {0, 0, 0, 0, 0},  {0, 0, 1 << 26, 1, 26}, {0, 0, (1 << 26) + 1, 1, 27},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
     clr_sampler_params p = bounds_params(cases[i].x0, cases[i].y0, cases[i].x1, cases[i].y1);
@@ -329,7 +359,8 @@ static const char *device_source =
 
 static cl_mem make_buffer(cl_context cl, cl_mem_flags flags, size_t bytes, const void *data) {
   cl_int err = 0;
-  cl_mem b = clCreateBuffer(cl, flags | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes, (void *)data, &err);
+  cl_mem b =
+      clCreateBuffer(cl, flags | (data ? CL_MEM_COPY_HOST_PTR : 0), bytes, (void *)data, &err);
   assert_int_equal(err, CL_SUCCESS);
   return b;
 }
@@ -372,7 +403,8 @@ static void test_device_matches_host(void **state) {
   cl_mem bout = make_buffer(cl, CL_MEM_WRITE_ONLY, N * NDIMS * sizeof(float), NULL);
   cl_int nd = NDIMS;
   cl_mem args[] = {bp, bm, bv, bi, bitems, bdims};
-  for (cl_uint a = 0; a < 6; ++a) assert_int_equal(clSetKernelArg(k, a, sizeof(cl_mem), &args[a]), CL_SUCCESS);
+  for (cl_uint a = 0; a < 6; ++a)
+    assert_int_equal(clSetKernelArg(k, a, sizeof(cl_mem), &args[a]), CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 6, sizeof nd, &nd), CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 7, sizeof(cl_mem), &bidx), CL_SUCCESS);
   assert_int_equal(clSetKernelArg(k, 8, sizeof(cl_mem), &bout), CL_SUCCESS);
@@ -381,8 +413,11 @@ static void test_device_matches_host(void **state) {
   assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, NULL), CL_SUCCESS);
   static uint64_t dev_index[N];
   static float dev_out[N * NDIMS];
-  assert_int_equal(clEnqueueReadBuffer(q, bidx, CL_TRUE, 0, sizeof dev_index, dev_index, 0, NULL, NULL), CL_SUCCESS);
-  assert_int_equal(clEnqueueReadBuffer(q, bout, CL_TRUE, 0, sizeof dev_out, dev_out, 0, NULL, NULL), CL_SUCCESS);
+  assert_int_equal(
+      clEnqueueReadBuffer(q, bidx, CL_TRUE, 0, sizeof dev_index, dev_index, 0, NULL, NULL),
+      CL_SUCCESS);
+  assert_int_equal(clEnqueueReadBuffer(q, bout, CL_TRUE, 0, sizeof dev_out, dev_out, 0, NULL, NULL),
+                   CL_SUCCESS);
   for (int g = 0; g < N; ++g) {
     int px = (int)items[3 * g], py = (int)items[3 * g + 1];
     uint64_t index = clr_sobol_sampler_index(&p, VDC, VDC_INV, px, py, items[3 * g + 2]);

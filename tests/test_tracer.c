@@ -52,7 +52,9 @@ static void apply_linear(const float m[16], const double v[3], double out[3]) {
   for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * v[0] + m[4 * r + 1] * v[1] + m[4 * r + 2] * v[2];
 }
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 /* Cosine of the angle between a float and a double vector. */
 static double cos_angle(const float a[3], const double b[3]) {
@@ -69,14 +71,15 @@ static void assert_rel(double got, double expected, double rel) {
  * a few float ulps, not bit-exact. */
 static void assert_tuv(const clr_hit *h, double t, double u, double v) {
   if (fabs(h->t - t) > 5e-7 * t || fabs(h->u - u) > 1e-6 || fabs(h->v - v) > 1e-6)
-    fail_msg("hit (t %.9g, u %.9g, v %.9g), expected (%.9g, %.9g, %.9g)", (double)h->t, (double)h->u,
-             (double)h->v, t, u, v);
+    fail_msg("hit (t %.9g, u %.9g, v %.9g), expected (%.9g, %.9g, %.9g)", (double)h->t,
+             (double)h->u, (double)h->v, t, u, v);
 }
 
 static void assert_vec_near(const float *got, const double *expected, int n, double tol) {
   for (int i = 0; i < n; ++i)
     if (fabs(got[i] - expected[i]) > tol)
-      fail_msg("component %d: got %.9g, expected %.9g (tolerance %g)", i, (double)got[i], expected[i], tol);
+      fail_msg("component %d: got %.9g, expected %.9g (tolerance %g)", i, (double)got[i],
+               expected[i], tol);
 }
 
 static void assert_miss(const clr_hit *h) {
@@ -95,8 +98,9 @@ static void assert_error(clr_result got, clr_result expected, const char *needle
 static clr_mesh mesh_of(const int32_t *idx, size_t ni, const float *P, size_t np, const float *N,
                         const float *uv) {
   clr_mesh m;
-  assert_int_equal(clr_mesh_from_arrays("test", idx, ni, P, np, N, N ? np : 0, uv, uv ? np / 3 * 2 : 0, &m),
-                   CLR_SUCCESS);
+  assert_int_equal(
+      clr_mesh_from_arrays("test", idx, ni, P, np, N, N ? np : 0, uv, uv ? np / 3 * 2 : 0, &m),
+      CLR_SUCCESS);
   return m;
 }
 
@@ -119,9 +123,9 @@ static double rnd(void) { /* 53-bit uniform in [0,1) from a 64-bit LCG */
 }
 
 static int hits_equal(const clr_hit *a, const clr_hit *b) {
-  return a->t == b->t && a->u == b->u && a->v == b->v && a->ng[0] == b->ng[0] && a->ng[1] == b->ng[1] &&
-         a->ng[2] == b->ng[2] && a->prim_id == b->prim_id && a->geom_id == b->geom_id &&
-         a->inst_id == b->inst_id && a->user_id == b->user_id;
+  return a->t == b->t && a->u == b->u && a->v == b->v && a->ng[0] == b->ng[0] &&
+         a->ng[1] == b->ng[1] && a->ng[2] == b->ng[2] && a->prim_id == b->prim_id &&
+         a->geom_id == b->geom_id && a->inst_id == b->inst_id && a->user_id == b->user_id;
 }
 
 /* ---- triangles ---- */
@@ -174,7 +178,8 @@ static void test_triangle_and_quad(void **state) {
   assert_vec_near(uv, (double[]){0.75, 0.25}, 2, 2e-6);
   double n_expected[3] = {0.25 * 0 + 0.5 * 1 + 0.25 * 0, 0, 0.25 * 1 + 0.5 * 1 + 0.25 * 2};
   assert_true(cos_angle(n, n_expected) > 1.0 - 1e-12);
-  assert_true(fabs(sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]) - 1.0) < 1e-6);
+  assert_true(fabs(sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]) - 1.0) <
+              1e-6);
   h = trace1(t, ray_inf(2.5f, 1.5f, 5.0f, 0, 0, -1));
   assert_tuv(&h, 8.0, 0.25, 0.5);
   assert_int_equal(h.prim_id, 1);
@@ -358,8 +363,10 @@ static void test_instances(void **state) {
   assert_true(group == 1 && user == 31);
   assert_int_equal(clr_tracer_instance_info(t, 2, &group, &user), CLR_SUCCESS);
   assert_true(group == 1 && user == 32);
-  assert_error(clr_tracer_instance_info(t, 0, &group, &user), CLR_ERROR_INVALID_ARGUMENT, "instance");
-  assert_error(clr_tracer_instance_info(t, 3, &group, &user), CLR_ERROR_INVALID_ARGUMENT, "instance");
+  assert_error(clr_tracer_instance_info(t, 0, &group, &user), CLR_ERROR_INVALID_ARGUMENT,
+               "instance");
+  assert_error(clr_tracer_instance_info(t, 3, &group, &user), CLR_ERROR_INVALID_ARGUMENT,
+               "instance");
 
   /* instance A's triangle: world (0,0,10), (2,0,10), (0,2,10) */
   clr_hit h = trace1(t, ray_inf(0.5f, 1.0f, 20.0f, 0, 0, -1));
@@ -383,7 +390,8 @@ static void test_instances(void **state) {
   double minus_y[3] = {0, -1, 0};
   assert_true(cos_angle(h.ng, minus_y) > 1 - 1e-12);
   assert_int_equal(clr_tracer_mesh_interpolate(t, &h, p, n, uv), CLR_SUCCESS);
-  assert_true(fabsf(p[0] - 0.25f) < 1e-6f && fabsf(p[1] + 10.0f) < 1e-6f && fabsf(p[2] - 1.5f) < 1e-6f);
+  assert_true(fabsf(p[0] - 0.25f) < 1e-6f && fabsf(p[1] + 10.0f) < 1e-6f &&
+              fabsf(p[2] - 1.5f) < 1e-6f);
   assert_true(cos_angle(n, minus_y) > 1 - 1e-12);
 
   /* instance A's sphere: centre (10,0,10), radius 2; object point (0.6, 0, -0.8) at world z 8.4 */
@@ -418,7 +426,8 @@ static void test_instances(void **state) {
 
 /* Random rays from a box around the instanced scene towards random points near its objects. */
 static void random_rays(clr_ray *rays, int n) {
-  static const double centres[5][3] = {{0.6, 0.6, 10}, {10, 0, 10}, {0.3, -10, 1}, {5, -10, 0}, {0, 0, -20}};
+  static const double centres[5][3] = {
+      {0.6, 0.6, 10}, {10, 0, 10}, {0.3, -10, 1}, {5, -10, 0}, {0, 0, -20}};
   for (int i = 0; i < n; ++i) {
     double o[3] = {24 * rnd() - 12, 24 * rnd() - 12, 30 * rnd() - 10}, target[3];
     const double *c = centres[(int)(5 * rnd())];
@@ -438,8 +447,9 @@ static void test_packets_equal_single(void **state) {
   random_rays(rays, N);
   assert_int_equal(clr_tracer_intersect_single(t, rays, single, N), CLR_SUCCESS);
   int hit_count = 0, inst_count = 0;
-  for (int i = 0; i < N; ++i) hit_count += single[i].geom_id != CLR_TRACER_INVALID_ID,
-                              inst_count += single[i].inst_id != CLR_TRACER_INVALID_ID;
+  for (int i = 0; i < N; ++i)
+    hit_count += single[i].geom_id != CLR_TRACER_INVALID_ID,
+        inst_count += single[i].inst_id != CLR_TRACER_INVALID_ID;
   assert_true(hit_count >= 30 && inst_count >= 15 && hit_count < N);
   static const int counts[] = {1, 15, 16, 17, 100};
   for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
@@ -470,16 +480,16 @@ static void test_occlusion_tfar(void **state) {
   (void)state;
   clr_tracer t = build_instanced_scene();
   clr_ray rays[] = {
-      make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 0.0f, 9.99f),       /* triangle at 10 beyond tfar */
-      make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 0.0f, 10.01f),      /* within */
+      make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 0.0f, 9.99f),  /* triangle at 10 beyond tfar */
+      make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 0.0f, 10.01f), /* within */
       make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 0.0f, INFINITY),
-      make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 10.01f, 39.99f),    /* tnear past it; world tri at 40 */
+      make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 10.01f, 39.99f), /* tnear past it; world tri at 40 */
       make_ray(0.5f, 1.0f, 20.0f, 0, 0, -1, 10.01f, 40.01f),
-      make_ray(11.2f, 0.0f, 0.0f, 0, 0, 1, 0.0f, 8.39f),        /* sphere at 8.4 */
+      make_ray(11.2f, 0.0f, 0.0f, 0, 0, 1, 0.0f, 8.39f), /* sphere at 8.4 */
       make_ray(11.2f, 0.0f, 0.0f, 0, 0, 1, 0.0f, 8.41f),
-      make_ray(11.2f, 0.0f, 0.0f, 0, 0, 1, 8.41f, 11.59f),      /* between entry and exit (11.6) */
+      make_ray(11.2f, 0.0f, 0.0f, 0, 0, 1, 8.41f, 11.59f), /* between entry and exit (11.6) */
       make_ray(11.2f, 0.0f, 0.0f, 0, 0, 1, 8.41f, 11.61f),
-      make_ray(30.0f, 30.0f, 0.0f, 0, 0, 1, 0.0f, INFINITY),    /* nothing there */
+      make_ray(30.0f, 30.0f, 0.0f, 0, 0, 1, 0.0f, INFINITY), /* nothing there */
   };
   static const uint8_t expected[] = {0, 1, 1, 0, 1, 0, 1, 0, 1, 0};
   enum { N = sizeof rays / sizeof rays[0] };
@@ -574,14 +584,16 @@ static void test_bad_input(void **state) {
   tri.p[4] = 0.0f;
   clr_mesh empty = {0};
   assert_error(clr_tracer_add_mesh(t, 0, &empty, 0, &id), CLR_ERROR_SCENE, "no triangles");
-  assert_error(clr_tracer_add_sphere(t, 0, NULL, 1.0f, 0, &id), CLR_ERROR_NULL_POINTER, "object_to_group");
+  assert_error(clr_tracer_add_sphere(t, 0, NULL, 1.0f, 0, &id), CLR_ERROR_NULL_POINTER,
+               "object_to_group");
   const float bad_radii[] = {0.0f, -1.0f, NAN, INFINITY};
   for (int i = 0; i < 4; ++i)
     assert_error(clr_tracer_add_sphere(t, 0, m, bad_radii[i], 0, &id), CLR_ERROR_SCENE, "radius");
   float singular[16];
   identity(singular);
   singular[5] = 0.0f;
-  assert_error(clr_tracer_add_sphere(t, 0, singular, 1.0f, 0, &id), CLR_ERROR_SCENE, "object_to_group");
+  assert_error(clr_tracer_add_sphere(t, 0, singular, 1.0f, 0, &id), CLR_ERROR_SCENE,
+               "object_to_group");
   float projective[16];
   identity(projective);
   projective[14] = 1.0f;
@@ -604,9 +616,12 @@ static void test_bad_input(void **state) {
   assert_int_equal(clr_tracer_add_instance(t, g, m, 0), CLR_SUCCESS); /* world id 0 */
   assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
   assert_error(clr_tracer_commit(t), CLR_ERROR_INVALID_ARGUMENT, "already committed");
-  assert_error(clr_tracer_add_mesh(t, 0, &tri, 0, &id), CLR_ERROR_INVALID_ARGUMENT, "already committed");
-  assert_error(clr_tracer_add_sphere(t, 0, m, 1.0f, 0, &id), CLR_ERROR_INVALID_ARGUMENT, "already committed");
-  assert_error(clr_tracer_add_instance(t, g, m, 0), CLR_ERROR_INVALID_ARGUMENT, "already committed");
+  assert_error(clr_tracer_add_mesh(t, 0, &tri, 0, &id), CLR_ERROR_INVALID_ARGUMENT,
+               "already committed");
+  assert_error(clr_tracer_add_sphere(t, 0, m, 1.0f, 0, &id), CLR_ERROR_INVALID_ARGUMENT,
+               "already committed");
+  assert_error(clr_tracer_add_instance(t, g, m, 0), CLR_ERROR_INVALID_ARGUMENT,
+               "already committed");
   assert_error(clr_tracer_new_group(t, &g), CLR_ERROR_INVALID_ARGUMENT, "already committed");
   clr_mesh_free(&tri);
 
@@ -621,9 +636,9 @@ static void test_bad_input(void **state) {
   assert_error(clr_tracer_intersect(t, &ray, &hit, -1), CLR_ERROR_INVALID_ARGUMENT, "count -1");
   assert_error(clr_tracer_occluded(t, &ray, &occ, -3), CLR_ERROR_INVALID_ARGUMENT, "count -3");
   clr_ray bad[] = {
-      make_ray(NAN, 0, 0, 0, 0, 1, 0, INFINITY), make_ray(0, 0, INFINITY, 0, 0, 1, 0, INFINITY),
-      make_ray(0, 0, 0, 0, 0, 0, 0, INFINITY),   make_ray(0, 0, 0, 0, NAN, 1, 0, INFINITY),
-      make_ray(0, 0, 0, 0, 0, 1, -1, INFINITY),  make_ray(0, 0, 0, 0, 0, 1, 0, NAN),
+      make_ray(NAN, 0, 0, 0, 0, 1, 0, INFINITY),     make_ray(0, 0, INFINITY, 0, 0, 1, 0, INFINITY),
+      make_ray(0, 0, 0, 0, 0, 0, 0, INFINITY),       make_ray(0, 0, 0, 0, NAN, 1, 0, INFINITY),
+      make_ray(0, 0, 0, 0, 0, 1, -1, INFINITY),      make_ray(0, 0, 0, 0, 0, 1, 0, NAN),
       make_ray(0, 0, 0, 0, 0, 1, INFINITY, INFINITY)};
   clr_ray batch[20];
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
@@ -632,7 +647,8 @@ static void test_bad_input(void **state) {
     clr_hit hits[20];
     uint8_t occs[20];
     assert_error(clr_tracer_intersect(t, batch, hits, 20), CLR_ERROR_INVALID_ARGUMENT, "ray 17");
-    assert_error(clr_tracer_intersect_single(t, batch, hits, 20), CLR_ERROR_INVALID_ARGUMENT, "ray 17");
+    assert_error(clr_tracer_intersect_single(t, batch, hits, 20), CLR_ERROR_INVALID_ARGUMENT,
+                 "ray 17");
     assert_error(clr_tracer_occluded(t, batch, occs, 20), CLR_ERROR_INVALID_ARGUMENT, "ray 17");
   }
   /* a tfar below tnear is a valid empty segment */
@@ -643,16 +659,21 @@ static void test_bad_input(void **state) {
   /* interpolation of hits that are not this tracer's */
   float p[3];
   clr_hit fake = {.t = 1, .geom_id = 0, .inst_id = CLR_TRACER_INVALID_ID};
-  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT, "geom_id 0");
+  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT,
+               "geom_id 0");
   fake.inst_id = 5;
-  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT, "inst_id 5");
+  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT,
+               "inst_id 5");
   fake.inst_id = 0;
   fake.prim_id = 1;
-  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT, "prim_id 1");
+  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT,
+               "prim_id 1");
   fake.geom_id = 1;
-  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT, "geom_id 1");
+  assert_error(clr_tracer_mesh_interpolate(t, &fake, p, NULL, NULL), CLR_ERROR_INVALID_ARGUMENT,
+               "geom_id 1");
   assert_error(clr_tracer_mesh_interpolate(t, NULL, p, NULL, NULL), CLR_ERROR_NULL_POINTER, "hit");
-  assert_error(clr_tracer_mesh_interpolate(NULL, &fake, p, NULL, NULL), CLR_ERROR_NULL_POINTER, "tracer");
+  assert_error(clr_tracer_mesh_interpolate(NULL, &fake, p, NULL, NULL), CLR_ERROR_NULL_POINTER,
+               "tracer");
   clr_tracer_release(t);
 }
 

@@ -5,14 +5,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#define CHECK(call)                                                                          \
-  do {                                                                                       \
-    clr_result r_ = (call);                                                                  \
-    if (r_ != CLR_SUCCESS) {                                                                 \
-      fprintf(stderr, "%s failed: %s (%s)\n", #call, clr_result_string(r_),                  \
-              clr_last_error_message());                                                     \
-      exit(1);                                                                               \
-    }                                                                                        \
+#define CHECK(call)                                                         \
+  do {                                                                      \
+    clr_result r_ = (call);                                                 \
+    if (r_ != CLR_SUCCESS) {                                                \
+      fprintf(stderr, "%s failed: %s (%s)\n", #call, clr_result_string(r_), \
+              clr_last_error_message());                                    \
+      exit(1);                                                              \
+    }                                                                       \
   } while (0)
 
 int main(int argc, char **argv) {
@@ -64,8 +64,8 @@ int main(int argc, char **argv) {
   for (int32_t y = bounds.y0; y < bounds.y1; ++y)
     for (int32_t x = bounds.x0; x < bounds.x1; ++x)
       for (int32_t s = 0; s < spp; ++s, ++i)
-        samples[i] = (clr_film_sample){(float)x + offsets[2 * i], (float)y + offsets[2 * i + 1],
-                                       0.5f, 0.25f, 0.125f, 1.0f};
+        samples[i] = (clr_film_sample){
+            (float)x + offsets[2 * i], (float)y + offsets[2 * i + 1], 0.5f, 0.25f, 0.125f, 1.0f};
   CHECK(film_add_samples(film, samples, count));
 
   /* A constant radiance reconstructs to itself: print the image's mean to show it. */
@@ -76,8 +76,8 @@ int main(int argc, char **argv) {
   double mean[3] = {0, 0, 0};
   for (size_t p = 0; p < pixels; ++p)
     for (int c = 0; c < 3; ++c) mean[c] += rgb[3 * p + c] / (double)pixels;
-  printf("samples: %llu, mean RGB: %.6f %.6f %.6f\n",
-         (unsigned long long)film_sample_count(film), mean[0], mean[1], mean[2]);
+  printf("samples: %llu, mean RGB: %.6f %.6f %.6f\n", (unsigned long long)film_sample_count(film),
+         mean[0], mean[1], mean[2]);
 
   clr_film_write_options options;
   clr_film_write_options_init(&options);

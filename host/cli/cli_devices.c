@@ -5,10 +5,11 @@
 #include "clrender.h"
 
 static void devices_usage(FILE *f) {
-  fprintf(f, "usage: clrender devices [--help]\n"
-             "Lists every OpenCL platform and device with the index --device accepts; * marks\n"
-             "the default device (the CLRENDER_DEVICE environment variable, else the first GPU,\n"
-             "else the first device). Exit status: 0 ok, 1 no OpenCL platform, 2 usage error.\n");
+  fprintf(f,
+          "usage: clrender devices [--help]\n"
+          "Lists every OpenCL platform and device with the index --device accepts; * marks\n"
+          "the default device (the CLRENDER_DEVICE environment variable, else the first GPU,\n"
+          "else the first device). Exit status: 0 ok, 1 no OpenCL platform, 2 usage error.\n");
 }
 
 int cli_devices(int argc, char **argv) {

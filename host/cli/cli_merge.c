@@ -6,11 +6,12 @@
 #include "clrender.h"
 
 static void merge_usage(FILE *f) {
-  fprintf(f, "usage: clrender merge A.exr B.exr ... -o OUT.exr [--device D]\n"
-             "Merges films rendered with their sums (crop windows of one frame, or independent\n"
-             "sample passes of the same frame) into the image a single render would produce.\n"
-             "Resolutions, filters and scales must match. Writes OUT.exr (with the sums, so it\n"
-             "can be merged again) and its PNG preview OUT.png, and says so on stderr.\n");
+  fprintf(f,
+          "usage: clrender merge A.exr B.exr ... -o OUT.exr [--device D]\n"
+          "Merges films rendered with their sums (crop windows of one frame, or independent\n"
+          "sample passes of the same frame) into the image a single render would produce.\n"
+          "Resolutions, filters and scales must match. Writes OUT.exr (with the sums, so it\n"
+          "can be merged again) and its PNG preview OUT.png, and says so on stderr.\n");
 }
 
 int cli_merge(int argc, char **argv) {

@@ -22,14 +22,16 @@ clr_result clr_plot_samples(const char *path, clr_bounds2i pixels, int32_t spp, 
                             const float *v, const int32_t proj[2]) {
   int pw = pixels.x1 - pixels.x0, ph = pixels.y1 - pixels.y0;
   if (!path || !v || pw <= 0 || ph <= 0 || spp <= 0)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "plot: empty pixel range or no output path");
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "plot: empty pixel range or no output path");
   int longest = pw > ph ? pw : ph;
   int cell = 512 / longest;
   cell = cell < 8 ? 8 : (cell > 256 ? 256 : cell);
   int w = pw * cell + 1, h = ph * cell + 1;
   if ((size_t)w * (size_t)h > ((size_t)1 << 26))
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
-                    "plot: %dx%d pixels make too large an image; plot fewer pixels", pw, ph);
+                              "plot: %dx%d pixels make too large an image; plot fewer pixels", pw,
+                              ph);
   float *rgb = malloc((size_t)w * h * 3 * sizeof(float));
   if (!rgb) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "plot: out of memory");
   for (size_t i = 0; i < (size_t)w * h * 3; ++i) rgb[i] = 1.0f;

@@ -29,8 +29,8 @@ clr_result clr_write_pfm(const char *path, const float *rgb, int width, int heig
   }
   int ok = fprintf(f, "PF\n%d %d\n%s\n", width, height, host_is_little_endian() ? "-1" : "1") > 0;
   for (int y = height - 1; ok && y >= 0; --y)
-    ok = fwrite(rgb + (size_t)3 * (size_t)width * (size_t)y, sizeof(float), (size_t)3 * (size_t)width, f) ==
-         (size_t)3 * (size_t)width;
+    ok = fwrite(rgb + (size_t)3 * (size_t)width * (size_t)y, sizeof(float),
+                (size_t)3 * (size_t)width, f) == (size_t)3 * (size_t)width;
   ok = fclose(f) == 0 && ok;
   if (!ok || rename(tmp, path) != 0) {
     remove(tmp);

@@ -18,38 +18,38 @@ extern "C" {
 typedef int (*clr_render_progress_fn)(void *user, int32_t tiles_done, int32_t tiles_total);
 
 typedef struct clr_render_options {
-  size_t struct_size;      /* sizeof(clr_render_options), set by clr_render_options_init */
-  int32_t nthreads;        /* worker threads; 0: every core */
-  int32_t spp;             /* samples per pixel override; 0: the scene's */
-  int32_t tile_size;       /* render tile side in pixels (16); never changes the image beyond
+  size_t struct_size;   /* sizeof(clr_render_options), set by clr_render_options_init */
+  int32_t nthreads;     /* worker threads; 0: every core */
+  int32_t spp;          /* samples per pixel override; 0: the scene's */
+  int32_t tile_size;    /* render tile side in pixels (16); never changes the image beyond
                               float rounding of the film sums */
-  uint32_t seed;           /* mixed into CLR_SEEDING_PIXEL streams (0) */
-  clr_seeding seeding;     /* CLR_SEEDING_PIXEL (default) or CLR_SEEDING_PBRT_V3 */
-  const char *sampler;     /* sampler name override or NULL */
-  const char *filter;      /* filter name override (clr_filter_type_from_name names) or NULL */
-  int32_t crop_given;      /* 1: crop_window overrides the Film's "cropwindow" */
-  float crop_window[4];    /* x0 x1 y0 y1 in [0,1] */
+  uint32_t seed;        /* mixed into CLR_SEEDING_PIXEL streams (0) */
+  clr_seeding seeding;  /* CLR_SEEDING_PIXEL (default) or CLR_SEEDING_PBRT_V3 */
+  const char *sampler;  /* sampler name override or NULL */
+  const char *filter;   /* filter name override (clr_filter_type_from_name names) or NULL */
+  int32_t crop_given;   /* 1: crop_window overrides the Film's "cropwindow" */
+  float crop_window[4]; /* x0 x1 y0 y1 in [0,1] */
   int32_t xresolution, yresolution; /* overrides when > 0 */
-  const char *outfile;     /* output by extension: .exr or .pfm (PNG preview beside it), .png;
+  const char *outfile; /* output by extension: .exr or .pfm (PNG preview beside it), .png;
                               overrides the Film's "filename" */
-  const char *device;      /* OpenCL device selector (see clr_context_desc) or NULL */
-  int32_t quiet;           /* 1: no warnings on stderr */
-  int32_t progress;        /* 1: progress bar on stderr */
+  const char *device;  /* OpenCL device selector (see clr_context_desc) or NULL */
+  int32_t quiet;       /* 1: no warnings on stderr */
+  int32_t progress;    /* 1: progress bar on stderr */
   clr_render_progress_fn progress_callback; /* optional: progress and cancellation */
   void *progress_user;
   int32_t reference_samples; /* 1: samples from the single-thread host reference generator
                                 (the device's bits, slower: for comparisons) */
-  const char *kernels;     /* kernel shape: "simd", "portable" or NULL/"auto" (the device's
+  const char *kernels;       /* kernel shape: "simd", "portable" or NULL/"auto" (the device's
                               default or CLRENDER_KERNELS; see clrender/kernels.h) */
 } clr_render_options;
 
 typedef struct clr_render_stats {
-  size_t struct_size;               /* sizeof(clr_render_stats), set by clr_render_stats_init */
+  size_t struct_size; /* sizeof(clr_render_stats), set by clr_render_stats_init */
   double seconds_total, seconds_parse, seconds_build;
-  double seconds_render;            /* wall time of the tile loop */
+  double seconds_render; /* wall time of the tile loop */
   /* phase breakdown; worker phases are summed over threads (CPU seconds) */
-  double seconds_sample_generation, seconds_tracing, seconds_shading,
-      seconds_reconstruction, seconds_merge, seconds_output;
+  double seconds_sample_generation, seconds_tracing, seconds_shading, seconds_reconstruction,
+      seconds_merge, seconds_output;
   uint64_t rays, samples, dropped_samples;
   int32_t tiles_done, tiles_total, threads, spp, partial;
   char sampler[32], integrator[32];

@@ -5,10 +5,10 @@
 #include "clrender/result.h"
 
 /* Returns from the calling function when `expr` gives anything but CLR_SUCCESS. */
-#define CLR_CHECK(expr)                                                                     \
-  do {                                                                                      \
-    clr_result clr_r_ = (expr);                                                             \
-    if (clr_r_ != CLR_SUCCESS) return clr_r_;                                               \
+#define CLR_CHECK(expr)                       \
+  do {                                        \
+    clr_result clr_r_ = (expr);               \
+    if (clr_r_ != CLR_SUCCESS) return clr_r_; \
   } while (0)
 
 #endif

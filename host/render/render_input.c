@@ -14,8 +14,8 @@ clr_result clr_read_input_file(const char *path, const char *context, uint64_t m
   const char *ctx = context ? context : "";
   const char *sep = context ? ": " : "";
   if (!path || !data || !size)
-    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s%sclr_read_input_file: NULL argument",
-                              ctx, sep);
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s%sclr_read_input_file: NULL argument", ctx,
+                              sep);
   *data = NULL;
   *size = 0;
   int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
@@ -32,11 +32,12 @@ clr_result clr_read_input_file(const char *path, const char *context, uint64_t m
   else if (!S_ISREG(st.st_mode))
     r = clr_set_last_error(CLR_ERROR_IO,
                            "%s%scannot read '%s': is not a regular file (a device, FIFO or "
-                           "socket)", ctx, sep, path);
+                           "socket)",
+                           ctx, sep, path);
   else if ((uint64_t)st.st_size > max_bytes || (uint64_t)st.st_size >= SIZE_MAX)
-    r = clr_set_last_error(CLR_ERROR_FILE_FORMAT, "%s%s'%s' is too large (%llu bytes, at most %llu)",
-                           ctx, sep, path, (unsigned long long)st.st_size,
-                           (unsigned long long)max_bytes);
+    r = clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                           "%s%s'%s' is too large (%llu bytes, at most %llu)", ctx, sep, path,
+                           (unsigned long long)st.st_size, (unsigned long long)max_bytes);
   size_t want = r == CLR_SUCCESS ? (size_t)st.st_size : 0, got = 0;
   char *buffer = r == CLR_SUCCESS ? malloc(want + 1) : NULL;
   if (r == CLR_SUCCESS && !buffer)

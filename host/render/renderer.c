@@ -41,7 +41,9 @@ static double now_seconds(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-typedef struct warn_sink { int quiet; } warn_sink;
+typedef struct warn_sink {
+  int quiet;
+} warn_sink;
 static void warn_print(void *user, const char *msg) {
   const warn_sink *w = user;
   if (!w || !w->quiet) fprintf(stderr, "clrender: warning: %s\n", msg);
@@ -64,7 +66,7 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     type = CLR_SAMPLER_SOBOL;
   } else if (clr_sampler_type_from_name(name, &type) != CLR_SUCCESS) {
     return clr_set_last_error(CLR_ERROR_INVALID_SAMPLER, "%s:%d: unknown sampler \"%s\"",
-                    o->sampler ? "--sampler" : (p->file ? p->file : "?"), p->line, name);
+                              o->sampler ? "--sampler" : (p->file ? p->file : "?"), p->line, name);
   }
   clr_sampler_desc_init(sd, type);
   int same = !o->sampler || (d->sampler.type && strcmp(d->sampler.type, name) == 0);
@@ -95,11 +97,12 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
   const clr_param_list *p = &d->filter.params;
   clr_filter_type type;
   if (clr_filter_type_from_name(name, &type) != CLR_SUCCESS) {
-    if (o->filter) return clr_set_last_error(CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
+    if (o->filter)
+      return clr_set_last_error(CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
     if (warn) {
       char m[512];
-      snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"", p->file ? p->file : "?",
-               p->line, name);
+      snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"",
+               p->file ? p->file : "?", p->line, name);
       warn(wu, m);
     }
     type = CLR_FILTER_BOX;
@@ -126,11 +129,14 @@ static void warn_spp_rounding(const clr_scene_desc *d, const clr_render_options 
   if (sd->type == CLR_SAMPLER_STRATIFIED ? (o->spp <= 0 || spp == o->spp) : spp == asked) return;
   char where[600], m[800];
   const clr_param_list *p = &d->sampler.params;
-  if (o->spp > 0) snprintf(where, sizeof where, "--spp %d", (int)o->spp);
-  else snprintf(where, sizeof where, "%s:%d", p->file ? p->file : "<scene>", p->line);
+  if (o->spp > 0)
+    snprintf(where, sizeof where, "--spp %d", (int)o->spp);
+  else
+    snprintf(where, sizeof where, "%s:%d", p->file ? p->file : "<scene>", p->line);
   if (sd->type == CLR_SAMPLER_SOBOL)
-    snprintf(m, sizeof m, "%s: non power-of-two sample count rounded up to %d for the sobol sampler",
-             where, (int)spp);
+    snprintf(m, sizeof m,
+             "%s: non power-of-two sample count rounded up to %d for the sobol sampler", where,
+             (int)spp);
   else
     snprintf(m, sizeof m, "%s: the %s sampler renders %d samples per pixel", where,
              clr_sampler_type_name(sd->type), (int)spp);
@@ -182,15 +188,20 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
     const char *bad = NULL;
     int value = 0;
     if (sd->type == CLR_SAMPLER_STRATIFIED) {
-      if (sd->x_samples <= 0) bad = "xsamples", value = sd->x_samples;
-      else if (sd->y_samples <= 0) bad = "ysamples", value = sd->y_samples;
-      else if (sd->dimensions <= 0) bad = "dimensions", value = sd->dimensions;
+      if (sd->x_samples <= 0)
+        bad = "xsamples", value = sd->x_samples;
+      else if (sd->y_samples <= 0)
+        bad = "ysamples", value = sd->y_samples;
+      else if (sd->dimensions <= 0)
+        bad = "dimensions", value = sd->dimensions;
     } else if (sd->pixel_samples <= 0) {
       bad = "pixelsamples", value = sd->pixel_samples;
     }
     if (bad)
-      return clr_set_last_error(CLR_ERROR_INVALID_SPP, "%s:%d: Sampler \"%s\": \"%s\" must be "
-                                "positive, got %d", param_file(sampler), param_line(sampler, bad),
+      return clr_set_last_error(CLR_ERROR_INVALID_SPP,
+                                "%s:%d: Sampler \"%s\": \"%s\" must be "
+                                "positive, got %d",
+                                param_file(sampler), param_line(sampler, bad),
                                 clr_sampler_type_name(sd->type), bad, value);
   }
   for (int k = 0; k < 2; ++k)
@@ -200,11 +211,10 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
         return clr_set_last_error(CLR_ERROR_INVALID_RADIUS, "--filter %s: %s %g must be in (0, %g]",
                                   o->filter, name, (double)fd->radius[k],
                                   (double)CLR_FILM_MAX_FILTER_RADIUS);
-      return clr_set_last_error(CLR_ERROR_INVALID_RADIUS,
-                                "%s:%d: PixelFilter \"%s\": \"%s\" must be in (0, %g], got %g",
-                                param_file(filter), param_line(filter, name),
-                                clr_filter_type_name(fd->type), name,
-                                (double)CLR_FILM_MAX_FILTER_RADIUS, (double)fd->radius[k]);
+      return clr_set_last_error(
+          CLR_ERROR_INVALID_RADIUS, "%s:%d: PixelFilter \"%s\": \"%s\" must be in (0, %g], got %g",
+          param_file(filter), param_line(filter, name), clr_filter_type_name(fd->type), name,
+          (double)CLR_FILM_MAX_FILTER_RADIUS, (double)fd->radius[k]);
     }
   return CLR_SUCCESS;
 }
@@ -265,7 +275,8 @@ typedef struct worker_buffers {
 } worker_buffers;
 
 static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
-  return clr_mix64(((uint64_t)seed << 32) ^ clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
+  return clr_mix64(((uint64_t)seed << 32) ^
+                   clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
          (uint64_t)s * 0x9E3779B97F4A7C15ull;
 }
 
@@ -280,11 +291,16 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     const float *v = values + (size_t)k * (size_t)it->values_per_sample;
     fs[k].x = (float)px + v[0];
     fs[k].y = (float)py + v[1];
-    b->weights[k] = clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
+    b->weights[k] =
+        clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
     b->keys[k] = sample_key(job->seed, px, py, s);
-    if (++s == spp) { s = 0; ++px; }
+    if (++s == spp) {
+      s = 0;
+      ++px;
+    }
   }
-  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, values, b->keys, n, b->L, counters));
+  CLR_CHECK(
+      clr_integrator_li(it, job->scene, scratch, b->rays, values, b->keys, n, b->L, counters));
   for (int k = 0; k < n; ++k) {
     fs[k].r = b->L[3 * k];
     fs[k].g = b->L[3 * k + 1];
@@ -312,7 +328,8 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
   for (int ly = 0; ly < h; ++ly) {
     int py = tile->pixels.y0 + ly;
     size_t first = ((size_t)(py - band->pixels.y0) * (size_t)band_w +
-                    (size_t)(tile->pixels.x0 - band->pixels.x0)) * spp;
+                    (size_t)(tile->pixels.x0 - band->pixels.x0)) *
+                   spp;
     for (size_t base = 0; base < row; base += CHUNK_SAMPLES) {
       int n = (int)(row - base < CHUNK_SAMPLES ? row - base : CHUNK_SAMPLES);
       CLR_CHECK(shade_run(job, b, scratch, counters, tile->pixels.x0 + (int)(base / spp), py,
@@ -345,8 +362,9 @@ static void *worker_main(void *arg) {
     job->busy++;
     pthread_mutex_unlock(&job->mutex);
     double t0 = now_seconds();
-    clr_result r = scratch && buffers ? shade_tile(job, tile, buffers, scratch, &counters, &recon)
-                                      : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render worker");
+    clr_result r = scratch && buffers
+                       ? shade_tile(job, tile, buffers, scratch, &counters, &recon)
+                       : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render worker");
     busy += now_seconds() - t0;
     pthread_mutex_lock(&job->mutex);
     tile->result = r;
@@ -377,7 +395,8 @@ static void progress_bar(int done, int total, double elapsed) {
   for (int i = 0; i < width; ++i) bar[i] = i < filled ? '=' : ' ';
   bar[width] = 0;
   double eta = done ? elapsed * (double)(total - done) / (double)done : 0.0;
-  fprintf(stderr, "\r[%s] %d/%d tiles  %.1fs elapsed  ~%.1fs left ", bar, done, total, elapsed, eta);
+  fprintf(stderr, "\r[%s] %d/%d tiles  %.1fs elapsed  ~%.1fs left ", bar, done, total, elapsed,
+          eta);
   if (done == total) fputc('\n', stderr);
   fflush(stderr);
 }
@@ -412,7 +431,8 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
     free(band->values);
     band->values = malloc(need * sizeof *band->values);
     band->values_cap = band->values ? need : 0;
-    if (!band->values) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
+    if (!band->values)
+      return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
   batch->pixels = px;
   clr_sample_output out;
@@ -459,7 +479,10 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       r = generate_band(job, sampler, &batch, g, next_gen, bi, &n);
       st->seconds_sample_generation += now_seconds() - t0;
       pthread_mutex_lock(&job->mutex);
-      if (r != CLR_SUCCESS) { job->bands[bi].in_use = 0; break; }
+      if (r != CLR_SUCCESS) {
+        job->bands[bi].in_use = 0;
+        break;
+      }
       job->bands[bi].unfinished = n;
       for (int t = next_gen; t < next_gen + n; ++t) job->tiles[t].state = TILE_READY;
       next_gen += n;
@@ -602,10 +625,12 @@ static clr_result output_paths(const char *path, clr_render_stats *st) {
     if (dot && (!slash || dot > slash))
       return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
                                 "output \"%s\": unknown image extension \"%s\" (clrender writes "
-                                ".exr, .png and .pfm)", path, dot);
+                                ".exr, .png and .pfm)",
+                                path, dot);
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
                               "output \"%s\" has no image extension (clrender writes .exr, .png "
-                              "and .pfm)", path);
+                              "and .pfm)",
+                              path);
   }
   snprintf(exr ? st->exr_path : st->pfm_path, sizeof st->exr_path, "%s", path);
   snprintf(st->png_path, sizeof st->png_path, "%.*s.png", (int)(strlen(path) - 4), path);
@@ -620,8 +645,9 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_render_options_init(&defaults);
   const clr_render_options *o = opts ? opts : &defaults;
   if (o->struct_size != sizeof *o)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_render_options.struct_size %zu, expected %zu",
-                    o->struct_size, sizeof *o);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "clr_render_options.struct_size %zu, expected %zu", o->struct_size,
+                              sizeof *o);
   clr_render_stats local;
   clr_render_stats_init(&local);
   clr_render_stats *st = &local;
@@ -658,7 +684,10 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
   clr_integrator integ;
   r = clr_integrator_create(d, scene, warn, wu, &integ);
-  if (r != CLR_SUCCESS) { clr_render_scene_free(scene); return r; }
+  if (r != CLR_SUCCESS) {
+    clr_render_scene_free(scene);
+    return r;
+  }
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
   st->seconds_build = now_seconds() - t0;
 
@@ -694,7 +723,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     r = clr_sampler_create(ctx, &sdesc, &sampler);
   }
   if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
-  if (r == CLR_SUCCESS) r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
+  if (r == CLR_SUCCESS)
+    r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
   if (r == CLR_SUCCESS) {
     render_job job;
@@ -710,8 +740,9 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
     snprintf(st->integrator, sizeof st->integrator, "%s",
-             integ.type == CLR_INTEGRATOR_AO ? "ambientocclusion"
-             : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting" : "path");
+             integ.type == CLR_INTEGRATOR_AO       ? "ambientocclusion"
+             : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting"
+                                                   : "path");
     double tr = now_seconds();
     r = render_tiles(&job, sampler, o, nthreads, st);
     st->seconds_render = now_seconds() - tr;
@@ -729,7 +760,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     im.width = im.pixel_bounds.x1 - im.pixel_bounds.x0;
     im.height = im.pixel_bounds.y1 - im.pixel_bounds.y0;
     im.rgb = malloc((size_t)im.width * (size_t)im.height * 3 * sizeof(float));
-    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f) : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
+    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f)
+               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
     st->samples = film_sample_count(film);
     st->dropped_samples = film_dropped_samples(film);
   }
@@ -746,12 +778,15 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     wo.metadata_values = vals;
     wo.metadata_count = 1;
     if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
-    if (r == CLR_SUCCESS && st->pfm_path[0]) r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
+    if (r == CLR_SUCCESS && st->pfm_path[0])
+      r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
     if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
     st->seconds_output = now_seconds() - tw;
   }
-  if (r == CLR_SUCCESS && image) *image = im;
-  else free(im.rgb);
+  if (r == CLR_SUCCESS && image)
+    *image = im;
+  else
+    free(im.rgb);
   if (sampler) clr_sampler_release(sampler);
   if (film) film_release(film);
   if (ctx) clr_context_release(ctx);
@@ -768,7 +803,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
 
 clr_result clr_render_file(const char *path, const clr_render_options *opts,
                            clr_render_stats *stats) {
-  if (!path) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
+  if (!path)
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
   warn_sink sink = {opts ? opts->quiet : 0};
   clr_parse_options po;
   clr_parse_options_init(&po);

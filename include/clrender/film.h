@@ -59,13 +59,13 @@ typedef struct clr_film_t *clr_film;
 typedef struct clr_film_tile_t *clr_film_tile;
 
 typedef struct clr_film_desc {
-  size_t struct_size;              /* sizeof(clr_film_desc), set by clr_film_desc_init */
+  size_t struct_size;                 /* sizeof(clr_film_desc), set by clr_film_desc_init */
   int32_t x_resolution, y_resolution; /* 1280 x 720 */
-  float crop_window[4];            /* x0 x1 y0 y1 in [0,1] (pbrt order, min/max sorted); 0 1 0 1 */
-  float scale;                     /* 1 */
-  float max_sample_luminance;      /* INFINITY: no clamp; must be > 0 */
-  clr_filter_desc filter;          /* pbrt-v3 box, radius 0.5 */
-  int32_t accumulation_tile_size;  /* 4..64, default 16: pixels of a row one work-item
+  float crop_window[4];           /* x0 x1 y0 y1 in [0,1] (pbrt order, min/max sorted); 0 1 0 1 */
+  float scale;                    /* 1 */
+  float max_sample_luminance;     /* INFINITY: no clamp; must be > 0 */
+  clr_filter_desc filter;         /* pbrt-v3 box, radius 0.5 */
+  int32_t accumulation_tile_size; /* 4..64, default 16: pixels of a row one work-item
                                       accumulates; performance only, never the result */
 } clr_film_desc;
 
@@ -113,7 +113,8 @@ CLR_API clr_result film_add_splat(clr_film film, float x, float y, float r, floa
 CLR_API clr_result film_get_tile(clr_film film, clr_bounds2i sample_region, clr_film_tile *out);
 CLR_API clr_bounds2i film_tile_pixel_bounds(clr_film_tile tile);
 /* Same math and checks as film_add_samples, on the host, into the tile's float sums. */
-CLR_API clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samples, size_t count);
+CLR_API clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samples,
+                                         size_t count);
 /* Adds the tile's per-pixel sums (float, into the film's double sums) and counters under the
  * film's mutex. A tile merges once (again -> CLR_ERROR_INVALID_TILE), into its own film only.
  * Merging tiles in a fixed order is deterministic; the result equals one film_add_samples call
@@ -126,13 +127,14 @@ CLR_API void film_tile_release(clr_film_tile tile);
 CLR_API clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale);
 /* Raw sums over the pixel bounds (row-major): rgb_sum and splat_rgb 3 per pixel, weight_sum 1;
  * any may be NULL (not all). */
-CLR_API clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb);
+CLR_API clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum,
+                                 double *splat_rgb);
 /* Adds sums laid out over `region` (row-major, region-sized, same layout as film_get_sums) into
  * dst; the region must lie inside dst's pixel bounds (else CLR_ERROR_INVALID_PIXEL_RANGE). Any
  * array may be NULL (not all). A pixel with a NaN or infinite value is skipped and counted in
  * film_dropped_samples, as film_add_samples drops such samples. */
 CLR_API clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
-                           const double *weight_sum, const double *splat_rgb);
+                                   const double *weight_sum, const double *splat_rgb);
 
 /* The film's geometry as a sampler needs it (resolution, crop window, filter radius), e.g.
  * film_get_geometry(film, &sampler_desc.film): the sampler's sample bounds are then the film's. */
@@ -149,14 +151,14 @@ CLR_API const clr_film_desc *film_get_desc(clr_film film);
  * splat.R/G/B as float32, each with a ".lo" float32 residual (value = channel + channel.lo), so
  * the double sums survive to ~48 bits. Files are written to a temporary name and renamed. */
 typedef struct clr_film_write_options {
-  size_t struct_size;      /* sizeof, set by clr_film_write_options_init */
-  int32_t half;            /* 0: float32 RGB (default); 1: half RGB */
-  int32_t include_sums;    /* 1 (default): raw sum channels for merging */
-  float splat_scale;       /* 1 */
-  const char *sampler;     /* e.g. "sobol" (metadata; NULL: omitted) */
-  int32_t spp;             /* metadata; 0: omitted */
-  double render_time_s;    /* metadata; < 0: omitted */
-  int32_t partial;         /* 1: marks an interrupted render */
+  size_t struct_size;               /* sizeof, set by clr_film_write_options_init */
+  int32_t half;                     /* 0: float32 RGB (default); 1: half RGB */
+  int32_t include_sums;             /* 1 (default): raw sum channels for merging */
+  float splat_scale;                /* 1 */
+  const char *sampler;              /* e.g. "sobol" (metadata; NULL: omitted) */
+  int32_t spp;                      /* metadata; 0: omitted */
+  double render_time_s;             /* metadata; < 0: omitted */
+  int32_t partial;                  /* 1: marks an interrupted render */
   const char *const *metadata_keys; /* extra string attributes */
   const char *const *metadata_values;
   int32_t metadata_count;
@@ -177,9 +179,9 @@ CLR_API clr_result film_write_png(clr_film film, const char *path, float splat_s
  * frame) into the image a single render would have produced and writes it (with sums) to
  * `out_path`. Refuses mismatched resolutions or filters and files without sum channels. */
 CLR_API clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t count,
-                            const char *out_path);
+                                    const char *out_path);
 
-CLR_API uint64_t film_sample_count(clr_film film);   /* accepted samples */
+CLR_API uint64_t film_sample_count(clr_film film);    /* accepted samples */
 CLR_API uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */
 CLR_API uint64_t film_outside_samples(clr_film film); /* samples outside the sample bounds */
 

@@ -50,12 +50,14 @@ static inline const char *fuzz_file_write(fuzz_file *f, const uint8_t *data, siz
  * (clr_last_error_message()) and every warning: handy when writing seeds. */
 static inline int fuzz_verbose(void) {
   static int verbose = -1;
-  if (verbose < 0) verbose = getenv("CLR_FUZZ_VERBOSE") && strcmp(getenv("CLR_FUZZ_VERBOSE"), "1") == 0;
+  if (verbose < 0)
+    verbose = getenv("CLR_FUZZ_VERBOSE") && strcmp(getenv("CLR_FUZZ_VERBOSE"), "1") == 0;
   return verbose;
 }
 
 static inline void fuzz_report(const char *step, clr_result r) {
-  if (fuzz_verbose() && r != CLR_SUCCESS) fprintf(stderr, "  %s: %s\n", step, clr_last_error_message());
+  if (fuzz_verbose() && r != CLR_SUCCESS)
+    fprintf(stderr, "  %s: %s\n", step, clr_last_error_message());
 }
 
 static inline void fuzz_ignore_warning(void *user, const char *message) {

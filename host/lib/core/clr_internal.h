@@ -23,26 +23,26 @@ void clr_clear_error(void);
 const char *clr_cl_error_name(cl_int err);
 
 /* Checks an OpenCL call returning cl_int; on failure returns CLR_ERROR_OPENCL naming the call. */
-#define CLR_CL_CHECK(ctx, call)                                                             \
-  do {                                                                                      \
-    cl_int clr_cl_err_ = (call);                                                            \
-    if (clr_cl_err_ != CL_SUCCESS)                                                          \
-      return clr_fail((ctx), CLR_ERROR_OPENCL, "%s failed: %s (%d)", #call,                \
-                      clr_cl_error_name(clr_cl_err_), (int)clr_cl_err_);                   \
+#define CLR_CL_CHECK(ctx, call)                                             \
+  do {                                                                      \
+    cl_int clr_cl_err_ = (call);                                            \
+    if (clr_cl_err_ != CL_SUCCESS)                                          \
+      return clr_fail((ctx), CLR_ERROR_OPENCL, "%s failed: %s (%d)", #call, \
+                      clr_cl_error_name(clr_cl_err_), (int)clr_cl_err_);    \
   } while (0)
 
 /* Same, for calls that report through an errcode_ret argument already stored in `err`. */
-#define CLR_CL_CHECK_ERR(ctx, err, what)                                                    \
-  do {                                                                                      \
-    if ((err) != CL_SUCCESS)                                                                \
-      return clr_fail((ctx), CLR_ERROR_OPENCL, "%s failed: %s (%d)", (what),               \
-                      clr_cl_error_name(err), (int)(err));                                  \
+#define CLR_CL_CHECK_ERR(ctx, err, what)                                     \
+  do {                                                                       \
+    if ((err) != CL_SUCCESS)                                                 \
+      return clr_fail((ctx), CLR_ERROR_OPENCL, "%s failed: %s (%d)", (what), \
+                      clr_cl_error_name(err), (int)(err));                   \
   } while (0)
 
-#define CLR_CHECK(expr)                                                                     \
-  do {                                                                                      \
-    clr_result clr_r_ = (expr);                                                             \
-    if (clr_r_ != CLR_SUCCESS) return clr_r_;                                               \
+#define CLR_CHECK(expr)                       \
+  do {                                        \
+    clr_result clr_r_ = (expr);               \
+    if (clr_r_ != CLR_SUCCESS) return clr_r_; \
   } while (0)
 
 /* Returns the program built from embedded entry file `name` with the build options

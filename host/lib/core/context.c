@@ -99,23 +99,22 @@ static clr_result enumerate_devices(device_entry *entries, int capacity, int *co
       cl_device_type type = 0;
       cl_uint units = 0;
       cl_ulong mem = 0;
-      CLR_CL_CHECK(NULL, clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME,
-                                           sizeof e->info.platform_name - 1,
-                                           e->info.platform_name, NULL));
-      CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DEVICE_NAME,
-                                         sizeof e->info.device_name - 1, e->info.device_name,
-                                         NULL));
-      CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DEVICE_VERSION,
-                                         sizeof e->info.device_version - 1,
-                                         e->info.device_version, NULL));
-      CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DRIVER_VERSION,
-                                         sizeof e->info.driver_version - 1,
-                                         e->info.driver_version, NULL));
+      CLR_CL_CHECK(
+          NULL, clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof e->info.platform_name - 1,
+                                  e->info.platform_name, NULL));
+      CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DEVICE_NAME, sizeof e->info.device_name - 1,
+                                         e->info.device_name, NULL));
+      CLR_CL_CHECK(NULL,
+                   clGetDeviceInfo(devices[d], CL_DEVICE_VERSION, sizeof e->info.device_version - 1,
+                                   e->info.device_version, NULL));
+      CLR_CL_CHECK(NULL,
+                   clGetDeviceInfo(devices[d], CL_DRIVER_VERSION, sizeof e->info.driver_version - 1,
+                                   e->info.driver_version, NULL));
       CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DEVICE_TYPE, sizeof type, &type, NULL));
       CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DEVICE_MAX_COMPUTE_UNITS, sizeof units,
                                          &units, NULL));
-      CLR_CL_CHECK(NULL, clGetDeviceInfo(devices[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof mem, &mem,
-                                         NULL));
+      CLR_CL_CHECK(NULL,
+                   clGetDeviceInfo(devices[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof mem, &mem, NULL));
       e->info.is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;
       e->info.compute_units = units;
       e->info.global_memory_bytes = mem;
@@ -222,10 +221,10 @@ static clr_result query_device(clr_context ctx, const device_entry *e) {
   size_t items[3] = {0, 0, 0}, max_group = 0;
   cl_uint dims = 0;
   cl_bool available = CL_TRUE, compiler = CL_TRUE;
-  CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_PROFILE, sizeof profile - 1, profile,
-                                     NULL));
-  if (clGetDeviceInfo(ctx->device, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions,
-                      NULL) != CL_SUCCESS)
+  CLR_CL_CHECK(NULL,
+               clGetDeviceInfo(ctx->device, CL_DEVICE_PROFILE, sizeof profile - 1, profile, NULL));
+  if (clGetDeviceInfo(ctx->device, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL) !=
+      CL_SUCCESS)
     extensions[0] = 0;
   CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_TYPE, sizeof type, &type, NULL));
   CLR_CL_CHECK(NULL, clGetDeviceInfo(ctx->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group,
@@ -240,8 +239,7 @@ static clr_result query_device(clr_context ctx, const device_entry *e) {
   clGetDeviceInfo(ctx->device, CL_DEVICE_AVAILABLE, sizeof available, &available, NULL);
   clGetDeviceInfo(ctx->device, CL_DEVICE_COMPILER_AVAILABLE, sizeof compiler, &compiler, NULL);
   if (!available)
-    return clr_fail(NULL, CLR_ERROR_NO_DEVICE, "%s: the device is not available",
-                    ctx->device_name);
+    return clr_fail(NULL, CLR_ERROR_NO_DEVICE, "%s: the device is not available", ctx->device_name);
   if (!compiler)
     return clr_fail(NULL, CLR_ERROR_NO_DEVICE,
                     "%s: the device has no OpenCL C compiler (the kernels are built from source)",
@@ -284,8 +282,8 @@ clr_result clr_context_create(const clr_context_desc *desc, clr_context *out) {
   ctx->is_gpu = entries[chosen].info.is_gpu;
   ctx->callback = desc->error_callback;
   ctx->callback_user = desc->error_user;
-  snprintf(ctx->device_name, sizeof ctx->device_name, "%s: %s",
-           entries[chosen].info.platform_name, entries[chosen].info.device_name);
+  snprintf(ctx->device_name, sizeof ctx->device_name, "%s: %s", entries[chosen].info.platform_name,
+           entries[chosen].info.device_name);
   pthread_mutex_init(&ctx->lock, NULL);
 
   cl_device_fp_config fp = 0;
@@ -353,15 +351,19 @@ clr_result clr_kernel_shape_from_name(const char *name, clr_kernel_shape *out) {
 
 const char *clr_kernel_shape_name(clr_kernel_shape shape) {
   switch (shape) {
-    case CLR_KERNELS_AUTO: return "auto";
-    case CLR_KERNELS_SIMD: return "simd";
-    case CLR_KERNELS_PORTABLE: return "portable";
+    case CLR_KERNELS_AUTO:
+      return "auto";
+    case CLR_KERNELS_SIMD:
+      return "simd";
+    case CLR_KERNELS_PORTABLE:
+      return "portable";
   }
   return "unknown";
 }
 
 clr_result clr_context_set_kernel_shape(clr_context ctx, clr_kernel_shape shape) {
-  if (!ctx) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_context_set_kernel_shape: ctx is NULL");
+  if (!ctx)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_context_set_kernel_shape: ctx is NULL");
   if (shape != CLR_KERNELS_AUTO && shape != CLR_KERNELS_SIMD && shape != CLR_KERNELS_PORTABLE)
     return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT, "clr_context_set_kernel_shape: bad shape %d",
                     (int)shape);
@@ -400,9 +402,10 @@ clr_result clr_context_launch(clr_context ctx, cl_kernel kernel, size_t items, s
   size_t global = (items + local - 1) / local * local;
   cl_int err = clEnqueueNDRangeKernel(ctx->queue, kernel, 1, NULL, &global, &local, 0, NULL, NULL);
   if (err != CL_SUCCESS)
-    return clr_fail(ctx, CLR_ERROR_OPENCL,
-                    "clEnqueueNDRangeKernel(%s, %zu work-items, groups of %zu) failed on %s: %s (%d)",
-                    name, items, local, ctx->device_name, clr_cl_error_name(err), (int)err);
+    return clr_fail(
+        ctx, CLR_ERROR_OPENCL,
+        "clEnqueueNDRangeKernel(%s, %zu work-items, groups of %zu) failed on %s: %s (%d)", name,
+        items, local, ctx->device_name, clr_cl_error_name(err), (int)err);
   return CLR_SUCCESS;
 }
 
@@ -443,8 +446,8 @@ static clr_result build_program(clr_context ctx, const clr_embedded_kernel *src,
     clr_result r = clr_fail(ctx, CLR_ERROR_KERNEL_BUILD,
                             "clBuildProgram failed for %s (options \"%s\") on %s: %s (%d)\n"
                             "build log:\n%s",
-                            src->name, options, ctx->device_name, clr_cl_error_name(err),
-                            (int)err, log ? log : "(no memory for the log)");
+                            src->name, options, ctx->device_name, clr_cl_error_name(err), (int)err,
+                            log ? log : "(no memory for the log)");
     free(log);
     clReleaseProgram(program);
     return r;
@@ -465,7 +468,8 @@ clr_result clr_context_program(clr_context ctx, const char *name, const char *de
   if (!src) return clr_fail(ctx, CLR_ERROR_INTERNAL, "no embedded kernel file named %s", name);
   pthread_mutex_lock(&ctx->lock);
   for (int i = 0; i < ctx->program_count; ++i) {
-    if (strcmp(ctx->programs[i].name, name) == 0 && strcmp(ctx->programs[i].defines, defines) == 0) {
+    if (strcmp(ctx->programs[i].name, name) == 0 &&
+        strcmp(ctx->programs[i].defines, defines) == 0) {
       *program = ctx->programs[i].program;
       pthread_mutex_unlock(&ctx->lock);
       return CLR_SUCCESS;
@@ -494,8 +498,8 @@ clr_result clr_context_kernel(clr_context ctx, const char *program_name, const c
   cl_int err = CL_SUCCESS;
   *kernel = clCreateKernel(program, kernel_name, &err);
   if (err != CL_SUCCESS)
-    return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateKernel(%s in %s) failed: %s (%d)",
-                    kernel_name, program_name, clr_cl_error_name(err), (int)err);
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateKernel(%s in %s) failed: %s (%d)", kernel_name,
+                    program_name, clr_cl_error_name(err), (int)err);
   return CLR_SUCCESS;
 }
 
@@ -516,8 +520,8 @@ clr_result clr_context_shared_buffer(clr_context ctx, const char *key, const voi
     r = clr_fail(ctx, CLR_ERROR_INTERNAL, "shared buffer table full or key %s too long", key);
   } else {
     cl_int err = CL_SUCCESS;
-    cl_mem mem = clCreateBuffer(ctx->cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes,
-                                (void *)data, &err);
+    cl_mem mem =
+        clCreateBuffer(ctx->cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, (void *)data, &err);
     if (err != CL_SUCCESS) {
       r = clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(%s, %zu bytes) failed: %s (%d)", key,
                    bytes, clr_cl_error_name(err), (int)err);

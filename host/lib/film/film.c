@@ -77,7 +77,9 @@ clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out
   clr_clear_error();
   if (!ctx || !desc || !out)
     return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "film_create: %s is NULL",
-                    !ctx ? "ctx" : !desc ? "desc" : "out");
+                    !ctx    ? "ctx"
+                    : !desc ? "desc"
+                            : "out");
   *out = NULL;
   clr_film_desc full;
   clr_film_desc_init(&full);
@@ -229,8 +231,8 @@ clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale) {
 
 clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, double *splat_rgb) {
   if (!film || (!rgb_sum && !weight_sum && !splat_rgb))
-    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER,
-                    "film_get_sums: %s is NULL", !film ? "film" : "every output");
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_get_sums: %s is NULL",
+                    !film ? "film" : "every output");
   pthread_mutex_lock(&film->lock);
   size_t n = film->pixel_count;
   if (rgb_sum) memcpy(rgb_sum, film->rgb_sum, n * 3 * sizeof(double));
@@ -243,8 +245,8 @@ clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, dou
 clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
                            const double *weight_sum, const double *splat_rgb) {
   if (!dst || (!rgb_sum && !weight_sum && !splat_rgb))
-    return clr_fail(dst ? dst->ctx : NULL, CLR_ERROR_NULL_POINTER,
-                    "film_merge_sums: %s is NULL", !dst ? "dst" : "every input");
+    return clr_fail(dst ? dst->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_merge_sums: %s is NULL",
+                    !dst ? "dst" : "every input");
   const clr_film_params *p = &dst->params;
   if (region.x0 >= region.x1 || region.y0 >= region.y1 || region.x0 < p->pixel_x0 ||
       region.y0 < p->pixel_y0 || region.x1 > p->pixel_x1 || region.y1 > p->pixel_y1)
@@ -287,5 +289,9 @@ static uint64_t read_counter(clr_film film, const uint64_t *counter) {
 }
 
 uint64_t film_sample_count(clr_film film) { return film ? read_counter(film, &film->accepted) : 0; }
-uint64_t film_dropped_samples(clr_film film) { return film ? read_counter(film, &film->dropped) : 0; }
-uint64_t film_outside_samples(clr_film film) { return film ? read_counter(film, &film->outside) : 0; }
+uint64_t film_dropped_samples(clr_film film) {
+  return film ? read_counter(film, &film->dropped) : 0;
+}
+uint64_t film_outside_samples(clr_film film) {
+  return film ? read_counter(film, &film->outside) : 0;
+}

@@ -32,8 +32,7 @@ static clr_i32 prepare(clr_film film, const clr_film_sample *s, clr_film_prepare
 
 /* Whether prepared sample s reaches a pixel of the pixel bounds. */
 static int reaches_film(const clr_film_params *p, const clr_film_prepared *s) {
-  return s->x1 >= p->pixel_x0 && s->x0 < p->pixel_x1 && s->y1 >= p->pixel_y0 &&
-         s->y0 < p->pixel_y1;
+  return s->x1 >= p->pixel_x0 && s->x0 < p->pixel_x1 && s->y1 >= p->pixel_y0 && s->y0 < p->pixel_y1;
 }
 
 /* A sample between the two binning passes: its bin column (key) and binned values. */
@@ -49,10 +48,10 @@ typedef struct bin_part {
   const clr_film_sample *samples;
   size_t begin, end;
   const clr_film_grid *grid;
-  uint32_t *rows;     /* per key row: count (pass 1), then fill position (pass 2) */
-  uint32_t *columns;  /* pass 3: per bin column, bins_x + 1 */
+  uint32_t *rows;    /* per key row: count (pass 1), then fill position (pass 2) */
+  uint32_t *columns; /* pass 3: per bin column, bins_x + 1 */
   int32_t row_begin, row_end;
-  float *dst;         /* pass 3 */
+  float *dst; /* pass 3 */
   int pass;
   /* pass 1 results */
   int32_t bx0, by0, bx1, by1, reach_x, reach_y;
@@ -138,8 +137,7 @@ static void column_part(bin_part *t) {
     }
     for (uint32_t i = first; i < last; ++i) {
       const row_entry *e = &b->rowed[i];
-      memcpy(t->dst + (size_t)t->columns[e->column]++ * CLR_FILM_BINNED_FLOATS, e->v,
-             sizeof e->v);
+      memcpy(t->dst + (size_t)t->columns[e->column]++ * CLR_FILM_BINNED_FLOATS, e->v, sizeof e->v);
     }
   }
 }
@@ -152,9 +150,12 @@ typedef struct bin_set {
 
 static void *run_part(void *arg) {
   bin_part *t = arg;
-  if (t->pass == 1) key_part(t);
-  else if (t->pass == 2) row_part(t);
-  else column_part(t);
+  if (t->pass == 1)
+    key_part(t);
+  else if (t->pass == 2)
+    row_part(t);
+  else
+    column_part(t);
   return NULL;
 }
 
@@ -168,8 +169,10 @@ static void run_parts(bin_part *parts, int n, int pass) {
     started[i] = pthread_create(&threads[i], NULL, run_part, &parts[i]) == 0;
   run_part(&parts[n - 1]);
   for (int i = 0; i + 1 < n; ++i) {
-    if (started[i]) pthread_join(threads[i], NULL);
-    else run_part(&parts[i]);
+    if (started[i])
+      pthread_join(threads[i], NULL);
+    else
+      run_part(&parts[i]);
   }
 }
 
@@ -241,14 +244,13 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
       !grow((void **)&b->rowed, &b->rowed_cap, *binned, sizeof *b->rowed) ||
       !grow((void **)&b->columns, &b->columns_cap, ((size_t)g->bins_x + 1) * CLR_FILM_BIN_THREADS,
             sizeof *b->columns))
-    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY,
-                    "film_add_samples: no memory for %zu bins", nbins);
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for %zu bins",
+                    nbins);
   /* Exclusive prefix over key rows; inside a row, part i's samples follow part i - 1's. */
   const size_t row0 = (size_t)(g->bin_y0 - (film->params.pixel_y0 - KEY_MARGIN));
   uint32_t at = 0;
   for (size_t r = 0; r < rows; ++r) {
-    if (r >= row0 && r < row0 + (size_t)g->bins_y)
-      b->starts[(r - row0) * (size_t)g->bins_x] = at;
+    if (r >= row0 && r < row0 + (size_t)g->bins_y) b->starts[(r - row0) * (size_t)g->bins_x] = at;
     for (int i = 0; i < n; ++i) {
       uint32_t c = parts[i].rows[r];
       parts[i].rows[r] = at;
@@ -284,8 +286,10 @@ static clr_result ensure_buffer(clr_film film, cl_mem *buf, size_t *have, size_t
   *buf = clCreateBuffer(clr_context_cl_context(film->ctx), flags, size, NULL, &err);
   if (err != CL_SUCCESS) {
     *buf = NULL;
-    return clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples: clCreateBuffer(%s, %zu bytes) "
-                    "failed: %s (%d)", what, size, clr_cl_error_name(err), (int)err);
+    return clr_fail(film->ctx, CLR_ERROR_OPENCL,
+                    "film_add_samples: clCreateBuffer(%s, %zu bytes) "
+                    "failed: %s (%d)",
+                    what, size, clr_cl_error_name(err), (int)err);
   }
   *have = size;
   return CLR_SUCCESS;
@@ -296,9 +300,9 @@ static clr_result upload_table(clr_film film) {
   size_t have = 0;
   CLR_CHECK(ensure_buffer(film, &d->table, &have, sizeof film->factors, CL_MEM_READ_ONLY,
                           "filter table factors"));
-  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->table, CL_TRUE,
-                                               0, sizeof film->factors, film->factors, 0, NULL,
-                                               NULL));
+  CLR_CL_CHECK(film->ctx,
+               clEnqueueWriteBuffer(clr_context_cl_queue(film->ctx), d->table, CL_TRUE, 0,
+                                    sizeof film->factors, film->factors, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
@@ -326,8 +330,7 @@ static clr_result ensure_kernel(clr_film film) {
 
 /* Uploads the chunk's binned samples (scattered straight into the mapped device buffer) and bin
  * starts. */
-static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *g,
-                              size_t binned) {
+static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *g, size_t binned) {
   clr_film_device *d = &film->dev;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
@@ -341,9 +344,9 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
   scatter_chunk(set, dst);
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
-  CLR_CL_CHECK(film->ctx, clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0,
-                                               (nbins + 1) * sizeof(uint32_t), film->bins.starts,
-                                               0, NULL, NULL));
+  CLR_CL_CHECK(film->ctx,
+               clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0, (nbins + 1) * sizeof(uint32_t),
+                                    film->bins.starts, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
@@ -351,8 +354,8 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
 static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   clr_film_device *d = &film->dev;
   size_t bytes = binned * (size_t)g->weighed_floats * sizeof(float);
-  CLR_CHECK(ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE,
-                          "weighed"));
+  CLR_CHECK(
+      ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE, "weighed"));
   cl_kernel k = d->weigh;
   cl_uint n = (cl_uint)binned;
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->filter, &film->filter));
@@ -450,7 +453,12 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
   const clr_film_params *p = &film->params;
   for (size_t i = 0; i < binned; ++i) {
     const float *v = b->binned + i * CLR_FILM_BINNED_FLOATS;
-    clr_film_prepared s = {v[0], v[1], v[2], v[3], v[4], v[5],
+    clr_film_prepared s = {v[0],
+                           v[1],
+                           v[2],
+                           v[3],
+                           v[4],
+                           v[5],
                            clr_film_first_pixel(v[0], film->filter.radius_x),
                            clr_film_last_pixel(v[0], film->filter.radius_x),
                            clr_film_first_pixel(v[1], film->filter.radius_y),
@@ -462,7 +470,8 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x) {
         size_t pix = (size_t)(y - g.out_y0) * (size_t)g.out_w + (size_t)(x - g.out_x0);
-        clr_film_accumulate(&film->filter, film->factors, &s, x, y, b->sums + pix * CLR_FILM_SUM_FLOATS);
+        clr_film_accumulate(&film->filter, film->factors, &s, x, y,
+                            b->sums + pix * CLR_FILM_SUM_FLOATS);
       }
   }
   out->block = (clr_bounds2i){g.out_x0, g.out_y0, g.out_x0 + g.out_w, g.out_y0 + g.out_h};
@@ -481,8 +490,8 @@ clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums)
   if (!sums->mapped) return CLR_SUCCESS;
   sums->mapped = 0;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
-  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, film->dev.sums, (void *)sums->sums, 0, NULL,
-                                                  NULL));
+  CLR_CL_CHECK(film->ctx,
+               clEnqueueUnmapMemObject(q, film->dev.sums, (void *)sums->sums, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 

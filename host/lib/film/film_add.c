@@ -4,13 +4,11 @@
 #include "clr_internal.h"
 #include "film_internal.h"
 
-static clr_result check_add_args(clr_film film, const void *samples, size_t count,
-                                 const char *fn) {
+static clr_result check_add_args(clr_film film, const void *samples, size_t count, const char *fn) {
   if (!film || !samples)
     return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
                     !film ? "film" : "samples");
-  if (count == 0)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "%s: count is 0", fn);
+  if (count == 0) return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "%s: count is 0", fn);
   if (count > UINT32_MAX)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "%s: count %zu exceeds %u", fn, count,
                     UINT32_MAX);
@@ -70,15 +68,19 @@ clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count) 
     clr_film_sample *host = clEnqueueMapBuffer(q, samples, CL_TRUE, CL_MAP_READ, at * sizeof *host,
                                                n * sizeof *host, 0, NULL, NULL, &err);
     if (err != CL_SUCCESS) {
-      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueMapBuffer "
-                   "failed: %s (%d)", clr_cl_error_name(err), (int)err);
+      r = clr_fail(film->ctx, CLR_ERROR_OPENCL,
+                   "film_add_samples_buffer: clEnqueueMapBuffer "
+                   "failed: %s (%d)",
+                   clr_cl_error_name(err), (int)err);
       break;
     }
     r = add_chunk(film, host, n, 0);
     err = clEnqueueUnmapMemObject(q, samples, host, 0, NULL, NULL);
     if (err != CL_SUCCESS && r == CLR_SUCCESS)
-      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples_buffer: clEnqueueUnmapMemObject "
-                   "failed: %s (%d)", clr_cl_error_name(err), (int)err);
+      r = clr_fail(film->ctx, CLR_ERROR_OPENCL,
+                   "film_add_samples_buffer: clEnqueueUnmapMemObject "
+                   "failed: %s (%d)",
+                   clr_cl_error_name(err), (int)err);
   }
   pthread_mutex_unlock(&film->lock);
   return r;

@@ -13,8 +13,7 @@ clr_result clr_film_geometry_bounds(const clr_film_geometry *g, const char *who,
       (int64_t)g->x_resolution * g->y_resolution > CLR_MAX_PIXELS)
     return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION,
                     "%s: resolution %dx%d is invalid (each side 1..%d, at most %d pixels)", who,
-                    (int)g->x_resolution, (int)g->y_resolution, CLR_MAX_RESOLUTION,
-                    CLR_MAX_PIXELS);
+                    (int)g->x_resolution, (int)g->y_resolution, CLR_MAX_RESOLUTION, CLR_MAX_PIXELS);
   for (int i = 0; i < 2; ++i) {
     float r = g->filter_radius[i];
     if (!(r > 0.0f) || !isfinite(r) || r > CLR_MAX_FILTER_RADIUS)

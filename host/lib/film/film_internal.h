@@ -14,8 +14,8 @@
 typedef struct clr_film_device {
   cl_kernel kernel, weigh;
   cl_kernel pixel_gather; /* portable shape's per-pixel gather, made on first use */
-  size_t group_size; /* automatic work-group size (runs of pixels) */
-  cl_mem table;      /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
+  size_t group_size;      /* automatic work-group size (runs of pixels) */
+  cl_mem table; /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
   cl_mem binned, weighed, starts, sums;
   size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
@@ -26,13 +26,13 @@ typedef struct clr_film_device {
 /* Host scratch of the binning (stable counting sorts by bin row, then by bin column), grown on
  * demand. */
 typedef struct clr_film_bins {
-  uint32_t *keys;    /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
-  uint32_t *starts;  /* per bin: first binned sample (+ one past the end) */
-  uint32_t *cursor;  /* per part and bin row: count, then fill position */
+  uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
+  uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
+  uint32_t *cursor; /* per part and bin row: count, then fill position */
   struct row_entry *rowed; /* binned samples sorted by bin row only, with their bin column */
-  uint32_t *columns; /* per part and bin column: fill position of the row sort */
-  float *binned;     /* host copy of the binned samples (reference path) */
-  float *sums;       /* host per-pixel sums (reference path) */
+  uint32_t *columns;       /* per part and bin column: fill position of the row sort */
+  float *binned;           /* host copy of the binned samples (reference path) */
+  float *sums;             /* host per-pixel sums (reference path) */
   size_t keys_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
 } clr_film_bins;
 
@@ -44,7 +44,7 @@ struct clr_film_t {
   float table[CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE]; /* pbrt's 16x16 table */
   float factors[2 * CLR_FILTER_TABLE_SIZE]; /* its separable factors: 16 x, then 16 y */
   float scale;
-  clr_film_desc desc; /* as created */
+  clr_film_desc desc;    /* as created */
   int32_t width, height; /* of the pixel bounds */
   size_t pixel_count;
   double *rgb_sum;    /* 3 per pixel */

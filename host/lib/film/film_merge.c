@@ -183,13 +183,15 @@ clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t c
     crop_for(window.y0, window.y1, desc.y_resolution, &desc.crop_window[2], &desc.crop_window[3]);
     r = film_create(ctx, &desc, &film);
   }
-  for (int32_t i = 0; r == CLR_SUCCESS && i < count; ++i) r = merge_image(film, images[i], paths[i]);
+  for (int32_t i = 0; r == CLR_SUCCESS && i < count; ++i)
+    r = merge_image(film, images[i], paths[i]);
   if (r == CLR_SUCCESS) {
     /* The merged film holds the inputs' samples: record their sum, not 0. */
     uint64_t samples = 0, dropped = 0;
     for (int32_t i = 0; i < count; ++i) {
       int32_t v = 0;
-      if (clr_exr_image_int_attr(images[i], "clrender.samples", &v) && v > 0) samples += (uint64_t)v;
+      if (clr_exr_image_int_attr(images[i], "clrender.samples", &v) && v > 0)
+        samples += (uint64_t)v;
       if (clr_exr_image_int_attr(images[i], "clrender.dropped_samples", &v) && v > 0)
         dropped += (uint64_t)v;
     }

@@ -14,9 +14,8 @@
 #define SUM_PLANES 7 /* sum.R sum.G sum.B weight splat.R splat.G splat.B */
 static const char *const sum_names[SUM_PLANES] = {"sum.R",   "sum.G",   "sum.B",  "weight",
                                                   "splat.R", "splat.G", "splat.B"};
-static const char *const sum_lo_names[SUM_PLANES] = {"sum.R.lo",   "sum.G.lo",   "sum.B.lo",
-                                                     "weight.lo",  "splat.R.lo", "splat.G.lo",
-                                                     "splat.B.lo"};
+static const char *const sum_lo_names[SUM_PLANES] = {
+    "sum.R.lo", "sum.G.lo", "sum.B.lo", "weight.lo", "splat.R.lo", "splat.G.lo", "splat.B.lo"};
 
 const clr_film_desc *film_get_desc(clr_film film) { return film ? &film->desc : NULL; }
 
@@ -44,10 +43,10 @@ void clr_film_write_options_init(clr_film_write_options *o) {
 
 /* All planes of one output, freed together. */
 typedef struct film_planes {
-  float *rgb;               /* interleaved, from film_get_rgb */
-  float *plane[3];          /* R, G, B */
-  float *sum[SUM_PLANES];   /* high parts */
-  float *lo[SUM_PLANES];    /* residuals */
+  float *rgb;             /* interleaved, from film_get_rgb */
+  float *plane[3];        /* R, G, B */
+  float *sum[SUM_PLANES]; /* high parts */
+  float *lo[SUM_PLANES];  /* residuals */
 } film_planes;
 
 static void free_planes(film_planes *p) {
@@ -76,9 +75,9 @@ static clr_result make_planes(clr_film film, float splat_scale, int sums, film_p
   if (!sums) return CLR_SUCCESS;
   pthread_mutex_lock(&film->lock);
   for (size_t i = 0; i < n; ++i) {
-    double v[SUM_PLANES] = {film->rgb_sum[3 * i], film->rgb_sum[3 * i + 1],
-                            film->rgb_sum[3 * i + 2], film->weight_sum[i],
-                            film->splat_rgb[3 * i], film->splat_rgb[3 * i + 1],
+    double v[SUM_PLANES] = {film->rgb_sum[3 * i],      film->rgb_sum[3 * i + 1],
+                            film->rgb_sum[3 * i + 2],  film->weight_sum[i],
+                            film->splat_rgb[3 * i],    film->splat_rgb[3 * i + 1],
                             film->splat_rgb[3 * i + 2]};
     for (int k = 0; k < SUM_PLANES; ++k) {
       p->sum[k][i] = (float)v[k];
@@ -128,7 +127,8 @@ static void film_attributes(clr_film film, const clr_film_write_options *o, attr
   if (o->spp > 0) add_int(l, "clrender.spp", o->spp);
   if (o->render_time_s >= 0) add_float(l, "clrender.render_time_s", (float)o->render_time_s);
   add_int(l, "clrender.partial", o->partial ? 1 : 0);
-  add_int(l, "clrender.samples", (int32_t)(film->accepted > INT32_MAX ? INT32_MAX : film->accepted));
+  add_int(l, "clrender.samples",
+          (int32_t)(film->accepted > INT32_MAX ? INT32_MAX : film->accepted));
   add_int(l, "clrender.dropped_samples",
           (int32_t)(film->dropped > INT32_MAX ? INT32_MAX : film->dropped));
   for (int i = 0; i < o->metadata_count; ++i)
@@ -152,8 +152,8 @@ clr_result film_write(clr_film film, const char *path, const clr_film_write_opti
   if (opts) CLR_CHECK(clr_desc_adopt(&full, sizeof full, opts, "film_write: opts"));
   opts = &full;
   if (opts->metadata_count < 0 || opts->metadata_count > 16)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "film_write: metadata_count %d (0..16)", (int)opts->metadata_count);
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_write: metadata_count %d (0..16)",
+                    (int)opts->metadata_count);
   film_planes p;
   clr_result r = make_planes(film, opts->splat_scale, opts->include_sums, &p);
   if (r == CLR_SUCCESS) {
@@ -178,8 +178,8 @@ clr_result film_write(clr_film film, const char *path, const clr_film_write_opti
 clr_result film_write_png(clr_film film, const char *path, float splat_scale) {
   clr_clear_error();
   if (!film || !path)
-    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER,
-                    "film_write_png: %s is NULL", film ? "path" : "film");
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_write_png: %s is NULL",
+                    film ? "path" : "film");
   float *rgb = malloc(film->pixel_count * 3 * sizeof(float));
   if (!rgb) return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_write_png: out of memory");
   clr_result r = film_get_rgb(film, rgb, splat_scale);

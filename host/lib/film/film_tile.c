@@ -21,8 +21,8 @@ clr_result film_get_tile(clr_film film, clr_bounds2i region, clr_film_tile *out)
   *out = NULL;
   if (region.x0 >= region.x1 || region.y0 >= region.y1)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
-                    "film_get_tile: sample region [%d,%d)x[%d,%d) is empty", region.x0,
-                    region.x1, region.y0, region.y1);
+                    "film_get_tile: sample region [%d,%d)x[%d,%d) is empty", region.x0, region.x1,
+                    region.y0, region.y1);
   const clr_film_params *p = &film->params;
   const clr_filter_params *f = &film->filter;
   clr_bounds2i b;
@@ -64,7 +64,8 @@ clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samp
   if (count == 0)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_tile_add_samples: count is 0");
   if (tile->merged)
-    return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE, "film_tile_add_samples: tile already merged");
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE,
+                    "film_tile_add_samples: tile already merged");
   const clr_bounds2i b = tile->bounds;
   size_t w = (size_t)(b.x1 - b.x0);
   for (size_t i = 0; i < count; ++i) {

@@ -119,7 +119,8 @@ clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params
                     desc ? "out" : "desc");
   clr_filter_desc full;
   int has_type = desc->struct_size >= offsetof(clr_filter_desc, type) + sizeof desc->type;
-  clr_filter_desc_init(&full, has_type && valid_type((int)desc->type) ? desc->type : CLR_FILTER_BOX);
+  clr_filter_desc_init(&full,
+                       has_type && valid_type((int)desc->type) ? desc->type : CLR_FILTER_BOX);
   CLR_CHECK(clr_desc_adopt(&full, sizeof full, desc, "clr_filter_params_make: desc"));
   desc = &full;
   if (!valid_type((int)desc->type))
@@ -141,23 +142,23 @@ clr_result clr_filter_params_make(const clr_filter_desc *desc, clr_filter_params
   p.inv_radius_x = 1.0f / p.radius_x;
   p.inv_radius_y = 1.0f / p.radius_y;
   switch (desc->type) {
-  case CLR_FILTER_GAUSSIAN:
-    CLR_CHECK(fill_gaussian(desc->alpha, &p));
-    break;
-  case CLR_FILTER_MITCHELL:
-    CLR_CHECK(check_mitchell(desc->b, desc->c));
-    p.b = desc->b;
-    p.c = desc->c;
-    break;
-  case CLR_FILTER_CATMULLROM:
-    p.b = 0.0f;
-    p.c = 0.5f;
-    break;
-  case CLR_FILTER_SINC:
-    CLR_CHECK(fill_sinc(desc->tau, &p));
-    break;
-  default:
-    break;
+    case CLR_FILTER_GAUSSIAN:
+      CLR_CHECK(fill_gaussian(desc->alpha, &p));
+      break;
+    case CLR_FILTER_MITCHELL:
+      CLR_CHECK(check_mitchell(desc->b, desc->c));
+      p.b = desc->b;
+      p.c = desc->c;
+      break;
+    case CLR_FILTER_CATMULLROM:
+      p.b = 0.0f;
+      p.c = 0.5f;
+      break;
+    case CLR_FILTER_SINC:
+      CLR_CHECK(fill_sinc(desc->tau, &p));
+      break;
+    default:
+      break;
   }
   *out = p;
   return CLR_SUCCESS;
@@ -170,8 +171,8 @@ clr_result clr_filter_params_table(const clr_filter_params *params,
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_params_table: %s is NULL",
                     params ? "table" : "params");
   if (!valid_type(params->type))
-    return clr_fail(NULL, CLR_ERROR_INVALID_FILTER, "clr_filter_params_table: unknown filter type %d",
-                    (int)params->type);
+    return clr_fail(NULL, CLR_ERROR_INVALID_FILTER,
+                    "clr_filter_params_table: unknown filter type %d", (int)params->type);
   if (!(params->radius_x >= CLR_FILTER_MIN_RADIUS && params->radius_x <= CLR_FILTER_MAX_RADIUS &&
         params->radius_y >= CLR_FILTER_MIN_RADIUS && params->radius_y <= CLR_FILTER_MAX_RADIUS))
     return clr_fail(NULL, CLR_ERROR_INVALID_RADIUS,
@@ -201,7 +202,8 @@ clr_result clr_filter_check(const clr_filter_desc *desc) {
   return clr_filter_params_make(desc, &params);
 }
 
-clr_result clr_filter_make_table(const clr_filter_desc *desc, float table[CLR_FILTER_TABLE_ENTRIES]) {
+clr_result clr_filter_make_table(const clr_filter_desc *desc,
+                                 float table[CLR_FILTER_TABLE_ENTRIES]) {
   clr_filter_params params;
   CLR_CHECK(clr_filter_params_make(desc, &params));
   if (!table) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_filter_make_table: table is NULL");

@@ -55,11 +55,9 @@ static clr_result check_target(const char *path) {
                     path);
   if (!S_ISREG(st.st_mode))
     return clr_fail(NULL, CLR_ERROR_IO,
-                    "cannot write '%s': it is not a regular file (a device, FIFO or socket)",
-                    path);
+                    "cannot write '%s': it is not a regular file (a device, FIFO or socket)", path);
   if (!(st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) || access(path, W_OK) != 0)
-    return clr_fail(NULL, CLR_ERROR_IO, "cannot write '%s': the existing file is read-only",
-                    path);
+    return clr_fail(NULL, CLR_ERROR_IO, "cannot write '%s': the existing file is read-only", path);
   return CLR_SUCCESS;
 }
 

@@ -42,8 +42,10 @@ float clr_half_to_float(uint16_t h) {
     float magnitude = (float)mantissa * 5.9604644775390625e-8f; /* exact: mantissa * 2^-24 */
     return sign ? -magnitude : magnitude;
   }
-  if (exponent == 31) bits = sign | 0x7f800000u | (mantissa << 13);
-  else bits = sign | ((exponent + 112u) << 23) | (mantissa << 13);
+  if (exponent == 31)
+    bits = sign | 0x7f800000u | (mantissa << 13);
+  else
+    bits = sign | ((exponent + 112u) << 23) | (mantissa << 13);
   float f;
   memcpy(&f, &bits, sizeof f);
   return f;
@@ -77,10 +79,10 @@ static clr_result map_exr_error(exr_result_t rv, int reading) {
 static int exr_check(exr_job *job, exr_result_t rv, const char *call) {
   if (rv == EXR_ERR_SUCCESS) return 1;
   if (job->result == CLR_SUCCESS)
-    job->result = clr_fail(NULL, map_exr_error(rv, job->reading), "%s failed for '%s': %s (%s)",
-                           call, job->path,
-                           exr_detail[0] ? exr_detail : exr_get_default_error_message(rv),
-                           exr_get_error_code_as_string(rv));
+    job->result =
+        clr_fail(NULL, map_exr_error(rv, job->reading), "%s failed for '%s': %s (%s)", call,
+                 job->path, exr_detail[0] ? exr_detail : exr_get_default_error_message(rv),
+                 exr_get_error_code_as_string(rv));
   return 0;
 }
 
@@ -103,12 +105,13 @@ static clr_result validate_write(const char *path, int32_t display_width, int32_
     return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION,
                     "clr_exr_write '%s': display size %dx%d must be positive", path,
                     (int)display_width, (int)display_height);
-  if (dw.x0 < 0 || dw.y0 < 0 || dw.x1 > display_width || dw.y1 > display_height ||
-      dw.x0 >= dw.x1 || dw.y0 >= dw.y1)
+  if (dw.x0 < 0 || dw.y0 < 0 || dw.x1 > display_width || dw.y1 > display_height || dw.x0 >= dw.x1 ||
+      dw.y0 >= dw.y1)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                     "clr_exr_write '%s': data window [%d,%d)x[%d,%d) is empty or outside the "
-                    "display window [0,%d)x[0,%d)", path, (int)dw.x0, (int)dw.x1, (int)dw.y0,
-                    (int)dw.y1, (int)display_width, (int)display_height);
+                    "display window [0,%d)x[0,%d)",
+                    path, (int)dw.x0, (int)dw.x1, (int)dw.y0, (int)dw.y1, (int)display_width,
+                    (int)display_height);
   if (channel_count <= 0 || !channels)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                     "clr_exr_write '%s': channel_count %d needs at least one channel", path,
@@ -187,8 +190,8 @@ static int define_header(exr_job *job, exr_context_t ctxt, int32_t display_width
     return 0;
   for (int32_t c = 0; c < channel_count; ++c)
     if (!EXR_TRY(job, exr_add_channel, ctxt, part, channels[c].name,
-                 channels[c].half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT,
-                 EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1))
+                 channels[c].half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC,
+                 1, 1))
       return 0;
   for (int32_t a = 0; a < attr_count; ++a) {
     const clr_exr_attribute *at = &attrs[a];
@@ -238,8 +241,8 @@ static clr_result write_exr_stream(const char *path, clr_atomic_file *file, int3
   init.write_fn = write_to_atomic_file;
   exr_context_t ctxt = NULL;
   if (EXR_TRY(&job, exr_start_write, &ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init) &&
-      define_header(&job, ctxt, display_width, display_height, dw, planes->channels,
-                    planes->count, attrs, attr_count))
+      define_header(&job, ctxt, display_width, display_height, dw, planes->channels, planes->count,
+                    attrs, attr_count))
     write_chunks(&job, ctxt, planes, dw.y1);
   if (ctxt) EXR_TRY(&job, exr_finish, &ctxt); /* writes the chunk offset table */
   return job.result;
@@ -275,8 +278,10 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
     exr_planes planes = {channels, channel_count, data, width, data_window.y0};
     result = write_exr_stream(path, &file, display_width, display_height, data_window, &planes,
                               attrs, attr_count);
-    if (result == CLR_SUCCESS) result = clr_atomic_file_commit(&file);
-    else clr_atomic_file_abort(&file);
+    if (result == CLR_SUCCESS)
+      result = clr_atomic_file_commit(&file);
+    else
+      clr_atomic_file_abort(&file);
   }
   for (int32_t c = 0; halves && c < channel_count; ++c) free(halves[c]);
   free(halves);
@@ -322,8 +327,9 @@ static int read_layout(exr_job *job, exr_context_t ctxt, clr_exr_image *image) {
       !EXR_TRY(job, exr_get_data_window, ctxt, 0, &data))
     return 0;
   if (storage != EXR_STORAGE_SCANLINE)
-    return job_fail(job, CLR_ERROR_FILE_FORMAT, "only scanline EXR images are supported (tiled "
-                                                "or deep storage found)");
+    return job_fail(job, CLR_ERROR_FILE_FORMAT,
+                    "only scanline EXR images are supported (tiled "
+                    "or deep storage found)");
   int64_t w = (int64_t)data.max.x - data.min.x + 1, h = (int64_t)data.max.y - data.min.y + 1;
   int64_t dwid = (int64_t)display.max.x - display.min.x + 1;
   int64_t dhgt = (int64_t)display.max.y - display.min.y + 1;
@@ -331,8 +337,8 @@ static int read_layout(exr_job *job, exr_context_t ctxt, clr_exr_image *image) {
       dwid > INT32_MAX || dhgt > INT32_MAX || data.max.x == INT32_MAX || data.max.y == INT32_MAX ||
       display.max.x == INT32_MAX || display.max.y == INT32_MAX)
     return job_fail(job, CLR_ERROR_FILE_FORMAT, "invalid data or display window");
-  image->display_window = (clr_bounds2i){display.min.x, display.min.y, display.max.x + 1,
-                                         display.max.y + 1};
+  image->display_window =
+      (clr_bounds2i){display.min.x, display.min.y, display.max.x + 1, display.max.y + 1};
   image->display_width = (int32_t)dwid;
   image->display_height = (int32_t)dhgt;
   image->data_window = (clr_bounds2i){data.min.x, data.min.y, data.max.x + 1, data.max.y + 1};
@@ -351,11 +357,15 @@ static int read_layout(exr_job *job, exr_context_t ctxt, clr_exr_image *image) {
  * is ~1032, RLE's 64): a header claiming more pixels than the file could hold is corrupt. */
 static uint64_t max_expansion(exr_compression_t c) {
   switch (c) {
-  case EXR_COMPRESSION_NONE: return 1;
-  case EXR_COMPRESSION_RLE: return 128;
-  case EXR_COMPRESSION_ZIPS:
-  case EXR_COMPRESSION_ZIP: return 4096;
-  default: return (uint64_t)1 << 16;
+    case EXR_COMPRESSION_NONE:
+      return 1;
+    case EXR_COMPRESSION_RLE:
+      return 128;
+    case EXR_COMPRESSION_ZIPS:
+    case EXR_COMPRESSION_ZIP:
+      return 4096;
+    default:
+      return (uint64_t)1 << 16;
   }
 }
 
@@ -369,7 +379,8 @@ static int check_sizes(exr_job *job, exr_context_t ctxt, const clr_exr_image *im
       !EXR_TRY(job, exr_get_scanlines_per_chunk, ctxt, 0, &lines) ||
       !EXR_TRY(job, exr_get_compression, ctxt, 0, &compression))
     return 0;
-  if (lines <= 0) return job_fail(job, CLR_ERROR_FILE_FORMAT, "corrupt EXR: bad scanlines per chunk");
+  if (lines <= 0)
+    return job_fail(job, CLR_ERROR_FILE_FORMAT, "corrupt EXR: bad scanlines per chunk");
   uint64_t chunks = ((uint64_t)image->height + (uint64_t)lines - 1) / (uint64_t)lines;
   uint64_t channels = list && list->num_channels > 0 ? (uint64_t)list->num_channels : 1;
   uint64_t decoded = (uint64_t)image->width * (uint64_t)image->height * channels * 2;
@@ -424,8 +435,7 @@ static int point_decoder_at_chunk(exr_job *job, exr_decode_pipeline_t *dec,
   for (int c = 0; c < dec->channel_count; ++c) {
     exr_coding_channel_info_t *ch = &dec->channels[c];
     int32_t k = 0;
-    while (k < image->channel_count && strcmp(image->channel_names[k], ch->channel_name) != 0)
-      ++k;
+    while (k < image->channel_count && strcmp(image->channel_names[k], ch->channel_name) != 0) ++k;
     if (k == image->channel_count)
       return job_fail(job, CLR_ERROR_INTERNAL, "decoder channel not found");
     int32_t bytes = ch->bytes_per_element;
@@ -525,8 +535,8 @@ clr_result clr_exr_read(const char *path, clr_exr_image **out) {
   init.error_handler_fn = capture_exr_error;
   exr_context_t ctxt = NULL;
   if (EXR_TRY(&job, exr_start_read, &ctxt, path, &init) && read_layout(&job, ctxt, image) &&
-      check_sizes(&job, ctxt, image) && allocate_channels(&job, ctxt, image, &halves) && read_chunks(&job, ctxt, image, halves) &&
-      read_attributes(&job, ctxt, image))
+      check_sizes(&job, ctxt, image) && allocate_channels(&job, ctxt, image, &halves) &&
+      read_chunks(&job, ctxt, image, halves) && read_attributes(&job, ctxt, image))
     convert_planes(image, halves);
   if (ctxt) EXR_TRY(&job, exr_finish, &ctxt);
   for (int32_t c = 0; halves && c < image->channel_count; ++c) free(halves[c]);

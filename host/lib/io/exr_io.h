@@ -31,8 +31,7 @@ typedef struct clr_exr_attribute {
  * "path.tmp-XXXXXX" and renamed); on failure nothing is left behind. */
 clr_result clr_exr_write(const char *path, int32_t display_width, int32_t display_height,
                          clr_bounds2i data_window, const clr_exr_channel *channels,
-                         int32_t channel_count, const clr_exr_attribute *attrs,
-                         int32_t attr_count);
+                         int32_t channel_count, const clr_exr_attribute *attrs, int32_t attr_count);
 
 /* An EXR file read into float planes (half and uint channels converted to float). */
 typedef struct clr_exr_image {
@@ -41,10 +40,10 @@ typedef struct clr_exr_image {
   clr_bounds2i data_window; /* half-open */
   int32_t width, height;    /* data window size: each plane holds width * height floats */
   int32_t channel_count;
-  char **channel_names; /* in file order (sorted) */
+  char **channel_names;   /* in file order (sorted) */
   int32_t *channel_types; /* 0 uint, 1 half, 2 float as stored in the file */
   float **channels;
-  int32_t attr_count; /* string, float (and double, as float) and int header attributes */
+  int32_t attr_count;       /* string, float (and double, as float) and int header attributes */
   clr_exr_attribute *attrs; /* names and strings owned by the image */
 } clr_exr_image;
 

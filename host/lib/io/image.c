@@ -24,7 +24,8 @@ static clr_result exr_to_rgb(const char *path, const clr_exr_image *image, float
     if (!y)
       return clr_fail(NULL, CLR_ERROR_FILE_FORMAT,
                       "EXR '%s' has neither R, G and B channels nor a Y channel (first channel "
-                      "'%s')", path, image->channel_names[0]);
+                      "'%s')",
+                      path, image->channel_names[0]);
     planes[0] = planes[1] = planes[2] = y;
   }
   size_t bytes = clr_rgb_bytes(image->width, image->height, sizeof(float));

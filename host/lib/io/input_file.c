@@ -19,8 +19,7 @@ static clr_result check_stat(const struct stat *st, const char *path, const char
   return CLR_SUCCESS;
 }
 
-clr_result clr_input_file_open(const char *path, const char *what, FILE **stream,
-                               uint64_t *size) {
+clr_result clr_input_file_open(const char *path, const char *what, FILE **stream, uint64_t *size) {
   if (!path || !what || !stream || !size)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_input_file_open: NULL argument");
   *stream = NULL;
@@ -28,10 +27,9 @@ clr_result clr_input_file_open(const char *path, const char *what, FILE **stream
   if (fd < 0)
     return clr_fail(NULL, CLR_ERROR_IO, "cannot open %s '%s': %s", what, path, strerror(errno));
   struct stat st;
-  clr_result r = fstat(fd, &st) == 0
-                     ? check_stat(&st, path, what)
-                     : clr_fail(NULL, CLR_ERROR_IO, "cannot stat %s '%s': %s", what, path,
-                                strerror(errno));
+  clr_result r = fstat(fd, &st) == 0 ? check_stat(&st, path, what)
+                                     : clr_fail(NULL, CLR_ERROR_IO, "cannot stat %s '%s': %s", what,
+                                                path, strerror(errno));
   int flags = fcntl(fd, F_GETFL);
   if (r == CLR_SUCCESS && (flags < 0 || fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) != 0))
     r = clr_fail(NULL, CLR_ERROR_IO, "cannot read %s '%s': %s", what, path, strerror(errno));

@@ -11,8 +11,7 @@
  * regular file and returns a stdio stream and its size. `what` names the file kind in messages
  * ("PNG", "EXR"): "cannot read PNG 'x': is a directory" / "...: is not a regular file (a
  * device, FIFO or socket)" with CLR_ERROR_IO. */
-clr_result clr_input_file_open(const char *path, const char *what, FILE **stream,
-                               uint64_t *size);
+clr_result clr_input_file_open(const char *path, const char *what, FILE **stream, uint64_t *size);
 
 /* Same checks without keeping the file open (for readers that open the path themselves). */
 clr_result clr_input_file_check(const char *path, const char *what, uint64_t *size);

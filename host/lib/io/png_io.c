@@ -65,8 +65,10 @@ clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, c
                         image.message);
     png_image_free(&image);
   }
-  if (result == CLR_SUCCESS) result = clr_atomic_file_commit(&file);
-  else clr_atomic_file_abort(&file); /* safe after a failed open too */
+  if (result == CLR_SUCCESS)
+    result = clr_atomic_file_commit(&file);
+  else
+    clr_atomic_file_abort(&file); /* safe after a failed open too */
   free(srgb);
   return result;
 }
@@ -84,8 +86,10 @@ clr_result clr_png_read(const char *path, int32_t *width, int32_t *height, float
   uint8_t *srgb = NULL;
   clr_result result = CLR_SUCCESS;
   if (!png_image_begin_read_from_stdio(&image, stream)) {
-    result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT, "png_image_begin_read_from_stdio failed for "
-                      "'%s': %s", path, image.message);
+    result = clr_fail(NULL, CLR_ERROR_FILE_FORMAT,
+                      "png_image_begin_read_from_stdio failed for "
+                      "'%s': %s",
+                      path, image.message);
   } else {
     image.format = PNG_FORMAT_RGB;
     /* The header's size must fit the pixel limit and the file: every row holds at least a

@@ -15,7 +15,6 @@ void clr_sampler_device_release(clr_sampler_device *device);
 /* Generates the batch prepared in (p, slots) into out (device_values and/or host_values,
  * host_indices); returns once the values are in place. Calls on one cache are serialised. */
 clr_result clr_sampler_device_generate(clr_sampler_device *device, const clr_sampler_params *p,
-                                       const clr_request_slot *slots,
-                                       const clr_sample_output *out);
+                                       const clr_request_slot *slots, const clr_sample_output *out);
 
 #endif

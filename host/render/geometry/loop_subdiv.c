@@ -40,16 +40,20 @@ static void sd_free(sd_mesh *m) {
 static clr_result sd_alloc(sd_mesh *m, int64_t nv, int64_t nf) {
   memset(m, 0, sizeof *m);
   if (nv > SD_MAX_COUNT || nf > SD_MAX_COUNT)
-    return clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: subdivided mesh too large (%lld "
-                    "vertices, %lld triangles)", (long long)nv, (long long)nf);
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "clr_loop_subdivide: subdivided mesh too large (%lld "
+                              "vertices, %lld triangles)",
+                              (long long)nv, (long long)nf);
   m->nv = (int32_t)nv;
   m->nf = (int32_t)nf;
   m->v = calloc((size_t)(nv ? nv : 1), sizeof *m->v);
   m->f = calloc((size_t)(nf ? nf : 1), sizeof *m->f);
   if (!m->v || !m->f) {
     sd_free(m);
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for %lld vertices "
-                    "and %lld triangles", (long long)nv, (long long)nf);
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                              "clr_loop_subdivide: no memory for %lld vertices "
+                              "and %lld triangles",
+                              (long long)nv, (long long)nf);
   }
   return CLR_SUCCESS;
 }
@@ -89,7 +93,8 @@ static int32_t one_ring(sd_mesh *m, int32_t vert, clr_result *result) {
   if (n > m->ring_capacity) {
     float(*grown)[3] = realloc(m->ring, (size_t)n * sizeof *grown);
     if (!grown) {
-      *result = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for a one-ring");
+      *result = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                                   "clr_loop_subdivide: no memory for a one-ring");
       return 0;
     }
     m->ring = grown;
@@ -214,7 +219,8 @@ static void build_children(const sd_mesh *m, const int32_t *edge_vertex, sd_mesh
 
 static clr_result subdivide_once(sd_mesh *m, sd_mesh *c) {
   int32_t *edge_vertex = malloc(3 * (size_t)(m->nf ? m->nf : 1) * sizeof *edge_vertex);
-  if (!edge_vertex) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for edges");
+  if (!edge_vertex)
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for edges");
   int64_t edges = number_edge_vertices(m, edge_vertex);
   clr_result r = sd_alloc(c, (int64_t)m->nv + edges, 4 * (int64_t)m->nf);
   for (int32_t i = 0; r == CLR_SUCCESS && i < m->nv; ++i) { /* even vertices */
@@ -222,7 +228,8 @@ static clr_result subdivide_once(sd_mesh *m, sd_mesh *c) {
     sd_vertex *child = &c->v[i];
     child->boundary = v->boundary;
     child->start_face = 4 * v->start_face + vnum(&m->f[v->start_face], i);
-    r = v->boundary ? weight_boundary(m, i, 1.f / 8.f, child->p) : weight_one_ring(m, i, 0, child->p);
+    r = v->boundary ? weight_boundary(m, i, 1.f / 8.f, child->p)
+                    : weight_one_ring(m, i, 0, child->p);
   }
   for (int32_t i = 0; r == CLR_SUCCESS && i < m->nf; ++i) { /* odd vertices */
     for (int k = 0; k < 3; ++k) {
@@ -268,7 +275,8 @@ static clr_result limit_normal(sd_mesh *m, int32_t vert, float normal[3]) {
       for (int c = 0; c < 3; ++c) t[c] = ring[1][c] - p[c];
     } else if (n == 4) {
       for (int c = 0; c < 3; ++c)
-        t[c] = -1.f * ring[0][c] + 2.f * ring[1][c] + 2.f * ring[2][c] + -1.f * ring[3][c] + -2.f * p[c];
+        t[c] = -1.f * ring[0][c] + 2.f * ring[1][c] + 2.f * ring[2][c] + -1.f * ring[3][c] +
+               -2.f * p[c];
     } else {
       float theta = SD_PI / (float)(n - 1);
       for (int c = 0; c < 3; ++c) t[c] = sinf(theta) * (ring[0][c] + ring[n - 1][c]);
@@ -290,7 +298,8 @@ static clr_result write_limit_mesh(sd_mesh *m, clr_mesh *out) {
     r = m->v[i].boundary ? weight_boundary(m, i, 1.f / 5.f, out->p + 3 * (size_t)i)
                          : weight_one_ring(m, i, 1, out->p + 3 * (size_t)i);
   for (int32_t i = 0; i < m->nv; ++i) memcpy(m->v[i].p, out->p + 3 * (size_t)i, sizeof m->v[i].p);
-  for (int32_t i = 0; r == CLR_SUCCESS && i < m->nv; ++i) r = limit_normal(m, i, out->n + 3 * (size_t)i);
+  for (int32_t i = 0; r == CLR_SUCCESS && i < m->nv; ++i)
+    r = limit_normal(m, i, out->n + 3 * (size_t)i);
   for (int32_t i = 0; i < m->nf; ++i)
     for (int k = 0; k < 3; ++k) out->indices[3 * (size_t)i + k] = (uint32_t)m->f[i].v[k];
   if (r != CLR_SUCCESS) clr_mesh_free(out);
@@ -327,7 +336,8 @@ static clr_result link_faces(sd_mesh *m, const uint32_t *orig) {
   if (!map.keys || !map.values) {
     free(map.keys);
     free(map.values);
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for the edge map");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                              "clr_loop_subdivide: no memory for the edge map");
   }
   memset(map.keys, 0xff, size * sizeof *map.keys);
   clr_result r = CLR_SUCCESS;
@@ -336,9 +346,12 @@ static clr_result link_faces(sd_mesh *m, const uint32_t *orig) {
       uint32_t a = (uint32_t)m->f[i].v[k], b = (uint32_t)m->f[i].v[NEXT(k)];
       size_t slot = edge_slot(&map, edge_key(a, b));
       if (map.keys[slot] != UINT64_MAX)
-        r = clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: non-manifold mesh: edge (%u, %u) of "
-                     "triangle %ld is in more than two triangles or in two of opposite winding (also "
-                     "triangle %ld)", orig[a], orig[b], (long)i, (long)(map.values[slot] / 3));
+        r = clr_set_last_error(
+            CLR_ERROR_SCENE,
+            "clr_loop_subdivide: non-manifold mesh: edge (%u, %u) of "
+            "triangle %ld is in more than two triangles or in two of opposite winding (also "
+            "triangle %ld)",
+            orig[a], orig[b], (long)i, (long)(map.values[slot] / 3));
       map.keys[slot] = edge_key(a, b);
       map.values[slot] = 3 * i + k;
     }
@@ -364,8 +377,10 @@ static clr_result classify_vertices(sd_mesh *m, const int32_t *incident, const u
     v->boundary = face < 0;
     int32_t fan = valence(m, i) - v->boundary;
     if (fan != incident[i])
-      return clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: non-manifold mesh: vertex %u joins "
-                      "%ld triangles that do not form a single fan", orig[i], (long)incident[i]);
+      return clr_set_last_error(CLR_ERROR_SCENE,
+                                "clr_loop_subdivide: non-manifold mesh: vertex %u joins "
+                                "%ld triangles that do not form a single fan",
+                                orig[i], (long)incident[i]);
   }
   return CLR_SUCCESS;
 }
@@ -376,14 +391,17 @@ static clr_result build_base(const clr_mesh *in, sd_mesh *m, uint32_t **orig_out
   int32_t *remap = malloc((size_t)(in->vertex_count ? in->vertex_count : 1) * sizeof *remap);
   int32_t *incident = calloc((size_t)(in->vertex_count ? in->vertex_count : 1), sizeof *incident);
   uint32_t *orig = malloc((size_t)(in->vertex_count ? in->vertex_count : 1) * sizeof *orig);
-  clr_result r = remap && incident && orig ? CLR_SUCCESS
-               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_loop_subdivide: no memory for %ld vertices",
-                          (long)in->vertex_count);
+  clr_result r = remap && incident && orig
+                     ? CLR_SUCCESS
+                     : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                                          "clr_loop_subdivide: no memory for %ld vertices",
+                                          (long)in->vertex_count);
   for (int32_t t = 0; r == CLR_SUCCESS && t < in->triangle_count; ++t) {
     const uint32_t *tri = in->indices + 3 * (size_t)t;
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
-      r = clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: triangle %ld repeats a vertex (%u %u %u)",
-                   (long)t, tri[0], tri[1], tri[2]);
+      r = clr_set_last_error(CLR_ERROR_SCENE,
+                             "clr_loop_subdivide: triangle %ld repeats a vertex (%u %u %u)",
+                             (long)t, tri[0], tri[1], tri[2]);
     for (int k = 0; k < 3; ++k) ++incident[tri[k]];
   }
   int32_t used = 0;
@@ -419,13 +437,14 @@ clr_result clr_loop_subdivide(const clr_mesh *in, int32_t nlevels, clr_mesh *out
   memset(out, 0, sizeof *out);
   if (!in) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_loop_subdivide: in is NULL");
   if (nlevels < 0)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_loop_subdivide: nlevels is %ld, must be >= 0",
-                    (long)nlevels);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "clr_loop_subdivide: nlevels is %ld, must be >= 0", (long)nlevels);
   /* Each level makes four triangles of one: refuse up front what could never fit. */
   int64_t triangles = in->triangle_count;
   for (int32_t i = 0; i < nlevels; ++i) {
     if (triangles > CLR_LOOP_MAX_TRIANGLES / 4)
-      return clr_set_last_error(CLR_ERROR_SCENE, "clr_loop_subdivide: \"nlevels\" %ld would make "
+      return clr_set_last_error(CLR_ERROR_SCENE,
+                                "clr_loop_subdivide: \"nlevels\" %ld would make "
                                 "%ld triangles x 4^%ld, more than the limit of %ld triangles",
                                 (long)nlevels, (long)in->triangle_count, (long)nlevels,
                                 (long)CLR_LOOP_MAX_TRIANGLES);

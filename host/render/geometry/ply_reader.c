@@ -15,10 +15,31 @@
 #define PLY_MAX_NAME 64
 #define PLY_MAX_LIST_LENGTH 4096 /* longer lists in the face element are treated as corrupt */
 
-typedef enum ply_type { PLY_NONE, PLY_I8, PLY_U8, PLY_I16, PLY_U16, PLY_I32, PLY_U32, PLY_F32, PLY_F64 } ply_type;
+typedef enum ply_type {
+  PLY_NONE,
+  PLY_I8,
+  PLY_U8,
+  PLY_I16,
+  PLY_U16,
+  PLY_I32,
+  PLY_U32,
+  PLY_F32,
+  PLY_F64
+} ply_type;
 typedef enum ply_format { PLY_ASCII, PLY_BINARY_LE, PLY_BINARY_BE } ply_format;
 /* What a property feeds: a component of the output mesh or nothing. */
-typedef enum ply_role { ROLE_SKIP, ROLE_X, ROLE_Y, ROLE_Z, ROLE_NX, ROLE_NY, ROLE_NZ, ROLE_U, ROLE_V, ROLE_INDICES } ply_role;
+typedef enum ply_role {
+  ROLE_SKIP,
+  ROLE_X,
+  ROLE_Y,
+  ROLE_Z,
+  ROLE_NX,
+  ROLE_NY,
+  ROLE_NZ,
+  ROLE_U,
+  ROLE_V,
+  ROLE_INDICES
+} ply_role;
 
 typedef struct ply_property {
   char name[PLY_MAX_NAME];
@@ -46,11 +67,16 @@ typedef struct ply_file {
   ply_element elements[PLY_MAX_ELEMENTS];
 } ply_file;
 
-static const struct { const char *name; ply_type type; size_t size; } ply_types[] = {
-    {"char", PLY_I8, 1},    {"int8", PLY_I8, 1},     {"uchar", PLY_U8, 1},   {"uint8", PLY_U8, 1},
-    {"short", PLY_I16, 2},  {"int16", PLY_I16, 2},   {"ushort", PLY_U16, 2}, {"uint16", PLY_U16, 2},
-    {"int", PLY_I32, 4},    {"int32", PLY_I32, 4},   {"uint", PLY_U32, 4},   {"uint32", PLY_U32, 4},
-    {"float", PLY_F32, 4},  {"float32", PLY_F32, 4}, {"double", PLY_F64, 8}, {"float64", PLY_F64, 8}};
+static const struct {
+  const char *name;
+  ply_type type;
+  size_t size;
+} ply_types[] = {{"char", PLY_I8, 1},    {"int8", PLY_I8, 1},     {"uchar", PLY_U8, 1},
+                 {"uint8", PLY_U8, 1},   {"short", PLY_I16, 2},   {"int16", PLY_I16, 2},
+                 {"ushort", PLY_U16, 2}, {"uint16", PLY_U16, 2},  {"int", PLY_I32, 4},
+                 {"int32", PLY_I32, 4},  {"uint", PLY_U32, 4},    {"uint32", PLY_U32, 4},
+                 {"float", PLY_F32, 4},  {"float32", PLY_F32, 4}, {"double", PLY_F64, 8},
+                 {"float64", PLY_F64, 8}};
 
 static ply_type type_from_name(const char *name) {
   for (size_t i = 0; i < sizeof ply_types / sizeof ply_types[0]; ++i)
@@ -84,8 +110,9 @@ static clr_result header_fail(const ply_file *f, int line, const char *fmt, ...)
   va_start(args, fmt);
   vsnprintf(detail, sizeof detail, fmt, args);
   va_end(args);
-  return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": malformed header, line %d: %s",
-                  f->path, line, detail);
+  return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                            "clr_ply_read: \"%s\": malformed header, line %d: %s", f->path, line,
+                            detail);
 }
 
 /* Splits the next header line into at most 8 whitespace-separated words (in `buf`); returns the
@@ -120,10 +147,14 @@ static int host_is_little_endian(void) {
 static clr_result parse_format(ply_file *f, int line, char **words, int n) {
   if (n != 3 || strcmp(words[2], "1.0"))
     return header_fail(f, line, "expected \"format <type> 1.0\"");
-  if (!strcmp(words[1], "ascii")) f->format = PLY_ASCII;
-  else if (!strcmp(words[1], "binary_little_endian")) f->format = PLY_BINARY_LE;
-  else if (!strcmp(words[1], "binary_big_endian")) f->format = PLY_BINARY_BE;
-  else return header_fail(f, line, "unknown format \"%s\"", words[1]);
+  if (!strcmp(words[1], "ascii"))
+    f->format = PLY_ASCII;
+  else if (!strcmp(words[1], "binary_little_endian"))
+    f->format = PLY_BINARY_LE;
+  else if (!strcmp(words[1], "binary_big_endian"))
+    f->format = PLY_BINARY_BE;
+  else
+    return header_fail(f, line, "unknown format \"%s\"", words[1]);
   f->swap = f->format != PLY_ASCII && (f->format == PLY_BINARY_LE) != host_is_little_endian();
   return CLR_SUCCESS;
 }
@@ -148,12 +179,14 @@ static clr_result parse_property(ply_file *f, int line, char **words, int n) {
   if (f->element_count == 0) return header_fail(f, line, "property before any element");
   ply_element *e = &f->elements[f->element_count - 1];
   if (e->property_count == PLY_MAX_PROPERTIES)
-    return header_fail(f, line, "element \"%s\" has more than %d properties", e->name, PLY_MAX_PROPERTIES);
+    return header_fail(f, line, "element \"%s\" has more than %d properties", e->name,
+                       PLY_MAX_PROPERTIES);
   ply_property *p = &e->properties[e->property_count];
   memset(p, 0, sizeof *p);
   int is_list = n >= 2 && !strcmp(words[1], "list");
   if (is_list ? n != 5 : n != 3)
-    return header_fail(f, line, "expected \"property <type> <name>\" or \"property list <count "
+    return header_fail(f, line,
+                       "expected \"property <type> <name>\" or \"property list <count "
                        "type> <item type> <name>\"");
   const char *type_name = words[is_list ? 3 : 1];
   p->type = type_from_name(type_name);
@@ -172,8 +205,10 @@ static clr_result parse_header(ply_file *f) {
   char buf[512], *words[8];
   int line = 1, n = next_header_line(f, buf, sizeof buf, words);
   if (n != 1 || strcmp(words[0], "ply"))
-    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\" is not a PLY file (no \"ply\" "
-                    "magic line)", f->path);
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                              "clr_ply_read: \"%s\" is not a PLY file (no \"ply\" "
+                              "magic line)",
+                              f->path);
   int have_format = 0;
   for (;;) {
     ++line;
@@ -222,11 +257,15 @@ static int assign_roles(ply_element *e, const char *const *names, const ply_role
 
 static clr_result assign_vertex_roles(ply_file *f, ply_element *v, int *has_normals, int *has_uv) {
   static const char *const xyz[3] = {"x", "y", "z"}, *const nxyz[3] = {"nx", "ny", "nz"};
-  static const char *const uv_names[4][2] = {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
-  static const ply_role p_roles[3] = {ROLE_X, ROLE_Y, ROLE_Z}, n_roles[3] = {ROLE_NX, ROLE_NY, ROLE_NZ}, uv_roles[2] = {ROLE_U, ROLE_V};
+  static const char *const uv_names[4][2] = {
+      {"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
+  static const ply_role p_roles[3] = {ROLE_X, ROLE_Y, ROLE_Z},
+                        n_roles[3] = {ROLE_NX, ROLE_NY, ROLE_NZ}, uv_roles[2] = {ROLE_U, ROLE_V};
   if (!assign_roles(v, xyz, p_roles, 3))
-    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"vertex\" lacks one of "
-                    "the scalar properties x, y, z", f->path);
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                              "clr_ply_read: \"%s\": element \"vertex\" lacks one of "
+                              "the scalar properties x, y, z",
+                              f->path);
   *has_normals = assign_roles(v, nxyz, n_roles, 3);
   *has_uv = 0;
   for (int i = 0; i < 4 && !*has_uv; ++i) *has_uv = assign_roles(v, uv_names[i], uv_roles, 2);
@@ -236,13 +275,16 @@ static clr_result assign_vertex_roles(ply_file *f, ply_element *v, int *has_norm
 static clr_result assign_face_roles(ply_file *f, ply_element *face) {
   for (int i = 0; i < face->property_count; ++i) {
     ply_property *p = &face->properties[i];
-    if (p->count_type != PLY_NONE && (!strcmp(p->name, "vertex_indices") || !strcmp(p->name, "vertex_index"))) {
+    if (p->count_type != PLY_NONE &&
+        (!strcmp(p->name, "vertex_indices") || !strcmp(p->name, "vertex_index"))) {
       p->role = ROLE_INDICES;
       return CLR_SUCCESS;
     }
   }
-  return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" has no list "
-                  "property \"vertex_indices\"", f->path);
+  return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                            "clr_ply_read: \"%s\": element \"face\" has no list "
+                            "property \"vertex_indices\"",
+                            f->path);
 }
 
 /* ---- data values ---- */
@@ -252,15 +294,45 @@ static double decode_binary(const unsigned char *src, ply_type type, int swap) {
   size_t size = type_size(type);
   for (size_t i = 0; i < size; ++i) b[i] = src[swap ? size - 1 - i : i];
   switch (type) {
-  case PLY_I8: { int8_t v; memcpy(&v, b, 1); return v; }
-  case PLY_U8: return b[0];
-  case PLY_I16: { int16_t v; memcpy(&v, b, 2); return v; }
-  case PLY_U16: { uint16_t v; memcpy(&v, b, 2); return v; }
-  case PLY_I32: { int32_t v; memcpy(&v, b, 4); return v; }
-  case PLY_U32: { uint32_t v; memcpy(&v, b, 4); return v; }
-  case PLY_F32: { float v; memcpy(&v, b, 4); return v; }
-  case PLY_F64: { double v; memcpy(&v, b, 8); return v; }
-  default: return 0.0;
+    case PLY_I8: {
+      int8_t v;
+      memcpy(&v, b, 1);
+      return v;
+    }
+    case PLY_U8:
+      return b[0];
+    case PLY_I16: {
+      int16_t v;
+      memcpy(&v, b, 2);
+      return v;
+    }
+    case PLY_U16: {
+      uint16_t v;
+      memcpy(&v, b, 2);
+      return v;
+    }
+    case PLY_I32: {
+      int32_t v;
+      memcpy(&v, b, 4);
+      return v;
+    }
+    case PLY_U32: {
+      uint32_t v;
+      memcpy(&v, b, 4);
+      return v;
+    }
+    case PLY_F32: {
+      float v;
+      memcpy(&v, b, 4);
+      return v;
+    }
+    case PLY_F64: {
+      double v;
+      memcpy(&v, b, 8);
+      return v;
+    }
+    default:
+      return 0.0;
   }
 }
 
@@ -292,13 +364,20 @@ static int read_value(ply_file *f, ply_type type, double *out) {
 /* Largest value of an integer PLY type (list counts must fit their declared type). */
 static double type_max(ply_type type) {
   switch (type) {
-  case PLY_I8: return 127.0;
-  case PLY_U8: return 255.0;
-  case PLY_I16: return 32767.0;
-  case PLY_U16: return 65535.0;
-  case PLY_I32: return 2147483647.0;
-  case PLY_U32: return 4294967295.0;
-  default: return 0.0;
+    case PLY_I8:
+      return 127.0;
+    case PLY_U8:
+      return 255.0;
+    case PLY_I16:
+      return 32767.0;
+    case PLY_U16:
+      return 65535.0;
+    case PLY_I32:
+      return 2147483647.0;
+    case PLY_U32:
+      return 4294967295.0;
+    default:
+      return 0.0;
   }
 }
 
@@ -315,14 +394,16 @@ static int read_list_count(ply_file *f, ply_type type, long long *count) {
   return 1;
 }
 
-static clr_result data_error(ply_file *f, const ply_element *e, long long instance, const ply_property *p) {
+static clr_result data_error(ply_file *f, const ply_element *e, long long instance,
+                             const ply_property *p) {
   const char *what = f->truncated ? "truncated data"
                      : f->bad_count
                          ? "bad list count (not a non-negative integer that fits its type)"
                          : "bad value";
-  return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": %s in element \"%s\" instance %lld "
-                  "of %lld, property \"%s\" (byte offset %zu)", f->path, what, e->name, instance, e->count,
-                  p->name, f->pos);
+  return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                            "clr_ply_read: \"%s\": %s in element \"%s\" instance %lld "
+                            "of %lld, property \"%s\" (byte offset %zu)",
+                            f->path, what, e->name, instance, e->count, p->name, f->pos);
 }
 
 /* Rejects header counts that cannot fit in the remaining bytes (so corrupt counts never drive a
@@ -334,13 +415,16 @@ static clr_result check_counts_fit(ply_file *f) {
     size_t per_instance = 0;
     for (int k = 0; k < e->property_count; ++k) {
       const ply_property *p = &e->properties[k];
-      if (f->format == PLY_ASCII) per_instance += 2;
-      else per_instance += type_size(p->count_type != PLY_NONE ? p->count_type : p->type);
+      if (f->format == PLY_ASCII)
+        per_instance += 2;
+      else
+        per_instance += type_size(p->count_type != PLY_NONE ? p->count_type : p->type);
     }
     if (per_instance && (unsigned long long)e->count > remaining / per_instance)
-      return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": truncated data: element \"%s\" "
-                      "declares %lld instances but only %zu bytes of data remain", f->path, e->name,
-                      e->count, remaining - 1);
+      return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                                "clr_ply_read: \"%s\": truncated data: element \"%s\" "
+                                "declares %lld instances but only %zu bytes of data remain",
+                                f->path, e->name, e->count, remaining - 1);
     remaining -= (size_t)e->count * per_instance;
   }
   return CLR_SUCCESS;
@@ -363,10 +447,22 @@ static clr_result read_vertices(ply_file *f, const ply_element *e, clr_mesh *mes
       if (!read_value(f, p->type, &value)) return data_error(f, e, i, p);
       float v = (float)value;
       switch (p->role) {
-      case ROLE_X: case ROLE_Y: case ROLE_Z: mesh->p[3 * i + (p->role - ROLE_X)] = v; break;
-      case ROLE_NX: case ROLE_NY: case ROLE_NZ: mesh->n[3 * i + (p->role - ROLE_NX)] = v; break;
-      case ROLE_U: case ROLE_V: mesh->uv[2 * i + (p->role - ROLE_U)] = v; break;
-      default: break;
+        case ROLE_X:
+        case ROLE_Y:
+        case ROLE_Z:
+          mesh->p[3 * i + (p->role - ROLE_X)] = v;
+          break;
+        case ROLE_NX:
+        case ROLE_NY:
+        case ROLE_NZ:
+          mesh->n[3 * i + (p->role - ROLE_NX)] = v;
+          break;
+        case ROLE_U:
+        case ROLE_V:
+          mesh->uv[2 * i + (p->role - ROLE_U)] = v;
+          break;
+        default:
+          break;
       }
     }
   }
@@ -374,20 +470,24 @@ static clr_result read_vertices(ply_file *f, const ply_element *e, clr_mesh *mes
 }
 
 /* Reads one "vertex_indices" list, appending its 1 or 2 triangles (none for other lengths). */
-static clr_result read_face_indices(ply_file *f, const ply_element *e, long long i, const ply_property *p,
-                                    clr_mesh *mesh) {
+static clr_result read_face_indices(ply_file *f, const ply_element *e, long long i,
+                                    const ply_property *p, clr_mesh *mesh) {
   long long count;
   if (!read_list_count(f, p->count_type, &count)) return data_error(f, e, i, p);
   if (count > PLY_MAX_LIST_LENGTH)
-    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" instance %lld "
-                    "has %lld vertex indices (at most %d supported)", f->path, i, count, PLY_MAX_LIST_LENGTH);
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                              "clr_ply_read: \"%s\": element \"face\" instance %lld "
+                              "has %lld vertex indices (at most %d supported)",
+                              f->path, i, count, PLY_MAX_LIST_LENGTH);
   uint32_t face[4];
   for (long long j = 0; j < count; ++j) {
     double value;
     if (!read_value(f, p->type, &value)) return data_error(f, e, i, p);
     if (!(value >= 0 && value < mesh->vertex_count) || value != floor(value))
-      return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": element \"face\" instance %lld, "
-                      "vertex_indices[%lld] = %g is outside [0, %ld)", f->path, i, j, value, (long)mesh->vertex_count);
+      return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                                "clr_ply_read: \"%s\": element \"face\" instance %lld, "
+                                "vertex_indices[%lld] = %g is outside [0, %ld)",
+                                f->path, i, j, value, (long)mesh->vertex_count);
     if (j < 4) face[j] = (uint32_t)value;
   }
   if (count != 3 && count != 4) return CLR_SUCCESS; /* pbrt-v3 ignores such faces too */
@@ -428,7 +528,8 @@ static clr_result skip_element(ply_file *f, const ply_element *e) {
       const ply_property *p = &e->properties[k];
       double value;
       long long count = 1;
-      if (p->count_type != PLY_NONE && !read_list_count(f, p->count_type, &count)) return data_error(f, e, i, p);
+      if (p->count_type != PLY_NONE && !read_list_count(f, p->count_type, &count))
+        return data_error(f, e, i, p);
       for (long long j = 0; j < count; ++j)
         if (!read_value(f, p->type, &value)) return data_error(f, e, i, p);
     }
@@ -439,26 +540,36 @@ static clr_result skip_element(ply_file *f, const ply_element *e) {
 static clr_result read_body(ply_file *f, clr_mesh *mesh) {
   ply_element *vertex = find_element(f, "vertex"), *face = find_element(f, "face");
   if (!vertex || !face || vertex->count == 0 || face->count == 0)
-    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": no \"vertex\" and \"face\" "
-                    "elements with instances", f->path);
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                              "clr_ply_read: \"%s\": no \"vertex\" and \"face\" "
+                              "elements with instances",
+                              f->path);
   int has_normals = 0, has_uv = 0;
   CLR_CHECK(assign_vertex_roles(f, vertex, &has_normals, &has_uv));
   CLR_CHECK(assign_face_roles(f, face));
   CLR_CHECK(check_counts_fit(f));
   if (vertex->count > INT32_MAX / 3 || face->count > INT32_MAX / 6)
-    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": too many vertices (%lld) or "
-                    "faces (%lld)", f->path, vertex->count, face->count);
-  CLR_CHECK(clr_mesh_alloc(mesh, (int32_t)vertex->count, (int32_t)(2 * face->count), has_normals, has_uv, f->path));
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                              "clr_ply_read: \"%s\": too many vertices (%lld) or "
+                              "faces (%lld)",
+                              f->path, vertex->count, face->count);
+  CLR_CHECK(clr_mesh_alloc(mesh, (int32_t)vertex->count, (int32_t)(2 * face->count), has_normals,
+                           has_uv, f->path));
   mesh->triangle_count = 0; /* counts the triangles actually read */
   for (int i = 0; i < f->element_count; ++i) {
     ply_element *e = &f->elements[i];
-    if (e == vertex) CLR_CHECK(read_vertices(f, e, mesh));
-    else if (e == face) CLR_CHECK(read_faces(f, e, mesh));
-    else CLR_CHECK(skip_element(f, e));
+    if (e == vertex)
+      CLR_CHECK(read_vertices(f, e, mesh));
+    else if (e == face)
+      CLR_CHECK(read_faces(f, e, mesh));
+    else
+      CLR_CHECK(skip_element(f, e));
   }
   if (mesh->triangle_count == 0)
-    return clr_set_last_error(CLR_ERROR_FILE_FORMAT, "clr_ply_read: \"%s\": no triangles (%lld faces, "
-                    "none with 3 or 4 vertex indices)", f->path, face->count);
+    return clr_set_last_error(CLR_ERROR_FILE_FORMAT,
+                              "clr_ply_read: \"%s\": no triangles (%lld faces, "
+                              "none with 3 or 4 vertex indices)",
+                              f->path, face->count);
   return clr_mesh_check(mesh, f->path, CLR_ERROR_FILE_FORMAT);
 }
 
@@ -467,7 +578,8 @@ clr_result clr_ply_read(const char *path, clr_mesh *out) {
   memset(out, 0, sizeof *out);
   if (!path) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_ply_read: path is NULL");
   ply_file *f = calloc(1, sizeof *f);
-  if (!f) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\"", path);
+  if (!f)
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_ply_read: no memory for \"%s\"", path);
   f->path = path;
   clr_result r = load_file(f);
   if (r == CLR_SUCCESS) r = parse_header(f);

@@ -30,7 +30,8 @@ static int light_is_delta(const clr_render_scene *scene, int32_t light) {
 
 static int add_request(clr_integrator *it, int dims, int array_size) {
   int32_t values = dims * (array_size > 0 ? array_size : 1);
-  if (it->request_count >= CLR_MAX_REQUESTS || it->values_per_sample + values > CLR_MAX_VALUES_PER_SAMPLE)
+  if (it->request_count >= CLR_MAX_REQUESTS ||
+      it->values_per_sample + values > CLR_MAX_VALUES_PER_SAMPLE)
     return -1;
   it->requests[it->request_count].dims = dims;
   it->requests[it->request_count].array_size = array_size;
@@ -44,8 +45,12 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
   it->light_cdf = calloc((size_t)it->light_count + 1, sizeof *it->light_cdf);
   if (!it->light_cdf) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
   double total = 0.0;
-  for (int i = 0; i < it->light_count; ++i) total += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
-  if (!(total > 0.0) || !isfinite(total)) { power = 0; total = it->light_count; }
+  for (int i = 0; i < it->light_count; ++i)
+    total += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
+  if (!(total > 0.0) || !isfinite(total)) {
+    power = 0;
+    total = it->light_count;
+  }
   double acc = 0.0;
   for (int i = 0; i < it->light_count; ++i) {
     acc += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
@@ -73,8 +78,9 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
     it->ao_cos_sample = clr_params_find_bool(p, "cossample", true);
     if (it->ao_samples < 1) it->ao_samples = 1;
     if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2)
-      return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d", p->file,
-                      p->line, it->ao_samples, (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d",
+                                p->file, p->line, it->ao_samples,
+                                (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
     add_request(it, 2, it->ao_samples);
     return CLR_SUCCESS;
   }
@@ -85,7 +91,8 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
     if (it->direct_all) {
       it->light_samples = calloc((size_t)it->light_count + 1, sizeof(int));
       it->light_offsets = calloc((size_t)it->light_count + 1, sizeof(int));
-      if (!it->light_samples || !it->light_offsets) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
+      if (!it->light_samples || !it->light_offsets)
+        return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
       for (int j = 0; j < it->light_count; ++j) {
         it->light_samples[j] = light_info(scene, j).nsamples;
         /* depth-0 arrays only: matte surfaces never recurse */
@@ -166,8 +173,17 @@ clr_integrator_scratch *clr_integrator_scratch_create(void) {
 
 void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   if (!s) return;
-  free(s->rays); free(s->rays2); free(s->hits); free(s->occluded); free(s->surfaces);
-  free(s->jobs); free(s->owner); free(s->ao_terms); free(s->beta); free(s->bounces); free(s->active);
+  free(s->rays);
+  free(s->rays2);
+  free(s->hits);
+  free(s->occluded);
+  free(s->surfaces);
+  free(s->jobs);
+  free(s->owner);
+  free(s->ao_terms);
+  free(s->beta);
+  free(s->bounces);
+  free(s->active);
   free(s);
 }
 
@@ -238,16 +254,21 @@ static float fallback(uint64_t key, int dim) {
 /* sin and cos of a in [-pi/4, pi/4]: Taylor polynomials, error below 2e-9 there (a float ulp). */
 static inline void sincos_quarter(float a, float *sn, float *cs) {
   float a2 = a * a;
-  *sn = a * (1.0f + a2 * (-1.0f / 6.0f + a2 * (1.0f / 120.0f + a2 * (-1.0f / 5040.0f + a2 * (1.0f / 362880.0f)))));
-  *cs = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24.0f + a2 * (-1.0f / 720.0f + a2 * (1.0f / 40320.0f +
-                                                                              a2 * (-1.0f / 3628800.0f)))));
+  *sn = a * (1.0f + a2 * (-1.0f / 6.0f +
+                          a2 * (1.0f / 120.0f + a2 * (-1.0f / 5040.0f + a2 * (1.0f / 362880.0f)))));
+  *cs = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24.0f +
+                                   a2 * (-1.0f / 720.0f +
+                                         a2 * (1.0f / 40320.0f + a2 * (-1.0f / 3628800.0f)))));
 }
 
 /* pbrt ConcentricSampleDisk; its angles stay within pi/4 of an axis, so the quarter-range
  * polynomials give cos and sin (pi/2 - a = a swapped). */
 static inline void concentric_disk(const float u[2], float *x, float *y) {
   float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
-  if (ox == 0.0f && oy == 0.0f) { *x = *y = 0.0f; return; }
+  if (ox == 0.0f && oy == 0.0f) {
+    *x = *y = 0.0f;
+    return;
+  }
   float sn, cs;
   if (fabsf(ox) > fabsf(oy)) {
     sincos_quarter((RS_PI / 4.0f) * (oy / ox), &sn, &cs);
@@ -268,7 +289,9 @@ static inline void cosine_hemisphere(const float u[2], float w[3]) {
 
 static void uniform_hemisphere(const float u[2], float w[3]) {
   float z = u[0], r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
-  w[0] = r * cosf(phi); w[1] = r * sinf(phi); w[2] = z;
+  w[0] = r * cosf(phi);
+  w[1] = r * sinf(phi);
+  w[2] = z;
 }
 
 /* Shading frame (ss, ts, ns) of a surface. */
@@ -276,8 +299,15 @@ static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
   float d = rs_dot(s->dpdu, s->ns);
   for (int i = 0; i < 3; ++i) ss[i] = s->dpdu[i] - d * s->ns[i];
   if (!(rs_dot(ss, ss) > 1e-20f)) {
-    if (fabsf(s->ns[0]) > fabsf(s->ns[1])) { ss[0] = -s->ns[2]; ss[1] = 0; ss[2] = s->ns[0]; }
-    else { ss[0] = 0; ss[1] = s->ns[2]; ss[2] = -s->ns[1]; }
+    if (fabsf(s->ns[0]) > fabsf(s->ns[1])) {
+      ss[0] = -s->ns[2];
+      ss[1] = 0;
+      ss[2] = s->ns[0];
+    } else {
+      ss[0] = 0;
+      ss[1] = s->ns[2];
+      ss[2] = -s->ns[1];
+    }
   }
   rs_normalize(ss);
   rs_cross(s->ns, ss, ts);
@@ -291,11 +321,14 @@ static float oren_nayar_factor(const clr_surface *s, const float wo[3], const fl
   shading_frame(s, ss, ts);
   float o[3] = {rs_dot(wo, ss), rs_dot(wo, ts), rs_dot(wo, s->ns)};
   float i[3] = {rs_dot(wi, ss), rs_dot(wi, ts), rs_dot(wi, s->ns)};
-  float sin_o = sqrtf(fmaxf(0.0f, 1.0f - o[2] * o[2])), sin_i = sqrtf(fmaxf(0.0f, 1.0f - i[2] * i[2]));
+  float sin_o = sqrtf(fmaxf(0.0f, 1.0f - o[2] * o[2])),
+        sin_i = sqrtf(fmaxf(0.0f, 1.0f - i[2] * i[2]));
   float max_cos = 0.0f;
   if (sin_i > 1e-4f && sin_o > 1e-4f) {
-    float cpi = fminf(1.0f, fmaxf(-1.0f, i[0] / sin_i)), spi = fminf(1.0f, fmaxf(-1.0f, i[1] / sin_i));
-    float cpo = fminf(1.0f, fmaxf(-1.0f, o[0] / sin_o)), spo = fminf(1.0f, fmaxf(-1.0f, o[1] / sin_o));
+    float cpi = fminf(1.0f, fmaxf(-1.0f, i[0] / sin_i)),
+          spi = fminf(1.0f, fmaxf(-1.0f, i[1] / sin_i));
+    float cpo = fminf(1.0f, fmaxf(-1.0f, o[0] / sin_o)),
+          spo = fminf(1.0f, fmaxf(-1.0f, o[1] / sin_o));
     max_cos = fmaxf(0.0f, cpi * cpo + spi * spo);
   }
   float sin_alpha, tan_beta;
@@ -353,9 +386,11 @@ static int plastic_components(const clr_surface *s, int *diffuse, int *glossy) {
 
 /* pbrt-v3 metal: MicrofacetReflection(1, TrowbridgeReitz, FresnelConductor), f |cos| in
  * local coordinates. */
-static int metal_eval_local(const clr_surface *s, const float lo[3], const float li[3], float f[3]) {
+static int metal_eval_local(const clr_surface *s, const float lo[3], const float li[3],
+                            float f[3]) {
   float cos_h, dg = clr_microfacet_dg(lo, li, s->alpha, &cos_h) * fabsf(li[2]);
-  for (int k = 0; k < 3; ++k) f[k] = dg > 0.0f ? dg * clr_fr_conductor(cos_h, s->m_eta[k], s->m_k[k]) : 0.0f;
+  for (int k = 0; k < 3; ++k)
+    f[k] = dg > 0.0f ? dg * clr_fr_conductor(cos_h, s->m_eta[k], s->m_k[k]) : 0.0f;
   return !is_black_c(f);
 }
 
@@ -404,7 +439,8 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
   to_local(ss, ts, s->ns, wo, lo);
   to_local(ss, ts, s->ns, wi, li);
   if (lo[2] == 0.0f) return 0.0f;
-  float pdf = (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
+  float pdf =
+      (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
   return pdf / (float)n;
 }
 
@@ -568,8 +604,10 @@ static int choose_light(const clr_integrator *it, float u, float *pdf) {
   int lo = 0, hi = it->light_count - 1;
   while (lo < hi) {
     int mid = (lo + hi + 1) / 2;
-    if (it->light_cdf[mid] <= u) lo = mid;
-    else hi = mid - 1;
+    if (it->light_cdf[mid] <= u)
+      lo = mid;
+    else
+      hi = mid - 1;
   }
   while (lo < it->light_count - 1 && it->light_cdf[lo + 1] - it->light_cdf[lo] <= 0.0f) ++lo;
   *pdf = it->light_cdf[lo + 1] - it->light_cdf[lo];
@@ -610,16 +648,24 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
     }
     for (int k = 0; k < n; ++k, ++q) {
       float w[3], wi[3];
-      if (it->ao_cos_sample) cosine_hemisphere(u + 2 * k, w);
-      else uniform_hemisphere(u + 2 * k, w);
+      if (it->ao_cos_sample)
+        cosine_hemisphere(u + 2 * k, w);
+      else
+        uniform_hemisphere(u + 2 * k, w);
       for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
       float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
       float cos_n = rs_dot(wi, sf->ng);
       term[q] = pdf > 0.0f ? cos_n / (pdf * (float)n) : 0.0f;
       const float *o = cos_n < 0.0f ? down : up;
       clr_ray *r = &s->rays[q];
-      r->ox = o[0]; r->oy = o[1]; r->oz = o[2]; r->tnear = 0.0f;
-      r->dx = wi[0]; r->dy = wi[1]; r->dz = wi[2]; r->tfar = INFINITY;
+      r->ox = o[0];
+      r->oy = o[1];
+      r->oz = o[2];
+      r->tnear = 0.0f;
+      r->dx = wi[0];
+      r->dy = wi[1];
+      r->dz = wi[2];
+      r->tfar = INFINITY;
     }
   }
   occlude(sc, s->rays, s->occluded, q, c);
@@ -636,7 +682,8 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
   return CLR_SUCCESS;
 }
 
-static void add_escaped(const clr_render_scene *sc, const clr_ray *r, const float beta[3], float *L) {
+static void add_escaped(const clr_render_scene *sc, const clr_ray *r, const float beta[3],
+                        float *L) {
   float le[3];
   clr_render_scene_escaped(sc, r, le);
   for (int k = 0; k < 3; ++k) L[k] += beta[k] * le[k];
@@ -674,7 +721,9 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       add_escaped(sc, &s->rays2[k], one, Lk + 3 * k);
       continue;
     }
-    wo[3 * k] = -s->rays2[k].dx; wo[3 * k + 1] = -s->rays2[k].dy; wo[3 * k + 2] = -s->rays2[k].dz;
+    wo[3 * k] = -s->rays2[k].dx;
+    wo[3 * k + 1] = -s->rays2[k].dy;
+    wo[3 * k + 2] = -s->rays2[k].dz;
     for (int a = 0; a < 3; ++a) Lk[3 * k + a] += sf->le[a];
     if (sf->glass) { /* pbrt-v3 without multiple lobes: SpecularReflection + SpecularTransmission,
                       * SpecularReflect and SpecularTransmit both followed */
@@ -726,7 +775,8 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
           int base = depth == 0 ? 100 : 5000 + 1000 * depth;
           for (int a = 0; a < 2; ++a) {
             jb->u_light[a] = off >= 0 ? v[off + 2 * q + a] : fallback(keys[i], base + dim++);
-            jb->u_scatter[a] = off >= 0 ? v[off + 2 * ns + 2 * q + a] : fallback(keys[i], base + dim++);
+            jb->u_scatter[a] =
+                off >= 0 ? v[off + 2 * ns + 2 * q + a] : fallback(keys[i], base + dim++);
           }
           jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)ns;
         }
@@ -767,7 +817,8 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
   for (int depth = 0; r == CLR_SUCCESS && n > 0; ++depth) {
     if (depth == 0 || (size_t)n > cap || !Lk) {
       cap = (size_t)n > cap ? (size_t)n : cap;
-      float *a = realloc(Lk, cap * 3 * sizeof *a), *b = a ? realloc(weight, cap * 3 * sizeof *b) : NULL;
+      float *a = realloc(Lk, cap * 3 * sizeof *a),
+            *b = a ? realloc(weight, cap * 3 * sizeof *b) : NULL;
       if (a) Lk = a;
       if (b) weight = b;
       float *f = b ? realloc(factor, cap * 6 * sizeof *f) : NULL;
@@ -806,7 +857,8 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     int *nm = nw ? malloc((size_t)m * sizeof *nm) : NULL;
     if (!nm) {
       free(nw);
-      if (r == CLR_SUCCESS) r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
+      if (r == CLR_SUCCESS)
+        r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
       break;
     }
     int at = 0;
@@ -927,7 +979,9 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       const float *v = values + (size_t)i * (size_t)it->values_per_sample;
       float *w = wos + 3 * i;
-      w[0] = -ray->dx; w[1] = -ray->dy; w[2] = -ray->dz;
+      w[0] = -ray->dx;
+      w[1] = -ray->dy;
+      w[2] = -ray->dz;
       specular[i] = sf->mirror || sf->glass;
       if (sf->glass) { /* pbrt-v3 FresnelSpecular::Sample_f */
         float wi[3], cos_o = rs_dot(w, sf->ns);
@@ -945,7 +999,8 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
           }
           float cos_t = sqrtf(1.0f - sin2_t);
           for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
-          for (int a = 0; a < 3; ++a) b[a] *= sf->kt[a] * eta * eta; /* T (1-F) (eta_i/eta_t)^2 / (1-F) */
+          for (int a = 0; a < 3; ++a)
+            b[a] *= sf->kt[a] * eta * eta; /* T (1-F) (eta_i/eta_t)^2 / (1-F) */
           eta_scale[i] *= entering ? sf->eta * sf->eta : 1.0f / (sf->eta * sf->eta);
         }
         if (is_black(b)) {
@@ -1020,9 +1075,15 @@ clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *s
   memcpy(s->rays2, rays, (size_t)count * sizeof *rays);
   clr_result r;
   switch (it->type) {
-    case CLR_INTEGRATOR_AO: r = li_ao(it, sc, s, values, count, L, c); break;
-    case CLR_INTEGRATOR_DIRECT: r = li_direct(it, sc, s, values, keys, count, L, c); break;
-    default: r = li_path(it, sc, s, values, keys, count, L, c); break;
+    case CLR_INTEGRATOR_AO:
+      r = li_ao(it, sc, s, values, count, L, c);
+      break;
+    case CLR_INTEGRATOR_DIRECT:
+      r = li_direct(it, sc, s, values, keys, count, L, c);
+      break;
+    default:
+      r = li_path(it, sc, s, values, keys, count, L, c);
+      break;
   }
   return r != CLR_SUCCESS ? r : c->error;
 }

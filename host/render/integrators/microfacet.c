@@ -50,7 +50,9 @@ static float tr_g(const float wo[3], const float wi[3], float alpha) {
   return 1.0f / (1.0f + tr_lambda(wo, alpha) + tr_lambda(wi, alpha));
 }
 
-static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static float dot3(const float a[3], const float b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 /* TrowbridgeReitzDistribution::Pdf with sampleVisibleArea */
 static float tr_pdf_wh(const float wo[3], const float wh[3], float alpha) {
@@ -86,7 +88,8 @@ static void tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
 
 static void tr_sample_wh(const float wo_in[3], float alpha, const float u[2], float wh[3]) {
   int flip = wo_in[2] < 0.0f;
-  float wo[3] = {flip ? -wo_in[0] : wo_in[0], flip ? -wo_in[1] : wo_in[1], flip ? -wo_in[2] : wo_in[2]};
+  float wo[3] = {flip ? -wo_in[0] : wo_in[0], flip ? -wo_in[1] : wo_in[1],
+                 flip ? -wo_in[2] : wo_in[2]};
   float ws[3] = {alpha * wo[0], alpha * wo[1], wo[2]};
   float l = sqrtf(dot3(ws, ws));
   for (int i = 0; i < 3; ++i) ws[i] /= l;
@@ -113,7 +116,8 @@ float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
   float l = sqrtf(dot3(wh, wh));
   for (int i = 0; i < 3; ++i) wh[i] /= l;
   float ff[3] = {wh[0], wh[1], wh[2]};
-  if (ff[2] < 0.0f) for (int i = 0; i < 3; ++i) ff[i] = -ff[i]; /* Faceforward(wh, (0,0,1)) */
+  if (ff[2] < 0.0f)
+    for (int i = 0; i < 3; ++i) ff[i] = -ff[i]; /* Faceforward(wh, (0,0,1)) */
   float F = clr_fr_dielectric(dot3(wi, ff), 1.5f, 1.0f);
   return tr_d(wh, alpha) * tr_g(wo, wi, alpha) * F / (4.0f * ci * co);
 }
@@ -137,12 +141,14 @@ float clr_microfacet_dg(const float wo[3], const float wi[3], float alpha, float
   float l = sqrtf(dot3(wh, wh));
   for (int i = 0; i < 3; ++i) wh[i] /= l;
   float ff[3] = {wh[0], wh[1], wh[2]};
-  if (ff[2] < 0.0f) for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
+  if (ff[2] < 0.0f)
+    for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
   *cos_h = dot3(wi, ff);
   return tr_d(wh, alpha) * tr_g(wo, wi, alpha) / (4.0f * ci * co);
 }
 
-int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf) {
+int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3],
+                             float *pdf) {
   *pdf = 0.0f;
   if (wo[2] == 0.0f) return 0;
   float wh[3];
@@ -164,7 +170,8 @@ float clr_microfacet_pdf(const float wo[3], const float wi[3], float alpha) {
   return tr_pdf_wh(wo, wh, alpha) / (4.0f * dot3(wo, wh));
 }
 
-float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf) {
+float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3],
+                            float *pdf) {
   *pdf = 0.0f;
   if (wo[2] == 0.0f) return 0.0f;
   float wh[3];

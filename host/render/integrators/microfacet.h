@@ -14,12 +14,14 @@ float clr_fr_conductor(float cos_i, float eta, float k);
  * part of MicrofacetReflection::f (0 when it is 0). */
 float clr_microfacet_dg(const float wo[3], const float wi[3], float alpha, float *cos_h);
 /* MicrofacetReflection::Sample_f's direction and pdf; 1 when usable. */
-int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf);
+int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3],
+                             float *pdf);
 /* MicrofacetReflection::f / R (R = Ks applied by the caller). */
 float clr_microfacet_f(const float wo[3], const float wi[3], float alpha);
 /* MicrofacetReflection::Pdf. */
 float clr_microfacet_pdf(const float wo[3], const float wi[3], float alpha);
 /* MicrofacetReflection::Sample_f: wi and pdf; returns f / R (0 when no direction). */
-float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3], float *pdf);
+float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3],
+                            float *pdf);
 
 #endif

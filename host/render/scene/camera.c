@@ -14,8 +14,8 @@ clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn 
   } else if (strcmp(type, "orthographic") == 0) {
     cam->type = RS_CAMERA_ORTHOGRAPHIC;
   } else {
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: unsupported camera \"%s\"", p->file ? p->file : "?",
-                    p->line, type);
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: unsupported camera \"%s\"",
+                              p->file ? p->file : "?", p->line, type);
   }
   cam->lens_radius = clr_params_find_float(p, "lensradius", 0.0f);
   cam->focal_distance = clr_params_find_float(p, "focaldistance", 1e6f);
@@ -59,9 +59,15 @@ clr_result rs_camera_set_film(rs_camera *cam, int32_t xres, int32_t yres) {
   if (cam->screen_given) {
     memcpy(sw, cam->screen, sizeof sw);
   } else if (frame > 1.0f) {
-    sw[0] = -frame; sw[1] = frame; sw[2] = -1.0f; sw[3] = 1.0f;
+    sw[0] = -frame;
+    sw[1] = frame;
+    sw[2] = -1.0f;
+    sw[3] = 1.0f;
   } else {
-    sw[0] = -1.0f; sw[1] = 1.0f; sw[2] = -1.0f / frame; sw[3] = 1.0f / frame;
+    sw[0] = -1.0f;
+    sw[1] = 1.0f;
+    sw[2] = -1.0f / frame;
+    sw[3] = 1.0f / frame;
   }
   clr_transform camera_to_screen = cam->type == RS_CAMERA_PERSPECTIVE
                                        ? perspective(cam->fov, 1e-2f, 1000.0f)
@@ -80,7 +86,10 @@ clr_result rs_camera_set_film(rs_camera *cam, int32_t xres, int32_t yres) {
 /* pbrt-v3 ConcentricSampleDisk. */
 static void concentric_disk(float u0, float u1, float *dx, float *dy) {
   float ox = 2.0f * u0 - 1.0f, oy = 2.0f * u1 - 1.0f;
-  if (ox == 0.0f && oy == 0.0f) { *dx = *dy = 0.0f; return; }
+  if (ox == 0.0f && oy == 0.0f) {
+    *dx = *dy = 0.0f;
+    return;
+  }
   float r, theta;
   if (fabsf(ox) > fabsf(oy)) {
     r = ox;
@@ -125,8 +134,12 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
   clr_transform_point(&cam->camera_to_world, o, ow);
   clr_transform_vector(&cam->camera_to_world, d, dw);
   rs_normalize(dw);
-  ray->ox = ow[0]; ray->oy = ow[1]; ray->oz = ow[2];
-  ray->dx = dw[0]; ray->dy = dw[1]; ray->dz = dw[2];
+  ray->ox = ow[0];
+  ray->oy = ow[1];
+  ray->oz = ow[2];
+  ray->dx = dw[0];
+  ray->dy = dw[1];
+  ray->dz = dw[2];
   ray->tnear = 0.0f;
   ray->tfar = INFINITY;
   return 1.0f;

@@ -12,8 +12,8 @@ typedef enum { RS_CAMERA_PERSPECTIVE, RS_CAMERA_ORTHOGRAPHIC } rs_camera_type;
 typedef struct rs_camera {
   rs_camera_type type;
   float fov, lens_radius, focal_distance, shutter_open, shutter_close;
-  float frame_aspect;   /* <= 0: from the film resolution */
-  float screen[4];      /* x0 x1 y0 y1; given when screen_given */
+  float frame_aspect; /* <= 0: from the film resolution */
+  float screen[4];    /* x0 x1 y0 y1; given when screen_given */
   int screen_given;
   clr_transform camera_to_world;
   clr_transform raster_to_camera;

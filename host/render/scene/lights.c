@@ -19,10 +19,14 @@ static void mat3_vec(const float m[3][3], const float v[3], float out[3]) {
 static void coordinate_system(const float v1[3], float v2[3], float v3[3]) {
   if (fabsf(v1[0]) > fabsf(v1[1])) {
     float l = sqrtf(v1[0] * v1[0] + v1[2] * v1[2]);
-    v2[0] = -v1[2] / l; v2[1] = 0.0f; v2[2] = v1[0] / l;
+    v2[0] = -v1[2] / l;
+    v2[1] = 0.0f;
+    v2[2] = v1[0] / l;
   } else {
     float l = sqrtf(v1[1] * v1[1] + v1[2] * v1[2]);
-    v2[0] = 0.0f; v2[1] = v1[2] / l; v2[2] = -v1[1] / l;
+    v2[0] = 0.0f;
+    v2[1] = v1[2] / l;
+    v2[2] = -v1[1] / l;
   }
   rs_cross(v1, v2, v3);
 }
@@ -75,13 +79,16 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
       float dir[3] = {to[0] - from[0], to[1] - from[1], to[2] - from[2]}, du[3], dv[3];
       rs_normalize(dir);
       coordinate_system(dir, du, dv);
-      float dir_to_z[3][3] = {{du[0], du[1], du[2]}, {dv[0], dv[1], dv[2]}, {dir[0], dir[1], dir[2]}};
+      float dir_to_z[3][3] = {
+          {du[0], du[1], du[2]}, {dv[0], dv[1], dv[2]}, {dir[0], dir[1], dir[2]}};
       float inv[3][3];
       linear_part(ctm->m_inv, inv);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-          l.to_light[i][j] = dir_to_z[i][0] * inv[0][j] + dir_to_z[i][1] * inv[1][j] + dir_to_z[i][2] * inv[2][j];
-      l.power = luminance(l.colour) * 2.0f * RS_PI * (1.0f - 0.5f * (l.cos_falloff_start + l.cos_total));
+          l.to_light[i][j] =
+              dir_to_z[i][0] * inv[0][j] + dir_to_z[i][1] * inv[1][j] + dir_to_z[i][2] * inv[2][j];
+      l.power =
+          luminance(l.colour) * 2.0f * RS_PI * (1.0f - 0.5f * (l.cos_falloff_start + l.cos_total));
     }
   } else if (strcmp(ld->type, "distant") == 0) {
     l.type = RS_LIGHT_DISTANT;
@@ -108,7 +115,8 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
   } else {
     if (warn) {
       char m[512];
-      snprintf(m, sizeof m, "%s:%d: light \"%s\" not supported: ignored", p->file, p->line, ld->type);
+      snprintf(m, sizeof m, "%s:%d: light \"%s\" not supported: ignored", p->file, p->line,
+               ld->type);
       warn(wu, m);
     }
     return CLR_SUCCESS;
@@ -183,8 +191,10 @@ int rs_light_is_delta(const rs_light *l) {
 
 /* Area light emission toward w from a point with oriented normal n. */
 static void area_emit(const rs_light *l, const float n[3], const float w[3], float li[3]) {
-  if (l->two_sided || rs_dot(n, w) > 0.0f) memcpy(li, l->colour, 3 * sizeof(float));
-  else li[0] = li[1] = li[2] = 0.0f;
+  if (l->two_sided || rs_dot(n, w) > 0.0f)
+    memcpy(li, l->colour, 3 * sizeof(float));
+  else
+    li[0] = li[1] = li[2] = 0.0f;
 }
 
 /* pbrt-v3 ConcentricSampleDisk. */
@@ -230,10 +240,17 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
       const uint32_t *ix = sh->mesh.indices + 3 * l->prim;
       float ns[3];
       for (int i = 0; i < 3; ++i)
-        ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] + b2 * sh->mesh.n[3 * ix[2] + i];
-      if (rs_dot(n, ns) < 0.0f) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+        ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
+                b2 * sh->mesh.n[3 * ix[2] + i];
+      if (rs_dot(n, ns) < 0.0f) {
+        n[0] = -n[0];
+        n[1] = -n[1];
+        n[2] = -n[2];
+      }
     } else if (sh->flip_normal) {
-      n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2];
+      n[0] = -n[0];
+      n[1] = -n[1];
+      n[2] = -n[2];
     }
     *pdf = 1.0f / l->area;
     return;
@@ -248,7 +265,11 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     clr_transform_point(&sh->object_to_world, po, pt);
     clr_transform_normal(&sh->object_to_world, z, n);
     rs_normalize(n);
-    if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+    if (sh->flip_normal) {
+      n[0] = -n[0];
+      n[1] = -n[1];
+      n[2] = -n[2];
+    }
     *pdf = 1.0f / l->area;
     return;
   }
@@ -258,9 +279,15 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
   float dc2 = rs_dot(wc, wc), r = l->radius;
   if (sphere_inside(dc2, r)) {
     float z = 1.0f - 2.0f * u[0], rr = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
-    n[0] = rr * cosf(phi); n[1] = rr * sinf(phi); n[2] = z;
+    n[0] = rr * cosf(phi);
+    n[1] = rr * sinf(phi);
+    n[2] = z;
     for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
-    if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+    if (sh->flip_normal) {
+      n[0] = -n[0];
+      n[1] = -n[1];
+      n[2] = -n[2];
+    }
     *pdf = 1.0f / (4.0f * RS_PI * r * r);
     return;
   }
@@ -271,14 +298,21 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
   float sin_max = r / dc, sin_max2 = sin_max * sin_max, inv_sin_max = 1.0f / sin_max;
   float cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin_max2));
   float cos_t = (cos_max - 1.0f) * u[0] + 1.0f, sin_t2 = 1.0f - cos_t * cos_t;
-  if (sin_max2 < 0.00068523f) { sin_t2 = sin_max2 * u[0]; cos_t = sqrtf(1.0f - sin_t2); }
-  float cos_a = sin_t2 * inv_sin_max +
-                cos_t * sqrtf(fmaxf(0.0f, 1.0f - sin_t2 * inv_sin_max * inv_sin_max));
+  if (sin_max2 < 0.00068523f) {
+    sin_t2 = sin_max2 * u[0];
+    cos_t = sqrtf(1.0f - sin_t2);
+  }
+  float cos_a =
+      sin_t2 * inv_sin_max + cos_t * sqrtf(fmaxf(0.0f, 1.0f - sin_t2 * inv_sin_max * inv_sin_max));
   float sin_a = sqrtf(fmaxf(0.0f, 1.0f - cos_a * cos_a)), phi = u[1] * 2.0f * RS_PI;
   for (int i = 0; i < 3; ++i)
     n[i] = -(sin_a * cosf(phi) * wx[i] + sin_a * sinf(phi) * wy[i] + cos_a * wc[i]);
   for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
-  if (sh->flip_normal) { n[0] = -n[0]; n[1] = -n[1]; n[2] = -n[2]; }
+  if (sh->flip_normal) {
+    n[0] = -n[0];
+    n[1] = -n[1];
+    n[2] = -n[2];
+  }
   *pdf = 1.0f / (2.0f * RS_PI * (1.0f - cos_max));
   *solid = 1;
 }
@@ -297,13 +331,20 @@ static float spot_falloff(const rs_light *l, const float w[3]) {
 /* Shadow ray from p (offset along ng toward the target side) to `target`. */
 static void shadow_to(const float p[3], const float ng[3], const float target[3], clr_ray *r) {
   float o[3], d[3];
-  float side = (ng[0] * (target[0] - p[0]) + ng[1] * (target[1] - p[1]) + ng[2] * (target[2] - p[2])) < 0 ? -1.0f : 1.0f;
+  float side =
+      (ng[0] * (target[0] - p[0]) + ng[1] * (target[1] - p[1]) + ng[2] * (target[2] - p[2])) < 0
+          ? -1.0f
+          : 1.0f;
   float e = rs_spawn_eps(p) * side;
   for (int i = 0; i < 3; ++i) o[i] = p[i] + ng[i] * e;
   for (int i = 0; i < 3; ++i) d[i] = target[i] - o[i];
   float dist = sqrtf(rs_dot(d, d));
-  r->ox = o[0]; r->oy = o[1]; r->oz = o[2];
-  r->dx = d[0] / dist; r->dy = d[1] / dist; r->dz = d[2] / dist;
+  r->ox = o[0];
+  r->oy = o[1];
+  r->oz = o[2];
+  r->dx = d[0] / dist;
+  r->dy = d[1] / dist;
+  r->dz = d[2] / dist;
   r->tnear = 0.0f;
   r->tfar = dist * (1.0f - 1e-3f);
 }
@@ -374,8 +415,8 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
   shadow_to(p, ng, target, &ls->shadow);
 }
 
-float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3],
-                   float t, const float n_hit[3]) {
+float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,
+                   const float n_hit[3]) {
   const rs_light *l = &set->items[light];
   if (l->type == RS_LIGHT_INFINITE) {
     float wl[3];
@@ -405,8 +446,10 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
 void rs_light_le(const rs_light_set *set, int light, const float d[3], float le[3]) {
   const rs_light *l = &set->items[light];
   (void)d;
-  if (l->type == RS_LIGHT_INFINITE) memcpy(le, l->colour, 3 * sizeof(float));
-  else le[0] = le[1] = le[2] = 0.0f;
+  if (l->type == RS_LIGHT_INFINITE)
+    memcpy(le, l->colour, 3 * sizeof(float));
+  else
+    le[0] = le[1] = le[2] = 0.0f;
 }
 
 void rs_lights_escaped(const rs_light_set *set, const clr_ray *ray, float le[3]) {
@@ -427,7 +470,8 @@ int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int 
                            const clr_ray *ray) {
   const rs_light *l = &set->items[light];
   if (l->type == RS_LIGHT_AREA_SPHERE) {
-    double oc[3] = {(double)ray->ox - l->pos[0], (double)ray->oy - l->pos[1], (double)ray->oz - l->pos[2]};
+    double oc[3] = {(double)ray->ox - l->pos[0], (double)ray->oy - l->pos[1],
+                    (double)ray->oz - l->pos[2]};
     double c2 = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2], r2 = (double)l->radius * l->radius;
     /* pbrt-v3 offsets the reference point toward the centre: a point on the sphere counts as
      * inside; the ray origin here is already offset outward by the spawn epsilon */

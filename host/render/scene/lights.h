@@ -10,21 +10,26 @@
 #include "tracer.h"
 
 typedef enum {
-  RS_LIGHT_POINT, RS_LIGHT_SPOT, RS_LIGHT_DISTANT, RS_LIGHT_INFINITE, RS_LIGHT_AREA_TRIANGLE,
-  RS_LIGHT_AREA_SPHERE, RS_LIGHT_AREA_DISK
+  RS_LIGHT_POINT,
+  RS_LIGHT_SPOT,
+  RS_LIGHT_DISTANT,
+  RS_LIGHT_INFINITE,
+  RS_LIGHT_AREA_TRIANGLE,
+  RS_LIGHT_AREA_SPHERE,
+  RS_LIGHT_AREA_DISK
 } rs_light_type;
 
 typedef struct rs_light {
   rs_light_type type;
-  float colour[3];    /* I (point, spot) or L (others), scale applied */
-  float pos[3];       /* point/spot position, sphere centre */
-  float dir[3];       /* distant: unit direction toward the light */
-  float to_light[3][3]; /* spot: world vector to light space; infinite: world to light */
+  float colour[3];            /* I (point, spot) or L (others), scale applied */
+  float pos[3];               /* point/spot position, sphere centre */
+  float dir[3];               /* distant: unit direction toward the light */
+  float to_light[3][3];       /* spot: world vector to light space; infinite: world to light */
   float light_to_world[3][3]; /* infinite */
   float cos_total, cos_falloff_start;
   int shape, prim, two_sided;
-  float area;         /* triangle area; disk: pbrt-v3 Disk::Area (object space) */
-  float radius;       /* sphere */
+  float area;   /* triangle area; disk: pbrt-v3 Disk::Area (object space) */
+  float radius; /* sphere */
   int nsamples;
   float power;
 } rs_light;
@@ -61,8 +66,8 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
                       const float p[3], const float ng[3], const float u[2], clr_light_sample *ls);
 /* Solid-angle pdf that light sampling from `p` would give direction wi that hits emitter light
  * `light` at distance t with the hit's geometric normal n_hit (unit). */
-float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3],
-                   float t, const float n_hit[3]);
+float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,
+                   const float n_hit[3]);
 /* 0 when ray certainly misses area light `light`'s own shape (pbrt-v3 Light::Pdf_Li is then 0
  * and the scene ray is not traced), else 1. */
 int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,

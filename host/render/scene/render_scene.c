@@ -50,7 +50,8 @@ float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, c
   return rs_light_pdf(&scene->lights, light, p, wi, t, n_hit);
 }
 
-int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light, const clr_ray *ray) {
+int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light,
+                                   const clr_ray *ray) {
   return rs_light_shape_may_hit(&scene->lights, scene->shapes, light, ray);
 }
 
@@ -83,11 +84,12 @@ void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray 
   ray->ox = s->p[0] + s->ng[0] * e;
   ray->oy = s->p[1] + s->ng[1] * e;
   ray->oz = s->p[2] + s->ng[2] * e;
-  ray->dx = d[0]; ray->dy = d[1]; ray->dz = d[2];
+  ray->dx = d[0];
+  ray->dy = d[1];
+  ray->dz = d[2];
   ray->tnear = 0.0f;
   ray->tfar = INFINITY;
 }
-
 
 void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *st) {
   const clr_param_list *p = &desc->film.params;
@@ -106,7 +108,8 @@ void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settin
   }
   st->scale = clr_params_find_float(p, "scale", 1.0f);
   st->max_sample_luminance = clr_params_find_float(p, "maxsampleluminance", INFINITY);
-  snprintf(st->filename, sizeof st->filename, "%s", clr_params_find_string(p, "filename", "pbrt.exr"));
+  snprintf(st->filename, sizeof st->filename, "%s",
+           clr_params_find_string(p, "filename", "pbrt.exr"));
 }
 
 static void warn_fmt(clr_warn_fn warn, void *wu, const char *fmt, ...)
@@ -123,8 +126,10 @@ static void warn_fmt(clr_warn_fn warn, void *wu, const char *fmt, ...) {
 
 static void resolve_path(const char *scene_file, const char *name, char *out, size_t n) {
   const char *slash = scene_file ? strrchr(scene_file, '/') : NULL;
-  if (name[0] == '/' || !slash) snprintf(out, n, "%s", name);
-  else snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
+  if (name[0] == '/' || !slash)
+    snprintf(out, n, "%s", name);
+  else
+    snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
 }
 
 static clr_result mesh_from_params(const clr_param_list *p, const char *what, clr_mesh *m) {
@@ -134,9 +139,18 @@ static clr_result mesh_from_params(const clr_param_list *p, const char *what, cl
   const float *N = clr_params_find_normals(p, "N", &nn);
   const float *uv = clr_params_find_point2s(p, "uv", &nuv);
   size_t uv_count = (size_t)nuv * 2;
-  if (!uv) { uv = clr_params_find_floats(p, "uv", &nuv); uv_count = (size_t)nuv; }
-  if (!uv) { uv = clr_params_find_point2s(p, "st", &nuv); uv_count = (size_t)nuv * 2; }
-  if (!uv) { uv = clr_params_find_floats(p, "st", &nuv); uv_count = (size_t)nuv; }
+  if (!uv) {
+    uv = clr_params_find_floats(p, "uv", &nuv);
+    uv_count = (size_t)nuv;
+  }
+  if (!uv) {
+    uv = clr_params_find_point2s(p, "st", &nuv);
+    uv_count = (size_t)nuv * 2;
+  }
+  if (!uv) {
+    uv = clr_params_find_floats(p, "st", &nuv);
+    uv_count = (size_t)nuv;
+  }
   return clr_mesh_from_arrays(what, (const int32_t *)ix, (size_t)ni, P, (size_t)np * 3, N,
                               (size_t)nn * 3, uv, uv_count, m);
 }
@@ -165,7 +179,8 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
     clr_mesh_free(&in);
     if (r != CLR_SUCCESS) return clr_set_last_error(r, "%s: %s", what, clr_last_error_message());
   }
-  (void)warn; (void)wu;
+  (void)warn;
+  (void)wu;
   if (r != CLR_SUCCESS) return r;
   float xf[16];
   rs_xform_m16(&sd->object_to_world, xf);
@@ -179,12 +194,18 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
 
 static void grow_bounds(clr_render_scene *s, float lo[3], float hi[3], const float p[3]) {
   (void)s;
-  for (int i = 0; i < 3; ++i) { lo[i] = fminf(lo[i], p[i]); hi[i] = fmaxf(hi[i], p[i]); }
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = fminf(lo[i], p[i]);
+    hi[i] = fmaxf(hi[i], p[i]);
+  }
 }
 
 /* Object-space bounds of a shape (mesh vertices or sphere box). */
 static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
-  for (int i = 0; i < 3; ++i) { lo[i] = INFINITY; hi[i] = -INFINITY; }
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = INFINITY;
+    hi[i] = -INFINITY;
+  }
   if (sh->type == RS_SHAPE_MESH) {
     for (int v = 0; v < sh->mesh.vertex_count; ++v)
       for (int i = 0; i < 3; ++i) {
@@ -195,16 +216,20 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   }
   for (int c = 0; c < 8; ++c) {
     float q[3] = {(c & 1) ? sh->radius : -sh->radius, (c & 2) ? sh->radius : -sh->radius,
-                  (c & 4) ? sh->radius : -sh->radius}, w[3];
+                  (c & 4) ? sh->radius : -sh->radius},
+          w[3];
     if (sh->type == RS_SHAPE_DISK) q[2] = sh->height;
     clr_transform_point(&sh->object_to_world, q, w);
-    for (int i = 0; i < 3; ++i) { lo[i] = fminf(lo[i], w[i]); hi[i] = fmaxf(hi[i], w[i]); }
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = fminf(lo[i], w[i]);
+      hi[i] = fmaxf(hi[i], w[i]);
+    }
   }
 }
 
 static int material_is_supported(const char *type) {
-  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 || strcmp(type, "plastic") == 0 ||
-         strcmp(type, "glass") == 0 || strcmp(type, "metal") == 0;
+  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 ||
+         strcmp(type, "plastic") == 0 || strcmp(type, "glass") == 0 || strcmp(type, "metal") == 0;
 }
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
@@ -246,7 +271,8 @@ static void metal_params(const clr_shape_desc *sd, const clr_material_desc *md,
     warn_fmt(warn, wu, "%s:%d: anisotropic metal roughness not supported: using their mean",
              md->params.file ? md->params.file : p->file, md->params.line);
   float r = 0.5f * (ur + vr);
-  sh->alpha = clr_params_find_bool(&md->params, "remaproughness", true) ? clr_tr_roughness_to_alpha(r) : r;
+  sh->alpha =
+      clr_params_find_bool(&md->params, "remaproughness", true) ? clr_tr_roughness_to_alpha(r) : r;
 }
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
@@ -262,24 +288,29 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     sh->first_light = -1;
     sh->in_object = sd->object >= 0;
     sh->object_to_world = sd->object_to_world;
-    sh->flip_normal = sd->reverse_orientation != clr_transform_swaps_handedness(&sd->object_to_world);
+    sh->flip_normal =
+        sd->reverse_orientation != clr_transform_swaps_handedness(&sd->object_to_world);
     if (strcmp(sd->type, "sphere") == 0) {
       sh->type = RS_SHAPE_SPHERE;
       sh->radius = clr_params_find_float(p, "radius", 1.0f);
       if (!(sh->radius > 0.0f))
-        return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"sphere\": \"radius\" must be "
-                                  "positive, got %g", p->file ? p->file : "?", p->line,
-                                  (double)sh->radius);
+        return clr_set_last_error(CLR_ERROR_SCENE,
+                                  "%s:%d: Shape \"sphere\": \"radius\" must be "
+                                  "positive, got %g",
+                                  p->file ? p->file : "?", p->line, (double)sh->radius);
       /* pbrt-v3 CreateSphereShape: zmin, zmax (clamped and sorted), phimax degrees */
-      float r = sh->radius, z0 = clr_params_find_float(p, "zmin", -r), z1 = clr_params_find_float(p, "zmax", r);
+      float r = sh->radius, z0 = clr_params_find_float(p, "zmin", -r),
+            z1 = clr_params_find_float(p, "zmax", r);
       float pm = clr_params_find_float(p, "phimax", 360.0f);
       sh->zmin = fminf(fmaxf(fminf(z0, z1), -r), r);
       sh->zmax = fminf(fmaxf(fmaxf(z0, z1), -r), r);
       sh->phimax = fminf(fmaxf(pm, 0.0f), 360.0f) * RS_PI / 180.0f;
       sh->partial = !(sh->zmin <= -r && sh->zmax >= r && pm >= 360.0f);
       if (sh->partial && sd->area_light >= 0)
-        warn_fmt(warn, wu, "%s:%d: partial sphere as an area light: sampled as the full sphere (as "
-                 "pbrt-v3 does)", p->file ? p->file : "?", p->line);
+        warn_fmt(warn, wu,
+                 "%s:%d: partial sphere as an area light: sampled as the full sphere (as "
+                 "pbrt-v3 does)",
+                 p->file ? p->file : "?", p->line);
     } else if (strcmp(sd->type, "disk") == 0) { /* pbrt-v3 CreateDiskShape */
       sh->type = RS_SHAPE_DISK;
       sh->height = clr_params_find_float(p, "height", 0.0f);
@@ -288,7 +319,8 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       float phimax = clr_params_find_float(p, "phimax", 360.0f);
       if (!(sh->radius > 0.0f) || !(sh->inner_radius >= 0.0f) || !(sh->inner_radius < sh->radius) ||
           !(phimax > 0.0f && phimax <= 360.0f) || !isfinite(sh->height))
-        return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"disk\": needs 0 <= \"innerradius\" "
+        return clr_set_last_error(CLR_ERROR_SCENE,
+                                  "%s:%d: Shape \"disk\": needs 0 <= \"innerradius\" "
                                   "< \"radius\" and 0 < \"phimax\" <= 360, got %g, %g, %g",
                                   p->file ? p->file : "?", p->line, (double)sh->inner_radius,
                                   (double)sh->radius, (double)phimax);
@@ -322,9 +354,12 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     }
     sh->metal = strcmp(mtype, "metal") == 0;
     if (sh->metal) metal_params(sd, md, p, warn, wu, sh);
-    if (sh->mirror) rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
-    else if (sh->glass || sh->metal) sh->kd = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
-    else rs_colour_param(&sd->params, &md->params, "Kd", sh->plastic ? 0.25f : 0.5f, &sh->kd);
+    if (sh->mirror)
+      rs_colour_param(&sd->params, &md->params, "Kr", 0.9f, &sh->kr); /* pbrt-v3 default */
+    else if (sh->glass || sh->metal)
+      sh->kd = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
+    else
+      rs_colour_param(&sd->params, &md->params, "Kd", sh->plastic ? 0.25f : 0.5f, &sh->kd);
     if (sh->plastic) { /* pbrt-v3 CreatePlasticMaterial defaults */
       rs_colour_param(&sd->params, &md->params, "Ks", 0.25f, &sh->ks);
       float rough = clr_params_find_float(&md->params, "roughness", 0.1f);
@@ -344,7 +379,8 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     }
     int32_t group = 0;
     if (sd->object >= 0) {
-      if (object_group[sd->object] == 0) CLR_CHECK(clr_tracer_new_group(s->tracer, &object_group[sd->object]));
+      if (object_group[sd->object] == 0)
+        CLR_CHECK(clr_tracer_new_group(s->tracer, &object_group[sd->object]));
       group = object_group[sd->object];
     }
     int index = s->shape_count - 1;
@@ -359,15 +395,17 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       float xf[16];
       rs_xform_m16(&sh->object_to_world, xf);
       if (sh->partial)
-        CLR_CHECK(clr_tracer_add_partial_sphere(s->tracer, group, xf, sh->radius, sh->zmin, sh->zmax,
-                                                sh->phimax * 180.0f / RS_PI, (uint32_t)index, NULL));
+        CLR_CHECK(clr_tracer_add_partial_sphere(s->tracer, group, xf, sh->radius, sh->zmin,
+                                                sh->zmax, sh->phimax * 180.0f / RS_PI,
+                                                (uint32_t)index, NULL));
       else
         CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
     }
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
       if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
-        warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line, a->type);
+        warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line,
+                 a->type);
       } else {
         CLR_CHECK(rs_area_lights_add(&s->lights, &s->shapes[index], index, a));
       }
@@ -410,7 +448,10 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
         grow_bounds(s, lo, hi, w);
       }
   }
-  if (!(lo[0] <= hi[0])) { lo[0] = lo[1] = lo[2] = 0; hi[0] = hi[1] = hi[2] = 0; }
+  if (!(lo[0] <= hi[0])) {
+    lo[0] = lo[1] = lo[2] = 0;
+    hi[0] = hi[1] = hi[2] = 0;
+  }
   float diag[3];
   for (int i = 0; i < 3; ++i) {
     s->world_center[i] = 0.5f * (lo[i] + hi[i]);
@@ -486,12 +527,17 @@ void clr_render_scene_free(clr_render_scene *s) {
   free(s);
 }
 
-static void negate(float v[3]) { v[0] = -v[0]; v[1] = -v[1]; v[2] = -v[2]; }
+static void negate(float v[3]) {
+  v[0] = -v[0];
+  v[1] = -v[1];
+  v[2] = -v[2];
+}
 
 static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], float n[3],
                          float ns[3], int *has_ns, float uv[2], float dpdu[3]) {
   const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
-  const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1], *p2 = sh->mesh.p + 3 * ix[2];
+  const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1],
+              *p2 = sh->mesh.p + 3 * ix[2];
   float b1 = hit->u, b2 = hit->v, b0 = 1.0f - b1 - b2;
   for (int i = 0; i < 3; ++i) p[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
   float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
@@ -502,15 +548,26 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
   }
   for (int i = 0; i < 2; ++i) uv[i] = b0 * uv0[i] + b1 * uv1[i] + b2 * uv2[i];
   float dp02[3], dp12[3];
-  for (int i = 0; i < 3; ++i) { dp02[i] = p0[i] - p2[i]; dp12[i] = p1[i] - p2[i]; }
+  for (int i = 0; i < 3; ++i) {
+    dp02[i] = p0[i] - p2[i];
+    dp12[i] = p1[i] - p2[i];
+  }
   rs_cross(dp02, dp12, n);
   rs_normalize(n);
-  float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0], dv12 = uv1[1] - uv2[1];
+  float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
+        dv12 = uv1[1] - uv2[1];
   float det = du02 * dv12 - dv02 * du12;
   if (fabsf(det) < 1e-8f) {
     float t[3];
-    if (fabsf(n[0]) > fabsf(n[1])) { t[0] = -n[2]; t[1] = 0; t[2] = n[0]; }
-    else { t[0] = 0; t[1] = n[2]; t[2] = -n[1]; }
+    if (fabsf(n[0]) > fabsf(n[1])) {
+      t[0] = -n[2];
+      t[1] = 0;
+      t[2] = n[0];
+    } else {
+      t[0] = 0;
+      t[1] = n[2];
+      t[2] = -n[1];
+    }
     memcpy(dpdu, t, sizeof t);
   } else {
     float inv = 1.0f / det;
@@ -519,7 +576,8 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
   *has_ns = sh->mesh.n != NULL;
   if (*has_ns) {
     for (int i = 0; i < 3; ++i)
-      ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] + b2 * sh->mesh.n[3 * ix[2] + i];
+      ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
+              b2 * sh->mesh.n[3 * ix[2] + i];
     if (rs_dot(n, ns) < 0.0f) negate(n);
   } else if (sh->flip_normal) {
     negate(n);
@@ -528,7 +586,8 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
 
 static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const clr_ray *ray,
                            const clr_hit *hit, float p[3], float n[3], float uv[2], float dpdu[3]) {
-  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy, ray->oz + hit->t * ray->dz};
+  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
+                 ray->oz + hit->t * ray->dz};
   float po[3];
   clr_transform w2o = clr_transform_inverse(o2w);
   clr_transform_point(&w2o, pw, po);
@@ -561,7 +620,8 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
  * uv (phi / phimax, (radius - r) / (radius - innerradius)), dpdu (-phimax y, phimax x, 0). */
 static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr_ray *ray,
                          const clr_hit *hit, float p[3], float n[3], float uv[2], float dpdu[3]) {
-  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy, ray->oz + hit->t * ray->dz};
+  float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
+                 ray->oz + hit->t * ray->dz};
   float po[3], z[3] = {0.0f, 0.0f, 1.0f};
   clr_transform w2o = clr_transform_inverse(o2w);
   clr_transform_point(&w2o, pw, po);
@@ -591,16 +651,25 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     mesh_surface(sh, hit, p, n, ns, &has_ns, uv, dpdu);
     if (inst) {
       float q[3];
-      clr_transform_point(inst, p, q); memcpy(p, q, sizeof q);
-      clr_transform_normal(inst, n, q); memcpy(n, q, sizeof q); rs_normalize(n);
-      clr_transform_vector(inst, dpdu, q); memcpy(dpdu, q, sizeof q);
-      if (has_ns) { clr_transform_normal(inst, ns, q); memcpy(ns, q, sizeof q); }
+      clr_transform_point(inst, p, q);
+      memcpy(p, q, sizeof q);
+      clr_transform_normal(inst, n, q);
+      memcpy(n, q, sizeof q);
+      rs_normalize(n);
+      clr_transform_vector(inst, dpdu, q);
+      memcpy(dpdu, q, sizeof q);
+      if (has_ns) {
+        clr_transform_normal(inst, ns, q);
+        memcpy(ns, q, sizeof q);
+      }
     }
   } else if (sh->type == RS_SHAPE_DISK) {
-    clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    clr_transform o2w =
+        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     disk_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   } else {
-    clr_transform o2w = inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    clr_transform o2w =
+        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   }
   memcpy(out->p, p, sizeof p);
@@ -634,8 +703,10 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
   out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
   if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
-  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal) rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
-  else out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
+  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal)
+    rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  else
+    out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;
   if (sh->first_light >= 0) {

@@ -45,39 +45,39 @@ float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, f
 
 /* --- surfaces --- */
 typedef struct clr_surface {
-  float p[3];          /* world position */
-  float ng[3];         /* geometric normal, unit, facing the side the ray came from (-dir) */
-  float ns[3];         /* shading normal, unit, same hemisphere as ng */
+  float p[3];  /* world position */
+  float ng[3]; /* geometric normal, unit, facing the side the ray came from (-dir) */
+  float ns[3]; /* shading normal, unit, same hemisphere as ng */
   float uv[2];
-  float dpdu[3];       /* pbrt dpdu (world), for the AO frame */
-  float n_geom[3];     /* pbrt isect.n: geometric normal oriented as the shape's (unit) */
-  float kd[3];         /* diffuse reflectance (matte Kd, textures evaluated) */
-  float on_a, on_b;    /* matte "sigma": pbrt-v3 Oren-Nayar A and B (Lambertian: 1 and 0) */
-  int32_t mirror;      /* 1: material "mirror", a perfect specular reflector with kr */
-  int32_t plastic;     /* 1: material "plastic": kd Lambertian + ks TrowbridgeReitz lobe */
-  int32_t glass;       /* 1: material "glass" with roughness 0: FresnelSpecular (kr, kt, eta) */
-  int32_t metal;       /* 1: material "metal": TrowbridgeReitz lobe (alpha), conductor m_eta, m_k */
+  float dpdu[3];    /* pbrt dpdu (world), for the AO frame */
+  float n_geom[3];  /* pbrt isect.n: geometric normal oriented as the shape's (unit) */
+  float kd[3];      /* diffuse reflectance (matte Kd, textures evaluated) */
+  float on_a, on_b; /* matte "sigma": pbrt-v3 Oren-Nayar A and B (Lambertian: 1 and 0) */
+  int32_t mirror;   /* 1: material "mirror", a perfect specular reflector with kr */
+  int32_t plastic;  /* 1: material "plastic": kd Lambertian + ks TrowbridgeReitz lobe */
+  int32_t glass;    /* 1: material "glass" with roughness 0: FresnelSpecular (kr, kt, eta) */
+  int32_t metal;    /* 1: material "metal": TrowbridgeReitz lobe (alpha), conductor m_eta, m_k */
   float m_eta[3], m_k[3];
   float kt[3], eta;
-  float ks[3], alpha;  /* plastic Ks and microfacet alpha (roughness remapped) */
-  float kr[3];         /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */
-  float le[3];         /* emitted radiance toward -ray.dir if an area light, else 0 */
-  int32_t has_material;/* 0 for material "none" (invisible: continue the ray) */
-  int32_t area_light;  /* index of the area light (into the light list) or -1 */
+  float ks[3], alpha;   /* plastic Ks and microfacet alpha (roughness remapped) */
+  float kr[3];          /* mirror "Kr" (textures evaluated); kd is 0 for a mirror */
+  float le[3];          /* emitted radiance toward -ray.dir if an area light, else 0 */
+  int32_t has_material; /* 0 for material "none" (invisible: continue the ray) */
+  int32_t area_light;   /* index of the area light (into the light list) or -1 */
 } clr_surface;
 
 /* Fills `s` for a hit of `ray`. */
-void clr_render_scene_surface(const clr_render_scene *scene, const clr_ray *ray,
-                              const clr_hit *hit, clr_surface *s);
+void clr_render_scene_surface(const clr_render_scene *scene, const clr_ray *ray, const clr_hit *hit,
+                              clr_surface *s);
 
 /* --- lights --- */
 int32_t clr_render_scene_light_count(const clr_render_scene *scene);
 
 /* What the integrators choose lights by. */
 typedef struct clr_light_info {
-  float power;      /* pbrt-v3 Light::Power luminance */
-  int32_t nsamples; /* "nsamples" */
-  int32_t is_delta; /* point, spot, distant */
+  float power;         /* pbrt-v3 Light::Power luminance */
+  int32_t nsamples;    /* "nsamples" */
+  int32_t is_delta;    /* point, spot, distant */
   int32_t is_infinite; /* lights escaped rays reach */
 } clr_light_info;
 void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
@@ -87,7 +87,8 @@ void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
 float clr_render_scene_light_pdf(const clr_render_scene *scene, int32_t light, const float p[3],
                                  const float wi[3], float t, const float n_hit[3]);
 /* 0 when `ray` misses light `light`'s own shape (pbrt-v3 Light::Pdf_Li == 0: skip the scene ray). */
-int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light, const clr_ray *ray);
+int clr_render_scene_light_may_hit(const clr_render_scene *scene, int32_t light,
+                                   const clr_ray *ray);
 /* Radiance that light `light` sends along an escaped ray of direction d. */
 void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, const float d[3],
                                float le[3]);

@@ -15,15 +15,15 @@ static const struct {
   const char *name;
   clr_param_type type;
 } type_names[] = {
-    {"integer", CLR_PARAM_INT},     {"float", CLR_PARAM_FLOAT},
-    {"bool", CLR_PARAM_BOOL},       {"point2", CLR_PARAM_POINT2},
-    {"vector2", CLR_PARAM_VECTOR2}, {"point3", CLR_PARAM_POINT3},
-    {"point", CLR_PARAM_POINT3},    {"vector3", CLR_PARAM_VECTOR3},
-    {"vector", CLR_PARAM_VECTOR3},  {"normal3", CLR_PARAM_NORMAL3},
-    {"normal", CLR_PARAM_NORMAL3},  {"rgb", CLR_PARAM_RGB},
-    {"color", CLR_PARAM_RGB},       {"xyz", CLR_PARAM_XYZ},
+    {"integer", CLR_PARAM_INT},         {"float", CLR_PARAM_FLOAT},
+    {"bool", CLR_PARAM_BOOL},           {"point2", CLR_PARAM_POINT2},
+    {"vector2", CLR_PARAM_VECTOR2},     {"point3", CLR_PARAM_POINT3},
+    {"point", CLR_PARAM_POINT3},        {"vector3", CLR_PARAM_VECTOR3},
+    {"vector", CLR_PARAM_VECTOR3},      {"normal3", CLR_PARAM_NORMAL3},
+    {"normal", CLR_PARAM_NORMAL3},      {"rgb", CLR_PARAM_RGB},
+    {"color", CLR_PARAM_RGB},           {"xyz", CLR_PARAM_XYZ},
     {"blackbody", CLR_PARAM_BLACKBODY}, {"spectrum", CLR_PARAM_SPECTRUM},
-    {"string", CLR_PARAM_STRING},   {"texture", CLR_PARAM_TEXTURE},
+    {"string", CLR_PARAM_STRING},       {"texture", CLR_PARAM_TEXTURE},
 };
 
 const char *clr_param_type_name(clr_param_type type) {
@@ -44,16 +44,19 @@ bool clr_param_type_from_name(const char *name, size_t length, clr_param_type *t
 
 int clr_param_type_arity(clr_param_type type) {
   switch (type) {
-  case CLR_PARAM_POINT2:
-  case CLR_PARAM_VECTOR2:
-  case CLR_PARAM_BLACKBODY:
-  case CLR_PARAM_SPECTRUM: return 2;
-  case CLR_PARAM_POINT3:
-  case CLR_PARAM_VECTOR3:
-  case CLR_PARAM_NORMAL3:
-  case CLR_PARAM_RGB:
-  case CLR_PARAM_XYZ: return 3;
-  default: return 1;
+    case CLR_PARAM_POINT2:
+    case CLR_PARAM_VECTOR2:
+    case CLR_PARAM_BLACKBODY:
+    case CLR_PARAM_SPECTRUM:
+      return 2;
+    case CLR_PARAM_POINT3:
+    case CLR_PARAM_VECTOR3:
+    case CLR_PARAM_NORMAL3:
+    case CLR_PARAM_RGB:
+    case CLR_PARAM_XYZ:
+      return 3;
+    default:
+      return 1;
   }
 }
 
@@ -108,7 +111,8 @@ clr_result clr_params_add(clr_param_list *list, clr_param *param) {
   return CLR_SUCCESS;
 }
 
-const clr_param *clr_params_find(const clr_param_list *list, const char *name, clr_param_type type) {
+const clr_param *clr_params_find(const clr_param_list *list, const char *name,
+                                 clr_param_type type) {
   if (!list || !name) return NULL;
   int i = index_of(list, name, type);
   if (i < 0) return NULL;
@@ -117,7 +121,8 @@ const clr_param *clr_params_find(const clr_param_list *list, const char *name, c
 }
 
 /* The parameter when it holds exactly one item of its type (then marked used). */
-static const clr_param *find_one(const clr_param_list *list, const char *name, clr_param_type type) {
+static const clr_param *find_one(const clr_param_list *list, const char *name,
+                                 clr_param_type type) {
   if (!list || !name) return NULL;
   int i = index_of(list, name, type);
   if (i < 0 || list->items[i].count != clr_param_type_arity(type)) return NULL;

@@ -19,10 +19,10 @@ typedef enum clr_param_type {
   CLR_PARAM_BOOL,
   CLR_PARAM_POINT2,
   CLR_PARAM_VECTOR2,
-  CLR_PARAM_POINT3,  /* "point" or "point3" */
-  CLR_PARAM_VECTOR3, /* "vector" or "vector3" */
-  CLR_PARAM_NORMAL3, /* "normal" or "normal3" */
-  CLR_PARAM_RGB,     /* "rgb" or "color" */
+  CLR_PARAM_POINT3,    /* "point" or "point3" */
+  CLR_PARAM_VECTOR3,   /* "vector" or "vector3" */
+  CLR_PARAM_NORMAL3,   /* "normal" or "normal3" */
+  CLR_PARAM_RGB,       /* "rgb" or "color" */
   CLR_PARAM_XYZ,       /* kept raw, warned about */
   CLR_PARAM_BLACKBODY, /* (temperature, scale) pairs, kept raw, warned about */
   CLR_PARAM_SPECTRUM,  /* (lambda, value) pairs or file names, kept raw, warned about */

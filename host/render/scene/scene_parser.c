@@ -108,12 +108,12 @@ static clr_result expected(const clr_token *got, const char *what) {
   char description[96];
   clr_token_describe(got, description, sizeof description);
   return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected %s, got %s", got->file, got->line,
-                  got->col, what, description);
+                            got->col, what, description);
 }
 
 static clr_result out_of_memory(location at) {
   return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s:%d: out of memory while parsing the scene",
-                  at.file, at.line);
+                            at.file, at.line);
 }
 
 /* ---- small helpers ----------------------------------------------------------------------- */
@@ -278,7 +278,9 @@ static clr_result reserve_value(value_builder *b, location at) {
   clr_param *q = b->param;
   if (q->count < b->capacity) return CLR_SUCCESS;
   int capacity = b->capacity;
-  void **array = q->ints ? (void **)&q->ints : q->strings ? (void **)&q->strings : (void **)&q->floats;
+  void **array = q->ints      ? (void **)&q->ints
+                 : q->strings ? (void **)&q->strings
+                              : (void **)&q->floats;
   size_t size = q->ints ? sizeof(int) : q->strings ? sizeof(char *) : sizeof(float);
   if (clr_grow_array(array, &capacity, q->count + 1, size) != CLR_SUCCESS) return out_of_memory(at);
   b->capacity = capacity;
@@ -318,7 +320,8 @@ static clr_result add_value(value_builder *b, const clr_token *tok) {
     return add_string_value(b, tok, NULL, at);
   }
   if (t == CLR_PARAM_BOOL) {
-    bool is_true = clr_token_is(tok, tok->kind, "true"), is_false = clr_token_is(tok, tok->kind, "false");
+    bool is_true = clr_token_is(tok, tok->kind, "true"),
+         is_false = clr_token_is(tok, tok->kind, "false");
     if ((tok->kind != CLR_TOKEN_STRING && tok->kind != CLR_TOKEN_WORD) || (!is_true && !is_false))
       return value_error(b, tok, "true or false");
     if (!q->ints && !(q->ints = malloc(4 * sizeof *q->ints))) return out_of_memory(at);
@@ -411,16 +414,18 @@ static clr_result check_value_count(parser *p, const clr_param *q, const locatio
   if (q->type == CLR_PARAM_SPECTRUM && q->strings) arity = 1;
   const char *type = clr_param_type_name(q->type);
   if (q->type == CLR_PARAM_TEXTURE && q->count != 1)
-    return clr_set_last_error(CLR_ERROR_PARSE,
-                    "%s:%d:%d: expected one texture name for parameter '%s', got %d values",
-                    decl->file, decl->line, decl->col, q->name, q->count);
+    return clr_set_last_error(
+        CLR_ERROR_PARSE, "%s:%d:%d: expected one texture name for parameter '%s', got %d values",
+        decl->file, decl->line, decl->col, q->name, q->count);
   if (q->count % arity != 0)
-    return clr_set_last_error(CLR_ERROR_PARSE,
-                    "%s:%d:%d: expected a multiple of %d values for %s parameter '%s', got %d",
-                    decl->file, decl->line, decl->col, arity, type, q->name, q->count);
+    return clr_set_last_error(
+        CLR_ERROR_PARSE, "%s:%d:%d: expected a multiple of %d values for %s parameter '%s', got %d",
+        decl->file, decl->line, decl->col, arity, type, q->name, q->count);
   if (q->type == CLR_PARAM_XYZ || q->type == CLR_PARAM_BLACKBODY || q->type == CLR_PARAM_SPECTRUM)
-    warnf(p, "%s:%d: parameter '%s' has spectral type '%s', which clrender keeps unconverted "
-             "(use rgb)", decl->file, decl->line, q->name, type);
+    warnf(p,
+          "%s:%d: parameter '%s' has spectral type '%s', which clrender keeps unconverted "
+          "(use rgb)",
+          decl->file, decl->line, q->name, type);
   return CLR_SUCCESS;
 }
 
@@ -517,8 +522,8 @@ static void resolve_textures(parser *p, clr_param_list *list) {
     q->float_texture = find_binding(p, BIND_FLOAT_TEXTURE, q->strings[0]);
     q->spectrum_texture = find_binding(p, BIND_SPECTRUM_TEXTURE, q->strings[0]);
     if (q->float_texture < 0 && q->spectrum_texture < 0)
-      warnf(p, "%s:%d: parameter '%s' of %s '%s' names undefined texture '%s'", list->file,
-            q->line, q->name, list->directive, list->type, q->strings[0]);
+      warnf(p, "%s:%d: parameter '%s' of %s '%s' names undefined texture '%s'", list->file, q->line,
+            q->name, list->directive, list->type, q->strings[0]);
   }
 }
 
@@ -535,23 +540,28 @@ static clr_result push_block(parser *p, block_kind kind, location at) {
 }
 
 static const char *block_begin_name(block_kind kind) {
-  return kind == BLOCK_ATTRIBUTE ? "AttributeBegin" : kind == BLOCK_TRANSFORM ? "TransformBegin" : "ObjectBegin";
+  return kind == BLOCK_ATTRIBUTE   ? "AttributeBegin"
+         : kind == BLOCK_TRANSFORM ? "TransformBegin"
+                                   : "ObjectBegin";
 }
 
 static const char *block_end_name(block_kind kind) {
-  return kind == BLOCK_ATTRIBUTE ? "AttributeEnd" : kind == BLOCK_TRANSFORM ? "TransformEnd" : "ObjectEnd";
+  return kind == BLOCK_ATTRIBUTE   ? "AttributeEnd"
+         : kind == BLOCK_TRANSFORM ? "TransformEnd"
+                                   : "ObjectEnd";
 }
 
 static clr_result pop_block(parser *p, block_kind kind, location at) {
   if (p->block_count == 0)
-    return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected a %s before %s, got none", at.file,
-                    at.line, at.col, block_begin_name(kind), block_end_name(kind));
+    return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected a %s before %s, got none",
+                              at.file, at.line, at.col, block_begin_name(kind),
+                              block_end_name(kind));
   const block *b = &p->blocks[p->block_count - 1];
   if (b->kind != kind)
     return clr_set_last_error(CLR_ERROR_PARSE,
-                    "%s:%d:%d: expected %s (for the %s at %s:%d), got %s", at.file, at.line, at.col,
-                    block_end_name(b->kind), block_begin_name(b->kind), b->at.file, b->at.line,
-                    block_end_name(kind));
+                              "%s:%d:%d: expected %s (for the %s at %s:%d), got %s", at.file,
+                              at.line, at.col, block_end_name(b->kind), block_begin_name(b->kind),
+                              b->at.file, b->at.line, block_end_name(kind));
   if (kind == BLOCK_TRANSFORM) {
     p->gs.ctm = b->saved.ctm;
     p->gs.transform_active = b->saved.transform_active;
@@ -634,7 +644,8 @@ static clr_result d_concat_transform(parser *p, const directive *d, location at)
 }
 
 static clr_result d_identity(parser *p, const directive *d, location at) {
-  (void)at; (void)d;
+  (void)at;
+  (void)d;
   if (p->gs.transform_active) p->gs.ctm = clr_transform_identity();
   return CLR_SUCCESS;
 }
@@ -690,9 +701,9 @@ static clr_result d_include(parser *p, const directive *d, location at) {
   if (tok.kind != CLR_TOKEN_STRING) return expected(&tok, "a quoted file name after Include");
   if (p->frame_count > CLR_SCENE_MAX_INCLUDE_DEPTH)
     return clr_set_last_error(CLR_ERROR_PARSE,
-                    "%s:%d:%d: expected Include files nested at most %d deep, got deeper "
-                    "(recursive Include?)",
-                    at.file, at.line, at.col, CLR_SCENE_MAX_INCLUDE_DEPTH);
+                              "%s:%d:%d: expected Include files nested at most %d deep, got deeper "
+                              "(recursive Include?)",
+                              at.file, at.line, at.col, CLR_SCENE_MAX_INCLUDE_DEPTH);
   const char *dir = tok.text[0] == '/' ? "" : p->frames[p->frame_count - 1].dir;
   size_t n = strlen(dir) + tok.length + 1;
   char *path = malloc(n);
@@ -874,14 +885,17 @@ static clr_result d_texture(parser *p, const directive *d, location at) {
   char *name = NULL, *kind = NULL, *type = NULL;
   clr_param_list params;
   clr_result r = expect_string(p, "a quoted texture name after Texture", &name);
-  if (r == CLR_SUCCESS) r = expect_string(p, "a quoted texture type (\"float\" or \"spectrum\")", &kind);
+  if (r == CLR_SUCCESS)
+    r = expect_string(p, "a quoted texture type (\"float\" or \"spectrum\")", &kind);
   if (r == CLR_SUCCESS) r = parse_typed_params(p, d, at, &type, &params);
   bool is_float = kind && strcmp(kind, "float") == 0;
   bool is_spectrum = kind && (strcmp(kind, "spectrum") == 0 || strcmp(kind, "color") == 0);
   bool keep = r == CLR_SUCCESS && phase_allows(p, d, at);
   if (keep && !is_float && !is_spectrum) {
-    warnf(p, "%s:%d: Texture '%s' has unknown type '%s' (expected \"float\" or \"spectrum\"); "
-             "ignored", at.file, at.line, name, kind);
+    warnf(p,
+          "%s:%d: Texture '%s' has unknown type '%s' (expected \"float\" or \"spectrum\"); "
+          "ignored",
+          at.file, at.line, name, kind);
     keep = false;
   }
   free(kind);
@@ -903,8 +917,8 @@ static clr_result d_texture(parser *p, const directive *d, location at) {
   }
   resolve_textures(p, &params);
   int index = s->texture_count++;
-  s->textures[index] = (clr_texture_desc){
-      name, is_float ? CLR_TEXTURE_FLOAT : CLR_TEXTURE_SPECTRUM, type, params, p->gs.ctm};
+  s->textures[index] = (clr_texture_desc){name, is_float ? CLR_TEXTURE_FLOAT : CLR_TEXTURE_SPECTRUM,
+                                          type, params, p->gs.ctm};
   return add_binding(p, is_float ? BIND_FLOAT_TEXTURE : BIND_SPECTRUM_TEXTURE, name, index, at);
 }
 
@@ -970,14 +984,17 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
   }
   int area_light = p->gs.area_light;
   if (object && area_light >= 0) {
-    warnf(p, "%s:%d: area lights are not supported with object instancing; shape in object '%s' "
-             "does not emit", at.file, at.line, object->name);
+    warnf(p,
+          "%s:%d: area lights are not supported with object instancing; shape in object '%s' "
+          "does not emit",
+          at.file, at.line, object->name);
     area_light = -1;
   }
   resolve_textures(p, &params);
   int index = s->shape_count++;
-  s->shapes[index] = (clr_shape_desc){type,        params, p->gs.ctm, p->gs.reverse_orientation,
-                                      shape_material(p, at), area_light, p->current_object};
+  s->shapes[index] = (clr_shape_desc){
+      type,       params,           p->gs.ctm, p->gs.reverse_orientation, shape_material(p, at),
+      area_light, p->current_object};
   if (object) object->shapes[object->shape_count++] = index;
   return CLR_SUCCESS;
 }
@@ -992,9 +1009,9 @@ static clr_result d_object_begin(parser *p, const directive *d, location at) {
     return CLR_SUCCESS;
   }
   if (p->current_object >= 0) {
-    clr_result r = clr_set_last_error(CLR_ERROR_PARSE,
-                            "%s:%d:%d: expected ObjectEnd for object '%s', got ObjectBegin '%s'",
-                            at.file, at.line, at.col, p->desc->objects[p->current_object].name, name);
+    clr_result r = clr_set_last_error(
+        CLR_ERROR_PARSE, "%s:%d:%d: expected ObjectEnd for object '%s', got ObjectBegin '%s'",
+        at.file, at.line, at.col, p->desc->objects[p->current_object].name, name);
     free(name);
     return r;
   }
@@ -1095,8 +1112,10 @@ static clr_result d_active_transform(parser *p, const directive *d, location at)
     p->gs.transform_active = false;
   else
     return expected(&tok, "All, StartTime or EndTime after ActiveTransform");
-  warnf(p, "%s:%d: ActiveTransform is not supported by clrender (no motion blur); only "
-           "start-time transforms are kept", at.file, at.line);
+  warnf(p,
+        "%s:%d: ActiveTransform is not supported by clrender (no motion blur); only "
+        "start-time transforms are kept",
+        at.file, at.line);
   return CLR_SUCCESS;
 }
 
@@ -1180,7 +1199,8 @@ static clr_result parser_init(parser *p, const clr_parse_options *opts) {
   p->warn_user = opts ? opts->warn_user : NULL;
   p->desc = clr_scene_desc_create();
   if (!p->desc)
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_scene_parse: out of memory creating the scene");
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                              "clr_scene_parse: out of memory creating the scene");
   p->gs.ctm = clr_transform_identity();
   p->gs.transform_active = true;
   p->gs.material = 0;
@@ -1211,7 +1231,7 @@ clr_result clr_scene_parse_file(const char *path, const clr_parse_options *opts,
   if (out) *out = NULL;
   if (!path || !out)
     return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_scene_parse_file: %s is NULL",
-                    !path ? "path" : "out");
+                              !path ? "path" : "out");
   parser p;
   clr_result r = parser_init(&p, opts);
   if (r != CLR_SUCCESS) return r;
@@ -1220,7 +1240,8 @@ clr_result clr_scene_parse_file(const char *path, const clr_parse_options *opts,
   if (r == CLR_SUCCESS && !p.in_world) /* empty, or not a scene file at all */
     r = clr_set_last_error(CLR_ERROR_PARSE,
                            "%s: not a pbrt scene: expected WorldBegin, got none (empty file or "
-                           "no world block)", path);
+                           "no world block)",
+                           path);
   return parser_finish(&p, r, out);
 }
 
@@ -1229,7 +1250,7 @@ clr_result clr_scene_parse_string(const char *text, const char *virtual_path,
   if (out) *out = NULL;
   if (!text || !out)
     return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_scene_parse_string: %s is NULL",
-                    !text ? "text" : "out");
+                              !text ? "text" : "out");
   parser p;
   clr_result r = parser_init(&p, opts);
   if (r != CLR_SUCCESS) return r;

@@ -23,8 +23,8 @@ clr_result clr_tokenizer_open_string(clr_tokenizer *t, const char *text, size_t 
   memset(t, 0, sizeof *t);
   t->buffer = malloc(length + 1);
   if (!t->buffer)
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_scene_parse_string: out of memory (%zu bytes)",
-                    length);
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                              "clr_scene_parse_string: out of memory (%zu bytes)", length);
   memcpy(t->buffer, text, length);
   t->buffer[length] = 0;
   t->size = length;
@@ -66,15 +66,24 @@ static bool ends_word(int ch) {
 
 static int decode_escape(int ch) {
   switch (ch) {
-  case 'b': return '\b';
-  case 'f': return '\f';
-  case 'n': return '\n';
-  case 'r': return '\r';
-  case 't': return '\t';
-  case '\\': return '\\';
-  case '\'': return '\'';
-  case '"': return '"';
-  default: return -1;
+    case 'b':
+      return '\b';
+    case 'f':
+      return '\f';
+    case 'n':
+      return '\n';
+    case 'r':
+      return '\r';
+    case 't':
+      return '\t';
+    case '\\':
+      return '\\';
+    case '\'':
+      return '\'';
+    case '"':
+      return '"';
+    default:
+      return -1;
   }
 }
 
@@ -86,16 +95,17 @@ static clr_result scan_string(clr_tokenizer *t, clr_token *tok) {
     int ch = get_char(t);
     if (ch == '"') break;
     if (ch == EOF || ch == '\n')
-      return clr_set_last_error(CLR_ERROR_PARSE, "%s:%d:%d: expected '\"' closing the string, got %s",
-                      t->path, tok->line, tok->col, ch == EOF ? "end of file" : "end of line");
+      return clr_set_last_error(CLR_ERROR_PARSE,
+                                "%s:%d:%d: expected '\"' closing the string, got %s", t->path,
+                                tok->line, tok->col, ch == EOF ? "end of file" : "end of line");
     if (ch == '\\') {
       int esc_line = t->line, esc_col = t->col - 1;
       int next = get_char(t);
       int decoded = next == EOF ? -1 : decode_escape(next);
       if (decoded < 0)
-        return clr_set_last_error(CLR_ERROR_PARSE,
-                        "%s:%d:%d: expected an escape (\\n \\t \\\" \\\\ ...), got %s", t->path,
-                        esc_line, esc_col, next == EOF ? "end of file" : "an unknown escape");
+        return clr_set_last_error(
+            CLR_ERROR_PARSE, "%s:%d:%d: expected an escape (\\n \\t \\\" \\\\ ...), got %s",
+            t->path, esc_line, esc_col, next == EOF ? "end of file" : "an unknown escape");
       ch = decoded;
     }
     *out++ = (char)ch;
@@ -155,16 +165,26 @@ void clr_token_describe(const clr_token *tok, char *buf, size_t size) {
   int shown = tok->length > CLR_TOKEN_EXCERPT ? CLR_TOKEN_EXCERPT : (int)tok->length;
   const char *more = tok->length > CLR_TOKEN_EXCERPT ? "..." : "";
   if (!printable && (tok->kind == CLR_TOKEN_STRING || tok->kind == CLR_TOKEN_WORD)) {
-    snprintf(buf, size, "%s (%zu bytes of binary data)", tok->kind == CLR_TOKEN_STRING ? "a string" : "a word",
-             tok->length);
+    snprintf(buf, size, "%s (%zu bytes of binary data)",
+             tok->kind == CLR_TOKEN_STRING ? "a string" : "a word", tok->length);
     return;
   }
   switch (tok->kind) {
-  case CLR_TOKEN_EOF: snprintf(buf, size, "end of file"); break;
-  case CLR_TOKEN_LBRACKET: snprintf(buf, size, "'['"); break;
-  case CLR_TOKEN_RBRACKET: snprintf(buf, size, "']'"); break;
-  case CLR_TOKEN_STRING: snprintf(buf, size, "string \"%.*s%s\"", shown, tok->text, more); break;
-  case CLR_TOKEN_WORD: snprintf(buf, size, "'%.*s%s'", shown, tok->text, more); break;
+    case CLR_TOKEN_EOF:
+      snprintf(buf, size, "end of file");
+      break;
+    case CLR_TOKEN_LBRACKET:
+      snprintf(buf, size, "'['");
+      break;
+    case CLR_TOKEN_RBRACKET:
+      snprintf(buf, size, "']'");
+      break;
+    case CLR_TOKEN_STRING:
+      snprintf(buf, size, "string \"%.*s%s\"", shown, tok->text, more);
+      break;
+    case CLR_TOKEN_WORD:
+      snprintf(buf, size, "'%.*s%s'", shown, tok->text, more);
+      break;
   }
 }
 

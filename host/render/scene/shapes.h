@@ -11,27 +11,27 @@ typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK } rs_shape_type;
 
 typedef struct rs_shape {
   rs_shape_type type;
-  clr_mesh mesh;            /* world space, or object space for shapes of an object */
+  clr_mesh mesh; /* world space, or object space for shapes of an object */
   float radius;
   float height, inner_radius, phimax; /* disk (phimax in radians); sphere: phimax too */
-  float zmin, zmax;         /* sphere: pbrt-v3's clipping (object space), with phimax */
-  int partial;              /* sphere clipped by zmin/zmax/phimax */
-  clr_transform object_to_world; /* sphere: object to world (or to instance) */
-  int flip_normal;          /* pbrt reverseOrientation ^ transformSwapsHandedness */
+  float zmin, zmax;                   /* sphere: pbrt-v3's clipping (object space), with phimax */
+  int partial;                        /* sphere clipped by zmin/zmax/phimax */
+  clr_transform object_to_world;      /* sphere: object to world (or to instance) */
+  int flip_normal;                    /* pbrt reverseOrientation ^ transformSwapsHandedness */
   int has_material;
   rs_colour kd;
-  float on_a, on_b;         /* Oren-Nayar A, B from matte "sigma" (1, 0: Lambertian) */
-  int mirror;               /* material "mirror": specular reflection with kr */
+  float on_a, on_b; /* Oren-Nayar A, B from matte "sigma" (1, 0: Lambertian) */
+  int mirror;       /* material "mirror": specular reflection with kr */
   rs_colour kr;
-  int plastic;              /* material "plastic": kd + ks microfacet lobe of alpha */
-  int glass;                /* material "glass" (smooth): kr, kt, eta */
-  int metal;                /* material "metal": m_eta, m_k (rgb), alpha */
+  int plastic; /* material "plastic": kd + ks microfacet lobe of alpha */
+  int glass;   /* material "glass" (smooth): kr, kt, eta */
+  int metal;   /* material "metal": m_eta, m_k (rgb), alpha */
   float m_eta[3], m_k[3];
   rs_colour kt;
   float eta;
   rs_colour ks;
   float alpha;
-  int first_light;          /* light index of triangle 0 / the sphere, -1 when not emitting */
+  int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
 } rs_shape;
 

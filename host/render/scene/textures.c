@@ -16,7 +16,10 @@ void rs_colour_param(const clr_param_list *first, const clr_param_list *second, 
   for (int i = 0; i < 2; ++i) {
     if (!lists[i]) continue;
     int t = clr_params_find_texture_index(lists[i], name, CLR_TEXTURE_SPECTRUM);
-    if (t >= 0) { out->texture = t; return; }
+    if (t >= 0) {
+      out->texture = t;
+      return;
+    }
     if (clr_params_find(lists[i], name, CLR_PARAM_RGB)) {
       float d[3] = {def, def, def};
       clr_params_find_rgb(lists[i], name, d, out->rgb);
@@ -32,17 +35,25 @@ void rs_colour_param(const clr_param_list *first, const clr_param_list *second, 
 
 /* Joins the scene file's directory and a relative file name. */
 static void resolve_path(const char *scene_file, const char *name, char *out, size_t n) {
-  if (name[0] == '/' || !scene_file) { snprintf(out, n, "%s", name); return; }
+  if (name[0] == '/' || !scene_file) {
+    snprintf(out, n, "%s", name);
+    return;
+  }
   const char *slash = strrchr(scene_file, '/');
-  if (!slash) { snprintf(out, n, "%s", name); return; }
+  if (!slash) {
+    snprintf(out, n, "%s", name);
+    return;
+  }
   snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
 }
 
-static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn, void *wu) {
+static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn,
+                              void *wu) {
   const clr_param_list *p = &td->params;
   const char *name = clr_params_find_string(p, "filename", "");
   if (!name[0])
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: imagemap: parameter \"filename\" is required",
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s:%d: imagemap: parameter \"filename\" is required",
                               p->file ? p->file : "?", p->line);
   char path[4096];
   resolve_path(p->file, name, path, sizeof path);
@@ -52,7 +63,8 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
   const char *wrap = clr_params_find_string(p, "wrap", "repeat");
   if (strcmp(wrap, "repeat") != 0 && warn) {
     char m[512];
-    snprintf(m, sizeof m, "%s:%d: imagemap wrap \"%s\" not supported: using repeat", p->file, p->line, wrap);
+    snprintf(m, sizeof m, "%s:%d: imagemap wrap \"%s\" not supported: using repeat", p->file,
+             p->line, wrap);
     warn(wu, m);
   }
   clr_image image;
@@ -62,7 +74,7 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
   t->rgb = image.rgb;
   if (r != CLR_SUCCESS)
     return clr_set_last_error(r, "%s:%d: imagemap \"%s\": %s", p->file, p->line, path,
-                    clr_last_error_message());
+                              clr_last_error_message());
   return CLR_SUCCESS;
 }
 
@@ -70,7 +82,8 @@ static void warn_at(clr_warn_fn warn, void *wu, const clr_param_list *p, const c
                     const char *type) {
   if (!warn) return;
   char m[512];
-  snprintf(m, sizeof m, "%s:%d: %s \"%s\" not supported", p->file ? p->file : "?", p->line, what, type);
+  snprintf(m, sizeof m, "%s:%d: %s \"%s\" not supported", p->file ? p->file : "?", p->line, what,
+           type);
   warn(wu, m);
 }
 
@@ -102,9 +115,10 @@ clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_w
       t->type = RS_TEX_CHECKER;
       rs_colour_param(p, NULL, "tex1", 1.0f, &t->tex1);
       rs_colour_param(p, NULL, "tex2", 0.0f, &t->tex2);
-      if (clr_params_find_int(p, "dimension", 2) != 2) warn_at(warn, wu, p, "checkerboard dimension", "3");
+      if (clr_params_find_int(p, "dimension", 2) != 2)
+        warn_at(warn, wu, p, "checkerboard dimension", "3");
       clr_params_find_string(p, "aamode", "none"); /* always unfiltered */
-    } else if (strcmp(td->type, "scale") == 0) { /* pbrt-v3 ScaleTexture: tex1 * tex2 */
+    } else if (strcmp(td->type, "scale") == 0) {   /* pbrt-v3 ScaleTexture: tex1 * tex2 */
       t->type = RS_TEX_SCALE;
       rs_colour_param(p, NULL, "tex1", 1.0f, &t->tex1);
       rs_colour_param(p, NULL, "tex2", 1.0f, &t->tex2);
@@ -144,7 +158,9 @@ static void texel(const rs_texture *t, int x, int y, float out[3]) {
   y = wrap_index(y, t->height);
   /* pbrt flips images so that t = 0 is the bottom row */
   const float *v = t->rgb + 3 * ((size_t)(t->height - 1 - y) * (size_t)t->width + (size_t)x);
-  out[0] = v[0]; out[1] = v[1]; out[2] = v[2];
+  out[0] = v[0];
+  out[1] = v[1];
+  out[2] = v[2];
 }
 
 static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[3]) {
@@ -159,7 +175,8 @@ static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[
     texel(t, x0, y0 + 1, c);
     texel(t, x0 + 1, y0 + 1, e);
     for (int k = 0; k < 3; ++k)
-      out[k] = (1 - dx) * (1 - dy) * a[k] + dx * (1 - dy) * b[k] + (1 - dx) * dy * c[k] + dx * dy * e[k];
+      out[k] =
+          (1 - dx) * (1 - dy) * a[k] + dx * (1 - dy) * b[k] + (1 - dx) * dy * c[k] + dx * dy * e[k];
   }
   for (int k = 0; k < 3; ++k) out[k] *= t->scale;
 }
@@ -167,15 +184,22 @@ static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[
 static void colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
                         float out[3], int depth) {
   for (; depth < 16; ++depth) {
-    if (c->texture < 0) { memcpy(out, c->rgb, 3 * sizeof(float)); return; }
+    if (c->texture < 0) {
+      memcpy(out, c->rgb, 3 * sizeof(float));
+      return;
+    }
     const rs_texture *t = &set->items[c->texture];
     float st_s = t->su * uv[0] + t->du, st_t = t->sv * uv[1] + t->dv;
     switch (t->type) {
-      case RS_TEX_CONSTANT: c = &t->value; break;
+      case RS_TEX_CONSTANT:
+        c = &t->value;
+        break;
       case RS_TEX_CHECKER:
         c = (((int)floorf(st_s) + (int)floorf(st_t)) % 2 == 0) ? &t->tex1 : &t->tex2;
         break;
-      case RS_TEX_IMAGE: image_lookup(t, st_s, st_t, out); return;
+      case RS_TEX_IMAGE:
+        image_lookup(t, st_s, st_t, out);
+        return;
       case RS_TEX_UV:
         out[0] = st_s - floorf(st_s);
         out[1] = st_t - floorf(st_t);
@@ -187,7 +211,8 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const flo
         colour_eval(set, &t->tex1, uv, a, depth + 1);
         colour_eval(set, &t->tex2, uv, b, depth + 1);
         for (int k = 0; k < 3; ++k)
-          out[k] = t->type == RS_TEX_SCALE ? a[k] * b[k] : (1.0f - t->amount) * a[k] + t->amount * b[k];
+          out[k] =
+              t->type == RS_TEX_SCALE ? a[k] * b[k] : (1.0f - t->amount) * a[k] + t->amount * b[k];
         return;
       }
     }

@@ -14,18 +14,23 @@ typedef struct rs_colour {
 } rs_colour;
 
 typedef enum {
-  RS_TEX_CONSTANT, RS_TEX_CHECKER, RS_TEX_IMAGE, RS_TEX_SCALE, RS_TEX_MIX, RS_TEX_UV
+  RS_TEX_CONSTANT,
+  RS_TEX_CHECKER,
+  RS_TEX_IMAGE,
+  RS_TEX_SCALE,
+  RS_TEX_MIX,
+  RS_TEX_UV
 } rs_texture_type;
 
 typedef struct rs_texture {
   rs_texture_type type;
   float su, sv, du, dv; /* pbrt UVMapping2D */
   rs_colour value, tex1, tex2;
-  float amount;  /* mix: constant "amount" (float textures are not evaluated) */
+  float amount; /* mix: constant "amount" (float textures are not evaluated) */
   int32_t width, height;
-  float *rgb;   /* image texels, row 0 = top of the file */
+  float *rgb; /* image texels, row 0 = top of the file */
   float scale;
-  int nearest;  /* 1: nearest texel, 0: bilinear */
+  int nearest; /* 1: nearest texel, 0: bilinear */
 } rs_texture;
 
 /* The scene's textures, one per description texture (float textures left constant). */
@@ -40,7 +45,6 @@ void rs_textures_free(rs_texture_set *set);
 /* Colour parameter `name` looked up in `first` then `second` (may be NULL), default def. */
 void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
                      float def, rs_colour *out);
-void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
-                    float out[3]);
+void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2], float out[3]);
 
 #endif

@@ -26,11 +26,12 @@ typedef struct tracer_mesh { /* the tracer's own copy; p has one padding float f
 typedef struct sphere_shape { /* Embree's user data for one sphere: a stable heap address */
   affine object_to_group;
   double radius;
-  int partial;                         /* pbrt-v3 zmin/zmax/phimax clip the sphere */
+  int partial; /* pbrt-v3 zmin/zmax/phimax clip the sphere */
   double zmin, zmax, phimax, theta_zmin, theta_zmax;
 } sphere_shape;
 
-typedef struct disk_shape { /* pbrt-v3 Disk: z = height, innerradius <= r <= radius, phi <= phimax */
+typedef struct
+    disk_shape { /* pbrt-v3 Disk: z = height, innerradius <= r <= radius, phi <= phimax */
   affine object_to_group;
   double height, radius, inner, phimax;
 } disk_shape;
@@ -40,9 +41,9 @@ typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE, GEOM_DISK } geom
 typedef struct geom_record { /* indexed by Embree geometry id within its group */
   geom_kind kind;
   uint32_t user_id;
-  tracer_mesh mesh;       /* GEOM_MESH */
-  sphere_shape *sphere;   /* GEOM_SPHERE */
-  disk_shape *disk;       /* GEOM_DISK */
+  tracer_mesh mesh;        /* GEOM_MESH */
+  sphere_shape *sphere;    /* GEOM_SPHERE */
+  disk_shape *disk;        /* GEOM_DISK */
   int32_t instanced_group; /* GEOM_INSTANCE */
   affine instance_to_world;
 } geom_record;
@@ -66,13 +67,20 @@ struct clr_tracer_t {
 
 static const char *embree_error_name(enum RTCError code) {
   switch (code) {
-    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
-    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
-    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
-    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
-    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
-    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+    case RTC_ERROR_NONE:
+      return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN:
+      return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT:
+      return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION:
+      return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY:
+      return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU:
+      return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED:
+      return "RTC_ERROR_CANCELLED";
   }
   return "unknown Embree error";
 }
@@ -93,14 +101,14 @@ static clr_result embree_check(struct clr_tracer_t *t, const char *call) {
   pthread_mutex_lock(&t->error_lock);
   memcpy(message, t->error_message, sizeof message);
   pthread_mutex_unlock(&t->error_lock);
-  return clr_set_last_error(CLR_ERROR_EMBREE, "%s failed: %s (%d): %s", call, embree_error_name(code),
-                  (int)code, message);
+  return clr_set_last_error(CLR_ERROR_EMBREE, "%s failed: %s (%d): %s", call,
+                            embree_error_name(code), (int)code, message);
 }
 
-#define EMBREE_CHECK(t, call_name)                    \
-  do {                                                \
-    clr_result e_ = embree_check((t), (call_name));   \
-    if (e_ != CLR_SUCCESS) return e_;                 \
+#define EMBREE_CHECK(t, call_name)                  \
+  do {                                              \
+    clr_result e_ = embree_check((t), (call_name)); \
+    if (e_ != CLR_SUCCESS) return e_;               \
   } while (0)
 
 /* ---- affine maps ---- */
@@ -114,12 +122,13 @@ static int affine_from_matrix(const float m[16], affine *a) {
   const double *x = a->m;
   double c[9] = {x[5] * x[10] - x[6] * x[9], x[2] * x[9] - x[1] * x[10], x[1] * x[6] - x[2] * x[5],
                  x[6] * x[8] - x[4] * x[10], x[0] * x[10] - x[2] * x[8], x[2] * x[4] - x[0] * x[6],
-                 x[4] * x[9] - x[5] * x[8], x[1] * x[8] - x[0] * x[9], x[0] * x[5] - x[1] * x[4]};
+                 x[4] * x[9] - x[5] * x[8],  x[1] * x[8] - x[0] * x[9],  x[0] * x[5] - x[1] * x[4]};
   double det = x[0] * c[0] + x[1] * c[3] + x[2] * c[6];
   if (det == 0.0 || !isfinite(det)) return 0;
   for (int r = 0; r < 3; ++r) {
     for (int k = 0; k < 3; ++k) a->inv[4 * r + k] = c[3 * r + k] / det;
-    a->inv[4 * r + 3] = -(a->inv[4 * r] * x[3] + a->inv[4 * r + 1] * x[7] + a->inv[4 * r + 2] * x[11]);
+    a->inv[4 * r + 3] =
+        -(a->inv[4 * r] * x[3] + a->inv[4 * r + 1] * x[7] + a->inv[4 * r + 2] * x[11]);
   }
   for (int i = 0; i < 12; ++i)
     if (!isfinite(a->inv[i])) return 0;
@@ -127,7 +136,8 @@ static int affine_from_matrix(const float m[16], affine *a) {
 }
 
 static void map_point(const double m[12], const double p[3], double out[3]) {
-  for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
+  for (int r = 0; r < 3; ++r)
+    out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
 }
 
 static void map_vector(const double m[12], const double v[3], double out[3]) {
@@ -136,7 +146,8 @@ static void map_vector(const double m[12], const double v[3], double out[3]) {
 
 /* Normals go through the transposed inverse. */
 static void map_normal(const affine *a, const double n[3], double out[3]) {
-  for (int r = 0; r < 3; ++r) out[r] = a->inv[r] * n[0] + a->inv[4 + r] * n[1] + a->inv[8 + r] * n[2];
+  for (int r = 0; r < 3; ++r)
+    out[r] = a->inv[r] * n[0] + a->inv[4 + r] * n[1] + a->inv[8 + r] * n[2];
 }
 
 /* ---- spheres: exact intersection in object space ---- */
@@ -196,15 +207,26 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
 }
 
 /* Offsets of the fields in Embree's SOA ray/hit packets of width N, in 4-byte words. */
-enum { RAY_ORG = 0, RAY_TNEAR = 3, RAY_DIR = 4, RAY_TFAR = 8, HIT_NG = 12, HIT_U = 15, HIT_V = 16,
-       HIT_PRIM = 17, HIT_GEOM = 18, HIT_INST = 19 };
+enum {
+  RAY_ORG = 0,
+  RAY_TNEAR = 3,
+  RAY_DIR = 4,
+  RAY_TFAR = 8,
+  HIT_NG = 12,
+  HIT_U = 15,
+  HIT_V = 16,
+  HIT_PRIM = 17,
+  HIT_GEOM = 18,
+  HIT_INST = 19
+};
 
 static void sphere_bounds(const struct RTCBoundsFunctionArguments *args) {
   const sphere_shape *s = args->geometryUserPtr;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int corner = 0; corner < 8; ++corner) {
     double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius,
-                   corner & 4 ? s->radius : -s->radius}, g[3];
+                   corner & 4 ? s->radius : -s->radius},
+           g[3];
     map_point(s->object_to_group.m, c, g);
     for (int k = 0; k < 3; ++k) {
       lo[k] = fmin(lo[k], g[k]);
@@ -213,8 +235,10 @@ static void sphere_bounds(const struct RTCBoundsFunctionArguments *args) {
   }
   double pad = 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
   struct RTCBounds *b = args->bounds_o;
-  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad), b->lower_z = (float)(lo[2] - pad);
-  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad), b->upper_z = (float)(hi[2] + pad);
+  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad),
+  b->lower_z = (float)(lo[2] - pad);
+  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad),
+  b->upper_z = (float)(hi[2] + pad);
 }
 
 static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
@@ -226,7 +250,8 @@ static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) 
     float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
     float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
     sphere_hit h;
-    if (!sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+    if (!sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
+                         &h))
       continue;
     f[RAY_TFAR * n + i] = h.t;
     for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
@@ -246,7 +271,8 @@ static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
     float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
     float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
     sphere_hit h;
-    if (sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+    if (sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
+                        &h))
       f[RAY_TFAR * n + i] = -INFINITY;
   }
 }
@@ -278,7 +304,9 @@ static void disk_bounds(const struct RTCBoundsFunctionArguments *args) {
   const disk_shape *s = args->geometryUserPtr;
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int corner = 0; corner < 4; ++corner) {
-    double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius, s->height}, g[3];
+    double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius,
+                   s->height},
+           g[3];
     map_point(s->object_to_group.m, c, g);
     for (int k = 0; k < 3; ++k) {
       lo[k] = fmin(lo[k], g[k]);
@@ -287,8 +315,10 @@ static void disk_bounds(const struct RTCBoundsFunctionArguments *args) {
   }
   double pad = 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]) + 1e-7;
   struct RTCBounds *b = args->bounds_o;
-  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad), b->lower_z = (float)(lo[2] - pad);
-  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad), b->upper_z = (float)(hi[2] + pad);
+  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad),
+  b->lower_z = (float)(lo[2] - pad);
+  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad),
+  b->upper_z = (float)(hi[2] + pad);
 }
 
 static void disk_intersect(const struct RTCIntersectFunctionNArguments *args) {
@@ -300,7 +330,8 @@ static void disk_intersect(const struct RTCIntersectFunctionNArguments *args) {
     float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
     float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
     sphere_hit h;
-    if (!disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+    if (!disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
+                       &h))
       continue;
     f[RAY_TFAR * n + i] = h.t;
     for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
@@ -320,7 +351,8 @@ static void disk_occluded(const struct RTCOccludedFunctionNArguments *args) {
     float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
     float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
     sphere_hit h;
-    if (disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
+    if (disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
+                      &h))
       f[RAY_TFAR * n + i] = -INFINITY;
   }
 }
@@ -354,10 +386,12 @@ void clr_tracer_release(clr_tracer t) {
 static clr_result add_group(struct clr_tracer_t *t, const char *fn) {
   if (t->group_count == t->group_capacity) {
     if (t->group_capacity > INT32_MAX / 2)
-      return clr_set_last_error(CLR_ERROR_SCENE, "%s: too many groups (%ld)", fn, (long)t->group_count);
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: too many groups (%ld)", fn,
+                                (long)t->group_count);
     int32_t capacity = t->group_capacity ? 2 * t->group_capacity : 4;
     group *groups = realloc(t->groups, (size_t)capacity * sizeof *groups);
-    if (!groups) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow the group table", fn);
+    if (!groups)
+      return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow the group table", fn);
     t->groups = groups;
     t->group_capacity = capacity;
   }
@@ -387,14 +421,16 @@ clr_result clr_tracer_create(clr_tracer *out) {
   if (!t->device) {
     enum RTCError code = rtcGetDeviceError(NULL);
     clr_tracer_release(t);
-    return clr_set_last_error(CLR_ERROR_EMBREE, "rtcNewDevice failed: %s (%d)", embree_error_name(code),
-                    (int)code);
+    return clr_set_last_error(CLR_ERROR_EMBREE, "rtcNewDevice failed: %s (%d)",
+                              embree_error_name(code), (int)code);
   }
   rtcSetDeviceErrorFunction(t->device, record_embree_error, t);
   clr_result r = embree_check(t, "rtcSetDeviceErrorFunction");
-  if (r == CLR_SUCCESS && rtcGetDeviceProperty(t->device, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
-    r = clr_set_last_error(CLR_ERROR_EMBREE, "clr_tracer_create: this Embree build culls back faces; "
-                 "pbrt needs two-sided triangles");
+  if (r == CLR_SUCCESS &&
+      rtcGetDeviceProperty(t->device, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
+    r = clr_set_last_error(CLR_ERROR_EMBREE,
+                           "clr_tracer_create: this Embree build culls back faces; "
+                           "pbrt needs two-sided triangles");
   if (r == CLR_SUCCESS) r = add_group(t, "clr_tracer_create");
   if (r != CLR_SUCCESS) {
     clr_tracer_release(t);
@@ -406,9 +442,11 @@ clr_result clr_tracer_create(clr_tracer *out) {
 
 clr_result clr_tracer_new_group(clr_tracer t, int32_t *group_id) {
   if (!t || !group_id)
-    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_new_group: %s is NULL", t ? "group_id" : "tracer");
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_new_group: %s is NULL",
+                              t ? "group_id" : "tracer");
   if (t->committed)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_new_group: the tracer is already committed");
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "clr_tracer_new_group: the tracer is already committed");
   CLR_CHECK(add_group(t, "clr_tracer_new_group"));
   *group_id = t->group_count - 1;
   return CLR_SUCCESS;
@@ -420,17 +458,20 @@ static clr_result check_building(clr_tracer t, int32_t g, const void *arg, const
   if (!t) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: tracer is NULL", fn);
   if (!arg) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, arg_name);
   if (t->committed)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is already committed", fn);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is already committed",
+                              fn);
   if (g < 0 || g >= t->group_count)
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [0, %ld)", fn,
-                    (long)g, (long)t->group_count);
+                              (long)g, (long)t->group_count);
   if (t->groups[g].count == t->groups[g].capacity) {
     group *gr = &t->groups[g];
     if (gr->capacity > UINT32_MAX / 4)
-      return clr_set_last_error(CLR_ERROR_SCENE, "%s: too many geometries in group %ld", fn, (long)g);
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s: too many geometries in group %ld", fn,
+                                (long)g);
     uint32_t capacity = gr->capacity ? 2 * gr->capacity : 8;
     geom_record *records = realloc(gr->records, (size_t)capacity * sizeof *records);
-    if (!records) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow group %ld", fn, (long)g);
+    if (!records)
+      return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: cannot grow group %ld", fn, (long)g);
     gr->records = records;
     gr->capacity = capacity;
   }
@@ -451,7 +492,8 @@ static clr_result attach(struct clr_tracer_t *t, int32_t g, RTCGeometry geom, ge
   }
   if (r == CLR_SUCCESS && id != gr->count) {
     rtcDetachGeometry(gr->scene, id);
-    r = clr_set_last_error(CLR_ERROR_INTERNAL, "rtcAttachGeometry gave id %u, expected %u", id, gr->count);
+    r = clr_set_last_error(CLR_ERROR_INTERNAL, "rtcAttachGeometry gave id %u, expected %u", id,
+                           gr->count);
   }
   rtcReleaseGeometry(geom);
   if (r != CLR_SUCCESS) {
@@ -474,8 +516,10 @@ static clr_result copy_mesh(const clr_mesh *m, tracer_mesh *out) {
   out->n = m->n ? malloc(3 * nv * sizeof(float)) : NULL;
   out->uv = m->uv ? malloc(2 * nv * sizeof(float)) : NULL;
   if (!out->p || !out->indices || (m->n && !out->n) || (m->uv && !out->uv))
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_add_mesh: cannot copy a mesh of %zu "
-                    "vertices and %zu triangles", nv, nt);
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
+                              "clr_tracer_add_mesh: cannot copy a mesh of %zu "
+                              "vertices and %zu triangles",
+                              nv, nt);
   memcpy(out->p, m->p, 3 * nv * sizeof(float));
   out->p[3 * nv] = 0.0f;
   memcpy(out->indices, m->indices, 3 * nt * sizeof(uint32_t));
@@ -491,7 +535,7 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
   CLR_CHECK(clr_mesh_validate(mesh, fn));
   if (mesh->triangle_count == 0)
     return clr_set_last_error(CLR_ERROR_SCENE, "%s: the mesh has no triangles (%ld vertices)", fn,
-                    (long)mesh->vertex_count);
+                              (long)mesh->vertex_count);
   geom_record record = {.kind = GEOM_MESH, .user_id = user_id};
   clr_result r = copy_mesh(mesh, &record.mesh);
   if (r != CLR_SUCCESS) {
@@ -508,8 +552,9 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
                              3 * sizeof(float), (size_t)mesh->vertex_count);
   r = embree_check(t, "rtcSetSharedGeometryBuffer(RTC_BUFFER_TYPE_VERTEX)");
   if (r == CLR_SUCCESS) {
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, record.mesh.indices,
-                               0, 3 * sizeof(uint32_t), (size_t)mesh->triangle_count);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                               record.mesh.indices, 0, 3 * sizeof(uint32_t),
+                               (size_t)mesh->triangle_count);
     r = embree_check(t, "rtcSetSharedGeometryBuffer(RTC_BUFFER_TYPE_INDEX)");
   }
   if (r != CLR_SUCCESS) {
@@ -532,7 +577,8 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float ob
   static const char fn[] = "clr_tracer_add_sphere";
   CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
   if (!(radius > 0.0f) || !isfinite(radius))
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s: radius %g must be positive and finite", fn, (double)radius);
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: radius %g must be positive and finite", fn,
+                              (double)radius);
   geom_record record = {.kind = GEOM_SPHERE, .user_id = user_id};
   record.sphere = malloc(sizeof *record.sphere);
   if (!record.sphere) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
@@ -552,8 +598,10 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float ob
   }
   if (!affine_from_matrix(object_to_group, &record.sphere->object_to_group)) {
     free_record(&record);
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
-                    "matrix", fn);
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s: object_to_group is not a finite, invertible affine "
+                              "matrix",
+                              fn);
   }
   RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
   clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
@@ -568,7 +616,8 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float ob
     rtcSetGeometryBoundsFunction(geom, sphere_bounds, NULL);
     rtcSetGeometryIntersectFunction(geom, sphere_intersect);
     rtcSetGeometryOccludedFunction(geom, sphere_occluded);
-    r = embree_check(t, "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
+    r = embree_check(t,
+                     "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
   }
   if (r != CLR_SUCCESS) {
     rtcReleaseGeometry(geom);
@@ -583,11 +632,14 @@ clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_gr
                                uint32_t user_id, uint32_t *geom_id) {
   static const char fn[] = "clr_tracer_add_disk";
   CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
-  if (!(radius > 0.0f) || !isfinite(radius) || !(inner_radius >= 0.0f) || !(inner_radius < radius) ||
-      !isfinite(height) || !(phimax_deg > 0.0f) || !(phimax_deg <= 360.0f))
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s: radius %g, innerradius %g, height %g, phimax %g "
-                              "(need 0 <= innerradius < radius, 0 < phimax <= 360)", fn,
-                              (double)radius, (double)inner_radius, (double)height, (double)phimax_deg);
+  if (!(radius > 0.0f) || !isfinite(radius) || !(inner_radius >= 0.0f) ||
+      !(inner_radius < radius) || !isfinite(height) || !(phimax_deg > 0.0f) ||
+      !(phimax_deg <= 360.0f))
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s: radius %g, innerradius %g, height %g, phimax %g "
+                              "(need 0 <= innerradius < radius, 0 < phimax <= 360)",
+                              fn, (double)radius, (double)inner_radius, (double)height,
+                              (double)phimax_deg);
   geom_record record = {.kind = GEOM_DISK, .user_id = user_id};
   record.disk = malloc(sizeof *record.disk);
   if (!record.disk) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
@@ -597,8 +649,10 @@ clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_gr
   record.disk->phimax = phimax_deg * PI_D / 180.0;
   if (!affine_from_matrix(object_to_group, &record.disk->object_to_group)) {
     free_record(&record);
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s: object_to_group is not a finite, invertible affine "
-                    "matrix", fn);
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s: object_to_group is not a finite, invertible affine "
+                              "matrix",
+                              fn);
   }
   RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
   clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
@@ -613,7 +667,8 @@ clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_gr
     rtcSetGeometryBoundsFunction(geom, disk_bounds, NULL);
     rtcSetGeometryIntersectFunction(geom, disk_intersect);
     rtcSetGeometryOccludedFunction(geom, disk_occluded);
-    r = embree_check(t, "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
+    r = embree_check(t,
+                     "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
   }
   if (r != CLR_SUCCESS) {
     rtcReleaseGeometry(geom);
@@ -628,12 +683,16 @@ clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance
   static const char fn[] = "clr_tracer_add_instance";
   CLR_CHECK(check_building(t, 0, instance_to_world, "instance_to_world", fn));
   if (g < 1 || g >= t->group_count)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: group %ld out of range [1, %ld): only "
-                    "object-definition groups can be instanced", fn, (long)g, (long)t->group_count);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "%s: group %ld out of range [1, %ld): only "
+                              "object-definition groups can be instanced",
+                              fn, (long)g, (long)t->group_count);
   geom_record record = {.kind = GEOM_INSTANCE, .user_id = user_id, .instanced_group = g};
   if (!affine_from_matrix(instance_to_world, &record.instance_to_world))
-    return clr_set_last_error(CLR_ERROR_SCENE, "%s: instance_to_world is not a finite, invertible "
-                    "affine matrix", fn);
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s: instance_to_world is not a finite, invertible "
+                              "affine matrix",
+                              fn);
   RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_INSTANCE);
   EMBREE_CHECK(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_INSTANCE)");
   rtcSetGeometryInstancedScene(geom, t->groups[g].scene);
@@ -649,11 +708,15 @@ clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance
   return attach(t, 0, geom, &record, NULL);
 }
 
-clr_result clr_tracer_instance_info(clr_tracer t, uint32_t inst_id, int32_t *group, uint32_t *user_id) {
-  if (!t) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_instance_info: tracer is NULL");
+clr_result clr_tracer_instance_info(clr_tracer t, uint32_t inst_id, int32_t *group,
+                                    uint32_t *user_id) {
+  if (!t)
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_instance_info: tracer is NULL");
   if (inst_id >= t->groups[0].count || t->groups[0].records[inst_id].kind != GEOM_INSTANCE)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_tracer_instance_info: %lu is not an "
-                    "instance id", (unsigned long)inst_id);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "clr_tracer_instance_info: %lu is not an "
+                              "instance id",
+                              (unsigned long)inst_id);
   if (group) *group = t->groups[0].records[inst_id].instanced_group;
   if (user_id) *user_id = t->groups[0].records[inst_id].user_id;
   return CLR_SUCCESS;
@@ -684,18 +747,22 @@ static clr_result check_query(clr_tracer t, const clr_ray *rays, const void *out
                               const char *fn) {
   if (!t || !rays || !out)
     return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
-                    !t ? "tracer" : !rays ? "rays" : "the output array");
-  if (count < 0) return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: count %ld < 0", fn, (long)count);
+                              !t      ? "tracer"
+                              : !rays ? "rays"
+                                      : "the output array");
+  if (count < 0)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: count %ld < 0", fn, (long)count);
   if (!t->committed)
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: the tracer is not committed", fn);
   return CLR_SUCCESS;
 }
 
 static clr_result invalid_ray(const clr_ray *r, int32_t i, const char *fn) {
-  return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: ray %ld is invalid (o = (%g, %g, %g), "
-                  "d = (%g, %g, %g), tnear = %g, tfar = %g)", fn, (long)i, (double)r->ox,
-                  (double)r->oy, (double)r->oz, (double)r->dx, (double)r->dy, (double)r->dz,
-                  (double)r->tnear, (double)r->tfar);
+  return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                            "%s: ray %ld is invalid (o = (%g, %g, %g), "
+                            "d = (%g, %g, %g), tnear = %g, tfar = %g)",
+                            fn, (long)i, (double)r->ox, (double)r->oy, (double)r->oz, (double)r->dx,
+                            (double)r->dy, (double)r->dz, (double)r->tnear, (double)r->tfar);
 }
 
 /* Checks every ray before any is traced (the outputs stay untouched on failure): a branch-free
@@ -716,11 +783,14 @@ static clr_result check_rays(const clr_ray *rays, int32_t count, const char *fn)
 }
 
 /* Turns an Embree hit into a clr_hit with a world-space normal and the user id. */
-static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[3], float u, float v,
-                       uint32_t prim, uint32_t geom, uint32_t inst, clr_hit *out) {
+static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[3], float u,
+                       float v, uint32_t prim, uint32_t geom, uint32_t inst, clr_hit *out) {
   if (geom == RTC_INVALID_GEOMETRY_ID) {
-    *out = (clr_hit){.t = INFINITY, .prim_id = CLR_TRACER_INVALID_ID, .geom_id = CLR_TRACER_INVALID_ID,
-                     .inst_id = CLR_TRACER_INVALID_ID, .user_id = CLR_TRACER_INVALID_ID};
+    *out = (clr_hit){.t = INFINITY,
+                     .prim_id = CLR_TRACER_INVALID_ID,
+                     .geom_id = CLR_TRACER_INVALID_ID,
+                     .inst_id = CLR_TRACER_INVALID_ID,
+                     .user_id = CLR_TRACER_INVALID_ID};
     return;
   }
   const group *gr = &t->groups[0];
@@ -779,8 +849,8 @@ static void trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int
     rtcIntersect16(valid, t->groups[0].scene, &context, &rh);
     for (int32_t i = 0; i < lanes; ++i) {
       float ng[3] = {rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]};
-      finish_hit(t, rh.ray.tfar[i], ng, rh.hit.u[i], rh.hit.v[i], rh.hit.primID[i], rh.hit.geomID[i],
-                 rh.hit.instID[0][i], &hits[base + i]);
+      finish_hit(t, rh.ray.tfar[i], ng, rh.hit.u[i], rh.hit.v[i], rh.hit.primID[i],
+                 rh.hit.geomID[i], rh.hit.instID[0][i], &hits[base + i]);
     }
   }
 }
@@ -792,26 +862,35 @@ clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits
   return embree_check(t, "rtcIntersect16");
 }
 
-clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
+clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hit *hits,
+                                       int32_t count) {
   CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect_single"));
   CLR_CHECK(check_rays(rays, count, "clr_tracer_intersect_single"));
   for (int32_t i = 0; i < count; ++i) {
     const clr_ray *r = &rays[i];
-    struct RTCRayHit rh = {.ray = {.org_x = r->ox, .org_y = r->oy, .org_z = r->oz, .tnear = r->tnear,
-                                   .dir_x = r->dx, .dir_y = r->dy, .dir_z = r->dz, .tfar = r->tfar,
-                                   .mask = 0xffffffffu},
-                           .hit = {.geomID = RTC_INVALID_GEOMETRY_ID, .instID = {RTC_INVALID_GEOMETRY_ID}}};
+    struct RTCRayHit rh = {
+        .ray = {.org_x = r->ox,
+                .org_y = r->oy,
+                .org_z = r->oz,
+                .tnear = r->tnear,
+                .dir_x = r->dx,
+                .dir_y = r->dy,
+                .dir_z = r->dz,
+                .tfar = r->tfar,
+                .mask = 0xffffffffu},
+        .hit = {.geomID = RTC_INVALID_GEOMETRY_ID, .instID = {RTC_INVALID_GEOMETRY_ID}}};
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcIntersect1(t->groups[0].scene, &context, &rh);
     float ng[3] = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
-    finish_hit(t, rh.ray.tfar, ng, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID, rh.hit.instID[0],
-               &hits[i]);
+    finish_hit(t, rh.ray.tfar, ng, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID,
+               rh.hit.instID[0], &hits[i]);
   }
   return embree_check(t, "rtcIntersect1");
 }
 
-clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occluded, int32_t count) {
+clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occluded,
+                               int32_t count) {
   CLR_CHECK(check_query(t, rays, occluded, count, "clr_tracer_occluded"));
   CLR_CHECK(check_rays(rays, count, "clr_tracer_occluded"));
   trace_packets(t, rays, count, NULL, occluded);
@@ -829,24 +908,28 @@ static void triangle_surface(const tracer_mesh *m, const clr_hit *hit, double p[
                              float uv[2]) {
   const uint32_t *tri = m->indices + 3 * (size_t)hit->prim_id;
   double b[3] = {1.0 - (double)hit->u - (double)hit->v, hit->u, hit->v};
-  const float *v[3] = {m->p + 3 * (size_t)tri[0], m->p + 3 * (size_t)tri[1], m->p + 3 * (size_t)tri[2]};
+  const float *v[3] = {m->p + 3 * (size_t)tri[0], m->p + 3 * (size_t)tri[1],
+                       m->p + 3 * (size_t)tri[2]};
   for (int k = 0; k < 3; ++k) p[k] = b[0] * v[0][k] + b[1] * v[1][k] + b[2] * v[2][k];
   double len2 = 0.0;
   if (m->n) {
     for (int k = 0; k < 3; ++k)
-      n[k] = b[0] * m->n[3 * tri[0] + k] + b[1] * m->n[3 * tri[1] + k] + b[2] * m->n[3 * tri[2] + k];
+      n[k] =
+          b[0] * m->n[3 * tri[0] + k] + b[1] * m->n[3 * tri[1] + k] + b[2] * m->n[3 * tri[2] + k];
     len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
   }
   if (!(len2 > 0.0)) { /* no (usable) vertex normals: the geometric normal */
     double e1[3], e2[3];
-    for (int k = 0; k < 3; ++k) e1[k] = (double)v[1][k] - v[0][k], e2[k] = (double)v[2][k] - v[0][k];
+    for (int k = 0; k < 3; ++k)
+      e1[k] = (double)v[1][k] - v[0][k], e2[k] = (double)v[2][k] - v[0][k];
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
   }
   if (m->uv) {
     for (int k = 0; k < 2; ++k)
-      uv[k] = (float)(b[0] * m->uv[2 * tri[0] + k] + b[1] * m->uv[2 * tri[1] + k] + b[2] * m->uv[2 * tri[2] + k]);
+      uv[k] = (float)(b[0] * m->uv[2 * tri[0] + k] + b[1] * m->uv[2 * tri[1] + k] +
+                      b[2] * m->uv[2 * tri[2] + k]);
   } else { /* pbrt-v3's default uvs (0,0), (1,0), (1,1) */
     uv[0] = (float)(b[1] + b[2]);
     uv[1] = (float)b[2];
@@ -877,21 +960,24 @@ clr_result clr_tracer_mesh_interpolate(clr_tracer t, const clr_hit *hit, float p
   const group *gr = &t->groups[0];
   if (hit->inst_id != CLR_TRACER_INVALID_ID) {
     if (hit->inst_id >= gr->count || gr->records[hit->inst_id].kind != GEOM_INSTANCE)
-      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: inst_id %lu is not an instance", fn,
-                      (unsigned long)hit->inst_id);
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: inst_id %lu is not an instance",
+                                fn, (unsigned long)hit->inst_id);
     instance = &gr->records[hit->inst_id];
     gr = &t->groups[instance->instanced_group];
   }
   if (hit->geom_id >= gr->count || gr->records[hit->geom_id].kind == GEOM_INSTANCE)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: geom_id %lu is not a hit mesh or sphere "
-                    "(a miss?)", fn, (unsigned long)hit->geom_id);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "%s: geom_id %lu is not a hit mesh or sphere "
+                              "(a miss?)",
+                              fn, (unsigned long)hit->geom_id);
   const geom_record *rec = &gr->records[hit->geom_id];
   double p[3], n[3];
   float uv[2];
   if (rec->kind == GEOM_MESH) {
     if (hit->prim_id >= (uint32_t)rec->mesh.triangle_count)
-      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: prim_id %lu out of range (%ld triangles)",
-                      fn, (unsigned long)hit->prim_id, (long)rec->mesh.triangle_count);
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                                "%s: prim_id %lu out of range (%ld triangles)", fn,
+                                (unsigned long)hit->prim_id, (long)rec->mesh.triangle_count);
     triangle_surface(&rec->mesh, hit, p, n, uv);
   } else if (rec->kind == GEOM_DISK) {
     const disk_shape *s = rec->disk;

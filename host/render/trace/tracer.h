@@ -26,9 +26,9 @@ typedef struct clr_ray {
  * CLR_TRACER_INVALID_ID, t is +INFINITY and the other fields are 0. */
 typedef struct clr_hit {
   float t;
-  float ng[3];  /* world-space geometric normal, not normalised; triangles: (p1-p0) x (p2-p0),
+  float ng[3]; /* world-space geometric normal, not normalised; triangles: (p1-p0) x (p2-p0),
                  * spheres: pointing outwards */
-  float u, v;   /* triangles: Embree barycentrics (weights of vertices 1 and 2); spheres: pbrt-v3's
+  float u, v;  /* triangles: Embree barycentrics (weights of vertices 1 and 2); spheres: pbrt-v3's
                  * (phi / 2pi, (theta - pi) / (0 - pi)) */
   uint32_t prim_id; /* triangle index in its mesh (0 for spheres) */
   uint32_t geom_id; /* id returned by clr_tracer_add_mesh/add_sphere, within its group */
@@ -62,9 +62,10 @@ clr_result clr_tracer_add_sphere(clr_tracer tracer, int32_t group, const float o
 /* A pbrt-v3 partial sphere: z clipped to [zmin, zmax] (object space, clamped to the radius),
  * phi to [0, phimax degrees]; a clipped nearer hit lets the farther one count. Hits of a partial
  * sphere have pbrt-v3's u = phi / phimax, v = (theta - theta(zmin)) / (theta(zmax) - theta(zmin)). */
-clr_result clr_tracer_add_partial_sphere(clr_tracer tracer, int32_t group, const float object_to_group[16],
-                                         float radius, float zmin, float zmax, float phimax_deg,
-                                         uint32_t user_id, uint32_t *geom_id);
+clr_result clr_tracer_add_partial_sphere(clr_tracer tracer, int32_t group,
+                                         const float object_to_group[16], float radius, float zmin,
+                                         float zmax, float phimax_deg, uint32_t user_id,
+                                         uint32_t *geom_id);
 
 /* Adds pbrt-v3's disk (z = height in object space, innerradius <= r <= radius, phi <= phimax
  * degrees) as exact user geometry; hits: u = phi / phimax, v = (radius - r) / (radius -
