@@ -19,11 +19,12 @@ static int mentions(const uint8_t *data, size_t size, const char *s) {
   return 0;
 }
 
-/* loopsubdiv multiplies a few bytes of input into millions of triangles (up to the library's
- * CLR_LOOP_MAX_TRIANGLES per shape: 16M, tens of seconds under ASan each). Scenes whose accepted loopsubdiv shapes add up
- * to more than this are parsed but not built, so one input stays within seconds and the RSS
- * limit; shapes over the library's limit still go through it (they are refused up front). */
-#define FUZZ_SUBDIVIDED_TRIANGLE_BUDGET (1 << 20)
+/* loopsubdiv turns a few bytes of input into millions of triangles (up to the library's
+ * CLR_LOOP_MAX_TRIANGLES per shape, tens of seconds under ASan each). Scenes whose accepted
+ * loopsubdiv shapes add up to more than this budget are parsed but not built, so one input stays
+ * well under a second; shapes over the library's limit still go through it (they are refused up
+ * front). */
+#define FUZZ_SUBDIVIDED_TRIANGLE_BUDGET (1 << 18)
 #define FUZZ_LIBRARY_SUBDIVISION_LIMIT CLR_LOOP_MAX_TRIANGLES
 
 static int within_budget(const clr_scene_desc *desc) {
@@ -34,7 +35,7 @@ static int within_budget(const clr_scene_desc *desc) {
     int count = 0;
     clr_params_find_ints(&sd->params, "indices", &count);
     int levels = clr_params_find_int(&sd->params, "nlevels", 3);
-    int64_t triangles = count / 3;
+    int64_t triangles = count > 3 ? count / 3 : 1; /* no "indices": one triangle, as pbrt-v3 */
     for (int l = 0; l < levels && triangles <= FUZZ_LIBRARY_SUBDIVISION_LIMIT; ++l) triangles *= 4;
     if (triangles <= FUZZ_LIBRARY_SUBDIVISION_LIMIT) total += triangles;
   }
