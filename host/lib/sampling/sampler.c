@@ -17,6 +17,8 @@
 
 /* Upper bound on one batch: values are addressed with 32-bit item indices on the device. */
 #define CLR_MAX_BATCH_VALUES ((size_t)1 << 31)
+/* 02sequence: most points (spp x array size) one pixel's scratch holds (2 floats each). */
+#define CLR_ZEROTWO_MAX_POINTS (1 << 22)
 
 struct clr_sampler_t {
   atomic_int refcount;
@@ -27,22 +29,37 @@ struct clr_sampler_t {
   clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
 };
 
-static const char *const sampler_names[] = {"random", "stratified", "halton", "sobol"};
+static const char *const sampler_names[] = {"random", "stratified", "halton", "sobol",
+                                            "02sequence"};
+#define SAMPLER_NAME_COUNT ((int)(sizeof sampler_names / sizeof sampler_names[0]))
 
 const char *clr_sampler_type_name(clr_sampler_type type) {
-  return (unsigned)type < 4 ? sampler_names[type] : "unknown";
+  return (unsigned)type < (unsigned)SAMPLER_NAME_COUNT ? sampler_names[type] : "unknown";
+}
+
+static int32_t round_up_pow2(int32_t v);
+
+int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count) {
+  if (type == CLR_SAMPLER_ZEROTWO && count > 0 && count <= (1 << 30)) return round_up_pow2(count);
+  return count;
 }
 
 clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type) {
   if (!name || !type)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_type_from_name: NULL argument");
-  for (int i = 0; i < 4; ++i)
+  for (int i = 0; i < SAMPLER_NAME_COUNT; ++i)
     if (strcmp(name, sampler_names[i]) == 0) {
       *type = (clr_sampler_type)i;
       return CLR_SUCCESS;
     }
+  if (strcmp(name, "lowdiscrepancy") == 0) { /* pbrt-v3's alias */
+    *type = CLR_SAMPLER_ZEROTWO;
+    return CLR_SUCCESS;
+  }
   return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER,
-                  "unknown sampler \"%s\" (expected random, stratified, halton or sobol)", name);
+                  "unknown sampler \"%s\" (expected random, stratified, halton, sobol or "
+                  "02sequence)",
+                  name);
 }
 
 void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type) {
@@ -80,7 +97,7 @@ static int32_t round_up_pow2(int32_t v) {
 }
 
 static clr_result validate_desc(const clr_sampler_desc *d) {
-  if ((unsigned)d->type > CLR_SAMPLER_SOBOL)
+  if ((unsigned)d->type > CLR_SAMPLER_ZEROTWO)
     return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER, "clr_sampler_create: unknown sampler type %d",
                     (int)d->type);
   if (d->type == CLR_SAMPLER_STRATIFIED) {
@@ -91,6 +108,9 @@ static clr_result validate_desc(const clr_sampler_desc *d) {
     if (d->dimensions <= 0 || d->dimensions > 1024)
       return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS,
                       "stratified sampler: dimensions %d must be in 1..1024", (int)d->dimensions);
+  } else if (d->type == CLR_SAMPLER_ZEROTWO && (d->dimensions <= 0 || d->dimensions > 1024)) {
+    return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS,
+                    "02sequence sampler: dimensions %d must be in 1..1024", (int)d->dimensions);
   } else if (d->pixel_samples <= 0 || d->pixel_samples > (1 << 20)) {
     return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
                     "%s sampler: pixelsamples %d must be in 1..%d", clr_sampler_type_name(d->type),
@@ -108,7 +128,8 @@ static void fill_base_params(clr_sampler s) {
   memset(p, 0, sizeof *p);
   p->type = (clr_i32)d->type;
   p->spp = d->type == CLR_SAMPLER_STRATIFIED ? d->x_samples * d->y_samples
-           : d->type == CLR_SAMPLER_SOBOL    ? round_up_pow2(d->pixel_samples)
+           : d->type == CLR_SAMPLER_SOBOL || d->type == CLR_SAMPLER_ZEROTWO
+               ? round_up_pow2(d->pixel_samples)
                                              : d->pixel_samples;
   p->x_samples = d->x_samples;
   p->y_samples = d->y_samples;
@@ -276,7 +297,8 @@ static void resolve_global_slots(const clr_sample_batch *b, clr_request_slot *sl
  * the RNG; RandomSampler draws every single value. Returns the RNG draws per sample. */
 static int resolve_pixel_slots(const clr_sample_batch *b, const clr_sampler_params *p,
                                clr_request_slot *slots) {
-  int streams = p->type == CLR_SAMPLER_STRATIFIED ? p->dimensions : 0;
+  int streams =
+      p->type == CLR_SAMPLER_STRATIFIED || p->type == CLR_SAMPLER_ZEROTWO ? p->dimensions : 0;
   int n1 = 0, n2 = 0, a1 = 0, a2 = 0, draws = 0;
   for (int i = 0; i < b->request_count; ++i) {
     clr_request_slot *s = &slots[i];
@@ -348,6 +370,13 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
     return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
                     "sobol sampler: arrays of %d elements x %d spp exceed the 52-bit index space",
                     max_array, (int)p->spp);
+  /* 02sequence: one pixel's VanDerCorput/Sobol2D of an array holds size * spp points. */
+  if (p->type == CLR_SAMPLER_TYPE_ZEROTWO &&
+      (int64_t)p->spp * (max_array ? max_array : 1) > CLR_ZEROTWO_MAX_POINTS)
+    return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
+                    "02sequence sampler: arrays of %d elements x %d spp exceed the %d points one "
+                    "pixel may hold",
+                    max_array, (int)p->spp, CLR_ZEROTWO_MAX_POINTS);
   if (clr_sampler_has_global_index(s)) {
     resolve_global_slots(b, slots);
   } else {
