@@ -54,6 +54,28 @@ static void test_ao_open_plane(void **state) {
   free(im.rgb);
 }
 
+/* Scene files with pbrt-v3's (0,2)-sequence sampler under both of its names (pixelsamples 3 is
+ * rounded up to 4 with a warning, as pbrt-v3 does): the open plane is still pi everywhere. */
+static void test_ao_open_plane_02sequence(void **state) {
+  (void)state;
+  static const char *names[] = {"02sequence", "lowdiscrepancy"};
+  for (int n = 0; n < 2; ++n) {
+    char scene[1024];
+    snprintf(scene, sizeof scene,
+             "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+             "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
+             "Sampler \"%s\" \"integer pixelsamples\" [3] \"integer dimensions\" [2]\n"
+             "Integrator \"ambientocclusion\" \"integer nsamples\" [8]\n"
+             "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+             "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+             names[n]);
+    clr_render_image im = render_text(scene, NULL);
+    assert_int_equal(im.width, 16);
+    for (int i = 0; i < im.width * im.height * 3; ++i) assert_float_equal(im.rgb[i], PI_F, 1e-4);
+    free(im.rgb);
+  }
+}
+
 /* Lambertian plane under a point light, pixel-centre samples and a box filter: every pixel is
  * Kd/pi * I cos(theta) / r^2 at the point it sees. */
 static void test_point_light_plane(void **state) {
@@ -305,7 +327,8 @@ static void test_cli_bad_files(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_ao_open_plane),         cmocka_unit_test(test_point_light_plane),
+      cmocka_unit_test(test_ao_open_plane),
+      cmocka_unit_test(test_ao_open_plane_02sequence),         cmocka_unit_test(test_point_light_plane),
       cmocka_unit_test(test_furnace),               cmocka_unit_test(test_infinite_light_sphere),
       cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_tile_sizes_agree),
       cmocka_unit_test(test_crop_matches_full),     cmocka_unit_test(test_cli_bad_files),
