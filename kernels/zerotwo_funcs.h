@@ -62,12 +62,13 @@ CLR_INLINE void clr_zerotwo_generate_draws(clr_i32 dims, clr_i32 per, clr_i32 sp
   clr_zerotwo_shuffle_draws(per, spp, rng);
 }
 
-/* The `dimensions` single-value streams of one kind: VanDerCorput(1, spp) / Sobol2D(1, spp). */
+/* The single-value streams first..dimensions-1 of one kind: VanDerCorput(1, spp) /
+ * Sobol2D(1, spp). */
 CLR_INLINE void clr_zerotwo_streams(const clr_sampler_params *p,
                                     CLR_GLOBAL const clr_request_slot *slots, clr_i32 dims,
-                                    clr_pcg32 *rng, CLR_GLOBAL float *out_pixel,
+                                    clr_i32 first, clr_pcg32 *rng, CLR_GLOBAL float *out_pixel,
                                     CLR_GLOBAL float *scratch) {
-  for (clr_i32 d = 0; d < p->dimensions; ++d) {
+  for (clr_i32 d = first; d < p->dimensions; ++d) {
     if (out_pixel && clr_slots_use(p, slots, dims, 0, d)) {
       clr_zerotwo_generate(scratch, dims, 1, p->spp, rng);
       clr_stratified_store_stream(p, slots, dims, d, scratch, out_pixel);
@@ -103,8 +104,8 @@ CLR_INLINE void clr_zerotwo_arrays(const clr_sampler_params *p,
 CLR_INLINE void clr_zerotwo_start_pixel(const clr_sampler_params *p,
                                         CLR_GLOBAL const clr_request_slot *slots, clr_pcg32 *rng,
                                         CLR_GLOBAL float *out_pixel, CLR_GLOBAL float *scratch) {
-  clr_zerotwo_streams(p, slots, 1, rng, out_pixel, scratch);
-  clr_zerotwo_streams(p, slots, 2, rng, out_pixel, scratch);
+  clr_zerotwo_streams(p, slots, 1, 0, rng, out_pixel, scratch);
+  clr_zerotwo_streams(p, slots, 2, 0, rng, out_pixel, scratch);
   clr_zerotwo_arrays(p, slots, 1, rng, out_pixel, scratch);
   clr_zerotwo_arrays(p, slots, 2, rng, out_pixel, scratch);
   if (out_pixel) clr_pixel_store_fallbacks(p, slots, rng, out_pixel);

@@ -175,8 +175,21 @@ static void model_start_pixel(model *m) {
     for (int i = 0; i < m->n2; ++i)
       for (int j = 0; j < m->spp; ++j) latin_hypercube(&m->a2[i][2 * j * m->size2[i]], m->size2[i], 2, r);
   } else {
+    int first2d = 0;
+    if (m->type == CLR_SAMPLER_MAXMINDIST) { /* maxmin.cpp: CMaxMinDist[2] for 4 samples */
+      static const uint32_t cpixel[2] = {0xc0000000, 0x80000000};
+      assert_int_equal(m->spp, 4);
+      float inv = 1.0f / (float)m->spp;
+      for (int i = 0; i < m->spp; ++i) {
+        uint32_t v = (i & 1 ? cpixel[0] : 0u) ^ (i & 2 ? cpixel[1] : 0u);
+        m->s2[0][2 * i] = (float)i * inv;
+        m->s2[0][2 * i + 1] = (float)v * 0x1p-32f;
+      }
+      shuffle(m->s2[0], m->spp, 2, r);
+      first2d = 1;
+    }
     for (int i = 0; i < m->dims; ++i) zerotwo(1, m->spp, m->s1[i], 1, r);
-    for (int i = 0; i < m->dims; ++i) zerotwo(1, m->spp, m->s2[i], 2, r);
+    for (int i = first2d; i < m->dims; ++i) zerotwo(1, m->spp, m->s2[i], 2, r);
     for (int i = 0; i < m->n1; ++i) zerotwo(m->size1[i], m->spp, m->a1[i], 1, r);
     for (int i = 0; i < m->n2; ++i) zerotwo(m->size2[i], m->spp, m->a2[i], 2, r);
   }
@@ -292,6 +305,7 @@ static void generate(clr_sampler s, int x, int y, const clr_sample_request *req,
 
 static void check_pixel(clr_sampler_type type, float radius, int x, int y) {
   clr_sampler s = make(type, radius, type == CLR_SAMPLER_ZEROTWO ? 3 : 4); /* 02: 3 -> 4 */
+  if (type == CLR_SAMPLER_MAXMINDIST) assert_int_equal(clr_sampler_spp(s), 4);
   model m;
   memset(&m, 0, sizeof m);
   m.type = type;
@@ -318,8 +332,9 @@ static void check_pixel(clr_sampler_type type, float radius, int x, int y) {
 
 static void test_later_pixels_of_a_tile_match_pbrt_v3(void **state) {
   (void)state;
-  const clr_sampler_type types[] = {CLR_SAMPLER_RANDOM, CLR_SAMPLER_STRATIFIED, CLR_SAMPLER_ZEROTWO};
-  for (int t = 0; t < 3; ++t) {
+  const clr_sampler_type types[] = {CLR_SAMPLER_RANDOM, CLR_SAMPLER_STRATIFIED, CLR_SAMPLER_ZEROTWO,
+                                    CLR_SAMPLER_MAXMINDIST};
+  for (int t = 0; t < 4; ++t) {
     /* Radius 2: sample bounds [-2, 42) x [-2, 26); pixel (0, 0) is pixel 34 of tile 0. */
     check_pixel(types[t], 2.0f, 0, 0);
     check_pixel(types[t], 2.0f, 1, 0);
@@ -342,6 +357,7 @@ static void test_pinned_values(void **state) {
   } pinned[] = {
       {CLR_SAMPLER_RANDOM, {0x1.e4344ap-2f, 0x1.79d2f8p-1f, 0x1.789304p-1f}},
       {CLR_SAMPLER_ZEROTWO, {0x1.50925ap-1f, 0x1.94f2cep-2f, 0x1.517802p-4f}},
+      {CLR_SAMPLER_MAXMINDIST, {0x1.8p-1f, 0x1p-2f, 0x1.0c323cp-2f}},
   };
   static float got[MAX_SPP * MAX_VALUES];
   for (size_t i = 0; i < sizeof pinned / sizeof pinned[0]; ++i) {
@@ -388,15 +404,17 @@ static void expect_stratified_1d(const float *vals, int stride, int n, const cha
   free(cells);
 }
 
+/* 02sequence and maxmindist (whose first 2D stream is its own (0,m,2)-net). */
 static void test_zerotwo_nets_and_strata(void **state) {
   (void)state;
   /* film 2D, time 1D, lens 2D, a 2D array of 8, a 1D array of 4. */
   static const clr_sample_request req[] = {{2, 0}, {1, 0}, {2, 0}, {2, 8}, {1, 4}};
   const int per = 2 + 1 + 2 + 16 + 4;
+  for (int type = CLR_SAMPLER_ZEROTWO; type <= CLR_SAMPLER_MAXMINDIST; ++type)
   for (int spp = 1; spp <= 64; spp *= 4)
     for (int seeding = 0; seeding < 2; ++seeding) {
       clr_sampler_desc d;
-      clr_sampler_desc_init(&d, CLR_SAMPLER_ZEROTWO);
+      clr_sampler_desc_init(&d, (clr_sampler_type)type);
       d.pixel_samples = spp;
       d.seeding = seeding ? CLR_SEEDING_PIXEL : CLR_SEEDING_PBRT_V3;
       d.film.x_resolution = 20;
@@ -448,6 +466,19 @@ static void test_zerotwo_names_and_rounding(void **state) {
   assert_int_equal(clr_sampler_spp(s), 32);
   assert_int_equal(clr_sampler_has_global_index(s), 0);
   clr_sampler_release(s);
+  assert_int_equal(clr_sampler_type_from_name("maxmindist", &t), CLR_SUCCESS);
+  assert_int_equal(t, CLR_SAMPLER_MAXMINDIST);
+  assert_int_equal((int)CLR_SAMPLER_MAXMINDIST, 5);
+  assert_int_equal(clr_sampler_round_count(CLR_SAMPLER_MAXMINDIST, 9), 16);
+  s = make(CLR_SAMPLER_MAXMINDIST, 0.5f, (1 << 17) - 1); /* pbrt-v3's most */
+  assert_int_equal(clr_sampler_spp(s), 1 << 17);
+  clr_sampler_release(s);
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, CLR_SAMPLER_MAXMINDIST);
+  d.pixel_samples = 1 << 17; /* pbrt-v3 aborts */
+  s = NULL;
+  assert_int_equal(clr_sampler_create(NULL, &d, &s), CLR_ERROR_INVALID_SPP);
+  assert_null(s);
 }
 
 int main(void) {

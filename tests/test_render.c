@@ -54,12 +54,13 @@ static void test_ao_open_plane(void **state) {
   free(im.rgb);
 }
 
-/* Scene files with pbrt-v3's (0,2)-sequence sampler under both of its names (pixelsamples 3 is
- * rounded up to 4 with a warning, as pbrt-v3 does): the open plane is still pi everywhere. */
+/* Scene files with pbrt-v3's (0,2)-sequence sampler under both of its names and maxmindist
+ * (pixelsamples 3 is rounded up to 4 with a warning, as pbrt-v3 does): the open plane is still pi
+ * everywhere. */
 static void test_ao_open_plane_02sequence(void **state) {
   (void)state;
-  static const char *names[] = {"02sequence", "lowdiscrepancy"};
-  for (int n = 0; n < 2; ++n) {
+  static const char *names[] = {"02sequence", "lowdiscrepancy", "maxmindist"};
+  for (int n = 0; n < 3; ++n) {
     char scene[1024];
     snprintf(scene, sizeof scene,
              "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\"\n"

@@ -104,7 +104,7 @@ static void assert_bit_identical(clr_sampler_type type, clr_seeding seeding,
 
 static void test_device_matches_reference(void **state) {
   (void)state;
-  for (int t = 0; t <= CLR_SAMPLER_ZEROTWO; ++t) {
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PIXEL, camera10, 6);
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PBRT_V3, camera10, 6);
   }
@@ -113,7 +113,7 @@ static void test_device_matches_reference(void **state) {
 static void test_device_matches_reference_with_arrays(void **state) {
   (void)state;
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
-  for (int t = 0; t <= CLR_SAMPLER_ZEROTWO; ++t) {
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PIXEL, with_arrays, n);
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PBRT_V3, with_arrays, n);
   }

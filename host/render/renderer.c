@@ -53,7 +53,7 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
   const clr_param_list *p = &d->sampler.params;
   const char *name = o->sampler ? o->sampler : (d->sampler.type ? d->sampler.type : "halton");
   clr_sampler_type type;
-  if (strcmp(name, "zerotwosequence") == 0 || strcmp(name, "maxmindist") == 0) {
+  if (strcmp(name, "zerotwosequence") == 0) {
     if (warn) {
       char m[256];
       snprintf(m, sizeof m, "sampler \"%s\" not supported: using \"sobol\"", name);
@@ -88,6 +88,16 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     char m[128]; /* pbrt-v3's ZeroTwoSequenceSampler warning */
     snprintf(m, sizeof m, "Pixel samples being rounded up to power of 2 (from %d to %d).",
              (int)sd->pixel_samples, (int)up);
+    warn(wu, m);
+  }
+  if (type == CLR_SAMPLER_MAXMINDIST && sd->pixel_samples > 0 &&
+      sd->pixel_samples < (1 << 17) && (sd->pixel_samples & (sd->pixel_samples - 1)) != 0 &&
+      warn) {
+    int32_t up = 1;
+    while (up < sd->pixel_samples) up <<= 1;
+    char m[128]; /* pbrt-v3's MaxMinDistSampler warning */
+    snprintf(m, sizeof m, "Non power-of-two sample count rounded up to %d for MaxMinDistSampler.",
+             (int)up);
     warn(wu, m);
   }
   sd->seeding = o->seeding;
