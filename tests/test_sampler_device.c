@@ -124,7 +124,7 @@ static void test_device_matches_reference_with_arrays(void **state) {
 static void test_order_independence(void **state) {
   (void)state;
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
-  for (int t = 0; t < 4; ++t) {
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
     for (int seeding = 0; seeding < 2; ++seeding) {
       clr_sampler s = make_sampler((clr_sampler_type)t, (clr_seeding)seeding, 40);
       clr_bounds2i all = clr_sampler_sample_bounds(s);
