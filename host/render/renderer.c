@@ -613,7 +613,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_render_scene *scene = NULL;
   CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
   clr_integrator integ;
-  r = clr_integrator_create(d, scene, warn, wu, &integ);
+  r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
   if (r != CLR_SUCCESS) { clr_render_scene_free(scene); return r; }
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
   st->seconds_build = now_seconds() - t0;
