@@ -108,11 +108,10 @@ static void latin_hypercube(float *samples, int n, int ndim, pbrt_rng *r) {
 
 /* lowdiscrepancy.h's CSobol[1] as pbrt-v3 lists it (CSobol[0] is CVanDerCorput: 2^31 >> i). */
 static const uint32_t csobol1[32] = {
-    0x80000000, 0xc0000000, 0xa0000000, 0xf0000000, 0x88000000, 0xcc000000, 0xaa000000,
-    0xff000000, 0x80800000, 0xc0c00000, 0xa0a00000, 0xf0f00000, 0x88880000, 0xcccc0000,
-    0xaaaa0000, 0xffff0000, 0x80008000, 0xc000c000, 0xa000a000, 0xf000f000, 0x88008800,
-    0xcc00cc00, 0xaa00aa00, 0xff00ff00, 0x80808080, 0xc0c0c0c0, 0xa0a0a0a0, 0xf0f0f0f0,
-    0x88888888, 0xcccccccc, 0xaaaaaaaa, 0xffffffff};
+    0x80000000, 0xc0000000, 0xa0000000, 0xf0000000, 0x88000000, 0xcc000000, 0xaa000000, 0xff000000,
+    0x80800000, 0xc0c00000, 0xa0a00000, 0xf0f00000, 0x88880000, 0xcccc0000, 0xaaaa0000, 0xffff0000,
+    0x80008000, 0xc000c000, 0xa000a000, 0xf000f000, 0x88008800, 0xcc00cc00, 0xaa00aa00, 0xff00ff00,
+    0x80808080, 0xc0c0c0c0, 0xa0a0a0a0, 0xf0f0f0f0, 0x88888888, 0xcccccccc, 0xaaaaaaaa, 0xffffffff};
 
 static int count_trailing_zeros(uint32_t v) {
   int n = 0;
@@ -173,7 +172,8 @@ static void model_start_pixel(model *m) {
         shuffle(&m->a1[i][j * count], count, 1, r);
       }
     for (int i = 0; i < m->n2; ++i)
-      for (int j = 0; j < m->spp; ++j) latin_hypercube(&m->a2[i][2 * j * m->size2[i]], m->size2[i], 2, r);
+      for (int j = 0; j < m->spp; ++j)
+        latin_hypercube(&m->a2[i][2 * j * m->size2[i]], m->size2[i], 2, r);
   } else {
     int first2d = 0;
     if (m->type == CLR_SAMPLER_MAXMINDIST) { /* maxmin.cpp: CMaxMinDist[2] for 4 samples */
@@ -228,8 +228,10 @@ static void model_pixel(model *m, clr_bounds2i sample_bounds, clr_bounds2i pixel
   m->n1 = m->n2 = 0;
   for (int k = 0; k < m->nreq; ++k)
     if (m->req[k].array_size > 0) {
-      if (m->req[k].dims == 1) m->size1[m->n1++] = m->req[k].array_size;
-      else m->size2[m->n2++] = m->req[k].array_size;
+      if (m->req[k].dims == 1)
+        m->size1[m->n1++] = m->req[k].array_size;
+      else
+        m->size2[m->n2++] = m->req[k].array_size;
     }
   int x0 = sample_bounds.x0 + 16 * tx, y0 = sample_bounds.y0 + 16 * ty;
   int x1 = x0 + 16 < sample_bounds.x1 ? x0 + 16 : sample_bounds.x1;
@@ -299,7 +301,8 @@ static void generate(clr_sampler s, int x, int y, const clr_sample_request *req,
   clr_sample_output_init(&o);
   o.host_values = values;
   assert_int_equal(clr_sampler_generate_reference(s, &b, &o), CLR_SUCCESS);
-  for (int i = 0; i < spp; ++i) memcpy(out + i * MAX_VALUES, values + i * per, sizeof(float) * (size_t)per);
+  for (int i = 0; i < spp; ++i)
+    memcpy(out + i * MAX_VALUES, values + i * per, sizeof(float) * (size_t)per);
   free(values);
 }
 
@@ -387,7 +390,8 @@ static void expect_02_net(const float *pts, int stride, int n, const char *what)
       float x = pts[i * stride], y = pts[i * stride + 1];
       assert_true(x >= 0.0f && x < 1.0f && y >= 0.0f && y < 1.0f);
       int cx = (int)floor((double)x * nx), cy = (int)floor((double)y * ny);
-      if (cells[cy * nx + cx]++) fail_msg("%s: n %d, interval %dx%d: two points in (%d, %d)", what, n, nx, ny, cx, cy);
+      if (cells[cy * nx + cx]++)
+        fail_msg("%s: n %d, interval %dx%d: two points in (%d, %d)", what, n, nx, ny, cx, cy);
     }
   }
   free(cells);
@@ -399,7 +403,8 @@ static void expect_stratified_1d(const float *vals, int stride, int n, const cha
   for (int i = 0; i < n; ++i) {
     float v = vals[i * stride];
     assert_true(v >= 0.0f && v < 1.0f);
-    if (cells[(int)floor((double)v * n)]++) fail_msg("%s: two values in stratum of %g", what, (double)v);
+    if (cells[(int)floor((double)v * n)]++)
+      fail_msg("%s: two values in stratum of %g", what, (double)v);
   }
   free(cells);
 }
@@ -411,42 +416,42 @@ static void test_zerotwo_nets_and_strata(void **state) {
   static const clr_sample_request req[] = {{2, 0}, {1, 0}, {2, 0}, {2, 8}, {1, 4}};
   const int per = 2 + 1 + 2 + 16 + 4;
   for (int type = CLR_SAMPLER_ZEROTWO; type <= CLR_SAMPLER_MAXMINDIST; ++type)
-  for (int spp = 1; spp <= 64; spp *= 4)
-    for (int seeding = 0; seeding < 2; ++seeding) {
-      clr_sampler_desc d;
-      clr_sampler_desc_init(&d, (clr_sampler_type)type);
-      d.pixel_samples = spp;
-      d.seeding = seeding ? CLR_SEEDING_PIXEL : CLR_SEEDING_PBRT_V3;
-      d.film.x_resolution = 20;
-      d.film.y_resolution = 18;
-      clr_sampler s = NULL;
-      assert_int_equal(clr_sampler_create(NULL, &d, &s), CLR_SUCCESS);
-      clr_sample_batch b;
-      clr_sample_batch_init(&b);
-      b.pixels = (clr_bounds2i){14, 13, 19, 17};
-      b.requests = req;
-      b.request_count = 5;
-      size_t pixels = 5 * 4;
-      float *v = malloc(sizeof(float) * pixels * (size_t)spp * (size_t)per);
-      assert_non_null(v);
-      clr_sample_output o;
-      clr_sample_output_init(&o);
-      o.host_values = v;
-      assert_int_equal(clr_sampler_generate_reference(s, &b, &o), CLR_SUCCESS);
-      for (size_t p = 0; p < pixels; ++p) {
-        const float *pv = v + p * (size_t)spp * (size_t)per;
-        expect_02_net(pv + 0, per, spp, "film offset");
-        expect_02_net(pv + 3, per, spp, "lens");
-        expect_stratified_1d(pv + 2, per, spp, "time");
-        for (int k = 0; k < 5; ++k) expect_stratified_1d(pv + k, per, spp, "camera dimension");
-        for (int i = 0; i < spp; ++i) {
-          expect_02_net(pv + i * per + 5, 2, 8, "2D array of one sample");
-          expect_stratified_1d(pv + i * per + 21, 1, 4, "1D array of one sample");
+    for (int spp = 1; spp <= 64; spp *= 4)
+      for (int seeding = 0; seeding < 2; ++seeding) {
+        clr_sampler_desc d;
+        clr_sampler_desc_init(&d, (clr_sampler_type)type);
+        d.pixel_samples = spp;
+        d.seeding = seeding ? CLR_SEEDING_PIXEL : CLR_SEEDING_PBRT_V3;
+        d.film.x_resolution = 20;
+        d.film.y_resolution = 18;
+        clr_sampler s = NULL;
+        assert_int_equal(clr_sampler_create(NULL, &d, &s), CLR_SUCCESS);
+        clr_sample_batch b;
+        clr_sample_batch_init(&b);
+        b.pixels = (clr_bounds2i){14, 13, 19, 17};
+        b.requests = req;
+        b.request_count = 5;
+        size_t pixels = 5 * 4;
+        float *v = malloc(sizeof(float) * pixels * (size_t)spp * (size_t)per);
+        assert_non_null(v);
+        clr_sample_output o;
+        clr_sample_output_init(&o);
+        o.host_values = v;
+        assert_int_equal(clr_sampler_generate_reference(s, &b, &o), CLR_SUCCESS);
+        for (size_t p = 0; p < pixels; ++p) {
+          const float *pv = v + p * (size_t)spp * (size_t)per;
+          expect_02_net(pv + 0, per, spp, "film offset");
+          expect_02_net(pv + 3, per, spp, "lens");
+          expect_stratified_1d(pv + 2, per, spp, "time");
+          for (int k = 0; k < 5; ++k) expect_stratified_1d(pv + k, per, spp, "camera dimension");
+          for (int i = 0; i < spp; ++i) {
+            expect_02_net(pv + i * per + 5, 2, 8, "2D array of one sample");
+            expect_stratified_1d(pv + i * per + 21, 1, 4, "1D array of one sample");
+          }
         }
+        free(v);
+        clr_sampler_release(s);
       }
-      free(v);
-      clr_sampler_release(s);
-    }
 }
 
 static void test_zerotwo_names_and_rounding(void **state) {

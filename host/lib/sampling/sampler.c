@@ -17,7 +17,8 @@
 
 /* Upper bound on one batch: values are addressed with 32-bit item indices on the device. */
 #define CLR_MAX_BATCH_VALUES ((size_t)1 << 31)
-/* 02sequence: most points (spp x array size) one pixel's scratch holds (2 floats each). */
+/* 02sequence, maxmindist: most points (spp x array size) one pixel's scratch holds (2 floats
+ * each). */
 #define CLR_ZEROTWO_MAX_POINTS (1 << 22)
 
 struct clr_sampler_t {
@@ -40,7 +41,9 @@ const char *clr_sampler_type_name(clr_sampler_type type) {
 static int32_t round_up_pow2(int32_t v);
 
 int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count) {
-  if ((type == CLR_SAMPLER_ZEROTWO || type == CLR_SAMPLER_MAXMINDIST) && count > 0 && count <= (1 << 30)) return round_up_pow2(count);
+  if ((type == CLR_SAMPLER_ZEROTWO || type == CLR_SAMPLER_MAXMINDIST) && count > 0 &&
+      count <= (1 << 30))
+    return round_up_pow2(count);
   return count;
 }
 
@@ -110,8 +113,9 @@ static clr_result validate_desc(const clr_sampler_desc *d) {
                       "stratified sampler: dimensions %d must be in 1..1024", (int)d->dimensions);
   } else if ((d->type == CLR_SAMPLER_ZEROTWO || d->type == CLR_SAMPLER_MAXMINDIST) &&
              (d->dimensions <= 0 || d->dimensions > 1024)) {
-    return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS, "%s sampler: dimensions %d must be in 1..1024",
-                    clr_sampler_type_name(d->type), (int)d->dimensions);
+    return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS,
+                    "%s sampler: dimensions %d must be in 1..1024", clr_sampler_type_name(d->type),
+                    (int)d->dimensions);
   } else if (d->type == CLR_SAMPLER_MAXMINDIST &&
              (d->pixel_samples <= 0 || d->pixel_samples >= (1 << CLR_MAXMIN_MATRICES))) {
     /* pbrt-v3 has matrices for up to 2^16 samples; from 2^17 on its CHECK aborts. */
@@ -385,13 +389,14 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
     return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
                     "sobol sampler: arrays of %d elements x %d spp exceed the 52-bit index space",
                     max_array, (int)p->spp);
-  /* 02sequence: one pixel's VanDerCorput/Sobol2D of an array holds size * spp points. */
+  /* 02sequence, maxmindist: a pixel's VanDerCorput/Sobol2D of an array holds size * spp points. */
   if ((p->type == CLR_SAMPLER_TYPE_ZEROTWO || p->type == CLR_SAMPLER_TYPE_MAXMINDIST) &&
       (int64_t)p->spp * (max_array ? max_array : 1) > CLR_ZEROTWO_MAX_POINTS)
     return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
                     "%s sampler: arrays of %d elements x %d spp exceed the %d points one "
                     "pixel may hold",
-                    clr_sampler_type_name(s->desc.type), max_array, (int)p->spp, CLR_ZEROTWO_MAX_POINTS);
+                    clr_sampler_type_name(s->desc.type), max_array, (int)p->spp,
+                    CLR_ZEROTWO_MAX_POINTS);
   if (clr_sampler_has_global_index(s)) {
     resolve_global_slots(b, slots);
   } else {
