@@ -416,7 +416,7 @@ static void test_zerotwo_nets_and_strata(void **state) {
   static const clr_sample_request req[] = {{2, 0}, {1, 0}, {2, 0}, {2, 8}, {1, 4}};
   const int per = 2 + 1 + 2 + 16 + 4;
   for (int type = CLR_SAMPLER_ZEROTWO; type <= CLR_SAMPLER_MAXMINDIST; ++type)
-    for (int spp = 1; spp <= 64; spp *= 4)
+    for (int spp = 1; spp <= 128; spp = spp == 1 ? 4 : 2 * spp) /* maxmindist: not 2 */
       for (int seeding = 0; seeding < 2; ++seeding) {
         clr_sampler_desc d;
         clr_sampler_desc_init(&d, (clr_sampler_type)type);
