@@ -71,8 +71,8 @@ static int check_film(clr_context ctx, clr_filter_type type, int table) {
       st ^= st << 5;
       v[c] = (float)(st >> 8) * 0x1p-24f;
     }
-    samples[i] = (clr_film_sample){v[0] * 26.0f - 1.0f, v[1] * 18.0f - 1.0f, v[2], v[3], v[4],
-                                   0.5f + v[5]};
+    samples[i] =
+        (clr_film_sample){v[0] * 26.0f - 1.0f, v[1] * 18.0f - 1.0f, v[2], v[3], v[4], 0.5f + v[5]};
   }
   static double a[PIXELS * 4], b[PIXELS * 4];
   int result = -1;
@@ -90,8 +90,9 @@ static void print_check(const char *bench, clr_context ctx, const char *what, in
   printf("{\"bench\":\"%s\",", bench);
   bench_json_device(ctx);
   printf(",\"case\":\"%s\",\"check\":\"%s\",\"timing\":\"skipped: simulator\"}\n", what,
-         result > 0 ? "identical to the host reference"
-                    : result == 0 ? "DIFFERENT from the host reference" : "failed");
+         result > 0    ? "identical to the host reference"
+         : result == 0 ? "DIFFERENT from the host reference"
+                       : "failed");
   fflush(stdout);
 }
 
@@ -124,9 +125,10 @@ void bench_kernel_resources(void) {
   snprintf(path, sizeof path, "%s/tests/kernel-resources.jsonl", CLR_BINARY_DIR);
   FILE *f = fopen(path, "r");
   if (!f) {
-    printf("{\"bench\":\"kernel_resources\",\"error\":\"%s missing: run test_kernel_portability "
-           "(ctest -R kernel_portability)\"}\n",
-           path);
+    printf(
+        "{\"bench\":\"kernel_resources\",\"error\":\"%s missing: run test_kernel_portability "
+        "(ctest -R kernel_portability)\"}\n",
+        path);
     return;
   }
   char line[2048];

@@ -71,7 +71,8 @@ static double device_rate(clr_context ctx, clr_sampler_type type, int quick) {
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count) {
   double baseline[CLR_SAMPLER_MAXMINDIST + 1];
-  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t)
+    baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "samples");
     if (!ctx) continue;
@@ -85,9 +86,10 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
         printf(",\"error\":");
         bench_json_escape(stdout, clr_last_error_message());
       } else {
-        printf(",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
-               "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
-               rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
+        printf(
+            ",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
+            "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
+            rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
       }
       printf("}\n");
       fflush(stdout);

@@ -130,7 +130,8 @@ CLR_INLINE void clr_pixel_sampler_tile(const clr_sampler_params *p,
     for (clr_i32 px = x0; px < x1; ++px) {
       CLR_GLOBAL float *out = 0;
       if (clr_inside(px, py, wx0, wy0, wx1, wy1))
-        out = out_batch + ((clr_i64)(py - p->batch_y0) * p->batch_width + (px - p->batch_x0)) * pixel_floats;
+        out = out_batch +
+              ((clr_i64)(py - p->batch_y0) * p->batch_width + (px - p->batch_x0)) * pixel_floats;
       clr_pixel_sampler_start_pixel(p, slots, &rng, out, scratch);
       if (py == wy1 - 1 && px == wx1 - 1) return;
       if (clr_inside(px, py, p->pixel_x0, p->pixel_y0, p->pixel_x1, p->pixel_y1))

@@ -21,16 +21,12 @@
 /* One work-item per batch item: its sample vector and global index. sobol32: the generator
  * matrices as columns (sobol); vdc, vdc_inv: the VdC tables (sobol); primes, perms: the halton
  * records and permutations. The other family's tables are unused (may be NULL). */
-__kernel void clr_global_generate_portable(clr_sampler_params p,
-                                           __global const clr_request_slot *restrict slots,
-                                           __global const uint *restrict sobol32,
-                                           __global const ulong *restrict vdc,
-                                           __global const ulong *restrict vdc_inv,
-                                           __global const clr_halton_prime *restrict primes,
-                                           __global const ushort *restrict perms,
-                                           __global float *restrict values,
-                                           __global ulong *restrict indices_out, int write_indices,
-                                           int item_count) {
+__kernel void clr_global_generate_portable(
+    clr_sampler_params p, __global const clr_request_slot *restrict slots,
+    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
+    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
+    __global const ushort *restrict perms, __global float *restrict values,
+    __global ulong *restrict indices_out, int write_indices, int item_count) {
   const int item = (int)get_global_id(0);
   if (item >= item_count) return;
   ulong index = 0;
@@ -48,13 +44,12 @@ typedef __global const uint *clr_table0_t;
 typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and inverses */
 #define clr_index8(number) clr_sobol_index8(number, rel_x, rel_y, t1, t2)
 #define clr_value8(index, e) clr_sobol_value8(&p, t0, index, e.dim, it.px, it.py)
-#define clr_index1(j, number) \
-  clr_sobol_sampler_index(&p, t1, t2, pxs[j], pys[j], (long)(number))
+#define clr_index1(j, number) clr_sobol_sampler_index(&p, t1, t2, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_sobol_sampler_value(&p, t0, index, dim, pxs[j], pys[j])
 #else
 typedef __global const clr_halton_prime *clr_table0_t; /* one record per prime */
-typedef __global const ushort *clr_table1_t;            /* permutations and chunk tables */
-typedef __global const uint *clr_table2_t;              /* unused */
+typedef __global const ushort *clr_table1_t;           /* permutations and chunk tables */
+typedef __global const uint *clr_table2_t;             /* unused */
 #define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number)
 #define clr_value8(index, e) \
   clr_halton_value8(&p, t0, t1, index, e.dim, e.shape & 0xff, e.shape >> 8)
@@ -74,7 +69,7 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
                                   int item_count) {
   clr_items8 it = clr_items_of_work_item(&p, &d, item_count);
   int8 rel_x = it.px - p.sample_x0, rel_y = it.py - p.sample_y0; /* from the sample bounds */
-  (void)rel_x; /* used by sobol's index only */
+  (void)rel_x;                                                   /* used by sobol's index only */
   (void)rel_y;
   (void)t2;
 #ifdef CLR_INDEX32
@@ -120,9 +115,10 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
 }
 #endif
 
-#if (CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || \
-     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED || \
-     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST) && \
+#if (CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM ||      \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED ||  \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO ||     \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST) && \
     defined(CLR_KERNELS_PORTABLE)
 /* CLR_SEEDING_TYPE_PIXEL: one work-item per pixel of the batch, its own RNG stream and
  * p.scratch_floats of scratch. */
@@ -143,7 +139,8 @@ __kernel void clr_pixel_generate_portable(clr_sampler_params p,
 
 /* CLR_SEEDING_TYPE_PIXEL: one work-item per 8 pixels of the batch (past the end the last pixel
  * repeats), one lane and RNG stream per pixel. */
-__kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+__kernel void clr_pixel_generate(clr_sampler_params p,
+                                 __global const clr_request_slot *restrict slots,
                                  __global float *restrict values, __global float *restrict scratch,
                                  __global const uint4 *restrict bounded, int pixel_count) {
   size_t group = get_global_id(0);
@@ -152,8 +149,8 @@ __kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_reques
   for (int j = 0; j < CLR_PIXEL_LANES; ++j) {
     uint pixel = min((uint)(group * CLR_PIXEL_LANES) + (uint)j, (uint)pixel_count - 1u);
     int row = (int)(pixel / (uint)p.batch_width);
-    clr_pcg32 r = clr_pixel_stream(&p, p.batch_x0 + (int)pixel - row * p.batch_width,
-                                   p.batch_y0 + row);
+    clr_pcg32 r =
+        clr_pixel_stream(&p, p.batch_x0 + (int)pixel - row * p.batch_width, p.batch_y0 + row);
     state[j] = r.state;
     inc[j] = r.inc;
     out[j] = (ulong)pixel * per_pixel;
@@ -170,10 +167,13 @@ __kernel void clr_pixel_generate(clr_sampler_params p, __global const clr_reques
 
 #endif
 
-#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED || \
-    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM ||     \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED || \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO ||    \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST
 /* CLR_SEEDING_TYPE_PBRT_V3: one work-item per pbrt-v3 16x16 tile touching the batch. */
-__kernel void clr_generate_tiles(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+__kernel void clr_generate_tiles(clr_sampler_params p,
+                                 __global const clr_request_slot *restrict slots,
                                  __global float *restrict values, __global float *restrict scratch,
                                  int tile_x0, int tile_y0, int tiles_wide, int tile_count) {
   int t = (int)get_global_id(0);

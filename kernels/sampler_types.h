@@ -27,15 +27,15 @@
 #define CLR_HALTON_MAX_RESOLUTION 128
 
 typedef struct clr_sampler_params {
-  clr_i32 type;            /* CLR_SAMPLER_TYPE_* */
-  clr_i32 spp;             /* effective samples per pixel */
+  clr_i32 type;                 /* CLR_SAMPLER_TYPE_* */
+  clr_i32 spp;                  /* effective samples per pixel */
   clr_i32 x_samples, y_samples; /* stratified strata */
   clr_i32 jitter;
-  clr_i32 dimensions;      /* stratified: number of 1D and of 2D streams */
+  clr_i32 dimensions;          /* stratified: number of 1D and of 2D streams */
   clr_i32 sample_pixel_center; /* halton */
-  clr_i32 seeding;         /* CLR_SEEDING_TYPE_* */
+  clr_i32 seeding;             /* CLR_SEEDING_TYPE_* */
   clr_u32 seed;
-  clr_i32 tiles_x;         /* pbrt-v3 16x16 tiles across the sample bounds */
+  clr_i32 tiles_x; /* pbrt-v3 16x16 tiles across the sample bounds */
   clr_i32 sample_x0, sample_y0, sample_x1, sample_y1; /* sample bounds, half-open */
   clr_i32 pixel_x0, pixel_y0, pixel_x1, pixel_y1;     /* (cropped) pixel bounds, half-open */
   float inv_x_samples, inv_y_samples, inv_spp;        /* 1/n rounded on the host */
@@ -65,7 +65,7 @@ typedef struct clr_request_slot {
    * or of the 1D/2D array (arrays); -1 when a single value falls past `dimensions` and comes from
    * the RNG (random: always). */
   clr_i32 source;
-  clr_i32 rng_offset;  /* pixel samplers, source -1: index of its first per-sample RNG draw */
+  clr_i32 rng_offset;   /* pixel samplers, source -1: index of its first per-sample RNG draw */
   float inv_array_size; /* 1/array_size rounded on the host */
   clr_i32 pad[2];
 } clr_request_slot;

@@ -43,14 +43,14 @@
 static clr_context ctx;
 static int failures;
 
-#define CHECK(cond, ...)                         \
-  do {                                           \
-    if (!(cond)) {                               \
+#define CHECK(cond, ...)                          \
+  do {                                            \
+    if (!(cond)) {                                \
       printf("FAIL %s:%d: ", __FILE__, __LINE__); \
-      printf(__VA_ARGS__);                       \
-      printf("\n");                              \
-      ++failures;                                \
-    }                                            \
+      printf(__VA_ARGS__);                        \
+      printf("\n");                               \
+      ++failures;                                 \
+    }                                             \
   } while (0)
 
 static const clr_sample_request camera10[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}, {2, 0}, {2, 0}};
@@ -255,9 +255,9 @@ static void check_film(void) {
           r = film_add_samples(film, samples, n);
         } else {
           cl_int err = CL_SUCCESS;
-          cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx),
-                                      CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                                      n * sizeof *samples, samples, &err);
+          cl_mem buf =
+              clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                             n * sizeof *samples, samples, &err);
           r = err == CL_SUCCESS ? film_add_samples_buffer(film, buf, n) : CLR_ERROR_OPENCL;
           if (err == CL_SUCCESS) clReleaseMemObject(buf);
         }
@@ -375,7 +375,8 @@ static int run_child_process(const char *const *env, const char *err_path, const
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status)
+                           : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
 /* Fails on any Oclgrind report or fatal error text. */
@@ -394,9 +395,10 @@ static void write_oclgrind_icd(const char *icd_dir) {
   mkdir(icd_dir, 0755);
   snprintf(icd, sizeof icd, "%s/oclgrind.icd", icd_dir);
   if (!*CLR_OCLGRIND_ICD || access(CLR_OCLGRIND_ICD, R_OK) != 0)
-    fail_msg("Oclgrind's ICD library (liboclgrind-rt-icd.so) was not found at configure time "
-             "(\"%s\"): install Debian's oclgrind (scripts/install-deps.sh) and re-run cmake",
-             CLR_OCLGRIND_ICD);
+    fail_msg(
+        "Oclgrind's ICD library (liboclgrind-rt-icd.so) was not found at configure time "
+        "(\"%s\"): install Debian's oclgrind (scripts/install-deps.sh) and re-run cmake",
+        CLR_OCLGRIND_ICD);
   FILE *f = fopen(icd, "w");
   assert_non_null(f);
   fprintf(f, "%s\n", CLR_OCLGRIND_ICD);
@@ -417,25 +419,23 @@ static void run_on(const char *implementation, const char *shape) {
     char icd_dir[4200];
     snprintf(icd_dir, sizeof icd_dir, "%s/oclgrind-icd", dir);
     write_oclgrind_icd(icd_dir);
-    const char *env[] = {"OCL_ICD_VENDORS", icd_dir,
-                         "OPENCL_VENDOR_PATH", icd_dir,
-                         "CLRENDER_DEVICE", "Oclgrind",
-                         "CLR_TEST_EXPECT_DEVICE", "Oclgrind",
-                         "CLRENDER_KERNELS", shape,
-                         "OCLGRIND_CHECK_API", "1",
-                         "OCLGRIND_DATA_RACES", "1",
-                         "OCLGRIND_LOG", log_path,
-                         "OCLGRIND_NUM_THREADS", "1",
-                         /* Fewer work-items per group than the kernels' usual 64: launches must
+    const char *env[] = {
+        "OCL_ICD_VENDORS", icd_dir, "OPENCL_VENDOR_PATH", icd_dir, "CLRENDER_DEVICE", "Oclgrind",
+        "CLR_TEST_EXPECT_DEVICE", "Oclgrind", "CLRENDER_KERNELS", shape, "OCLGRIND_CHECK_API", "1",
+        "OCLGRIND_DATA_RACES", "1", "OCLGRIND_LOG", log_path, "OCLGRIND_NUM_THREADS", "1",
+        /* Fewer work-items per group than the kernels' usual 64: launches must
                           * take their sizes from the device. */
-                         "OCLGRIND_MAX_WGSIZE", "16",
-                         NULL};
+        "OCLGRIND_MAX_WGSIZE", "16", NULL};
     status = run_child_process(env, err_path, "--child");
     assert_no_diagnostics("Oclgrind log", log_path);
   } else {
-    const char *env[] = {"CLRENDER_DEVICE", "Portable Computing Language",
-                         "CLR_TEST_EXPECT_DEVICE", "Portable Computing Language",
-                         "CLRENDER_KERNELS", shape, NULL};
+    const char *env[] = {"CLRENDER_DEVICE",
+                         "Portable Computing Language",
+                         "CLR_TEST_EXPECT_DEVICE",
+                         "Portable Computing Language",
+                         "CLRENDER_KERNELS",
+                         shape,
+                         NULL};
     status = run_child_process(env, err_path, "--child");
   }
   assert_no_diagnostics("child stderr", err_path);
@@ -454,8 +454,9 @@ static void test_oclgrind_reports_reach_the_test(void **state) {
   snprintf(err_path, sizeof err_path, "%s/invalid.stderr", dir);
   remove(log_path);
   write_oclgrind_icd(icd_dir);
-  const char *env[] = {"OCL_ICD_VENDORS", icd_dir, "OPENCL_VENDOR_PATH", icd_dir,
-                       "CLRENDER_DEVICE", "Oclgrind", "OCLGRIND_LOG", log_path, NULL};
+  const char *env[] = {"OCL_ICD_VENDORS", icd_dir,           "OPENCL_VENDOR_PATH",
+                       icd_dir,           "CLRENDER_DEVICE", "Oclgrind",
+                       "OCLGRIND_LOG",    log_path,          NULL};
   assert_int_equal(run_child_process(env, err_path, "--invalid-child"), 0);
   char *log = read_file(log_path);
   assert_non_null(log);
@@ -515,8 +516,10 @@ int main(int argc, char **argv) {
   if (argc > 1 && strcmp(argv[1], "--child") == 0) return run_child();
   if (argc > 1 && strcmp(argv[1], "--invalid-child") == 0) return run_invalid_child();
   ssize_t n = readlink("/proc/self/exe", self_path, sizeof self_path - 1);
-  if (n <= 0) snprintf(self_path, sizeof self_path, "%s", argv[0]);
-  else self_path[n] = 0;
+  if (n <= 0)
+    snprintf(self_path, sizeof self_path, "%s", argv[0]);
+  else
+    self_path[n] = 0;
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_oclgrind_reports_reach_the_test),
       cmocka_unit_test(test_pocl_simd),

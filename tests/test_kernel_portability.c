@@ -79,9 +79,19 @@ static const target targets[] = {
  * expected to handle; anything else (llvm.bitreverse, llvm.fshr, llvm.usub.sat,
  * llvm.vector.reduce.*, ...) came from an idiom in the kernel source. */
 static const char *const allowed_intrinsics[] = {
-    "llvm.lifetime.", "llvm.memcpy.", "llvm.memset.", "llvm.memmove.", "llvm.smax.",
-    "llvm.smin.",     "llvm.umax.",   "llvm.umin.",   "llvm.fabs.",    "llvm.fmuladd.",
-    "llvm.bswap.",    "llvm.assume",  "llvm.experimental.noalias.scope.decl",
+    "llvm.lifetime.",
+    "llvm.memcpy.",
+    "llvm.memset.",
+    "llvm.memmove.",
+    "llvm.smax.",
+    "llvm.smin.",
+    "llvm.umax.",
+    "llvm.umin.",
+    "llvm.fabs.",
+    "llvm.fmuladd.",
+    "llvm.bswap.",
+    "llvm.assume",
+    "llvm.experimental.noalias.scope.decl",
 };
 
 static char *read_file(const char *path) {
@@ -143,9 +153,10 @@ static int check_ir(const char *path, const define_set *s) {
       for (size_t i = 0; i < sizeof allowed_intrinsics / sizeof *allowed_intrinsics; ++i)
         ok |= strncmp(at + 1, allowed_intrinsics[i], strlen(allowed_intrinsics[i])) == 0;
       if (!ok) {
-        printf("FAIL spir64 %s [%s]: intrinsic %s (a compiler idiom not every OpenCL "
-               "implementation runs)\n",
-               s->file, s->defines, at);
+        printf(
+            "FAIL spir64 %s [%s]: intrinsic %s (a compiler idiom not every OpenCL "
+            "implementation runs)\n",
+            s->file, s->defines, at);
         ++problems;
       }
     }
@@ -181,7 +192,8 @@ static void report_gfx90a(const char *path, const define_set *s, FILE *jsonl) {
     snprintf(label, sizeof label, "\n%s:", name);
     const char *body = strstr(text, label);
     const char *body_end = body ? strstr(body, ".Lfunc_end") : NULL;
-    for (const char *c = body; c && body_end && (c = strstr(c, "s_swappc_b64")) && c < body_end; ++c)
+    for (const char *c = body; c && body_end && (c = strstr(c, "s_swappc_b64")) && c < body_end;
+         ++c)
       ++calls;
     long priv = field(record, end, ".private_segment_fixed_size");
     long own = calls && priv >= 16384 ? priv - 16384 : priv;
@@ -203,9 +215,10 @@ static void report_gfx90a(const char *path, const define_set *s, FILE *jsonl) {
 static void test_every_kernel_compiles_for_every_target(void **state) {
   (void)state;
   if (!*CLR_CLANG || access(CLR_CLANG, X_OK) != 0)
-    fail_msg("clang was not found at configure time (\"%s\"): install clang-14 or clang-15 "
-             "(scripts/install-deps.sh) and re-run cmake",
-             CLR_CLANG);
+    fail_msg(
+        "clang was not found at configure time (\"%s\"): install clang-14 or clang-15 "
+        "(scripts/install-deps.sh) and re-run cmake",
+        CLR_CLANG);
   snprintf(out_dir, sizeof out_dir, "%s/tests/kernel-portability", CLR_BINARY_DIR);
   mkdir(out_dir, 0755);
 
@@ -217,7 +230,8 @@ static void test_every_kernel_compiles_for_every_target(void **state) {
     size_t n = strlen(e->d_name);
     if (n < 3 || strcmp(e->d_name + n - 3, ".cl") != 0) continue;
     int found = 0;
-    for (size_t i = 0; i < sizeof sets / sizeof *sets; ++i) found |= strcmp(sets[i].file, e->d_name) == 0;
+    for (size_t i = 0; i < sizeof sets / sizeof *sets; ++i)
+      found |= strcmp(sets[i].file, e->d_name) == 0;
     if (!found) {
       printf("FAIL %s has no define set in tests/test_kernel_portability.c\n", e->d_name);
       ++missing;

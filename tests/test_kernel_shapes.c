@@ -68,9 +68,9 @@ static void test_group_sizes_from_the_device(void **state) {
                    CLR_SUCCESS);
   cl_device_id dev = clr_context_cl_device(ctx);
   size_t kmax = 0, dmax = 0, multiple = 0, items[3] = {0, 0, 0};
-  assert_int_equal(clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax,
-                                            NULL),
-                   CL_SUCCESS);
+  assert_int_equal(
+      clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof kmax, &kmax, NULL),
+      CL_SUCCESS);
   assert_int_equal(clGetKernelWorkGroupInfo(k, dev, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE,
                                             sizeof multiple, &multiple, NULL),
                    CL_SUCCESS);
@@ -141,7 +141,8 @@ static void test_render_same_bits(void **state) {
   double sum = 0;
   for (int i = 0; i < simd.width * simd.height * 3; ++i) sum += simd.rgb[i];
   assert_true(sum > 0);
-  assert_memory_equal(simd.rgb, portable.rgb, sizeof(float) * 3 * (size_t)(simd.width * simd.height));
+  assert_memory_equal(simd.rgb, portable.rgb,
+                      sizeof(float) * 3 * (size_t)(simd.width * simd.height));
   free(simd.rgb);
   free(portable.rgb);
 }
@@ -161,8 +162,8 @@ static size_t run(const char *args, char *buf, size_t size) {
 static void test_cli_samples_same_output(void **state) {
   (void)state;
   static char a[1 << 18], b[1 << 18], c[1 << 18];
-  static const char *samplers[] = {"random", "stratified", "halton", "sobol", "02sequence",
-                                   "maxmindist"};
+  static const char *samplers[] = {"random", "stratified", "halton",
+                                   "sobol",  "02sequence", "maxmindist"};
   for (int s = 0; s < 6; ++s) {
     char args[256];
     snprintf(args, sizeof args,

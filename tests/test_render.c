@@ -103,8 +103,9 @@ static void test_integrator_round_count(void **state) {
   for (int c = 0; c < 3; ++c) {
     clr_integrator it;
     int warnings = 0;
-    assert_int_equal(clr_integrator_create_for(desc, scene, cases[c].type, count_warning, &warnings, &it),
-                     CLR_SUCCESS);
+    assert_int_equal(
+        clr_integrator_create_for(desc, scene, cases[c].type, count_warning, &warnings, &it),
+        CLR_SUCCESS);
     assert_int_equal(it.ao_samples, cases[c].want);
     assert_int_equal(it.requests[it.request_count - 1].array_size, cases[c].want);
     assert_int_equal(warnings, cases[c].want == 4);
@@ -179,7 +180,8 @@ static void test_infinite_light_sphere(void **state) {
       "Sampler \"halton\" \"integer pixelsamples\" [64]\n"
       "Integrator \"directlighting\"\n"
       "WorldBegin\nLightSource \"infinite\" \"rgb L\" [2 1 0.5]\n"
-      "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\nShape \"sphere\" \"float radius\" [1.5]\nWorldEnd\n";
+      "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\nShape \"sphere\" \"float radius\" "
+      "[1.5]\nWorldEnd\n";
   clr_render_image im = render_text(scene, NULL);
   double L[3] = {2, 1, 0.5};
   for (int c = 0; c < 3; ++c) {
@@ -260,7 +262,8 @@ static void test_progress_callback_cancels(void **state) {
 }
 
 static void assert_close(const float *a, const float *b, size_t n) {
-  for (size_t i = 0; i < n; ++i) assert_true(fabsf(a[i] - b[i]) <= 1e-5f * fmaxf(1.0f, fabsf(a[i])));
+  for (size_t i = 0; i < n; ++i)
+    assert_true(fabsf(a[i] - b[i]) <= 1e-5f * fmaxf(1.0f, fabsf(a[i])));
 }
 
 static void test_tile_sizes_agree(void **state) {
@@ -313,7 +316,8 @@ static void expect_cli_failure(const char *name, const char *expect) {
   char cmd[1200], out[4096] = {0}, exr[512], png[512];
   snprintf(exr, sizeof exr, "%s/out.exr", tmpdir);
   snprintf(png, sizeof png, "%s/out.png", tmpdir);
-  snprintf(cmd, sizeof cmd, "%s render %s/%s --outfile %s --quiet 2>&1", CLR_CLI_PATH, tmpdir, name, exr);
+  snprintf(cmd, sizeof cmd, "%s render %s/%s --outfile %s --quiet 2>&1", CLR_CLI_PATH, tmpdir, name,
+           exr);
   FILE *p = popen(cmd, "r");
   assert_non_null(p);
   size_t n = fread(out, 1, sizeof out - 1, p);
@@ -326,25 +330,31 @@ static void expect_cli_failure(const char *name, const char *expect) {
   assert_int_equal(access(png, F_OK), -1);
 }
 
-static const char *head = "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\nWorldBegin\n";
+static const char *head =
+    "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\nWorldBegin\n";
 
 static void test_cli_bad_files(void **state) {
   (void)state;
   snprintf(tmpdir, sizeof tmpdir, "%s/test_render_tmp_XXXXXX", CLR_BINARY_DIR);
   assert_non_null(mkdtemp(tmpdir));
   char text[2048];
-  snprintf(text, sizeof text, "%sShape \"sphere\" \"float radius\" [1]\nMaterial \"matte\" \"string x\" \"open", head);
+  snprintf(text, sizeof text,
+           "%sShape \"sphere\" \"float radius\" [1]\nMaterial \"matte\" \"string x\" \"open", head);
   write_file("unterminated.pbrt", text, strlen(text));
   expect_cli_failure("unterminated.pbrt", "unterminated.pbrt:4");
   snprintf(text, sizeof text, "%s\nInclude \"no-such-file.pbrt\"\n", head);
   write_file("include.pbrt", text, strlen(text));
   expect_cli_failure("include.pbrt", "include.pbrt:4");
-  snprintf(text, sizeof text, "%s\n\nShape \"trianglemesh\" \"integer indices\" [0 1 7] \"point P\" [0 0 0 1 0 0 0 1 0]\n", head);
+  snprintf(
+      text, sizeof text,
+      "%s\n\nShape \"trianglemesh\" \"integer indices\" [0 1 7] \"point P\" [0 0 0 1 0 0 0 1 0]\n",
+      head);
   write_file("index.pbrt", text, strlen(text));
   expect_cli_failure("index.pbrt", "index.pbrt:5");
-  const char ply[] = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
-                     "property float y\nproperty float z\nelement face 1\n"
-                     "property list uchar int vertex_indices\nend_header\n\0\0\0\0\0\0";
+  const char ply[] =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n\0\0\0\0\0\0";
   write_file("trunc.ply", ply, sizeof ply - 1);
   snprintf(text, sizeof text, "%sShape \"plymesh\" \"string filename\" \"trunc.ply\"\n", head);
   write_file("ply.pbrt", text, strlen(text));
@@ -353,7 +363,8 @@ static void test_cli_bad_files(void **state) {
   snprintf(text, sizeof text, "%sShape \"sphere\"\nWorldEnd\n", head);
   write_file("good.pbrt", text, strlen(text));
   char cmd[1200];
-  snprintf(cmd, sizeof cmd, "%s render %s/good.pbrt --outfile %s/good.exr --quiet --spp 1", CLR_CLI_PATH, tmpdir, tmpdir);
+  snprintf(cmd, sizeof cmd, "%s render %s/good.pbrt --outfile %s/good.exr --quiet --spp 1",
+           CLR_CLI_PATH, tmpdir, tmpdir);
   assert_int_equal(system(cmd), 0);
   snprintf(cmd, sizeof cmd, "%s/good.png", tmpdir);
   assert_int_equal(access(cmd, F_OK), 0);
@@ -367,10 +378,14 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_ao_open_plane),
       cmocka_unit_test(test_ao_open_plane_02sequence),
-      cmocka_unit_test(test_integrator_round_count),         cmocka_unit_test(test_point_light_plane),
-      cmocka_unit_test(test_furnace),               cmocka_unit_test(test_infinite_light_sphere),
-      cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_tile_sizes_agree),
-      cmocka_unit_test(test_crop_matches_full),     cmocka_unit_test(test_cli_bad_files),
+      cmocka_unit_test(test_integrator_round_count),
+      cmocka_unit_test(test_point_light_plane),
+      cmocka_unit_test(test_furnace),
+      cmocka_unit_test(test_infinite_light_sphere),
+      cmocka_unit_test(test_threads_bit_identical),
+      cmocka_unit_test(test_tile_sizes_agree),
+      cmocka_unit_test(test_crop_matches_full),
+      cmocka_unit_test(test_cli_bad_files),
       cmocka_unit_test(test_progress_callback_cancels),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

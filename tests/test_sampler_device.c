@@ -71,7 +71,8 @@ static generated generate(clr_sampler s, clr_bounds2i px, int first, int count,
   clr_sample_output_init(&out);
   out.host_values = g.values;
   out.host_indices = g.indices;
-  clr_result r = device ? clr_sampler_generate(s, &b, &out) : clr_sampler_generate_reference(s, &b, &out);
+  clr_result r =
+      device ? clr_sampler_generate(s, &b, &out) : clr_sampler_generate_reference(s, &b, &out);
   if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
   assert_int_equal(r, CLR_SUCCESS);
   return g;

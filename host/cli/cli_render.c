@@ -23,33 +23,34 @@ static int cancel_on_signal(void *user, int32_t tiles_done, int32_t tiles_total)
 }
 
 static void usage(FILE *f) {
-  fprintf(f,
-          "usage: clrender render SCENE.pbrt [options]\n"
-          "Renders a pbrt-v3 scene: writes the Film's filename (EXR, float RGB) and a PNG preview\n"
-          "with the same name. Flags override the scene file.\n"
-          "  --spp N                 samples per pixel\n"
-          "  --nthreads N            worker threads (default: all cores)\n"
-          "  --outfile F             output EXR (a .png name writes only the PNG)\n"
-          "  --cropwindow x0 x1 y0 y1  render only this part of the film (NDC, [0,1])\n"
-          "  --seed N                seed of the per-pixel sample streams (default 0)\n"
-          "  --seeding pbrt-v3|pixel sample stream seeding (default pixel: crops render exactly\n"
-          "                          the samples of the full frame; pbrt-v3: per-16x16-tile streams)\n"
-          "  --device D              OpenCL device index or name (see clrender devices)\n"
-          "  --kernels SHAPE         simd | portable | auto (default auto: simd on PoCL CPU\n"
-          "                          devices, portable elsewhere; same image either way)\n"
-          "  --sampler NAME          random, stratified, halton, sobol, 02sequence\n"
-          "                          (lowdiscrepancy), maxmindist\n"
-          "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
-          "                          catmullrom (default parameters)\n"
-          "  --tile-size N           render tile side in pixels (default 16)\n"
-          "  --quiet                 no warnings, no progress bar\n"
-          "  --stats                 print timings and counts as JSON on stderr\n"
-          "  --reference-samples     generate samples with the single-thread host reference\n"
-          "                          (the kernels' bits, slower: for comparisons)\n"
-          "  --help                  this text\n"
-          "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error,\n"
-          "130 (SIGINT) or 143 (SIGTERM): interrupted; the tiles in flight are finished and\n"
-          "a valid partial image is written (EXR attribute clrender.partial = 1).\n");
+  fprintf(
+      f,
+      "usage: clrender render SCENE.pbrt [options]\n"
+      "Renders a pbrt-v3 scene: writes the Film's filename (EXR, float RGB) and a PNG preview\n"
+      "with the same name. Flags override the scene file.\n"
+      "  --spp N                 samples per pixel\n"
+      "  --nthreads N            worker threads (default: all cores)\n"
+      "  --outfile F             output EXR (a .png name writes only the PNG)\n"
+      "  --cropwindow x0 x1 y0 y1  render only this part of the film (NDC, [0,1])\n"
+      "  --seed N                seed of the per-pixel sample streams (default 0)\n"
+      "  --seeding pbrt-v3|pixel sample stream seeding (default pixel: crops render exactly\n"
+      "                          the samples of the full frame; pbrt-v3: per-16x16-tile streams)\n"
+      "  --device D              OpenCL device index or name (see clrender devices)\n"
+      "  --kernels SHAPE         simd | portable | auto (default auto: simd on PoCL CPU\n"
+      "                          devices, portable elsewhere; same image either way)\n"
+      "  --sampler NAME          random, stratified, halton, sobol, 02sequence\n"
+      "                          (lowdiscrepancy), maxmindist\n"
+      "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
+      "                          catmullrom (default parameters)\n"
+      "  --tile-size N           render tile side in pixels (default 16)\n"
+      "  --quiet                 no warnings, no progress bar\n"
+      "  --stats                 print timings and counts as JSON on stderr\n"
+      "  --reference-samples     generate samples with the single-thread host reference\n"
+      "                          (the kernels' bits, slower: for comparisons)\n"
+      "  --help                  this text\n"
+      "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error,\n"
+      "130 (SIGINT) or 143 (SIGTERM): interrupted; the tiles in flight are finished and\n"
+      "a valid partial image is written (EXR attribute clrender.partial = 1).\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out) {
@@ -76,7 +77,8 @@ int cli_render(int argc, char **argv) {
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
     long v;
-#define NEED(n) if (i + (n) >= argc) goto bad
+#define NEED(n) \
+  if (i + (n) >= argc) goto bad
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       usage(stdout);
       return 0;
@@ -120,13 +122,17 @@ int cli_render(int argc, char **argv) {
     } else if (strcmp(a, "--seeding") == 0) {
       NEED(1);
       ++i;
-      if (strcmp(argv[i], "pbrt-v3") == 0) o.seeding = CLR_SEEDING_PBRT_V3;
-      else if (strcmp(argv[i], "pixel") == 0) o.seeding = CLR_SEEDING_PIXEL;
-      else goto bad;
+      if (strcmp(argv[i], "pbrt-v3") == 0)
+        o.seeding = CLR_SEEDING_PBRT_V3;
+      else if (strcmp(argv[i], "pixel") == 0)
+        o.seeding = CLR_SEEDING_PIXEL;
+      else
+        goto bad;
     } else if (strcmp(a, "--cropwindow") == 0) {
       NEED(4);
       for (int k = 0; k < 4; ++k)
-        if (!parse_float(argv[++i], &o.crop_window[k]) || !(o.crop_window[k] >= 0.0f && o.crop_window[k] <= 1.0f))
+        if (!parse_float(argv[++i], &o.crop_window[k]) ||
+            !(o.crop_window[k] >= 0.0f && o.crop_window[k] <= 1.0f))
           goto bad;
       if (!(o.crop_window[0] < o.crop_window[1] && o.crop_window[2] < o.crop_window[3])) goto bad;
       o.crop_given = 1;

@@ -9,7 +9,8 @@
 #include "sample_plot.h"
 
 static void samples_usage(FILE *f) {
-  fprintf(f,
+  fprintf(
+      f,
       "usage: clrender samples --sampler NAME [options]\n"
       "Prints one CSV row per sample: px,py,sample,global_index,v0,v1,... (film offset first;\n"
       "global_index is empty for samplers without one).\n"
@@ -87,7 +88,8 @@ static void factor_spp(int32_t n, int32_t *x, int32_t *y) {
 }
 
 static int bad_value(const char *flag, const char *value) {
-  fprintf(stderr, "clrender samples: bad value for %s: \"%s\"\n", flag, value ? value : "(missing)");
+  fprintf(stderr, "clrender samples: bad value for %s: \"%s\"\n", flag,
+          value ? value : "(missing)");
   samples_usage(stderr);
   return 0;
 }
@@ -151,9 +153,12 @@ static int parse_samples_args(int argc, char **argv, samples_options *o, const c
     } else if (strcmp(f, "--requests") == 0) {
       if (!parse_requests(val, o)) return bad_value(f, val);
     } else if (strcmp(f, "--seeding") == 0) {
-      if (strcmp(val, "pbrt-v3") == 0) o->desc.seeding = CLR_SEEDING_PBRT_V3;
-      else if (strcmp(val, "pixel") == 0) o->desc.seeding = CLR_SEEDING_PIXEL;
-      else return bad_value(f, val);
+      if (strcmp(val, "pbrt-v3") == 0)
+        o->desc.seeding = CLR_SEEDING_PBRT_V3;
+      else if (strcmp(val, "pixel") == 0)
+        o->desc.seeding = CLR_SEEDING_PIXEL;
+      else
+        return bad_value(f, val);
     } else if (strcmp(f, "--seed") == 0) {
       int32_t seed;
       if (!cli_parse_int(val, 0, 2147483647L, &seed)) return bad_value(f, val);
@@ -237,15 +242,20 @@ int cli_samples(int argc, char **argv) {
       (o.desc.pixel_samples & (o.desc.pixel_samples - 1)) != 0) {
     int32_t up = 1;
     while (up < o.desc.pixel_samples && up < (1 << 30)) up <<= 1;
-    fprintf(stderr, "clrender samples: warning: Pixel samples being rounded up to power of 2 "
-                    "(from %d to %d).\n", (int)o.desc.pixel_samples, (int)up);
+    fprintf(stderr,
+            "clrender samples: warning: Pixel samples being rounded up to power of 2 "
+            "(from %d to %d).\n",
+            (int)o.desc.pixel_samples, (int)up);
   }
   if (type == CLR_SAMPLER_MAXMINDIST && o.desc.pixel_samples > 0 &&
-      o.desc.pixel_samples < (1 << 17) && (o.desc.pixel_samples & (o.desc.pixel_samples - 1)) != 0) {
+      o.desc.pixel_samples < (1 << 17) &&
+      (o.desc.pixel_samples & (o.desc.pixel_samples - 1)) != 0) {
     int32_t up = 1;
     while (up < o.desc.pixel_samples) up <<= 1;
-    fprintf(stderr, "clrender samples: warning: Non power-of-two sample count rounded up to %d "
-                    "for MaxMinDistSampler.\n", (int)up);
+    fprintf(stderr,
+            "clrender samples: warning: Non power-of-two sample count rounded up to %d "
+            "for MaxMinDistSampler.\n",
+            (int)up);
   }
   if (o.plot && (o.proj[0] >= CLR_MAX_VALUES_PER_SAMPLE || o.proj[1] >= CLR_MAX_VALUES_PER_SAMPLE))
     return bad_value("--proj", "index too large"), 2;

@@ -40,7 +40,9 @@ static double now_seconds(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-typedef struct warn_sink { int quiet; } warn_sink;
+typedef struct warn_sink {
+  int quiet;
+} warn_sink;
 static void warn_print(void *user, const char *msg) {
   const warn_sink *w = user;
   if (!w || !w->quiet) fprintf(stderr, "clrender: warning: %s\n", msg);
@@ -62,7 +64,7 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     type = CLR_SAMPLER_SOBOL;
   } else if (clr_sampler_type_from_name(name, &type) != CLR_SUCCESS) {
     return clr_set_last_error(CLR_ERROR_INVALID_SAMPLER, "%s:%d: unknown sampler \"%s\"",
-                    o->sampler ? "--sampler" : (p->file ? p->file : "?"), p->line, name);
+                              o->sampler ? "--sampler" : (p->file ? p->file : "?"), p->line, name);
   }
   clr_sampler_desc_init(sd, type);
   int same = !o->sampler || (d->sampler.type && strcmp(d->sampler.type, name) == 0);
@@ -90,9 +92,8 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
              (int)sd->pixel_samples, (int)up);
     warn(wu, m);
   }
-  if (type == CLR_SAMPLER_MAXMINDIST && sd->pixel_samples > 0 &&
-      sd->pixel_samples < (1 << 17) && (sd->pixel_samples & (sd->pixel_samples - 1)) != 0 &&
-      warn) {
+  if (type == CLR_SAMPLER_MAXMINDIST && sd->pixel_samples > 0 && sd->pixel_samples < (1 << 17) &&
+      (sd->pixel_samples & (sd->pixel_samples - 1)) != 0 && warn) {
     int32_t up = 1;
     while (up < sd->pixel_samples) up <<= 1;
     char m[128]; /* pbrt-v3's MaxMinDistSampler warning */
@@ -112,11 +113,12 @@ static clr_result filter_from_desc(const clr_scene_desc *d, const clr_render_opt
   const clr_param_list *p = &d->filter.params;
   clr_filter_type type;
   if (clr_filter_type_from_name(name, &type) != CLR_SUCCESS) {
-    if (o->filter) return clr_set_last_error(CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
+    if (o->filter)
+      return clr_set_last_error(CLR_ERROR_INVALID_FILTER, "--filter: unknown filter \"%s\"", name);
     if (warn) {
       char m[512];
-      snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"", p->file ? p->file : "?",
-               p->line, name);
+      snprintf(m, sizeof m, "%s:%d: filter \"%s\" not supported: using \"box\"",
+               p->file ? p->file : "?", p->line, name);
       warn(wu, m);
     }
     type = CLR_FILTER_BOX;
@@ -179,15 +181,20 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
     const char *bad = NULL;
     int value = 0;
     if (sd->type == CLR_SAMPLER_STRATIFIED) {
-      if (sd->x_samples <= 0) bad = "xsamples", value = sd->x_samples;
-      else if (sd->y_samples <= 0) bad = "ysamples", value = sd->y_samples;
-      else if (sd->dimensions <= 0) bad = "dimensions", value = sd->dimensions;
+      if (sd->x_samples <= 0)
+        bad = "xsamples", value = sd->x_samples;
+      else if (sd->y_samples <= 0)
+        bad = "ysamples", value = sd->y_samples;
+      else if (sd->dimensions <= 0)
+        bad = "dimensions", value = sd->dimensions;
     } else if (sd->pixel_samples <= 0) {
       bad = "pixelsamples", value = sd->pixel_samples;
     }
     if (bad)
-      return clr_set_last_error(CLR_ERROR_INVALID_SPP, "%s:%d: Sampler \"%s\": \"%s\" must be "
-                                "positive, got %d", param_file(sampler), param_line(sampler, bad),
+      return clr_set_last_error(CLR_ERROR_INVALID_SPP,
+                                "%s:%d: Sampler \"%s\": \"%s\" must be "
+                                "positive, got %d",
+                                param_file(sampler), param_line(sampler, bad),
                                 clr_sampler_type_name(sd->type), bad, value);
   }
   for (int k = 0; k < 2; ++k)
@@ -197,11 +204,10 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
         return clr_set_last_error(CLR_ERROR_INVALID_RADIUS, "--filter %s: %s %g must be in (0, %g]",
                                   o->filter, name, (double)fd->radius[k],
                                   (double)CLR_FILM_MAX_FILTER_RADIUS);
-      return clr_set_last_error(CLR_ERROR_INVALID_RADIUS,
-                                "%s:%d: PixelFilter \"%s\": \"%s\" must be in (0, %g], got %g",
-                                param_file(filter), param_line(filter, name),
-                                clr_filter_type_name(fd->type), name,
-                                (double)CLR_FILM_MAX_FILTER_RADIUS, (double)fd->radius[k]);
+      return clr_set_last_error(
+          CLR_ERROR_INVALID_RADIUS, "%s:%d: PixelFilter \"%s\": \"%s\" must be in (0, %g], got %g",
+          param_file(filter), param_line(filter, name), clr_filter_type_name(fd->type), name,
+          (double)CLR_FILM_MAX_FILTER_RADIUS, (double)fd->radius[k]);
     }
   return CLR_SUCCESS;
 }
@@ -261,7 +267,8 @@ typedef struct worker_buffers {
 } worker_buffers;
 
 static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
-  return clr_mix64(((uint64_t)seed << 32) ^ clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
+  return clr_mix64(((uint64_t)seed << 32) ^
+                   clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
          (uint64_t)s * 0x9E3779B97F4A7C15ull;
 }
 
@@ -276,11 +283,16 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     const float *v = values + (size_t)k * (size_t)it->values_per_sample;
     fs[k].x = (float)px + v[0];
     fs[k].y = (float)py + v[1];
-    b->weights[k] = clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
+    b->weights[k] =
+        clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
     b->keys[k] = sample_key(job->seed, px, py, s);
-    if (++s == spp) { s = 0; ++px; }
+    if (++s == spp) {
+      s = 0;
+      ++px;
+    }
   }
-  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, values, b->keys, n, b->L, counters));
+  CLR_CHECK(
+      clr_integrator_li(it, job->scene, scratch, b->rays, values, b->keys, n, b->L, counters));
   for (int k = 0; k < n; ++k) {
     fs[k].r = b->L[3 * k];
     fs[k].g = b->L[3 * k + 1];
@@ -308,7 +320,8 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
   for (int ly = 0; ly < h; ++ly) {
     int py = tile->pixels.y0 + ly;
     size_t first = ((size_t)(py - band->pixels.y0) * (size_t)band_w +
-                    (size_t)(tile->pixels.x0 - band->pixels.x0)) * spp;
+                    (size_t)(tile->pixels.x0 - band->pixels.x0)) *
+                   spp;
     for (size_t base = 0; base < row; base += CHUNK_SAMPLES) {
       int n = (int)(row - base < CHUNK_SAMPLES ? row - base : CHUNK_SAMPLES);
       CLR_CHECK(shade_run(job, b, scratch, counters, tile->pixels.x0 + (int)(base / spp), py,
@@ -341,8 +354,9 @@ static void *worker_main(void *arg) {
     job->busy++;
     pthread_mutex_unlock(&job->mutex);
     double t0 = now_seconds();
-    clr_result r = scratch && buffers ? shade_tile(job, tile, buffers, scratch, &counters, &recon)
-                                      : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render worker");
+    clr_result r = scratch && buffers
+                       ? shade_tile(job, tile, buffers, scratch, &counters, &recon)
+                       : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render worker");
     busy += now_seconds() - t0;
     pthread_mutex_lock(&job->mutex);
     tile->result = r;
@@ -373,7 +387,8 @@ static void progress_bar(int done, int total, double elapsed) {
   for (int i = 0; i < width; ++i) bar[i] = i < filled ? '=' : ' ';
   bar[width] = 0;
   double eta = done ? elapsed * (double)(total - done) / (double)done : 0.0;
-  fprintf(stderr, "\r[%s] %d/%d tiles  %.1fs elapsed  ~%.1fs left ", bar, done, total, elapsed, eta);
+  fprintf(stderr, "\r[%s] %d/%d tiles  %.1fs elapsed  ~%.1fs left ", bar, done, total, elapsed,
+          eta);
   if (done == total) fputc('\n', stderr);
   fflush(stderr);
 }
@@ -408,7 +423,8 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
     free(band->values);
     band->values = malloc(need * sizeof *band->values);
     band->values_cap = band->values ? need : 0;
-    if (!band->values) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
+    if (!band->values)
+      return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
   batch->pixels = px;
   clr_sample_output out;
@@ -455,7 +471,10 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       r = generate_band(job, sampler, &batch, g, next_gen, bi, &n);
       st->seconds_sample_generation += now_seconds() - t0;
       pthread_mutex_lock(&job->mutex);
-      if (r != CLR_SUCCESS) { job->bands[bi].in_use = 0; break; }
+      if (r != CLR_SUCCESS) {
+        job->bands[bi].in_use = 0;
+        break;
+      }
       job->bands[bi].unfinished = n;
       for (int t = next_gen; t < next_gen + n; ++t) job->tiles[t].state = TILE_READY;
       next_gen += n;
@@ -577,8 +596,9 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_render_options_init(&defaults);
   const clr_render_options *o = opts ? opts : &defaults;
   if (o->struct_size != sizeof *o)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "clr_render_options.struct_size %zu, expected %zu",
-                    o->struct_size, sizeof *o);
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "clr_render_options.struct_size %zu, expected %zu", o->struct_size,
+                              sizeof *o);
   clr_render_stats local;
   clr_render_stats_init(&local);
   clr_render_stats *st = &local;
@@ -614,7 +634,10 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
   clr_integrator integ;
   r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
-  if (r != CLR_SUCCESS) { clr_render_scene_free(scene); return r; }
+  if (r != CLR_SUCCESS) {
+    clr_render_scene_free(scene);
+    return r;
+  }
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
   st->seconds_build = now_seconds() - t0;
 
@@ -649,7 +672,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     sdesc.film.filter_radius[1] = fdesc.radius[1];
     r = clr_sampler_create(ctx, &sdesc, &sampler);
   }
-  if (r == CLR_SUCCESS) r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
+  if (r == CLR_SUCCESS)
+    r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
   if (r == CLR_SUCCESS) {
     render_job job;
@@ -664,8 +688,9 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
     snprintf(st->integrator, sizeof st->integrator, "%s",
-             integ.type == CLR_INTEGRATOR_AO ? "ambientocclusion"
-             : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting" : "path");
+             integ.type == CLR_INTEGRATOR_AO       ? "ambientocclusion"
+             : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting"
+                                                   : "path");
     double tr = now_seconds();
     r = render_tiles(&job, sampler, o, nthreads, st);
     st->seconds_render = now_seconds() - tr;
@@ -683,7 +708,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     im.width = im.pixel_bounds.x1 - im.pixel_bounds.x0;
     im.height = im.pixel_bounds.y1 - im.pixel_bounds.y0;
     im.rgb = malloc((size_t)im.width * (size_t)im.height * 3 * sizeof(float));
-    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f) : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
+    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f)
+               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
     st->samples = film_sample_count(film);
     st->dropped_samples = film_dropped_samples(film);
   }
@@ -703,8 +729,10 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
     st->seconds_output = now_seconds() - tw;
   }
-  if (r == CLR_SUCCESS && image) *image = im;
-  else free(im.rgb);
+  if (r == CLR_SUCCESS && image)
+    *image = im;
+  else
+    free(im.rgb);
   if (sampler) clr_sampler_release(sampler);
   if (film) film_release(film);
   if (ctx) clr_context_release(ctx);
@@ -721,7 +749,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
 
 clr_result clr_render_file(const char *path, const clr_render_options *opts,
                            clr_render_stats *stats) {
-  if (!path) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
+  if (!path)
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_render_file: scene_path is NULL");
   warn_sink sink = {opts ? opts->quiet : 0};
   clr_parse_options po;
   clr_parse_options_init(&po);

@@ -57,7 +57,7 @@ typedef struct clr_bounds2i {
 typedef struct clr_sampler_desc {
   size_t struct_size; /* sizeof(clr_sampler_desc), set by clr_sampler_desc_init */
   clr_sampler_type type;
-  int32_t pixel_samples;       /* random 4, halton 16, sobol, 02sequence and maxmindist 16
+  int32_t pixel_samples;        /* random 4, halton 16, sobol, 02sequence and maxmindist 16
                                   (rounded up to a power of two) */
   int32_t x_samples, y_samples; /* stratified 4 x 4 */
   int32_t jitter;               /* stratified, default 1 */
@@ -91,7 +91,8 @@ typedef struct clr_sample_request {
 
 typedef struct clr_sampler_t *clr_sampler;
 
-CLR_API clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr_sampler *out);
+CLR_API clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc,
+                                      clr_sampler *out);
 CLR_API void clr_sampler_retain(clr_sampler sampler);
 CLR_API void clr_sampler_release(clr_sampler sampler);
 
@@ -117,17 +118,17 @@ typedef struct clr_sample_batch {
 CLR_API void clr_sample_batch_init(clr_sample_batch *batch);
 /* Values per sample vector: sum of dims * max(1, array_size). */
 CLR_API clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
-                                    int32_t *values_per_sample);
+                                            int32_t *values_per_sample);
 
 /* Output layout, for pixel (px,py), sample s (relative to first_sample) and value k:
  *   values [((py - y0) * width + (px - x0)) * sample_count + s) * values_per_sample + k]
  *   indices[((py - y0) * width + (px - x0)) * sample_count + s]   (global index, halton/sobol)
  * Values of an array request are element-major: element j's 2 values are adjacent. */
 typedef struct clr_sample_output {
-  size_t struct_size;      /* sizeof(clr_sample_output), set by clr_sample_output_init */
-  cl_mem device_values;    /* optional: float buffer of at least the batch's size */
-  float *host_values;      /* optional host copy */
-  uint64_t *host_indices;  /* optional host copy of global indices (halton, sobol only) */
+  size_t struct_size;     /* sizeof(clr_sample_output), set by clr_sample_output_init */
+  cl_mem device_values;   /* optional: float buffer of at least the batch's size */
+  float *host_values;     /* optional host copy */
+  uint64_t *host_indices; /* optional host copy of global indices (halton, sobol only) */
 } clr_sample_output;
 
 CLR_API void clr_sample_output_init(clr_sample_output *out);
@@ -135,11 +136,12 @@ CLR_API void clr_sample_output_init(clr_sample_output *out);
 /* Generate on the context's device. If device_values is NULL a temporary buffer is used (needs
  * host_values). */
 CLR_API clr_result clr_sampler_generate(clr_sampler sampler, const clr_sample_batch *batch,
-                                const clr_sample_output *out);
+                                        const clr_sample_output *out);
 /* Same values computed on the host by the C build of the kernel headers (single thread): the
  * reference the device output is compared against. device_values is ignored. */
-CLR_API clr_result clr_sampler_generate_reference(clr_sampler sampler, const clr_sample_batch *batch,
-                                          const clr_sample_output *out);
+CLR_API clr_result clr_sampler_generate_reference(clr_sampler sampler,
+                                                  const clr_sample_batch *batch,
+                                                  const clr_sample_output *out);
 
 #ifdef __cplusplus
 }

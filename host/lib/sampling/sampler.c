@@ -30,8 +30,8 @@ struct clr_sampler_t {
   clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
 };
 
-static const char *const sampler_names[] = {"random", "stratified", "halton", "sobol",
-                                            "02sequence", "maxmindist"};
+static const char *const sampler_names[] = {"random", "stratified", "halton",
+                                            "sobol",  "02sequence", "maxmindist"};
 #define SAMPLER_NAME_COUNT ((int)(sizeof sampler_names / sizeof sampler_names[0]))
 
 const char *clr_sampler_type_name(clr_sampler_type type) {
@@ -123,9 +123,8 @@ static clr_result validate_desc(const clr_sampler_desc *d) {
                     "maxmindist sampler: pixelsamples %d must be in 1..%d", (int)d->pixel_samples,
                     (1 << CLR_MAXMIN_MATRICES) - 1);
   } else if (d->pixel_samples <= 0 || d->pixel_samples > (1 << 20)) {
-    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
-                    "%s sampler: pixelsamples %d must be in 1..%d", clr_sampler_type_name(d->type),
-                    (int)d->pixel_samples, 1 << 20);
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP, "%s sampler: pixelsamples %d must be in 1..%d",
+                    clr_sampler_type_name(d->type), (int)d->pixel_samples, 1 << 20);
   }
   if ((unsigned)d->seeding > CLR_SEEDING_PIXEL)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_sampler_create: unknown seeding %d",
@@ -142,7 +141,7 @@ static void fill_base_params(clr_sampler s) {
            : d->type == CLR_SAMPLER_SOBOL || d->type == CLR_SAMPLER_ZEROTWO ||
                    d->type == CLR_SAMPLER_MAXMINDIST
                ? round_up_pow2(d->pixel_samples)
-                                             : d->pixel_samples;
+               : d->pixel_samples;
   p->x_samples = d->x_samples;
   p->y_samples = d->y_samples;
   p->jitter = d->jitter ? 1 : 0;
@@ -161,7 +160,8 @@ static void fill_base_params(clr_sampler s) {
   p->pixel_y0 = s->pixel_bounds.y0;
   p->pixel_x1 = s->pixel_bounds.x1;
   p->pixel_y1 = s->pixel_bounds.y1;
-  p->tiles_x = (s->index_bounds.x1 - s->index_bounds.x0 + CLR_PBRT_TILE_SIZE - 1) / CLR_PBRT_TILE_SIZE;
+  p->tiles_x =
+      (s->index_bounds.x1 - s->index_bounds.x0 + CLR_PBRT_TILE_SIZE - 1) / CLR_PBRT_TILE_SIZE;
   if (d->type == CLR_SAMPLER_MAXMINDIST) { /* pbrt-v3: Log2Int of pixelsamples as given */
     p->maxmin_matrix = 0;
     while ((d->pixel_samples >> (p->maxmin_matrix + 1)) > 0) ++p->maxmin_matrix;
@@ -182,8 +182,8 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
   desc = &adopted;
   CLR_CHECK(validate_desc(desc));
   clr_bounds2i pixel_bounds, sample_bounds, full_sample_bounds;
-  CLR_CHECK(clr_film_geometry_bounds(&desc->film, "clr_sampler_create", &pixel_bounds,
-                                     &sample_bounds));
+  CLR_CHECK(
+      clr_film_geometry_bounds(&desc->film, "clr_sampler_create", &pixel_bounds, &sample_bounds));
   clr_film_geometry full = desc->film;
   full.crop_window[0] = full.crop_window[2] = 0.0f;
   full.crop_window[1] = full.crop_window[3] = 1.0f;
@@ -201,7 +201,7 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
   if (desc->type == CLR_SAMPLER_SOBOL && s->base.sobol_log2_resolution > CLR_SOBOL_VDC_MATRICES) {
     free(s);
     return clr_fail(ctx, CLR_ERROR_INVALID_RESOLUTION,
-                    "sobol sampler: sample bounds of %dx%d exceed the 2^%d supported", 
+                    "sobol sampler: sample bounds of %dx%d exceed the 2^%d supported",
                     (int)(sample_bounds.x1 - sample_bounds.x0),
                     (int)(sample_bounds.y1 - sample_bounds.y0), CLR_SOBOL_VDC_MATRICES);
   }
@@ -256,8 +256,8 @@ clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t 
   if (!values_per_sample || (count > 0 && !requests))
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "sample layout: NULL requests or result");
   if (count <= 0 || count > CLR_MAX_REQUESTS)
-    return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
-                    "sample layout: %d requests (must be 1..%d)", (int)count, CLR_MAX_REQUESTS);
+    return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS, "sample layout: %d requests (must be 1..%d)",
+                    (int)count, CLR_MAX_REQUESTS);
   if (requests[0].dims != 2 || requests[0].array_size != 0)
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
                     "sample layout: the first request must be the 2D film offset (got dims %d, "
@@ -313,11 +313,10 @@ static void resolve_global_slots(const clr_sample_batch *b, clr_request_slot *sl
  * the RNG; RandomSampler draws every single value. Returns the RNG draws per sample. */
 static int resolve_pixel_slots(const clr_sample_batch *b, const clr_sampler_params *p,
                                clr_request_slot *slots) {
-  int streams =
-      p->type == CLR_SAMPLER_STRATIFIED || p->type == CLR_SAMPLER_ZEROTWO ||
-              p->type == CLR_SAMPLER_MAXMINDIST
-          ? p->dimensions
-          : 0;
+  int streams = p->type == CLR_SAMPLER_STRATIFIED || p->type == CLR_SAMPLER_ZEROTWO ||
+                        p->type == CLR_SAMPLER_MAXMINDIST
+                    ? p->dimensions
+                    : 0;
   int n1 = 0, n2 = 0, a1 = 0, a2 = 0, draws = 0;
   for (int i = 0; i < b->request_count; ++i) {
     clr_request_slot *s = &slots[i];
@@ -347,13 +346,12 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
   int32_t values = 0;
   CLR_CHECK(clr_sample_layout_values(b->requests, b->request_count, &values));
   const clr_bounds2i r = b->pixels, ib = s->index_bounds;
-  if (r.x1 <= r.x0 || r.y1 <= r.y0 || r.x0 < ib.x0 || r.y0 < ib.y0 || r.x1 > ib.x1 ||
-      r.y1 > ib.y1)
+  if (r.x1 <= r.x0 || r.y1 <= r.y0 || r.x0 < ib.x0 || r.y0 < ib.y0 || r.x1 > ib.x1 || r.y1 > ib.y1)
     return clr_fail(s->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
                     "clr_sampler_generate: pixels [%d,%d)x[%d,%d) are empty or outside the "
                     "sample bounds [%d,%d)x[%d,%d)",
-                    (int)r.x0, (int)r.x1, (int)r.y0, (int)r.y1, (int)ib.x0, (int)ib.x1,
-                    (int)ib.y0, (int)ib.y1);
+                    (int)r.x0, (int)r.x1, (int)r.y0, (int)r.y1, (int)ib.x0, (int)ib.x1, (int)ib.y0,
+                    (int)ib.y1);
   *p = s->base;
   int32_t count = b->sample_count ? b->sample_count : p->spp;
   if (b->first_sample < 0 || count < 0 || b->first_sample + (int64_t)count > p->spp)
@@ -384,8 +382,8 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
     offset += sl->dims * (sl->array_size ? sl->array_size : 1);
     if (sl->array_size > max_array) max_array = sl->array_size;
   }
-  if (p->type == CLR_SAMPLER_TYPE_SOBOL &&
-      (int64_t)p->spp * (max_array ? max_array : 1) > clr_sobol_max_samples(p->sobol_log2_resolution))
+  if (p->type == CLR_SAMPLER_TYPE_SOBOL && (int64_t)p->spp * (max_array ? max_array : 1) >
+                                               clr_sobol_max_samples(p->sobol_log2_resolution))
     return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
                     "sobol sampler: arrays of %d elements x %d spp exceed the 52-bit index space",
                     max_array, (int)p->spp);
@@ -476,7 +474,8 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
 clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
                                 const clr_sample_output *out) {
   clr_clear_error();
-  if (!s || !out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate: NULL argument");
+  if (!s || !out)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate: NULL argument");
   if (!s->ctx)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                     "clr_sampler_generate: sampler was created without a context (reference only)");

@@ -71,8 +71,8 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan, &d->index_plan, &d->indices, &d->scratch, &d->slots,
-                            &d->bounded};
+  grow_buffer *buffers[] = {&d->plan,    &d->index_plan, &d->indices,
+                            &d->scratch, &d->slots,      &d->bounded};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
@@ -234,17 +234,18 @@ static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t
 }
 
 /* Build defines of the global samplers (every loop's trip count); whether indices fit 32 bits. */
-static int global_defines(clr_sampler_device *d, const clr_sampler_params *p,
-                          const global_plan *g, char *out, size_t size) {
+static int global_defines(clr_sampler_device *d, const clr_sampler_params *p, const global_plan *g,
+                          char *out, size_t size) {
   if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
     int m = p->sobol_log2_resolution;
     /* Rounded up (fewer program variants): frame bits past the limit are zero. */
     int frame_bits = (bits_for((uint64_t)g->frame_limit) + 3) / 4 * 4;
     if (frame_bits > CLR_SOBOL_INDEX_BITS - 2 * m) frame_bits = CLR_SOBOL_INDEX_BITS - 2 * m;
     int bits = 2 * m + frame_bits;
-    snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d -DCLR_SOBOL_M=%d -DCLR_SOBOL_FRAME_BITS=%d "
-             "-DCLR_SOBOL_BITS=%d%s", (int)p->type, m, frame_bits, bits,
-             bits <= 32 ? " -DCLR_INDEX32" : "");
+    snprintf(out, size,
+             "-DCLR_SAMPLER_TYPE=%d -DCLR_SOBOL_M=%d -DCLR_SOBOL_FRAME_BITS=%d "
+             "-DCLR_SOBOL_BITS=%d%s",
+             (int)p->type, m, frame_bits, bits, bits <= 32 ? " -DCLR_INDEX32" : "");
     return bits <= 32;
   }
   uint64_t limit = (uint64_t)p->halton_stride * (uint64_t)g->frame_limit; /* indices below it */
@@ -289,10 +290,9 @@ static clr_result run_global_portable(clr_sampler_device *d, const clr_sampler_p
   size_t items = batch_items(p);
   cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL, perms = NULL;
   if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
-    CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
-                                        sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
-                                            CLR_SOBOL_MATRIX_SIZE,
-                                        &sobol32));
+    CLR_CHECK(clr_context_shared_buffer(
+        ctx, "sobol_matrices32", clr_sobol_matrices32,
+        sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &sobol32));
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
                                         sizeof clr_vdc_sobol_matrices, &vdc));
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
@@ -303,14 +303,14 @@ static clr_result run_global_portable(clr_sampler_device *d, const clr_sampler_p
     CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
                                         sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
                                         &primes));
-    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_perms", table, sizeof(clr_u16) * nperm,
-                                        &perms));
+    CLR_CHECK(
+        clr_context_shared_buffer(ctx, "halton_perms", table, sizeof(clr_u16) * nperm, &perms));
   }
   memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
   CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
                    sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
-  CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8,
-                 CL_MEM_READ_WRITE, "sample indices"));
+  CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8, CL_MEM_READ_WRITE,
+                 "sample indices"));
   char defines[64];
   snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d" PORTABLE_DEFINE, (int)p->type);
   const char *name = "clr_global_generate_portable";
@@ -345,15 +345,13 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
   cl_mem tables[3] = {NULL, NULL, NULL};
   if (sobol) {
     if (index32)
-      CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_groups", sobol_group_tables(),
-                                          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
-                                              CLR_SOBOL_GROUP_TABLE,
-                                          &tables[0]));
+      CLR_CHECK(clr_context_shared_buffer(
+          ctx, "sobol_groups", sobol_group_tables(),
+          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE, &tables[0]));
     else
-      CLR_CHECK(clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
-                                          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS *
-                                              CLR_SOBOL_MATRIX_SIZE,
-                                          &tables[0]));
+      CLR_CHECK(clr_context_shared_buffer(
+          ctx, "sobol_matrices32", clr_sobol_matrices32,
+          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &tables[0]));
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
                                         sizeof clr_vdc_sobol_matrices, &tables[1]));
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
@@ -364,15 +362,15 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
     CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
                                         sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
                                         &tables[0]));
-    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_perms", perms, sizeof(clr_u16) * nperm,
-                                        &tables[1]));
+    CLR_CHECK(
+        clr_context_shared_buffer(ctx, "halton_perms", perms, sizeof(clr_u16) * nperm, &tables[1]));
   }
   CLR_CHECK(upload(ctx, &d->plan, d->values, sizeof(clr_value_plan) * (size_t)p->values_per_sample,
                    "sample value plan"));
   CLR_CHECK(upload(ctx, &d->index_plan, d->index_slots,
                    sizeof(clr_index_plan) * (size_t)g.slot_count, "sample index plan"));
-  CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8,
-                 CL_MEM_READ_WRITE, "sample indices"));
+  CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8, CL_MEM_READ_WRITE,
+                 "sample indices"));
   const char *name = "clr_global_generate";
   cl_kernel k;
   CLR_CHECK(get_kernel(d, name, defines, &k));
@@ -495,8 +493,9 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
     *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY, value_bytes, NULL, &err);
     if (err != CL_SUCCESS) {
       *temp = NULL;
-      return clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(sample values, %zu bytes) failed: %s (%d)",
-                      value_bytes, clr_cl_error_name(err), (int)err);
+      return clr_fail(ctx, CLR_ERROR_OPENCL,
+                      "clCreateBuffer(sample values, %zu bytes) failed: %s (%d)", value_bytes,
+                      clr_cl_error_name(err), (int)err);
     }
     values = *temp;
   }
@@ -511,7 +510,8 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
   if (out->host_values)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, values, CL_TRUE, 0, value_bytes, out->host_values, 0,
                                           NULL, NULL));
-  if (out->host_indices && (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL))
+  if (out->host_indices &&
+      (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL))
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, d->indices.mem, CL_TRUE, 0, items * sizeof(cl_ulong),
                                           out->host_indices, 0, NULL, NULL));
   return CLR_SUCCESS;

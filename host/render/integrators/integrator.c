@@ -29,7 +29,8 @@ static int light_is_delta(const clr_render_scene *scene, int32_t light) {
 
 static int add_request(clr_integrator *it, int dims, int array_size) {
   int32_t values = dims * (array_size > 0 ? array_size : 1);
-  if (it->request_count >= CLR_MAX_REQUESTS || it->values_per_sample + values > CLR_MAX_VALUES_PER_SAMPLE)
+  if (it->request_count >= CLR_MAX_REQUESTS ||
+      it->values_per_sample + values > CLR_MAX_VALUES_PER_SAMPLE)
     return -1;
   it->requests[it->request_count].dims = dims;
   it->requests[it->request_count].array_size = array_size;
@@ -43,8 +44,12 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
   it->light_cdf = calloc((size_t)it->light_count + 1, sizeof *it->light_cdf);
   if (!it->light_cdf) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
   double total = 0.0;
-  for (int i = 0; i < it->light_count; ++i) total += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
-  if (!(total > 0.0) || !isfinite(total)) { power = 0; total = it->light_count; }
+  for (int i = 0; i < it->light_count; ++i)
+    total += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
+  if (!(total > 0.0) || !isfinite(total)) {
+    power = 0;
+    total = it->light_count;
+  }
   double acc = 0.0;
   for (int i = 0; i < it->light_count; ++i) {
     acc += power ? fmax(0.0, light_info(scene, i).power) : 1.0;
@@ -85,8 +90,9 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
     }
     it->ao_samples = rounded;
     if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2)
-      return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d", p->file,
-                      p->line, it->ao_samples, (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
+      return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d",
+                                p->file, p->line, it->ao_samples,
+                                (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
     add_request(it, 2, it->ao_samples);
     return CLR_SUCCESS;
   }
@@ -97,7 +103,8 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
     if (it->direct_all) {
       it->light_samples = calloc((size_t)it->light_count + 1, sizeof(int));
       it->light_offsets = calloc((size_t)it->light_count + 1, sizeof(int));
-      if (!it->light_samples || !it->light_offsets) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
+      if (!it->light_samples || !it->light_offsets)
+        return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
       for (int j = 0; j < it->light_count; ++j) {
         /* DirectLightingIntegrator::Preprocess: sampler.RoundCount(light->nSamples) */
         it->light_samples[j] = clr_sampler_round_count(sampler, light_info(scene, j).nsamples);
@@ -179,8 +186,17 @@ clr_integrator_scratch *clr_integrator_scratch_create(void) {
 
 void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   if (!s) return;
-  free(s->rays); free(s->rays2); free(s->hits); free(s->occluded); free(s->surfaces);
-  free(s->jobs); free(s->owner); free(s->ao_terms); free(s->beta); free(s->bounces); free(s->active);
+  free(s->rays);
+  free(s->rays2);
+  free(s->hits);
+  free(s->occluded);
+  free(s->surfaces);
+  free(s->jobs);
+  free(s->owner);
+  free(s->ao_terms);
+  free(s->beta);
+  free(s->bounces);
+  free(s->active);
   free(s);
 }
 
@@ -251,16 +267,21 @@ static float fallback(uint64_t key, int dim) {
 /* sin and cos of a in [-pi/4, pi/4]: Taylor polynomials, error below 2e-9 there (a float ulp). */
 static inline void sincos_quarter(float a, float *sn, float *cs) {
   float a2 = a * a;
-  *sn = a * (1.0f + a2 * (-1.0f / 6.0f + a2 * (1.0f / 120.0f + a2 * (-1.0f / 5040.0f + a2 * (1.0f / 362880.0f)))));
-  *cs = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24.0f + a2 * (-1.0f / 720.0f + a2 * (1.0f / 40320.0f +
-                                                                              a2 * (-1.0f / 3628800.0f)))));
+  *sn = a * (1.0f + a2 * (-1.0f / 6.0f +
+                          a2 * (1.0f / 120.0f + a2 * (-1.0f / 5040.0f + a2 * (1.0f / 362880.0f)))));
+  *cs = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24.0f +
+                                   a2 * (-1.0f / 720.0f +
+                                         a2 * (1.0f / 40320.0f + a2 * (-1.0f / 3628800.0f)))));
 }
 
 /* pbrt ConcentricSampleDisk; its angles stay within pi/4 of an axis, so the quarter-range
  * polynomials give cos and sin (pi/2 - a = a swapped). */
 static inline void concentric_disk(const float u[2], float *x, float *y) {
   float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
-  if (ox == 0.0f && oy == 0.0f) { *x = *y = 0.0f; return; }
+  if (ox == 0.0f && oy == 0.0f) {
+    *x = *y = 0.0f;
+    return;
+  }
   float sn, cs;
   if (fabsf(ox) > fabsf(oy)) {
     sincos_quarter((RS_PI / 4.0f) * (oy / ox), &sn, &cs);
@@ -281,7 +302,9 @@ static inline void cosine_hemisphere(const float u[2], float w[3]) {
 
 static void uniform_hemisphere(const float u[2], float w[3]) {
   float z = u[0], r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
-  w[0] = r * cosf(phi); w[1] = r * sinf(phi); w[2] = z;
+  w[0] = r * cosf(phi);
+  w[1] = r * sinf(phi);
+  w[2] = z;
 }
 
 /* Shading frame (ss, ts, ns) of a surface. */
@@ -289,8 +312,15 @@ static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
   float d = rs_dot(s->dpdu, s->ns);
   for (int i = 0; i < 3; ++i) ss[i] = s->dpdu[i] - d * s->ns[i];
   if (!(rs_dot(ss, ss) > 1e-20f)) {
-    if (fabsf(s->ns[0]) > fabsf(s->ns[1])) { ss[0] = -s->ns[2]; ss[1] = 0; ss[2] = s->ns[0]; }
-    else { ss[0] = 0; ss[1] = s->ns[2]; ss[2] = -s->ns[1]; }
+    if (fabsf(s->ns[0]) > fabsf(s->ns[1])) {
+      ss[0] = -s->ns[2];
+      ss[1] = 0;
+      ss[2] = s->ns[0];
+    } else {
+      ss[0] = 0;
+      ss[1] = s->ns[2];
+      ss[2] = -s->ns[1];
+    }
   }
   rs_normalize(ss);
   rs_cross(s->ns, ss, ts);
@@ -437,8 +467,10 @@ static int choose_light(const clr_integrator *it, float u, float *pdf) {
   int lo = 0, hi = it->light_count - 1;
   while (lo < hi) {
     int mid = (lo + hi + 1) / 2;
-    if (it->light_cdf[mid] <= u) lo = mid;
-    else hi = mid - 1;
+    if (it->light_cdf[mid] <= u)
+      lo = mid;
+    else
+      hi = mid - 1;
   }
   while (lo < it->light_count - 1 && it->light_cdf[lo + 1] - it->light_cdf[lo] <= 0.0f) ++lo;
   *pdf = it->light_cdf[lo + 1] - it->light_cdf[lo];
@@ -479,16 +511,24 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
     }
     for (int k = 0; k < n; ++k, ++q) {
       float w[3], wi[3];
-      if (it->ao_cos_sample) cosine_hemisphere(u + 2 * k, w);
-      else uniform_hemisphere(u + 2 * k, w);
+      if (it->ao_cos_sample)
+        cosine_hemisphere(u + 2 * k, w);
+      else
+        uniform_hemisphere(u + 2 * k, w);
       for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
       float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
       float cos_n = rs_dot(wi, sf->ng);
       term[q] = pdf > 0.0f ? cos_n / (pdf * (float)n) : 0.0f;
       const float *o = cos_n < 0.0f ? down : up;
       clr_ray *r = &s->rays[q];
-      r->ox = o[0]; r->oy = o[1]; r->oz = o[2]; r->tnear = 0.0f;
-      r->dx = wi[0]; r->dy = wi[1]; r->dz = wi[2]; r->tfar = INFINITY;
+      r->ox = o[0];
+      r->oy = o[1];
+      r->oz = o[2];
+      r->tnear = 0.0f;
+      r->dx = wi[0];
+      r->dy = wi[1];
+      r->dz = wi[2];
+      r->tfar = INFINITY;
     }
   }
   occlude(sc, s->rays, s->occluded, q, c);
@@ -505,7 +545,8 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
   return CLR_SUCCESS;
 }
 
-static void add_escaped(const clr_render_scene *sc, const clr_ray *r, const float beta[3], float *L) {
+static void add_escaped(const clr_render_scene *sc, const clr_ray *r, const float beta[3],
+                        float *L) {
   float le[3];
   clr_render_scene_escaped(sc, r, le);
   for (int k = 0; k < 3; ++k) L[k] += beta[k] * le[k];
@@ -537,7 +578,9 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
       add_escaped(sc, &s->rays2[i], one, L + 3 * i);
       continue;
     }
-    wo[3 * i] = -s->rays2[i].dx; wo[3 * i + 1] = -s->rays2[i].dy; wo[3 * i + 2] = -s->rays2[i].dz;
+    wo[3 * i] = -s->rays2[i].dx;
+    wo[3 * i + 1] = -s->rays2[i].dy;
+    wo[3 * i + 2] = -s->rays2[i].dz;
     for (int k = 0; k < 3; ++k) L[3 * i + k] += sf->le[k];
     if (!it->light_count) continue;
     if (it->direct_all) {
@@ -550,7 +593,8 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
           jb->light = j;
           for (int a = 0; a < 2; ++a) {
             jb->u_light[a] = off >= 0 ? v[off + 2 * k + a] : fallback(keys[i], 100 + dim++);
-            jb->u_scatter[a] = off >= 0 ? v[off + 2 * n + 2 * k + a] : fallback(keys[i], 100 + dim++);
+            jb->u_scatter[a] =
+                off >= 0 ? v[off + 2 * n + 2 * k + a] : fallback(keys[i], 100 + dim++);
           }
           jb->scale[0] = jb->scale[1] = jb->scale[2] = 1.0f / (float)n;
         }
@@ -635,7 +679,9 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       const float *v = values + (size_t)i * (size_t)it->values_per_sample;
       float *w = wos + 3 * i;
-      w[0] = -ray->dx; w[1] = -ray->dy; w[2] = -ray->dz;
+      w[0] = -ray->dx;
+      w[1] = -ray->dy;
+      w[2] = -ray->dz;
       if (it->light_count) {
         float lpdf;
         int light = choose_light(it, path_value(it, v, keys[i], bounces, 0), &lpdf);
@@ -692,9 +738,15 @@ clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *s
   memcpy(s->rays2, rays, (size_t)count * sizeof *rays);
   clr_result r;
   switch (it->type) {
-    case CLR_INTEGRATOR_AO: r = li_ao(it, sc, s, values, count, L, c); break;
-    case CLR_INTEGRATOR_DIRECT: r = li_direct(it, sc, s, values, keys, count, L, c); break;
-    default: r = li_path(it, sc, s, values, keys, count, L, c); break;
+    case CLR_INTEGRATOR_AO:
+      r = li_ao(it, sc, s, values, count, L, c);
+      break;
+    case CLR_INTEGRATOR_DIRECT:
+      r = li_direct(it, sc, s, values, keys, count, L, c);
+      break;
+    default:
+      r = li_path(it, sc, s, values, keys, count, L, c);
+      break;
   }
   return r != CLR_SUCCESS ? r : c->error;
 }

@@ -16,11 +16,11 @@ typedef enum { CLR_INTEGRATOR_AO, CLR_INTEGRATOR_DIRECT, CLR_INTEGRATOR_PATH } c
 typedef struct clr_integrator {
   clr_integrator_type type;
   int ao_samples, ao_cos_sample;
-  int direct_all;    /* directlighting strategy "all" (1) or "one" (0) */
+  int direct_all; /* directlighting strategy "all" (1) or "one" (0) */
   int max_depth;
   float rr_threshold;
   int light_count;
-  float *light_cdf;  /* light_count + 1 entries: light selection for path (uniform or power) */
+  float *light_cdf;   /* light_count + 1 entries: light selection for path (uniform or power) */
   int *light_samples; /* directlighting "all": pbrt nsamples per light */
   int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
   int value_offset;   /* first integrator value (after the camera's 5) */
