@@ -99,7 +99,7 @@ static void print_check(const char *bench, clr_context ctx, const char *what, in
 void bench_check(const char *bench, clr_context ctx) {
   char what[96];
   if (strcmp(bench, "samples") == 0) {
-    for (int t = 0; t < 4; ++t)
+    for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t)
       for (int seeding = 0; seeding < 2; ++seeding) {
         snprintf(what, sizeof what, "%s, %s seeding", clr_sampler_type_name((clr_sampler_type)t),
                  seeding ? "pixel" : "pbrt-v3");

@@ -1,14 +1,16 @@
-/* Drivers of pbrt-v3's pixel samplers (stratified, random): RNG seeding per render tile or per
+/* Drivers of pbrt-v3's pixel samplers (stratified, random, (0,2)-sequence, maxmindist): RNG seeding per render tile or per
  * pixel, and the sample values of a batch of pixels.
  *
  * CONTRACT between the host (fills clr_sampler_params p and clr_request_slot slots[]) and these
  * functions:
  *
  * Params:
- *   type        CLR_SAMPLER_TYPE_STRATIFIED or CLR_SAMPLER_TYPE_RANDOM.
- *   spp         samples per pixel; stratified: x_samples * y_samples.
+ *   type        CLR_SAMPLER_TYPE_STRATIFIED, CLR_SAMPLER_TYPE_RANDOM, CLR_SAMPLER_TYPE_ZEROTWO or
+ *               CLR_SAMPLER_TYPE_MAXMINDIST (maxmin_matrix: its generator matrix).
+ *   spp         samples per pixel; stratified: x_samples * y_samples; zerotwo, maxmindist: a
+ *               power of two.
  *   x_samples, y_samples, jitter, dimensions: stratified only (pbrt's xsamples, ysamples, jitter,
- *               dimensions); dimensions = number of 1D streams = number of 2D streams.
+ *               dimensions); dimensions = number of 1D streams = number of 2D streams (also zerotwo, maxmindist).
  *   inv_x_samples, inv_y_samples, inv_spp: 1.0f / n rounded to float on the host.
  *   seeding     CLR_SEEDING_TYPE_PBRT_V3 (clr_pixel_sampler_tile) or CLR_SEEDING_TYPE_PIXEL
  *               (clr_pixel_sampler_pixel). seed: used only by the per-pixel seeding; in pbrt-v3
@@ -22,14 +24,15 @@
  *   fallback_draws_per_sample: RNG draws pbrt-v3 makes while rendering one sample, i.e. the sum
  *               of dims over the single-value slots whose source is -1.
  *   scratch_floats: floats of scratch per work-item, at least clr_pixel_sampler_scratch_need():
- *               stratified 2 * max(spp, largest array size), random 0.
+ *               stratified 2 * max(spp, largest array size), zerotwo and maxmindist 2 * spp * max(1, largest
+ *               array size), random 0.
  *
  * Slots (in any order), one per request of the sample vector:
  *   dims 1 or 2; first_value: offset of its first float in a sample vector.
  *   array_size 0 (a single value, pbrt's Get1D/Get2D):
  *     source = k >= 0: the value of the k-th 1D stream (dims 1) or the k-th 2D stream (dims 2),
- *       k < dimensions (stratified only: PixelSampler's current1DDimension/current2DDimension);
- *     source = -1: an RNG draw (stratified past `dimensions`; random: always). rng_offset is the
+ *       k < dimensions (stratified, zerotwo, maxmindist: PixelSampler's current1DDimension/current2DDimension);
+ *     source = -1: an RNG draw (the others past `dimensions`; random: always). rng_offset is the
  *       index of its draw among the fallback_draws_per_sample draws of one sample, in pbrt-v3's
  *       call order; a 2D value takes draws rng_offset (x) and rng_offset + 1 (y). pbrt-v3 writes
  *       Point2f(rng.UniformFloat(), rng.UniformFloat()), whose argument order C++ leaves
@@ -55,12 +58,16 @@
 #include "random_funcs.h"
 #include "sampler_types.h"
 #include "stratified_funcs.h"
+#include "zerotwo_funcs.h"
+#include "maxmin_funcs.h"
 
 /* Scratch floats one work-item needs (see the contract). */
 CLR_INLINE clr_i32 clr_pixel_sampler_scratch_need(const clr_sampler_params *p,
                                                   CLR_GLOBAL const clr_request_slot *slots) {
-  if (p->type != CLR_SAMPLER_TYPE_STRATIFIED) return 0;
   clr_i32 n = clr_slots_max_array_size(p, slots);
+  if (p->type == CLR_SAMPLER_TYPE_ZEROTWO || p->type == CLR_SAMPLER_TYPE_MAXMINDIST)
+    return 2 * p->spp * (n > 1 ? n : 1);
+  if (p->type != CLR_SAMPLER_TYPE_STRATIFIED) return 0;
   return 2 * (p->spp > n ? p->spp : n);
 }
 
@@ -71,6 +78,10 @@ CLR_INLINE void clr_pixel_sampler_start_pixel(const clr_sampler_params *p,
                                               CLR_GLOBAL float *scratch) {
   if (p->type == CLR_SAMPLER_TYPE_STRATIFIED)
     clr_stratified_start_pixel(p, slots, rng, out_pixel, scratch);
+  else if (p->type == CLR_SAMPLER_TYPE_ZEROTWO)
+    clr_zerotwo_start_pixel(p, slots, rng, out_pixel, scratch);
+  else if (p->type == CLR_SAMPLER_TYPE_MAXMINDIST)
+    clr_maxmin_start_pixel(p, slots, rng, out_pixel, scratch);
   else
     clr_random_start_pixel(p, slots, rng, out_pixel, scratch);
 }

@@ -5,7 +5,9 @@
  * Two shapes (include/clrender/kernels.h): by default the SIMD kernels (8 items or pixels per
  * work-item in vector types, for PoCL's CPU devices); with -DCLR_KERNELS_PORTABLE the portable
  * ones (one work-item per sample vector or pixel, the scalar functions the host reference runs,
- * no vector types). The pbrt-v3-seeded pixel samplers replay a tile sequentially in both. */
+ * no vector types). The pbrt-v3-seeded pixel samplers replay a tile sequentially in both. The
+ * (0,2)-sequence and maxmindist samplers have only the portable per-pixel kernel (the host
+ * selects it). */
 #include "sampler_types.h"
 #include "global_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
@@ -114,7 +116,9 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
 #endif
 
 #if (CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM ||      \
-     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED) && \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED ||  \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO ||     \
+     CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST) && \
     defined(CLR_KERNELS_PORTABLE)
 /* CLR_SEEDING_TYPE_PIXEL: one work-item per pixel of the batch, its own RNG stream and
  * p.scratch_floats of scratch. */
@@ -163,7 +167,10 @@ __kernel void clr_pixel_generate(clr_sampler_params p,
 
 #endif
 
-#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
+#if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM ||     \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED || \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO ||    \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST
 /* CLR_SEEDING_TYPE_PBRT_V3: one work-item per pbrt-v3 16x16 tile touching the batch. */
 __kernel void clr_generate_tiles(clr_sampler_params p,
                                  __global const clr_request_slot *restrict slots,

@@ -9,6 +9,8 @@
 #define CLR_SAMPLER_TYPE_STRATIFIED 1
 #define CLR_SAMPLER_TYPE_HALTON 2
 #define CLR_SAMPLER_TYPE_SOBOL 3
+#define CLR_SAMPLER_TYPE_ZEROTWO 4
+#define CLR_SAMPLER_TYPE_MAXMINDIST 5
 
 #define CLR_SEEDING_TYPE_PBRT_V3 0
 #define CLR_SEEDING_TYPE_PIXEL 1
@@ -50,7 +52,8 @@ typedef struct clr_sampler_params {
   /* pixel samplers: RNG draws each rendered sample makes past the precomputed streams */
   clr_i32 fallback_draws_per_sample;
   clr_i32 scratch_floats; /* per work-item scratch the pixel samplers need */
-  clr_i32 pad[2];
+  clr_i32 maxmin_matrix;  /* maxmindist: index of its generator matrix (pbrt-v3's Cindex) */
+  clr_i32 pad[1];
 } clr_sampler_params;
 
 /* One request of the layout, resolved for the sampler family. */

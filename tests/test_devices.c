@@ -123,7 +123,7 @@ static clr_sampler make_sampler(clr_sampler_type type, clr_seeding seeding, int 
 
 static void check_samplers(void) {
   static const char *seedings[] = {"pbrt-v3", "pixel"};
-  for (int t = 0; t < 4; ++t)
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t)
     for (int seeding = 0; seeding < 2; ++seeding) {
       clr_sampler s = make_sampler((clr_sampler_type)t, (clr_seeding)seeding, 20, 4);
       if (!s) continue;

@@ -162,8 +162,9 @@ static size_t run(const char *args, char *buf, size_t size) {
 static void test_cli_samples_same_output(void **state) {
   (void)state;
   static char a[1 << 18], b[1 << 18], c[1 << 18];
-  static const char *samplers[] = {"random", "stratified", "halton", "sobol"};
-  for (int s = 0; s < 4; ++s) {
+  static const char *samplers[] = {"random", "stratified", "halton",
+                                   "sobol",  "02sequence", "maxmindist"};
+  for (int s = 0; s < 6; ++s) {
     char args[256];
     snprintf(args, sizeof args,
              "samples --sampler %s --spp 4 --res 16x16 --pixels 1,2,7,5 --requests 2,1,2,2:3 "

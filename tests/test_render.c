@@ -16,6 +16,8 @@
 #include "clrender.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "integrator.h"
+#include "render_scene.h"
 
 #define PI_F 3.14159265358979323846
 
@@ -52,6 +54,65 @@ static void test_ao_open_plane(void **state) {
   assert_int_equal(im.width, 16);
   for (int i = 0; i < im.width * im.height * 3; ++i) assert_float_equal(im.rgb[i], PI_F, 1e-4);
   free(im.rgb);
+}
+
+/* Scene files with pbrt-v3's (0,2)-sequence sampler under both of its names and maxmindist
+ * (pixelsamples 3 is rounded up to 4 with a warning, as pbrt-v3 does): the open plane is still pi
+ * everywhere. */
+static void test_ao_open_plane_02sequence(void **state) {
+  (void)state;
+  static const char *names[] = {"02sequence", "lowdiscrepancy", "maxmindist"};
+  for (int n = 0; n < 3; ++n) {
+    char scene[1024];
+    snprintf(scene, sizeof scene,
+             "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+             "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [16]\n"
+             "Sampler \"%s\" \"integer pixelsamples\" [3] \"integer dimensions\" [2]\n"
+             "Integrator \"ambientocclusion\" \"integer nsamples\" [%d]\n"
+             "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+             "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+             names[n], n == 1 ? 3 : 8); /* 3: rounded up to 4 as pbrt-v3's RoundCount */
+    clr_render_image im = render_text(scene, NULL);
+    assert_int_equal(im.width, 16);
+    for (int i = 0; i < im.width * im.height * 3; ++i) assert_float_equal(im.rgb[i], PI_F, 1e-4);
+    free(im.rgb);
+  }
+}
+
+static void count_warning(void *user, const char *message) {
+  if (strstr(message, "Taking 4 samples, not 3 as specified")) ++*(int *)user;
+}
+
+/* pbrt-v3's integrators round their array sizes with the sampler's RoundCount. */
+static void test_integrator_round_count(void **state) {
+  (void)state;
+  const char *text =
+      "Film \"image\" \"integer xresolution\" [4] \"integer yresolution\" [4]\n"
+      "Integrator \"ambientocclusion\" \"integer nsamples\" [3]\n"
+      "WorldBegin\nShape \"sphere\"\nWorldEnd\n";
+  clr_scene_desc *desc = NULL;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
+  clr_render_scene *scene = NULL;
+  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  static const struct {
+    clr_sampler_type type;
+    int want;
+  } cases[] = {{CLR_SAMPLER_HALTON, 3}, {CLR_SAMPLER_ZEROTWO, 4}, {CLR_SAMPLER_MAXMINDIST, 4}};
+  for (int c = 0; c < 3; ++c) {
+    clr_integrator it;
+    int warnings = 0;
+    assert_int_equal(
+        clr_integrator_create_for(desc, scene, cases[c].type, count_warning, &warnings, &it),
+        CLR_SUCCESS);
+    assert_int_equal(it.ao_samples, cases[c].want);
+    assert_int_equal(it.requests[it.request_count - 1].array_size, cases[c].want);
+    assert_int_equal(warnings, cases[c].want == 4);
+    clr_integrator_free(&it);
+  }
+  clr_render_scene_free(scene);
+  clr_scene_desc_free(desc);
 }
 
 /* Lambertian plane under a point light, pixel-centre samples and a box filter: every pixel is
@@ -316,6 +377,8 @@ static void test_cli_bad_files(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_ao_open_plane),
+      cmocka_unit_test(test_ao_open_plane_02sequence),
+      cmocka_unit_test(test_integrator_round_count),
       cmocka_unit_test(test_point_light_plane),
       cmocka_unit_test(test_furnace),
       cmocka_unit_test(test_infinite_light_sphere),

@@ -105,7 +105,7 @@ static void assert_bit_identical(clr_sampler_type type, clr_seeding seeding,
 
 static void test_device_matches_reference(void **state) {
   (void)state;
-  for (int t = 0; t < 4; ++t) {
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PIXEL, camera10, 6);
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PBRT_V3, camera10, 6);
   }
@@ -114,7 +114,7 @@ static void test_device_matches_reference(void **state) {
 static void test_device_matches_reference_with_arrays(void **state) {
   (void)state;
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
-  for (int t = 0; t < 4; ++t) {
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PIXEL, with_arrays, n);
     assert_bit_identical((clr_sampler_type)t, CLR_SEEDING_PBRT_V3, with_arrays, n);
   }
@@ -125,7 +125,7 @@ static void test_device_matches_reference_with_arrays(void **state) {
 static void test_order_independence(void **state) {
   (void)state;
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
-  for (int t = 0; t < 4; ++t) {
+  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
     for (int seeding = 0; seeding < 2; ++seeding) {
       clr_sampler s = make_sampler((clr_sampler_type)t, (clr_seeding)seeding, 40);
       clr_bounds2i all = clr_sampler_sample_bounds(s);

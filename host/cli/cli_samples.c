@@ -14,10 +14,11 @@ static void samples_usage(FILE *f) {
       "usage: clrender samples --sampler NAME [options]\n"
       "Prints one CSV row per sample: px,py,sample,global_index,v0,v1,... (film offset first;\n"
       "global_index is empty for samplers without one).\n"
-      "  --sampler NAME        random | stratified | halton | sobol (required)\n"
+      "  --sampler NAME        random | stratified | halton | sobol | 02sequence (alias\n"
+      "                        lowdiscrepancy) | maxmindist (required)\n"
       "  --spp N               samples per pixel (stratified: factored into xsamples*ysamples)\n"
       "  --xsamples N --ysamples N  stratified strata (default 4 x 4)\n"
-      "  --dimensions N        stratified 1D/2D streams (default 4)\n"
+      "  --dimensions N        stratified, 02sequence, maxmindist 1D/2D streams (default 4)\n"
       "  --jitter true|false   stratified jitter (default true)\n"
       "  --samplepixelcenter true|false  halton (default false)\n"
       "  --res WxH             film resolution (default 64x64)\n"
@@ -236,6 +237,25 @@ int cli_samples(int argc, char **argv) {
   if (o.spp_set) {
     o.desc.pixel_samples = o.spp;
     if (type == CLR_SAMPLER_STRATIFIED) factor_spp(o.spp, &o.desc.x_samples, &o.desc.y_samples);
+  }
+  if (type == CLR_SAMPLER_ZEROTWO && o.desc.pixel_samples > 0 &&
+      (o.desc.pixel_samples & (o.desc.pixel_samples - 1)) != 0) {
+    int32_t up = 1;
+    while (up < o.desc.pixel_samples && up < (1 << 30)) up <<= 1;
+    fprintf(stderr,
+            "clrender samples: warning: Pixel samples being rounded up to power of 2 "
+            "(from %d to %d).\n",
+            (int)o.desc.pixel_samples, (int)up);
+  }
+  if (type == CLR_SAMPLER_MAXMINDIST && o.desc.pixel_samples > 0 &&
+      o.desc.pixel_samples < (1 << 17) &&
+      (o.desc.pixel_samples & (o.desc.pixel_samples - 1)) != 0) {
+    int32_t up = 1;
+    while (up < o.desc.pixel_samples) up <<= 1;
+    fprintf(stderr,
+            "clrender samples: warning: Non power-of-two sample count rounded up to %d "
+            "for MaxMinDistSampler.\n",
+            (int)up);
   }
   if (o.plot && (o.proj[0] >= CLR_MAX_VALUES_PER_SAMPLE || o.proj[1] >= CLR_MAX_VALUES_PER_SAMPLE))
     return bad_value("--proj", "index too large"), 2;

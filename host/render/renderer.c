@@ -56,8 +56,7 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
   const clr_param_list *p = &d->sampler.params;
   const char *name = o->sampler ? o->sampler : (d->sampler.type ? d->sampler.type : "halton");
   clr_sampler_type type;
-  if (strcmp(name, "lowdiscrepancy") == 0 || strcmp(name, "02sequence") == 0 ||
-      strcmp(name, "zerotwosequence") == 0 || strcmp(name, "maxmindist") == 0) {
+  if (strcmp(name, "zerotwosequence") == 0) {
     if (warn) {
       char m[256];
       snprintf(m, sizeof m, "sampler \"%s\" not supported: using \"sobol\"", name);
@@ -84,6 +83,24 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     if (x < 1) x = 1;
     sd->x_samples = x;
     sd->y_samples = (o->spp + x - 1) / x;
+  }
+  if (type == CLR_SAMPLER_ZEROTWO && sd->pixel_samples > 0 &&
+      (sd->pixel_samples & (sd->pixel_samples - 1)) != 0 && warn) {
+    int32_t up = 1;
+    while (up < sd->pixel_samples && up < (1 << 30)) up <<= 1;
+    char m[128]; /* pbrt-v3's ZeroTwoSequenceSampler warning */
+    snprintf(m, sizeof m, "Pixel samples being rounded up to power of 2 (from %d to %d).",
+             (int)sd->pixel_samples, (int)up);
+    warn(wu, m);
+  }
+  if (type == CLR_SAMPLER_MAXMINDIST && sd->pixel_samples > 0 && sd->pixel_samples < (1 << 17) &&
+      (sd->pixel_samples & (sd->pixel_samples - 1)) != 0 && warn) {
+    int32_t up = 1;
+    while (up < sd->pixel_samples) up <<= 1;
+    char m[128]; /* pbrt-v3's MaxMinDistSampler warning */
+    snprintf(m, sizeof m, "Non power-of-two sample count rounded up to %d for MaxMinDistSampler.",
+             (int)up);
+    warn(wu, m);
   }
   sd->seeding = o->seeding;
   sd->seed = o->seed;
@@ -127,6 +144,7 @@ static void warn_spp_rounding(const clr_scene_desc *d, const clr_render_options 
   int32_t asked = o->spp > 0 ? o->spp : sd->pixel_samples;
   if (!warn) return;
   if (sd->type == CLR_SAMPLER_STRATIFIED ? (o->spp <= 0 || spp == o->spp) : spp == asked) return;
+  if (sd->type == CLR_SAMPLER_ZEROTWO || sd->type == CLR_SAMPLER_MAXMINDIST) return; /* warned */
   char where[600], m[800];
   const clr_param_list *p = &d->sampler.params;
   if (o->spp > 0)
@@ -683,7 +701,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   clr_render_scene *scene = NULL;
   CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
   clr_integrator integ;
-  r = clr_integrator_create(d, scene, warn, wu, &integ);
+  r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
   if (r != CLR_SUCCESS) {
     clr_render_scene_free(scene);
     return r;

@@ -26,7 +26,12 @@ typedef enum clr_sampler_type {
   CLR_SAMPLER_RANDOM = 0,
   CLR_SAMPLER_STRATIFIED = 1,
   CLR_SAMPLER_HALTON = 2,
-  CLR_SAMPLER_SOBOL = 3
+  CLR_SAMPLER_SOBOL = 3,
+  /* pbrt-v3's ZeroTwoSequenceSampler ("02sequence", alias "lowdiscrepancy"). Values never change;
+   * new samplers are appended. */
+  CLR_SAMPLER_ZEROTWO = 4,
+  /* pbrt-v3's MaxMinDistSampler ("maxmindist"): pixelsamples below 2^17. */
+  CLR_SAMPLER_MAXMINDIST = 5
 } clr_sampler_type;
 
 typedef enum clr_seeding {
@@ -52,10 +57,11 @@ typedef struct clr_bounds2i {
 typedef struct clr_sampler_desc {
   size_t struct_size; /* sizeof(clr_sampler_desc), set by clr_sampler_desc_init */
   clr_sampler_type type;
-  int32_t pixel_samples;        /* random 4, halton 16, sobol 16 (rounded up to a power of two) */
+  int32_t pixel_samples;        /* random 4, halton 16, sobol, 02sequence and maxmindist 16
+                                  (rounded up to a power of two) */
   int32_t x_samples, y_samples; /* stratified 4 x 4 */
   int32_t jitter;               /* stratified, default 1 */
-  int32_t dimensions;           /* stratified, default 4 */
+  int32_t dimensions;           /* stratified, 02sequence, maxmindist, default 4 */
   int32_t sample_pixel_center;  /* halton, default 0 */
   clr_seeding seeding;          /* default CLR_SEEDING_PIXEL; CLR_SEEDING_PBRT_V3 matches pbrt-v3 */
   uint32_t seed;                /* mixed into CLR_SEEDING_PIXEL streams; default 0 */
@@ -64,9 +70,14 @@ typedef struct clr_sampler_desc {
 
 /* Defaults of pbrt-v3's scene format for `type`. */
 CLR_API void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type);
-/* "random", "stratified", "halton", "sobol" -> type; CLR_ERROR_INVALID_SAMPLER otherwise. */
+/* "random", "stratified", "halton", "sobol", "02sequence" (alias "lowdiscrepancy"),
+ * "maxmindist" -> type;
+ * CLR_ERROR_INVALID_SAMPLER otherwise. */
 CLR_API clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type);
 CLR_API const char *clr_sampler_type_name(clr_sampler_type type);
+/* pbrt-v3's Sampler::RoundCount: the array size an integrator should request for `count`
+ * values (02sequence, maxmindist: rounded up to a power of two; the others: count). */
+CLR_API int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count);
 
 /* One request of the layout. The camera's requests come first: 2D film offset, 1D time, 2D lens;
  * then the integrator's 1D/2D requests and arrays in the order it makes them. */
@@ -85,7 +96,8 @@ CLR_API clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *d
 CLR_API void clr_sampler_retain(clr_sampler sampler);
 CLR_API void clr_sampler_release(clr_sampler sampler);
 
-/* Effective samples per pixel (after rounding: stratified x*y, sobol power of two). */
+/* Effective samples per pixel (after rounding: stratified x*y, sobol, 02sequence and maxmindist
+ * power of two). */
 CLR_API int32_t clr_sampler_spp(clr_sampler sampler);
 CLR_API clr_bounds2i clr_sampler_sample_bounds(clr_sampler sampler);
 CLR_API clr_bounds2i clr_sampler_pixel_bounds(clr_sampler sampler);

@@ -17,6 +17,9 @@
 
 /* Upper bound on one batch: values are addressed with 32-bit item indices on the device. */
 #define CLR_MAX_BATCH_VALUES ((size_t)1 << 31)
+/* 02sequence, maxmindist: most points (spp x array size) one pixel's scratch holds (2 floats
+ * each). */
+#define CLR_ZEROTWO_MAX_POINTS (1 << 22)
 
 struct clr_sampler_t {
   atomic_int refcount;
@@ -27,22 +30,39 @@ struct clr_sampler_t {
   clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
 };
 
-static const char *const sampler_names[] = {"random", "stratified", "halton", "sobol"};
+static const char *const sampler_names[] = {"random", "stratified", "halton",
+                                            "sobol",  "02sequence", "maxmindist"};
+#define SAMPLER_NAME_COUNT ((int)(sizeof sampler_names / sizeof sampler_names[0]))
 
 const char *clr_sampler_type_name(clr_sampler_type type) {
-  return (unsigned)type < 4 ? sampler_names[type] : "unknown";
+  return (unsigned)type < (unsigned)SAMPLER_NAME_COUNT ? sampler_names[type] : "unknown";
+}
+
+static int32_t round_up_pow2(int32_t v);
+
+int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count) {
+  if ((type == CLR_SAMPLER_ZEROTWO || type == CLR_SAMPLER_MAXMINDIST) && count > 0 &&
+      count <= (1 << 30))
+    return round_up_pow2(count);
+  return count;
 }
 
 clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type) {
   if (!name || !type)
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_type_from_name: NULL argument");
-  for (int i = 0; i < 4; ++i)
+  for (int i = 0; i < SAMPLER_NAME_COUNT; ++i)
     if (strcmp(name, sampler_names[i]) == 0) {
       *type = (clr_sampler_type)i;
       return CLR_SUCCESS;
     }
+  if (strcmp(name, "lowdiscrepancy") == 0) { /* pbrt-v3's alias */
+    *type = CLR_SAMPLER_ZEROTWO;
+    return CLR_SUCCESS;
+  }
   return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER,
-                  "unknown sampler \"%s\" (expected random, stratified, halton or sobol)", name);
+                  "unknown sampler \"%s\" (expected random, stratified, halton, sobol, "
+                  "02sequence or maxmindist)",
+                  name);
 }
 
 void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type) {
@@ -80,7 +100,7 @@ static int32_t round_up_pow2(int32_t v) {
 }
 
 static clr_result validate_desc(const clr_sampler_desc *d) {
-  if ((unsigned)d->type > CLR_SAMPLER_SOBOL)
+  if ((unsigned)d->type > CLR_SAMPLER_MAXMINDIST)
     return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER, "clr_sampler_create: unknown sampler type %d",
                     (int)d->type);
   if (d->type == CLR_SAMPLER_STRATIFIED) {
@@ -91,6 +111,17 @@ static clr_result validate_desc(const clr_sampler_desc *d) {
     if (d->dimensions <= 0 || d->dimensions > 1024)
       return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS,
                       "stratified sampler: dimensions %d must be in 1..1024", (int)d->dimensions);
+  } else if ((d->type == CLR_SAMPLER_ZEROTWO || d->type == CLR_SAMPLER_MAXMINDIST) &&
+             (d->dimensions <= 0 || d->dimensions > 1024)) {
+    return clr_fail(NULL, CLR_ERROR_INVALID_DIMENSIONS,
+                    "%s sampler: dimensions %d must be in 1..1024", clr_sampler_type_name(d->type),
+                    (int)d->dimensions);
+  } else if (d->type == CLR_SAMPLER_MAXMINDIST &&
+             (d->pixel_samples <= 0 || d->pixel_samples >= (1 << CLR_MAXMIN_MATRICES))) {
+    /* pbrt-v3 has matrices for up to 2^16 samples; from 2^17 on its CHECK aborts. */
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                    "maxmindist sampler: pixelsamples %d must be in 1..%d", (int)d->pixel_samples,
+                    (1 << CLR_MAXMIN_MATRICES) - 1);
   } else if (d->pixel_samples <= 0 || d->pixel_samples > (1 << 20)) {
     return clr_fail(NULL, CLR_ERROR_INVALID_SPP, "%s sampler: pixelsamples %d must be in 1..%d",
                     clr_sampler_type_name(d->type), (int)d->pixel_samples, 1 << 20);
@@ -107,8 +138,10 @@ static void fill_base_params(clr_sampler s) {
   memset(p, 0, sizeof *p);
   p->type = (clr_i32)d->type;
   p->spp = d->type == CLR_SAMPLER_STRATIFIED ? d->x_samples * d->y_samples
-           : d->type == CLR_SAMPLER_SOBOL    ? round_up_pow2(d->pixel_samples)
-                                             : d->pixel_samples;
+           : d->type == CLR_SAMPLER_SOBOL || d->type == CLR_SAMPLER_ZEROTWO ||
+                   d->type == CLR_SAMPLER_MAXMINDIST
+               ? round_up_pow2(d->pixel_samples)
+               : d->pixel_samples;
   p->x_samples = d->x_samples;
   p->y_samples = d->y_samples;
   p->jitter = d->jitter ? 1 : 0;
@@ -129,6 +162,10 @@ static void fill_base_params(clr_sampler s) {
   p->pixel_y1 = s->pixel_bounds.y1;
   p->tiles_x =
       (s->index_bounds.x1 - s->index_bounds.x0 + CLR_PBRT_TILE_SIZE - 1) / CLR_PBRT_TILE_SIZE;
+  if (d->type == CLR_SAMPLER_MAXMINDIST) { /* pbrt-v3: Log2Int of pixelsamples as given */
+    p->maxmin_matrix = 0;
+    while ((d->pixel_samples >> (p->maxmin_matrix + 1)) > 0) ++p->maxmin_matrix;
+  }
   if (d->type == CLR_SAMPLER_HALTON) clr_halton_setup(p);
   if (d->type == CLR_SAMPLER_SOBOL) clr_sobol_setup(p);
 }
@@ -276,7 +313,10 @@ static void resolve_global_slots(const clr_sample_batch *b, clr_request_slot *sl
  * the RNG; RandomSampler draws every single value. Returns the RNG draws per sample. */
 static int resolve_pixel_slots(const clr_sample_batch *b, const clr_sampler_params *p,
                                clr_request_slot *slots) {
-  int streams = p->type == CLR_SAMPLER_STRATIFIED ? p->dimensions : 0;
+  int streams = p->type == CLR_SAMPLER_STRATIFIED || p->type == CLR_SAMPLER_ZEROTWO ||
+                        p->type == CLR_SAMPLER_MAXMINDIST
+                    ? p->dimensions
+                    : 0;
   int n1 = 0, n2 = 0, a1 = 0, a2 = 0, draws = 0;
   for (int i = 0; i < b->request_count; ++i) {
     clr_request_slot *s = &slots[i];
@@ -347,6 +387,14 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
     return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
                     "sobol sampler: arrays of %d elements x %d spp exceed the 52-bit index space",
                     max_array, (int)p->spp);
+  /* 02sequence, maxmindist: a pixel's VanDerCorput/Sobol2D of an array holds size * spp points. */
+  if ((p->type == CLR_SAMPLER_TYPE_ZEROTWO || p->type == CLR_SAMPLER_TYPE_MAXMINDIST) &&
+      (int64_t)p->spp * (max_array ? max_array : 1) > CLR_ZEROTWO_MAX_POINTS)
+    return clr_fail(s->ctx, CLR_ERROR_REQUEST_TOO_LARGE,
+                    "%s sampler: arrays of %d elements x %d spp exceed the %d points one "
+                    "pixel may hold",
+                    clr_sampler_type_name(s->desc.type), max_array, (int)p->spp,
+                    CLR_ZEROTWO_MAX_POINTS);
   if (clr_sampler_has_global_index(s)) {
     resolve_global_slots(b, slots);
   } else {

@@ -62,6 +62,12 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
 
 clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_scene *scene,
                                  clr_warn_fn warn, void *wu, clr_integrator *it) {
+  return clr_integrator_create_for(desc, scene, CLR_SAMPLER_RANDOM, warn, wu, it);
+}
+
+clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_render_scene *scene,
+                                     clr_sampler_type sampler, clr_warn_fn warn, void *wu,
+                                     clr_integrator *it) {
   memset(it, 0, sizeof *it);
   const clr_param_list *p = &desc->integrator.params;
   const char *type = desc->integrator.type ? desc->integrator.type : "path";
@@ -77,6 +83,13 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
     it->ao_samples = clr_params_find_int(p, "nsamples", 64);
     it->ao_cos_sample = clr_params_find_bool(p, "cossample", true);
     if (it->ao_samples < 1) it->ao_samples = 1;
+    int rounded = clr_sampler_round_count(sampler, it->ao_samples); /* pbrt-v3's AOIntegrator */
+    if (rounded != it->ao_samples && warn) {
+      char m[128];
+      snprintf(m, sizeof m, "Taking %d samples, not %d as specified", rounded, it->ao_samples);
+      warn(wu, m);
+    }
+    it->ao_samples = rounded;
     if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2)
       return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d",
                                 p->file, p->line, it->ao_samples,
@@ -94,7 +107,8 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
       if (!it->light_samples || !it->light_offsets)
         return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
       for (int j = 0; j < it->light_count; ++j) {
-        it->light_samples[j] = light_info(scene, j).nsamples;
+        /* DirectLightingIntegrator::Preprocess: sampler.RoundCount(light->nSamples) */
+        it->light_samples[j] = clr_sampler_round_count(sampler, light_info(scene, j).nsamples);
         /* depth-0 arrays only: matte surfaces never recurse */
         it->light_offsets[j] = add_request(it, 2, it->light_samples[j]);
         if (it->light_offsets[j] >= 0 && add_request(it, 2, it->light_samples[j]) < 0) {

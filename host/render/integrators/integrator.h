@@ -33,6 +33,12 @@ typedef struct clr_integrator {
 /* Reads desc->integrator; unknown types warn and render as "path". */
 clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_scene *scene,
                                  clr_warn_fn warn, void *warn_user, clr_integrator *out);
+/* The same for a given sampler: array sizes (ambientocclusion nsamples, directlighting light
+ * nsamples) rounded with its RoundCount as pbrt-v3's integrators do (02sequence, maxmindist:
+ * up to a power of two, with AOIntegrator's warning). clr_integrator_create: no rounding. */
+clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_render_scene *scene,
+                                     clr_sampler_type sampler, clr_warn_fn warn, void *warn_user,
+                                     clr_integrator *out);
 void clr_integrator_free(clr_integrator *integrator);
 
 typedef struct clr_integrator_counters {
