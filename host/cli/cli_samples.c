@@ -94,6 +94,7 @@ static int bad_value(const char *flag, const char *value) {
   return 0;
 }
 
+/* 1: parsed, 0: bad arguments (reported), 2: --help printed. */
 static int parse_samples_args(int argc, char **argv, samples_options *o, const char **sampler) {
   *sampler = NULL;
   clr_sampler_desc_init(&o->desc, CLR_SAMPLER_HALTON);
@@ -110,7 +111,7 @@ static int parse_samples_args(int argc, char **argv, samples_options *o, const c
     int takes_value = 1;
     if (strcmp(f, "--help") == 0 || strcmp(f, "-h") == 0) {
       samples_usage(stdout);
-      exit(0);
+      return 2; /* help shown */
     } else if (strcmp(f, "--reference") == 0) {
       o->reference = 1;
       takes_value = 0;
@@ -217,7 +218,8 @@ int cli_samples(int argc, char **argv) {
   samples_options o;
   memset(&o, 0, sizeof o);
   const char *name = NULL;
-  if (!parse_samples_args(argc, argv, &o, &name)) return 2;
+  int parsed = parse_samples_args(argc, argv, &o, &name);
+  if (parsed != 1) return parsed == 2 ? 0 : 2;
   clr_sampler_type type;
   if (clr_sampler_type_from_name(name, &type) != CLR_SUCCESS) {
     fprintf(stderr, "clrender samples: %s\n", clr_last_error_message());

@@ -8,9 +8,19 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerInitialize(int *argc, char ***argv) __attribute__((weak));
+
+/* libFuzzer reports a target that calls exit() as a crash; so does the replay. */
+static int replay_finished;
+static void fail_on_early_exit(void) {
+  if (replay_finished) return;
+  fprintf(stderr,
+          "replay: the target exited during an input (libFuzzer: \"fuzz target exited\")\n");
+  _exit(1);
+}
 
 static int run_file(const char *path) {
   FILE *f = fopen(path, "rb");
@@ -78,12 +88,15 @@ static int run_path(const char *path) {
 
 int main(int argc, char **argv) {
   if (LLVMFuzzerInitialize) LLVMFuzzerInitialize(&argc, &argv);
+  atexit(fail_on_early_exit);
   int ran = 0;
   for (int i = 1; i < argc; ++i) ran += run_path(argv[i]);
   if (ran == 0) {
     fprintf(stderr, "replay: no inputs found\n");
+    replay_finished = 1;
     return 1;
   }
   printf("replay: %d inputs ran cleanly\n", ran);
+  replay_finished = 1;
   return 0;
 }
