@@ -4,6 +4,7 @@
 # names the input that caused it (keep it in tests/fuzz/regressions/<target>/ once fixed).
 #   scripts/fuzz.sh [TARGET...]        targets: scene ply exr png cli (default: all)
 #   CLR_FUZZ_SECONDS=N                 seconds per target (default 30)
+#   CLR_FUZZ_SEED=N                    libFuzzer's -seed (default 0: random; test.sh uses 1)
 #   CLR_FUZZ_BUILD_DIR=DIR             build folder (default build-fuzz)
 # New inputs the fuzzer finds go to DIR/fuzz-corpus/<target> (kept between runs), crashes to
 # DIR/fuzz-artifacts/<target>/. Extra libFuzzer flags: CLR_FUZZ_FLAGS="-max_len=65536".
@@ -43,7 +44,8 @@ for t in "${targets[@]}"; do
   echo "fuzz: $t for ${seconds}s (log $log)"
   # shellcheck disable=SC2086 # CLR_FUZZ_FLAGS is a list of flags
   if ! "$exe" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=60 \
-      -close_fd_mask=3 -print_final_stats=1 -artifact_prefix="$artifacts/" ${CLR_FUZZ_FLAGS:-} \
+      -close_fd_mask=3 -print_final_stats=1 -seed="${CLR_FUZZ_SEED:-0}" \
+      -artifact_prefix="$artifacts/" ${CLR_FUZZ_FLAGS:-} \
       "$corpus" "tests/fuzz/corpus/$t" "tests/fuzz/regressions/$t" > "$log" 2>&1; then
     tail -n 60 "$log" >&2
     fail "$t: the fuzzer found a problem; input in $artifacts/ (reproduce: $exe FILE)"
