@@ -220,28 +220,32 @@ enum {
   HIT_INST = 19
 };
 
-static void sphere_bounds(const struct RTCBoundsFunctionArguments *args) {
-  const sphere_shape *s = args->geometryUserPtr;
+/* World bounds of the object-space box [-r, r]^2 x [z0, z1] under `m`, padded by a relative
+ * 1e-6 of its size plus `pad`. */
+static void box_bounds(const double m[12], double r, double z0, double z1, double pad,
+                       struct RTCBounds *b) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int corner = 0; corner < 8; ++corner) {
-    double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius,
-                   corner & 4 ? s->radius : -s->radius},
-           g[3];
-    map_point(s->object_to_group.m, c, g);
+    double c[3] = {corner & 1 ? r : -r, corner & 2 ? r : -r, corner & 4 ? z1 : z0}, g[3];
+    map_point(m, c, g);
     for (int k = 0; k < 3; ++k) {
       lo[k] = fmin(lo[k], g[k]);
       hi[k] = fmax(hi[k], g[k]);
     }
   }
-  double pad = 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
-  struct RTCBounds *b = args->bounds_o;
+  pad += 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]);
   b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad),
   b->lower_z = (float)(lo[2] - pad);
   b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad),
   b->upper_z = (float)(hi[2] + pad);
 }
 
-static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
+/* A user geometry's ray test (spheres, disks): the closest hit within [tnear, tfar]. */
+typedef int (*user_hit_test)(const void *shape, const float org[3], const float dir[3], float tnear,
+                             float tfar, sphere_hit *hit);
+
+/* Embree's intersect callback over a packet, for any user geometry's ray test. */
+static void user_intersect(const struct RTCIntersectFunctionNArguments *args, user_hit_test test) {
   const unsigned n = args->N;
   float *f = (float *)args->rayhit;
   unsigned *w = (unsigned *)args->rayhit;
@@ -250,8 +254,7 @@ static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) 
     float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
     float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
     sphere_hit h;
-    if (!sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
-                         &h))
+    if (!test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
       continue;
     f[RAY_TFAR * n + i] = h.t;
     for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
@@ -263,7 +266,8 @@ static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) 
   }
 }
 
-static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
+/* Embree's occlusion callback over a packet, for any user geometry's ray test. */
+static void user_occluded(const struct RTCOccludedFunctionNArguments *args, user_hit_test test) {
   const unsigned n = args->N;
   float *f = (float *)args->ray;
   for (unsigned i = 0; i < n; ++i) {
@@ -271,10 +275,27 @@ static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
     float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
     float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
     sphere_hit h;
-    if (sphere_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
-                        &h))
+    if (test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
       f[RAY_TFAR * n + i] = -INFINITY;
   }
+}
+
+static int sphere_test(const void *shape, const float org[3], const float dir[3], float tnear,
+                       float tfar, sphere_hit *hit) {
+  return sphere_hit_test(shape, org, dir, tnear, tfar, hit);
+}
+
+static void sphere_bounds(const struct RTCBoundsFunctionArguments *args) {
+  const sphere_shape *s = args->geometryUserPtr;
+  box_bounds(s->object_to_group.m, s->radius, -s->radius, s->radius, 0.0, args->bounds_o);
+}
+
+static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
+  user_intersect(args, sphere_test);
+}
+
+static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
+  user_occluded(args, sphere_test);
 }
 
 /* ---- disks: pbrt-v3 Disk::Intersect in object space ---- */
@@ -300,61 +321,22 @@ static int disk_hit_test(const disk_shape *s, const float org[3], const float di
   return 1;
 }
 
+static int disk_test(const void *shape, const float org[3], const float dir[3], float tnear,
+                     float tfar, sphere_hit *hit) {
+  return disk_hit_test(shape, org, dir, tnear, tfar, hit);
+}
+
 static void disk_bounds(const struct RTCBoundsFunctionArguments *args) {
   const disk_shape *s = args->geometryUserPtr;
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int corner = 0; corner < 4; ++corner) {
-    double c[3] = {corner & 1 ? s->radius : -s->radius, corner & 2 ? s->radius : -s->radius,
-                   s->height},
-           g[3];
-    map_point(s->object_to_group.m, c, g);
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = fmin(lo[k], g[k]);
-      hi[k] = fmax(hi[k], g[k]);
-    }
-  }
-  double pad = 1e-6 * fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), hi[2] - lo[2]) + 1e-7;
-  struct RTCBounds *b = args->bounds_o;
-  b->lower_x = (float)(lo[0] - pad), b->lower_y = (float)(lo[1] - pad),
-  b->lower_z = (float)(lo[2] - pad);
-  b->upper_x = (float)(hi[0] + pad), b->upper_y = (float)(hi[1] + pad),
-  b->upper_z = (float)(hi[2] + pad);
+  box_bounds(s->object_to_group.m, s->radius, s->height, s->height, 1e-7, args->bounds_o);
 }
 
 static void disk_intersect(const struct RTCIntersectFunctionNArguments *args) {
-  const unsigned n = args->N;
-  float *f = (float *)args->rayhit;
-  unsigned *w = (unsigned *)args->rayhit;
-  for (unsigned i = 0; i < n; ++i) {
-    if (!args->valid[i]) continue;
-    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
-    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
-    sphere_hit h;
-    if (!disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
-                       &h))
-      continue;
-    f[RAY_TFAR * n + i] = h.t;
-    for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
-    f[HIT_U * n + i] = h.u;
-    f[HIT_V * n + i] = h.v;
-    w[HIT_PRIM * n + i] = args->primID;
-    w[HIT_GEOM * n + i] = args->geomID;
-    w[HIT_INST * n + i] = args->context->instID[0];
-  }
+  user_intersect(args, disk_test);
 }
 
 static void disk_occluded(const struct RTCOccludedFunctionNArguments *args) {
-  const unsigned n = args->N;
-  float *f = (float *)args->ray;
-  for (unsigned i = 0; i < n; ++i) {
-    if (!args->valid[i]) continue;
-    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
-    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
-    sphere_hit h;
-    if (disk_hit_test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i],
-                      &h))
-      f[RAY_TFAR * n + i] = -INFINITY;
-  }
+  user_occluded(args, disk_test);
 }
 
 /* ---- building ---- */
