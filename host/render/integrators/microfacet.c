@@ -172,14 +172,6 @@ float clr_microfacet_pdf(const float wo[3], const float wi[3], float alpha) {
 
 float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3],
                             float *pdf) {
-  *pdf = 0.0f;
-  if (wo[2] == 0.0f) return 0.0f;
-  float wh[3];
-  tr_sample_wh(wo, alpha, u, wh);
-  float d = dot3(wo, wh);
-  if (d < 0.0f) return 0.0f;
-  for (int i = 0; i < 3; ++i) wi[i] = -wo[i] + 2.0f * d * wh[i];
-  if (!(wo[2] * wi[2] > 0.0f)) return 0.0f;
-  *pdf = tr_pdf_wh(wo, wh, alpha) / (4.0f * d);
+  if (!clr_microfacet_sample_wi(wo, u, alpha, wi, pdf)) return 0.0f;
   return clr_microfacet_f(wo, wi, alpha);
 }
