@@ -26,6 +26,25 @@ static inline void rs_normalize(float v[3]) {
   }
 }
 
+/* pbrt-v3 ConcentricSampleDisk: (u0, u1) in [0,1)^2 to the unit disk. */
+static inline void rs_concentric_disk(float u0, float u1, float *x, float *y) {
+  float ox = 2.0f * u0 - 1.0f, oy = 2.0f * u1 - 1.0f;
+  if (ox == 0.0f && oy == 0.0f) {
+    *x = *y = 0.0f;
+    return;
+  }
+  float r, theta;
+  if (fabsf(ox) > fabsf(oy)) {
+    r = ox;
+    theta = (RS_PI / 4.0f) * (oy / ox);
+  } else {
+    r = oy;
+    theta = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy);
+  }
+  *x = r * cosf(theta);
+  *y = r * sinf(theta);
+}
+
 /* Offset that moves a ray origin at p off its surface (avoids self-intersection). */
 static inline float rs_spawn_eps(const float p[3]) {
   float m = fmaxf(fabsf(p[0]), fmaxf(fabsf(p[1]), fabsf(p[2])));

@@ -83,25 +83,6 @@ clr_result rs_camera_set_film(rs_camera *cam, int32_t xres, int32_t yres) {
   return CLR_SUCCESS;
 }
 
-/* pbrt-v3 ConcentricSampleDisk. */
-static void concentric_disk(float u0, float u1, float *dx, float *dy) {
-  float ox = 2.0f * u0 - 1.0f, oy = 2.0f * u1 - 1.0f;
-  if (ox == 0.0f && oy == 0.0f) {
-    *dx = *dy = 0.0f;
-    return;
-  }
-  float r, theta;
-  if (fabsf(ox) > fabsf(oy)) {
-    r = ox;
-    theta = (RS_PI / 4.0f) * (oy / ox);
-  } else {
-    r = oy;
-    theta = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy);
-  }
-  *dx = r * cosf(theta);
-  *dy = r * sinf(theta);
-}
-
 float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
                     float lens_v, clr_ray *ray) {
   float pf[3] = {film_x, film_y, 0.0f}, pc[3];
@@ -118,7 +99,7 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
   }
   if (cam->lens_radius > 0.0f) {
     float lx, ly;
-    concentric_disk(lens_u, lens_v, &lx, &ly);
+    rs_concentric_disk(lens_u, lens_v, &lx, &ly);
     lx *= cam->lens_radius;
     ly *= cam->lens_radius;
     float ft = cam->focal_distance / d[2];

@@ -197,25 +197,6 @@ static void area_emit(const rs_light *l, const float n[3], const float w[3], flo
     li[0] = li[1] = li[2] = 0.0f;
 }
 
-/* pbrt-v3 ConcentricSampleDisk. */
-static void disk_concentric(const float u[2], float *x, float *y) {
-  float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
-  if (ox == 0.0f && oy == 0.0f) {
-    *x = *y = 0.0f;
-    return;
-  }
-  float r, theta;
-  if (fabsf(ox) > fabsf(oy)) {
-    r = ox;
-    theta = (RS_PI / 4.0f) * (oy / ox);
-  } else {
-    r = oy;
-    theta = RS_PI / 2.0f - (RS_PI / 4.0f) * (ox / oy);
-  }
-  *x = r * cosf(theta);
-  *y = r * sinf(theta);
-}
-
 /* Points on the sphere itself count as inside (pbrt-v3 tests its offset ray origin): cone
  * sampling from them would see the sphere from the wrong side. */
 static int sphere_inside(float dc2, float r) { return dc2 <= r * r * (1.0f + 2e-4f); }
@@ -260,7 +241,7 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
      * there too), pdf 1 / Area() */
     const rs_shape *sh = &shapes[l->shape];
     float dx, dy, z[3] = {0.0f, 0.0f, 1.0f};
-    disk_concentric(u, &dx, &dy);
+    rs_concentric_disk(u[0], u[1], &dx, &dy);
     float po[3] = {dx * sh->radius, dy * sh->radius, sh->height};
     clr_transform_point(&sh->object_to_world, po, pt);
     clr_transform_normal(&sh->object_to_world, z, n);

@@ -547,6 +547,35 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
   return attach(t, g, geom, &record, geom_id);
 }
 
+/* Commits a user geometry (one primitive: a sphere or a disk) with its callbacks and attaches
+ * it to group g; frees the record on failure. */
+static clr_result attach_user(struct clr_tracer_t *t, int32_t g, geom_record *record, void *shape,
+                              RTCBoundsFunction bounds, RTCIntersectFunctionN intersect,
+                              RTCOccludedFunctionN occluded, uint32_t *geom_id) {
+  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
+  clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
+  if (r != CLR_SUCCESS) {
+    free_record(record);
+    return r;
+  }
+  rtcSetGeometryUserPrimitiveCount(geom, 1);
+  r = embree_check(t, "rtcSetGeometryUserPrimitiveCount");
+  if (r == CLR_SUCCESS) {
+    rtcSetGeometryUserData(geom, shape);
+    rtcSetGeometryBoundsFunction(geom, bounds, NULL);
+    rtcSetGeometryIntersectFunction(geom, intersect);
+    rtcSetGeometryOccludedFunction(geom, occluded);
+    r = embree_check(t,
+                     "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
+  }
+  if (r != CLR_SUCCESS) {
+    rtcReleaseGeometry(geom);
+    free_record(record);
+    return r;
+  }
+  return attach(t, g, geom, record, geom_id);
+}
+
 clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
                                  float radius, uint32_t user_id, uint32_t *geom_id) {
   return clr_tracer_add_partial_sphere(t, g, object_to_group, radius, -radius, radius, 360.0f,
@@ -585,28 +614,8 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float ob
                               "matrix",
                               fn);
   }
-  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
-  clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
-  if (r != CLR_SUCCESS) {
-    free_record(&record);
-    return r;
-  }
-  rtcSetGeometryUserPrimitiveCount(geom, 1);
-  r = embree_check(t, "rtcSetGeometryUserPrimitiveCount");
-  if (r == CLR_SUCCESS) {
-    rtcSetGeometryUserData(geom, record.sphere);
-    rtcSetGeometryBoundsFunction(geom, sphere_bounds, NULL);
-    rtcSetGeometryIntersectFunction(geom, sphere_intersect);
-    rtcSetGeometryOccludedFunction(geom, sphere_occluded);
-    r = embree_check(t,
-                     "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
-  }
-  if (r != CLR_SUCCESS) {
-    rtcReleaseGeometry(geom);
-    free_record(&record);
-    return r;
-  }
-  return attach(t, g, geom, &record, geom_id);
+  return attach_user(t, g, &record, record.sphere, sphere_bounds, sphere_intersect, sphere_occluded,
+                     geom_id);
 }
 
 clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_group[16],
@@ -636,28 +645,8 @@ clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_gr
                               "matrix",
                               fn);
   }
-  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_USER);
-  clr_result r = embree_check(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_USER)");
-  if (r != CLR_SUCCESS) {
-    free_record(&record);
-    return r;
-  }
-  rtcSetGeometryUserPrimitiveCount(geom, 1);
-  r = embree_check(t, "rtcSetGeometryUserPrimitiveCount");
-  if (r == CLR_SUCCESS) {
-    rtcSetGeometryUserData(geom, record.disk);
-    rtcSetGeometryBoundsFunction(geom, disk_bounds, NULL);
-    rtcSetGeometryIntersectFunction(geom, disk_intersect);
-    rtcSetGeometryOccludedFunction(geom, disk_occluded);
-    r = embree_check(t,
-                     "rtcSetGeometry{UserData,BoundsFunction,IntersectFunction,OccludedFunction}");
-  }
-  if (r != CLR_SUCCESS) {
-    rtcReleaseGeometry(geom);
-    free_record(&record);
-    return r;
-  }
-  return attach(t, g, geom, &record, geom_id);
+  return attach_user(t, g, &record, record.disk, disk_bounds, disk_intersect, disk_occluded,
+                     geom_id);
 }
 
 clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance_to_world[16],
