@@ -132,7 +132,8 @@ clr_result quality_plot_spectra(const char *path, const quality_spectrum *spectr
   snprintf(head, sizeof head, "%d POINTS OF ONE PIXEL (DIMS 0,1); PERIODOGRAM, K=-%d..%d,",
            spectra[0].n, spectra[0].K, spectra[0].K);
   plot_text(&c, 10, 8, 2, black, head);
-  snprintf(head, sizeof head, "MEAN OF %d PIXELS (GRAY = POWER/2); ITS RADIAL MEAN",
+  snprintf(head, sizeof head,
+           "MEAN OF %d PIXELS (GRAY = POWER/2: WHITE NOISE MID-GRAY); RADIAL MEAN",
            pixels_averaged);
   plot_text(&c, 10, 30, 2, black, head);
   for (int i = 0; i < count; ++i) {
