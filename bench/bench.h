@@ -10,6 +10,7 @@ typedef struct bench_options {
   int quick;               /* smaller problems, fewer repetitions */
   const char *only_device; /* NULL: every device */
   clr_kernel_shape shape;  /* kernel shape of this pass (each JSON line names it) */
+  const char *out_dir;     /* figures of the quality section; NULL: build/bench-quality */
 } bench_options;
 
 double bench_now(void);
@@ -32,11 +33,19 @@ void bench_check(const char *bench, clr_context ctx);
 /* Per-kernel registers, spills and private bytes for gfx90a from the portability test's output. */
 void bench_kernel_resources(void);
 
+/* The library's samplers are the types 0 .. count-1 (those clr_sampler_type_name knows), so
+ * samplers added to the library join every section that loops over them. */
+int bench_sampler_count(void);
+
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count);
 void bench_render(const bench_options *o, const clr_device_info *devices, int device_count);
 /* Embree packet vs single-ray tracing on the host (--only tracer). */
 void bench_tracer(const bench_options *o);
 /* Film accumulation samples/s per filter and evaluation mode (--only film). */
 void bench_film(const bench_options *o, const clr_device_info *devices, int device_count);
+
+/* Sample quality: RMSE vs spp and convergence slopes per sampler, spectra, PNG figures in
+ * o->out_dir (--only quality). Returns 0 when the figures' folder cannot be made. */
+int bench_quality(const bench_options *o);
 
 #endif

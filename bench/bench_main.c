@@ -71,6 +71,14 @@ void bench_json_device(clr_context ctx) {
   printf(",\"kernels\":\"%s\"", clr_kernel_shape_name(clr_context_kernel_shape(ctx)));
 }
 
+int bench_sampler_count(void) {
+  int n = 0;
+  for (;; ++n) {
+    const char *name = clr_sampler_type_name((clr_sampler_type)n);
+    if (!name || strcmp(name, "unknown") == 0 || n >= 1024) return n;
+  }
+}
+
 int bench_is_simulator(const clr_device_info *device) {
   return strstr(device->platform_name, "Oclgrind") != NULL ||
          strstr(device->device_name, "Oclgrind") != NULL;
@@ -79,16 +87,20 @@ int bench_is_simulator(const clr_device_info *device) {
 static void usage(void) {
   fprintf(stderr,
           "usage: clrender_bench [--quick] [--device INDEX|NAME] "
-          "[--only samples|film|tracer|render|kernels] [--kernels simd|portable|both]\n"
+          "[--only samples|film|tracer|render|kernels|quality] [--kernels simd|portable|both]\n"
+          "                      [--out-dir DIR]\n"
           "Prints one JSON object per line: each device's figure (per kernel shape, both\n"
           "by default) and the single-thread host reference measured in the same run, with\n"
           "their ratio. Simulators (Oclgrind) are checked against the host reference, not\n"
           "timed. `tracer`: Embree packets against single rays on the host. `kernels`: gfx90a\n"
-          "registers, spills and private bytes per kernel (from test_kernel_portability).\n");
+          "registers, spills and private bytes per kernel (from test_kernel_portability).\n"
+          "`quality` (only with --only): RMSE vs spp and convergence slope of every sampler\n"
+          "(analytic integrands, a checkerboard render), spectra; PNG figures in --out-dir\n"
+          "(default build/bench-quality).\n");
 }
 
 int main(int argc, char **argv) {
-  bench_options o = {0, NULL, CLR_KERNELS_AUTO};
+  bench_options o = {0, NULL, CLR_KERNELS_AUTO, NULL};
   const char *only = NULL, *kernels = "both";
   for (int i = 1; i < argc; ++i) {
     if (strcmp(argv[i], "--quick") == 0)
@@ -99,11 +111,25 @@ int main(int argc, char **argv) {
       only = argv[++i];
     else if (strcmp(argv[i], "--kernels") == 0 && i + 1 < argc)
       kernels = argv[++i];
+    else if (strcmp(argv[i], "--out-dir") == 0 && i + 1 < argc && argv[i + 1][0])
+      o.out_dir = argv[++i];
     else {
       usage();
       return 2;
     }
   }
+  static const char *const sections[] = {"samples", "film",    "tracer",
+                                         "render",  "kernels", "quality"};
+  int known = !only;
+  for (int s = 0; s < 6; ++s) known |= only && strcmp(only, sections[s]) == 0;
+  if (!known) {
+    fprintf(stderr, "clrender_bench: --only %s: unknown section\n", only);
+    usage();
+    return 2;
+  }
+  /* quality's figures do not depend on the device (host reference samples, the default device
+   * for the renders): it runs only when asked for */
+  if (only && strcmp(only, "quality") == 0) return bench_quality(&o) ? 0 : 1;
   clr_device_info devices[64];
   int count = 0;
   if (clr_device_list(devices, 64, &count) != CLR_SUCCESS) {

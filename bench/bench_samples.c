@@ -70,13 +70,14 @@ static double device_rate(clr_context ctx, clr_sampler_type type, int quick) {
 }
 
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count) {
-  double baseline[CLR_SAMPLER_MAXMINDIST + 1];
-  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t)
-    baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
+  enum { MAX_TYPES = 64 };
+  int types = bench_sampler_count() < MAX_TYPES ? bench_sampler_count() : MAX_TYPES;
+  double baseline[MAX_TYPES];
+  for (int t = 0; t < types; ++t) baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "samples");
     if (!ctx) continue;
-    for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t) {
+    for (int t = 0; t < types; ++t) {
       double rate = device_rate(ctx, (clr_sampler_type)t, o->quick);
       printf("{\"bench\":\"samples\",");
       bench_json_device(ctx);
