@@ -474,6 +474,41 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   return launch(ctx, k, items, name);
 }
 
+/* pbrt-v4's samplers: one kernel shape, one work-item per batch item. */
+static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
+                         const clr_request_slot *slots, cl_mem values) {
+  clr_context ctx = d->ctx;
+  size_t items = batch_items(p);
+  cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL;
+  CLR_CHECK(clr_context_shared_buffer(
+      ctx, "sobol_matrices32", clr_sobol_matrices32,
+      sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &sobol32));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
+                                      sizeof clr_vdc_sobol_matrices, &vdc));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
+                                      sizeof clr_vdc_sobol_matrices_inv, &vdc_inv));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+                                      sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                                      &primes));
+  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
+  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
+                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  const char *name = "clr_v4_generate";
+  cl_kernel k;
+  CLR_CHECK(get_kernel(d, name, "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4", &k));
+  cl_int count = (cl_int)items;
+  int a = 0;
+  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, d->slots.mem);
+  SET_ARG(ctx, k, a++, sobol32);
+  SET_ARG(ctx, k, a++, vdc);
+  SET_ARG(ctx, k, a++, vdc_inv);
+  SET_ARG(ctx, k, a++, primes);
+  SET_ARG(ctx, k, a++, values);
+  SET_ARG(ctx, k, a++, count);
+  return launch(ctx, k, items, name);
+}
+
 static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_params *p,
                                   const clr_request_slot *slots, const clr_sample_output *out,
                                   cl_mem *temp) {
@@ -500,7 +535,13 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
     values = *temp;
   }
   cl_command_queue q = clr_context_cl_queue(ctx);
-  if (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL) {
+  int global =
+      !p->v4_sampler && (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL);
+  if (p->v4_sampler) {
+    CLR_CHECK(run_v4(d, p, slots, values));
+    if (out->host_indices)
+      for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
+  } else if (global) {
     CLR_CHECK(run_global(d, p, slots, values, out->host_indices != NULL));
   } else {
     CLR_CHECK(run_pixel(d, p, slots, values));
@@ -510,8 +551,7 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
   if (out->host_values)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, values, CL_TRUE, 0, value_bytes, out->host_values, 0,
                                           NULL, NULL));
-  if (out->host_indices &&
-      (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL))
+  if (out->host_indices && global)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, d->indices.mem, CL_TRUE, 0, items * sizeof(cl_ulong),
                                           out->host_indices, 0, NULL, NULL));
   return CLR_SUCCESS;
