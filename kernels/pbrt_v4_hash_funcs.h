@@ -138,8 +138,8 @@ CLR_INLINE float clr_v4_div(float a, clr_u32 b) {
   clr_u32 shift = (clr_u32)(top - 23);
   clr_u64 mant = q >> shift;
   clr_u64 rest = q & ((((clr_u64)1) << shift) - 1u);
-  clr_u64 half = ((clr_u64)1) << (shift - 1u);
-  if (rest > half || (rest == half && (sticky || (mant & 1u)))) ++mant;
+  clr_u64 halfway = ((clr_u64)1) << (shift - 1u);
+  if (rest > halfway || (rest == halfway && (sticky || (mant & 1u)))) ++mant;
   if (mant == (((clr_u64)1) << 24u)) {
     mant >>= 1u;
     ++shift;
