@@ -29,7 +29,8 @@ typedef struct clr_v4_state {
 } clr_v4_state;
 
 /* RNG::SetSequence(Hash(p, seed)) then Advance(sampleIndex * 65536 + dimension). */
-CLR_INLINE clr_pcg32 clr_v4_pixel_rng(clr_i32 px, clr_i32 py, clr_u32 seed, clr_i32 sample) {
+CLR_INLINE void clr_v4_pixel_rng(clr_i32 px, clr_i32 py, clr_u32 seed, clr_i32 sample,
+                                 clr_pcg32 *out) {
   clr_u64 sequence = clr_v4_hash12(clr_v4_pack(px, py), seed);
   clr_pcg32 r;
   r.state = 0u;
@@ -38,7 +39,7 @@ CLR_INLINE clr_pcg32 clr_v4_pixel_rng(clr_i32 px, clr_i32 py, clr_u32 seed, clr_
   r.state += clr_v4_mix_bits(sequence);
   clr_pcg32_next(&r);
   clr_pcg32_advance(&r, (clr_u64)(clr_u32)sample * 65536u);
-  return r;
+  *out = r;
 }
 
 /* SobolSample(a, dimension, randomizer). */
@@ -195,9 +196,10 @@ CLR_INLINE clr_u64 clr_v4_zsobol_index(const clr_sampler_params *p, clr_u64 mort
   return index;
 }
 
-/* Sampler::StartPixelSample(p, sampleIndex, 0). */
-CLR_INLINE clr_v4_state clr_v4_start(const clr_sampler_params *p, const clr_v4_tables *t,
-                                     clr_i32 px, clr_i32 py, clr_i32 sample) {
+/* Sampler::StartPixelSample(p, sampleIndex, 0) into *out (a struct returned by value is an sret
+ * argument, whose inlining emits llvm.experimental.noalias.scope.decl: Oclgrind can't run it). */
+CLR_INLINE void clr_v4_start(const clr_sampler_params *p, const clr_v4_tables *t, clr_i32 px,
+                             clr_i32 py, clr_i32 sample, clr_v4_state *out) {
   clr_v4_state s;
   s.px = px;
   s.py = py;
@@ -208,7 +210,7 @@ CLR_INLINE clr_v4_state clr_v4_start(const clr_sampler_params *p, const clr_v4_t
   switch (p->v4_sampler) {
     case CLR_V4_INDEPENDENT:
     case CLR_V4_STRATIFIED:
-      s.rng = clr_v4_pixel_rng(px, py, p->seed, sample);
+      clr_v4_pixel_rng(px, py, p->seed, sample, &s.rng);
       break;
     case CLR_V4_HALTON:
       s.index = clr_v4_halton_index(p, px, py, sample);
@@ -227,7 +229,7 @@ CLR_INLINE clr_v4_state clr_v4_start(const clr_sampler_params *p, const clr_v4_t
     default:
       break;
   }
-  return s;
+  *out = s;
 }
 
 /* PermutationElement(sampleIndex, spp, Hash(pixel, dimension, seed)), and the hash. */
@@ -350,8 +352,9 @@ CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
                                      const clr_v4_tables *t, clr_i32 item, CLR_GLOBAL float *out) {
   clr_i32 pixel = item / p->sample_count;
   clr_i32 row = pixel / p->batch_width;
-  clr_v4_state s = clr_v4_start(p, t, p->batch_x0 + pixel - row * p->batch_width, p->batch_y0 + row,
-                                p->first_sample + item % p->sample_count);
+  clr_v4_state s;
+  clr_v4_start(p, t, p->batch_x0 + pixel - row * p->batch_width, p->batch_y0 + row,
+               p->first_sample + item % p->sample_count, &s);
   float u[2];
   clr_v4_get_pixel2d(p, t, &s, u);
   out[0] = u[0];
