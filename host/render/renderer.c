@@ -76,6 +76,12 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     sd->jitter = clr_params_find_bool(p, "jitter", sd->jitter != 0);
     sd->dimensions = clr_params_find_int(p, "dimensions", sd->dimensions);
     sd->sample_pixel_center = clr_params_find_bool(p, "samplepixelcenter", false);
+    const char *r = clr_params_find_string(p, "randomization", NULL);
+    if (r && clr_randomization_from_name(r, &sd->randomization) != CLR_SUCCESS)
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                                "%s:%d: unknown randomization \"%s\" (expected none, "
+                                "permutedigits, fastowen or owen)",
+                                p->file ? p->file : "?", p->line, r);
   }
   if (o->spp > 0) {
     sd->pixel_samples = o->spp;
@@ -103,7 +109,9 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     warn(wu, m);
   }
   sd->seeding = o->seeding;
-  sd->seed = o->seed;
+  /* pbrt-v4: the Sampler's "seed" defaults to --seed */
+  sd->seed = same ? (uint32_t)clr_params_find_int(p, "seed", (int)o->seed) : o->seed;
+  if (o->randomization != CLR_RANDOMIZATION_DEFAULT) sd->randomization = o->randomization;
   return CLR_SUCCESS;
 }
 
