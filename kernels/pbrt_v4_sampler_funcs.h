@@ -1,6 +1,6 @@
 /* pbrt-v4's samplers (samplers.h), bit for bit on the host and on any OpenCL 1.2 device:
  * IndependentSampler, StratifiedSampler, HaltonSampler, SobolSampler, PaddedSobolSampler and
- * ZSobolSampler. Each is stateless given (pixel, sample index, dimension): StartPixelSample, then
+ * ZSobolSampler; PMJ02BNSampler's structure with point sets of our own (clr_pmj02_point). Each is stateless given (pixel, sample index, dimension): StartPixelSample, then
  * GetPixel2D for the layout's first request and Get1D/Get2D for every other value (an array of n
  * is n calls). Tables: the Sobol' matrices (sobol_tables.h) and the Halton prime records
  * (halton_tables.h: base and (float)1 / base). */
@@ -19,6 +19,7 @@ typedef struct clr_v4_tables {
   CLR_GLOBAL const clr_u32 *sobol32;
   CLR_GLOBAL const clr_u64 *vdc, *vdc_inv;
   CLR_GLOBAL const clr_halton_prime *primes;
+  CLR_GLOBAL const float *pmj_pixels; /* pmj02bn: (x, y) of GetPixel2D per tile pixel, sample */
 } clr_v4_tables;
 
 /* A sampler between StartPixelSample and the next one. */
@@ -196,6 +197,65 @@ CLR_INLINE clr_u64 clr_v4_zsobol_index(const clr_sampler_params *p, clr_u64 mort
   return index;
 }
 
+/* Point `index` of pmj02bn point set `set`: pbrt-v4's sets (pmj02bn, found by a randomized
+ * search) are not reproducible, so each set is the Sobol' (0,2)-sequence (dimensions 0 and 1)
+ * Owen-scrambled with a fixed seed per set and dimension: also a progressive (0,2)-sequence, whose
+ * first 2^k points form a (0,k,2)-net. Fixed point, 32 bits per coordinate. */
+CLR_INLINE clr_u32 clr_pmj02_point(clr_i32 set, clr_u32 index, clr_i32 c,
+                                   CLR_GLOBAL const clr_u32 *sobol32) {
+  clr_u32 v = clr_sobol_xor_columns32(index, sobol32 + (clr_u32)c * CLR_SOBOL_MATRIX_SIZE);
+  return clr_v4_owen(v, (clr_u32)clr_v4_mix_bits(0x706d6a3032UL + (clr_u64)(2 * set + c)));
+}
+
+/* BlueNoiseSample(p, instance) of pbrt-v4's lowdiscrepancy.h (the pixel's Morton index with
+ * hashed base-4 digit permutations, reversed), used where pbrt-v4's pmj02bn reads its blue-noise
+ * textures (BlueNoise(instance, p), also found by search). */
+CLR_INLINE float clr_v4_blue_noise_sample(clr_i32 px, clr_i32 py, clr_i32 instance) {
+  clr_u64 salt = (clr_u64)(clr_i64)(clr_i32)(0x55555555u * (clr_u32)instance);
+  clr_u64 morton =
+      clr_v4_left_shift2((clr_u32)py & 255u) << 1u | clr_v4_left_shift2((clr_u32)px & 255u);
+  clr_u32 index = 0u;
+  for (clr_i32 i = 7; i >= 0; --i) {
+    clr_u32 shift = (clr_u32)(2 * i);
+    clr_u32 digit = (clr_u32)(morton >> shift) & 3u;
+    clr_u32 perm = (clr_u32)(clr_v4_mix_bits((morton >> (shift + 2u)) ^ salt) >> 24u) % 24u;
+    index |= clr_v4_permute4(perm, digit) << shift;
+  }
+  return (float)clr_reverse_bits32(index) * 0x1p-32f;
+}
+
+/* PMJ02BNSampler::Get2D: set dimension / 2 (the sample index permuted past the sets), rotated
+ * toroidally by the pixel's blue noise. */
+CLR_INLINE void clr_v4_pmj02_get2d(const clr_sampler_params *p, const clr_v4_tables *t,
+                                   clr_v4_state *s, float *u) {
+  clr_u32 index = (clr_u32)s->sample;
+  clr_i32 set = s->dimension / 2;
+  if (set >= CLR_PMJ02_SETS) {
+    clr_u64 hash =
+        clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
+    index = clr_v4_permutation_element(index, (clr_u32)p->spp, (clr_u32)hash);
+  }
+  for (clr_i32 c = 0; c < 2; ++c) {
+    float v =
+        (float)clr_pmj02_point(set % CLR_PMJ02_SETS, index % CLR_PMJ02_POINTS, c, t->sobol32) *
+        0x1p-32f;
+    v += clr_v4_blue_noise_sample(s->px, s->py, s->dimension + c);
+    if (v >= 1.0f) v -= 1.0f;
+    u[c] = clr_v4_below_one(v);
+  }
+  s->dimension += 2;
+}
+
+/* PMJ02BNSampler::Get1D: the permuted stratum plus the pixel's blue noise. */
+CLR_INLINE float clr_v4_pmj02_get1d(const clr_sampler_params *p, clr_v4_state *s) {
+  clr_u64 hash =
+      clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
+  clr_u32 index = clr_v4_permutation_element((clr_u32)s->sample, (clr_u32)p->spp, (clr_u32)hash);
+  float delta = clr_v4_blue_noise_sample(s->px, s->py, s->dimension);
+  ++s->dimension;
+  return clr_v4_below_one(clr_v4_div((float)index + delta, (clr_u32)p->spp));
+}
+
 /* Sampler::StartPixelSample(p, sampleIndex, 0) into *out (a struct returned by value is an sret
  * argument, whose inlining emits llvm.experimental.noalias.scope.decl: Oclgrind can't run it). */
 CLR_INLINE void clr_v4_start(const clr_sampler_params *p, const clr_v4_tables *t, clr_i32 px,
@@ -219,6 +279,9 @@ CLR_INLINE void clr_v4_start(const clr_sampler_params *p, const clr_v4_tables *t
     case CLR_V4_SOBOL:
       s.index = clr_sobol_interval_to_index((clr_u32)p->sobol_log2_resolution, (clr_u64)sample, px,
                                             py, t->vdc, t->vdc_inv);
+      s.dimension = 2;
+      break;
+    case CLR_V4_PMJ02BN:
       s.dimension = 2;
       break;
     case CLR_V4_ZSOBOL:
@@ -270,6 +333,8 @@ CLR_INLINE float clr_v4_get1d(const clr_sampler_params *p, const clr_v4_tables *
       hash = clr_v4_hash8(clr_v4_pack(s->dimension, (clr_i32)p->seed));
       return clr_v4_sobol_sample(index, 0, p->randomization, (clr_u32)hash, t->sobol32);
     }
+    case CLR_V4_PMJ02BN:
+      return clr_v4_pmj02_get1d(p, s);
     default:
       return clr_pcg32_float(&s->rng);
   }
@@ -317,6 +382,9 @@ CLR_INLINE void clr_v4_get2d(const clr_sampler_params *p, const clr_v4_tables *t
       u[1] = clr_v4_sobol_sample(index, 1, p->randomization, (clr_u32)(hash >> 32u), t->sobol32);
       return;
     }
+    case CLR_V4_PMJ02BN:
+      clr_v4_pmj02_get2d(p, t, s, u);
+      return;
     default:
       u[0] = clr_pcg32_float(&s->rng);
       u[1] = clr_pcg32_float(&s->rng);
@@ -337,6 +405,11 @@ CLR_INLINE void clr_v4_get_pixel2d(const clr_sampler_params *p, const clr_v4_tab
   if (p->v4_sampler == CLR_V4_HALTON) {
     u[0] = clr_v4_radical_inverse(t->primes, s->index >> (clr_u32)p->halton_exponent[0]);
     u[1] = clr_v4_radical_inverse(t->primes + 1, s->index / (clr_u64)p->halton_scale[1]);
+  } else if (p->v4_sampler == CLR_V4_PMJ02BN) {
+    clr_i32 x = clr_v4_mod(s->px, p->pmj_tile), y = clr_v4_mod(s->py, p->pmj_tile);
+    CLR_GLOBAL const float *xy = t->pmj_pixels + 2 * ((x + y * p->pmj_tile) * p->spp + s->sample);
+    u[0] = xy[0];
+    u[1] = xy[1];
   } else if (p->v4_sampler == CLR_V4_SOBOL) {
     u[0] = clr_v4_sobol_pixel(p, clr_v4_sobol_sample(s->index, 0, 0, 0u, t->sobol32), s->px);
     u[1] = clr_v4_sobol_pixel(p, clr_v4_sobol_sample(s->index, 1, 0, 0u, t->sobol32), s->py);

@@ -21,6 +21,7 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
                               __global const ulong *restrict vdc,
                               __global const ulong *restrict vdc_inv,
                               __global const clr_halton_prime *restrict primes,
+                              __global const float *restrict pmj_pixels,
                               __global float *restrict values, int item_count) {
   const int item = (int)get_global_id(0);
   if (item >= item_count) return;
@@ -29,6 +30,7 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
   t.vdc = vdc;
   t.vdc_inv = vdc_inv;
   t.primes = primes;
+  t.pmj_pixels = pmj_pixels;
   clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
 }
 #endif

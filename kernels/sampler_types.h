@@ -14,6 +14,7 @@
 #define CLR_SAMPLER_TYPE_INDEPENDENT 6
 #define CLR_SAMPLER_TYPE_PADDEDSOBOL 7
 #define CLR_SAMPLER_TYPE_ZSOBOL 8
+#define CLR_SAMPLER_TYPE_PMJ02BN 9
 
 /* pbrt-v4's sampler algorithms (clr_sampler_params.v4_sampler; 0: not a pbrt-v4 sampler). */
 #define CLR_V4_INDEPENDENT 1
@@ -22,6 +23,12 @@
 #define CLR_V4_SOBOL 4
 #define CLR_V4_PADDEDSOBOL 5
 #define CLR_V4_ZSOBOL 6
+#define CLR_V4_PMJ02BN 7
+
+/* pmj02bn: progressive (0,2) point sets and the points each of them holds (pbrt-v4's
+ * nPMJ02bnSets, nPMJ02bnSamples). */
+#define CLR_PMJ02_SETS 5
+#define CLR_PMJ02_POINTS 65536
 
 /* pbrt-v4's RandomizeStrategy (clr_sampler_params.randomization). */
 #define CLR_RANDOMIZE_TYPE_NONE 1
@@ -76,6 +83,8 @@ typedef struct clr_sampler_params {
   clr_i32 v4_sampler;    /* CLR_V4_*, 0 for the other samplers */
   clr_i32 randomization; /* CLR_RANDOMIZE_TYPE_* */
   clr_i32 zsobol_log2_spp, zsobol_base4_digits;
+  clr_i32 pmj_tile; /* pmj02bn: side of the tile of pixels its GetPixel2D table covers */
+  clr_i32 pad[3];
 } clr_sampler_params;
 
 /* One request of the layout, resolved for the sampler family. */

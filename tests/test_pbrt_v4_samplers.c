@@ -12,6 +12,7 @@
 #include <cmocka.h>
 #include "clrender.h"
 #include "pbrt_v4_hash_funcs.h"
+#include "pbrt_v4_sampler_funcs.h"
 
 /* GetPixel2D, Get1D, Get2D, Get1D: the layout pinned below. */
 static const clr_sample_request layout[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}};
@@ -361,6 +362,36 @@ static void test_seed_changes_values(void **state) {
   }
 }
 
+/* pmj02bn (pbrt-v4's structure, our point sets): each pixel's GetPixel2D values are a
+ * (0,k,2)-net for spp = 4^j, and each Get1D dimension has one value per 1/spp stratum. */
+static void test_pmj02bn_nets_and_strata(void **state) {
+  (void)state;
+  const int pixels[][2] = {{0, 0}, {9, 4}, {300, 257}};
+  for (int spp = 1; spp <= 256; spp *= 4)
+    for (int p = 0; p < 3; ++p) {
+      clr_sampler s = make_v4(CLR_SAMPLER_PMJ02BN, CLR_RANDOMIZATION_DEFAULT, 2, spp, 400, 300);
+      int n = 0;
+      float *v = pixel_values(s, pixels[p][0], pixels[p][1], camera, 4, &n);
+      if (!is_02_net(v, n, 0, spp)) fail_msg("pmj02bn spp %d pixel %d: not a net", spp, p);
+      int *seen = calloc((size_t)spp, sizeof(int));
+      for (int i = 0; i < spp; ++i) ++seen[(int)(v[i * n + 2] * (float)spp)];
+      for (int i = 0; i < spp; ++i) assert_int_equal(seen[i], 1);
+      free(seen);
+      free(v);
+      clr_sampler_release(s);
+    }
+}
+
+/* pbrt-v4's BlueNoiseSample (lowdiscrepancy.h), which pmj02bn uses for its rotations: values from
+ * pbrt-v4's own function. */
+static void test_blue_noise_sample(void **state) {
+  (void)state;
+  assert_true(clr_v4_blue_noise_sample(1, 1, 2) == 0x1.8p-1f);
+  assert_true(clr_v4_blue_noise_sample(1, 1, 3) == 0x1p-2f);
+  assert_true(clr_v4_blue_noise_sample(200, 77, 9) == 0x1.363p-1f);
+  assert_true(clr_v4_blue_noise_sample(5, 300, 1) == 0x1.29ap-1f);
+}
+
 /* pbrt-v4's StratifiedSampler: each 1D and 2D dimension has one sample per stratum. */
 static void test_stratified_strata(void **state) {
   (void)state;
@@ -448,6 +479,8 @@ int main(void) {
       cmocka_unit_test(test_scrambling_changes_values),
       cmocka_unit_test(test_seed_changes_values),
       cmocka_unit_test(test_stratified_strata),
+      cmocka_unit_test(test_pmj02bn_nets_and_strata),
+      cmocka_unit_test(test_blue_noise_sample),
       cmocka_unit_test(test_correctly_rounded_division),
       cmocka_unit_test(test_names_and_validation),
   };

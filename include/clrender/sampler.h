@@ -36,12 +36,15 @@ typedef enum clr_sampler_type {
    * algorithms, whatever the seeding). */
   CLR_SAMPLER_INDEPENDENT = 6,
   CLR_SAMPLER_PADDEDSOBOL = 7,
-  CLR_SAMPLER_ZSOBOL = 8
+  CLR_SAMPLER_ZSOBOL = 8,
+  /* pbrt-v4's PMJ02BNSampler structure with point sets of our own (not pbrt-v4's tables): see
+   * README. pixelsamples 1..65536. */
+  CLR_SAMPLER_PMJ02BN = 9
 } clr_sampler_type;
 
 /* Number of sampler types: every value in [0, CLR_SAMPLER_TYPE_COUNT) is a sampler, named by
  * clr_sampler_type_name. */
-#define CLR_SAMPLER_TYPE_COUNT 9
+#define CLR_SAMPLER_TYPE_COUNT 10
 
 /* pbrt-v4's RandomizeStrategy ("randomization"): DEFAULT is the sampler's pbrt-v4 default
  * (halton: permutedigits; sobol, paddedsobol, zsobol: fastowen). Only pbrt-v4 samplers use it. */
@@ -95,7 +98,7 @@ typedef struct clr_sampler_desc {
 /* Defaults of pbrt-v3's scene format for `type`. */
 CLR_API void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type);
 /* "random", "stratified", "halton", "sobol", "02sequence" (alias "lowdiscrepancy"),
- * "maxmindist", "independent", "paddedsobol", "zsobol" -> type;
+ * "maxmindist", "independent", "paddedsobol", "zsobol", "pmj02bn" -> type;
  * CLR_ERROR_INVALID_SAMPLER otherwise. */
 CLR_API clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type);
 CLR_API const char *clr_sampler_type_name(clr_sampler_type type);

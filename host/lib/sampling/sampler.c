@@ -13,6 +13,7 @@
 #include "halton_tables.h"
 #include "pbrt_v4_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
+#include "pmj02_tables.h"
 #include "sampler_device.h"
 #include "sobol_tables.h"
 
@@ -29,11 +30,12 @@ struct clr_sampler_t {
   clr_sampler_params base; /* everything but the batch fields */
   clr_bounds2i pixel_bounds, sample_bounds, index_bounds;
   clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
+  float *pmj_pixels;          /* pmj02bn: GetPixel2D table (clr_pmj02_pixel_table) */
 };
 
 static const char *const sampler_names[CLR_SAMPLER_TYPE_COUNT] = {
-    "random",     "stratified",  "halton",      "sobol", "02sequence",
-    "maxmindist", "independent", "paddedsobol", "zsobol"};
+    "random",     "stratified",  "halton",      "sobol",  "02sequence",
+    "maxmindist", "independent", "paddedsobol", "zsobol", "pmj02bn"};
 static const char *const randomization_names[] = {"default", "none", "permutedigits", "fastowen",
                                                   "owen"};
 #define RANDOMIZATION_NAME_COUNT ((int)(sizeof randomization_names / sizeof randomization_names[0]))
@@ -83,7 +85,7 @@ clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type) 
   }
   return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER,
                   "unknown sampler \"%s\" (expected random, stratified, halton, sobol, "
-                  "02sequence, maxmindist, independent, paddedsobol or zsobol)",
+                  "02sequence, maxmindist, independent, paddedsobol, zsobol or pmj02bn)",
                   name);
 }
 
@@ -130,6 +132,8 @@ static int v4_sampler_of(const clr_sampler_desc *d) {
       return CLR_V4_PADDEDSOBOL;
     case CLR_SAMPLER_ZSOBOL:
       return CLR_V4_ZSOBOL;
+    case CLR_SAMPLER_PMJ02BN:
+      return CLR_V4_PMJ02BN;
     default:
       break;
   }
@@ -203,6 +207,11 @@ static clr_result validate_desc(const clr_sampler_desc *d) {
     return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
                     "maxmindist sampler: pixelsamples %d must be in 1..%d", (int)d->pixel_samples,
                     (1 << CLR_MAXMIN_MATRICES) - 1);
+  } else if (d->type == CLR_SAMPLER_PMJ02BN &&
+             (d->pixel_samples <= 0 || d->pixel_samples > CLR_PMJ02_POINTS)) {
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                    "pmj02bn sampler: pixelsamples %d must be in 1..%d", (int)d->pixel_samples,
+                    CLR_PMJ02_POINTS);
   } else if (d->pixel_samples <= 0 || d->pixel_samples > (1 << 20)) {
     return clr_fail(NULL, CLR_ERROR_INVALID_SPP, "%s sampler: pixelsamples %d must be in 1..%d",
                     clr_sampler_type_name(d->type), (int)d->pixel_samples, 1 << 20);
@@ -240,6 +249,7 @@ static void fill_v4_params(const clr_sampler_desc *d, clr_sampler_params *p) {
     p->sobol_log2_resolution = full.sobol_log2_resolution;
     p->sobol_resolution = full.sobol_resolution;
   }
+  if (p->v4_sampler == CLR_V4_PMJ02BN) p->pmj_tile = clr_pmj02_tile_size(p->spp);
   if (p->v4_sampler == CLR_V4_ZSOBOL) {
     p->zsobol_log2_spp = log2_int(d->pixel_samples);
     p->spp = 1 << p->zsobol_log2_spp;
@@ -356,9 +366,15 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
                     "give at this resolution",
                     (int)desc->pixel_samples, (long long)most);
   }
+  if (s->base.v4_sampler == CLR_V4_PMJ02BN &&
+      !(s->pmj_pixels = clr_pmj02_pixel_table(s->base.spp, s->base.pmj_tile))) {
+    free(s);
+    return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_create: out of memory");
+  }
   if (ctx) {
     clr_result r = clr_sampler_device_create(ctx, &s->device);
     if (r != CLR_SUCCESS) {
+      free(s->pmj_pixels);
       free(s);
       return r;
     }
@@ -377,6 +393,7 @@ void clr_sampler_release(clr_sampler s) {
   if (!s || atomic_fetch_sub(&s->refcount, 1) != 1) return;
   clr_sampler_device_release(s->device);
   clr_context_release(s->ctx);
+  free(s->pmj_pixels);
   free(s);
 }
 
@@ -582,7 +599,7 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
   if (!values) return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "reference: out of memory");
   if (p.v4_sampler) {
     clr_v4_tables t = {clr_sobol_matrices32, &clr_vdc_sobol_matrices[0][0],
-                       &clr_vdc_sobol_matrices_inv[0][0], clr_halton_primes()};
+                       &clr_vdc_sobol_matrices_inv[0][0], clr_halton_primes(), s->pmj_pixels};
     for (size_t i = 0; i < items; ++i)
       clr_v4_sample_vector(&p, slots, &t, (clr_i32)i, values + i * (size_t)p.values_per_sample);
     if (out->host_indices)
@@ -641,5 +658,5 @@ clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
   clr_sampler_params p;
   clr_request_slot slots[CLR_MAX_REQUESTS];
   CLR_CHECK(prepare_batch(s, batch, &p, slots));
-  return clr_sampler_device_generate(s->device, &p, slots, out);
+  return clr_sampler_device_generate(s->device, &p, slots, s->pmj_pixels, out);
 }
