@@ -418,8 +418,8 @@ CLR_INLINE void clr_v4_get_pixel2d(const clr_sampler_params *p, const clr_v4_tab
   }
 }
 
-/* Sample vector of batch item `item` (pixel-major, then sample): request 0 is GetPixel2D, every
- * other value Get1D/Get2D in layout order. */
+/* Sample vector of batch item `item` (pixel-major, then sample): request p->film_request is
+ * GetPixel2D, every other value Get1D/Get2D in layout order. */
 CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
                                      CLR_GLOBAL const clr_request_slot *slots,
                                      const clr_v4_tables *t, clr_i32 item, CLR_GLOBAL float *out) {
@@ -429,15 +429,16 @@ CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
   clr_v4_start(p, t, p->batch_x0 + pixel - row * p->batch_width, p->batch_y0 + row,
                p->first_sample + item % p->sample_count, &s);
   float u[2];
-  clr_v4_get_pixel2d(p, t, &s, u);
-  out[0] = u[0];
-  out[1] = u[1];
-  for (clr_i32 r = 1; r < p->request_count; ++r) {
+  for (clr_i32 r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];
     clr_i32 elements = sl.array_size ? sl.array_size : 1;
     CLR_GLOBAL float *v = out + sl.first_value;
     for (clr_i32 j = 0; j < elements; ++j) {
-      if (sl.dims == 1) {
+      if (r == p->film_request) {
+        clr_v4_get_pixel2d(p, t, &s, u);
+        v[0] = u[0];
+        v[1] = u[1];
+      } else if (sl.dims == 1) {
         v[j] = clr_v4_get1d(p, t, &s);
       } else {
         clr_v4_get2d(p, t, &s, u);

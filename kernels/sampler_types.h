@@ -83,8 +83,9 @@ typedef struct clr_sampler_params {
   clr_i32 v4_sampler;    /* CLR_V4_*, 0 for the other samplers */
   clr_i32 randomization; /* CLR_RANDOMIZE_TYPE_* */
   clr_i32 zsobol_log2_spp, zsobol_base4_digits;
-  clr_i32 pmj_tile; /* pmj02bn: side of the tile of pixels its GetPixel2D table covers */
-  clr_i32 pad[3];
+  clr_i32 pmj_tile;     /* pmj02bn: side of the tile of pixels its GetPixel2D table covers */
+  clr_i32 film_request; /* pbrt-v4 samplers: the request that is GetPixel2D (1D ones before it) */
+  clr_i32 pad[2];
 } clr_sampler_params;
 
 /* One request of the layout, resolved for the sampler family. */

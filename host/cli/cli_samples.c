@@ -16,7 +16,7 @@ static void samples_usage(FILE *f) {
       "global_index is empty for samplers without one).\n"
       "  --sampler NAME        random | stratified | halton | sobol | 02sequence (alias\n"
       "                        lowdiscrepancy) | maxmindist | independent | paddedsobol |\n"
-      "                        zsobol (required)\n"
+      "                        zsobol | pmj02bn (required)\n"
       "  --spp N               samples per pixel (stratified: factored into xsamples*ysamples)\n"
       "  --xsamples N --ysamples N  stratified strata (default 4 x 4)\n"
       "  --dimensions N        stratified, 02sequence, maxmindist 1D/2D streams (default 4)\n"
@@ -217,6 +217,15 @@ static void print_csv(const samples_options *o, const clr_sample_batch *b, int32
       }
 }
 
+/* pbrt-v4 samplers take 1D requests before the film offset (the wavelengths in pbrt-v4): how
+ * many lead the layout. */
+static int32_t leading_1d(const samples_options *o) {
+  int v4 = o->desc.seeding == CLR_SEEDING_PBRT_V4 || o->desc.type >= CLR_SAMPLER_INDEPENDENT;
+  int32_t n = 0;
+  while (v4 && n + 1 < o->request_count && o->requests[n].dims == 1) ++n;
+  return n;
+}
+
 static int fail(const char *what) {
   fprintf(stderr, "clrender samples: %s: %s\n", what, clr_last_error_message());
   return 1;
@@ -300,12 +309,15 @@ int cli_samples(int argc, char **argv) {
   int status = 0;
   float *v = NULL;
   uint64_t *idx = NULL;
-  if (clr_sample_layout_values(o.requests, o.request_count, &values) != CLR_SUCCESS) {
+  if (clr_sample_layout_values(o.requests + leading_1d(&o), o.request_count - leading_1d(&o),
+                               &values) != CLR_SUCCESS) {
     fprintf(stderr, "clrender samples: --requests: %s\n", clr_last_error_message());
     samples_usage(stderr);
     status = 2;
     goto done;
   }
+  for (int32_t i = 0; i < leading_1d(&o); ++i)
+    values += o.requests[i].array_size ? o.requests[i].array_size : 1;
   int32_t count = clr_sampler_spp(sampler);
   size_t pixels = (size_t)(o.pixels.x1 > o.pixels.x0 ? o.pixels.x1 - o.pixels.x0 : 0) *
                   (size_t)(o.pixels.y1 > o.pixels.y0 ? o.pixels.y1 - o.pixels.y0 : 0);

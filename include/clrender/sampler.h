@@ -111,7 +111,10 @@ CLR_API const char *clr_randomization_name(clr_randomization randomization);
 CLR_API int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count);
 
 /* One request of the layout. The camera's requests come first: 2D film offset, 1D time, 2D lens;
- * then the integrator's 1D/2D requests and arrays in the order it makes them. */
+ * then the integrator's 1D/2D requests and arrays in the order it makes them. pbrt-v4 samplers
+ * (CLR_SEEDING_PBRT_V4, independent, paddedsobol, zsobol, pmj02bn) also accept 1D requests before
+ * the film offset (pbrt-v4 takes the wavelength sample first): the first 2D request is then the
+ * film offset (GetPixel2D). clr_sample_layout_values checks the strict form. */
 typedef struct clr_sample_request {
   int32_t dims;       /* 1 or 2 */
   int32_t array_size; /* 0: one value (Get1D/Get2D); n >= 1: an array (Get1DArray/Get2DArray) */

@@ -176,7 +176,7 @@ static clr_result validate_v4(const clr_sampler_desc *d) {
   if (d->randomization != CLR_RANDOMIZATION_DEFAULT && !randomizable)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                     "%s sampler: randomization \"%s\" applies only to pbrt-v4's halton, sobol, "
-                    "paddedsobol and zsobol",
+                    "paddedsobol and zsobol (halton and sobol with seeding pbrt-v4)",
                     clr_sampler_type_name(d->type), clr_randomization_name(d->randomization));
   if (v4 == CLR_V4_HALTON && d->randomization == CLR_RANDOMIZATION_FASTOWEN)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
@@ -411,18 +411,25 @@ int clr_sampler_has_global_index(clr_sampler s) {
          (s->desc.type == CLR_SAMPLER_HALTON || s->desc.type == CLR_SAMPLER_SOBOL);
 }
 
-clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
-                                    int32_t *values_per_sample) {
+/* The layout's size; *film_request receives the index of the 2D film offset: the first request,
+ * or with leading_1d (pbrt-v4 samplers, whose integrators may take 1D values such as the
+ * wavelengths before GetPixel2D) the first 2D request. */
+static clr_result layout_values(const clr_sample_request *requests, int32_t count, int leading_1d,
+                                int32_t *values_per_sample, int32_t *film_request) {
   if (!values_per_sample || (count > 0 && !requests))
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "sample layout: NULL requests or result");
   if (count <= 0 || count > CLR_MAX_REQUESTS)
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS, "sample layout: %d requests (must be 1..%d)",
                     (int)count, CLR_MAX_REQUESTS);
-  if (requests[0].dims != 2 || requests[0].array_size != 0)
+  int32_t f = 0;
+  while (leading_1d && f + 1 < count && requests[f].dims == 1) ++f;
+  if (requests[f].dims != 2 || requests[f].array_size != 0)
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
-                    "sample layout: the first request must be the 2D film offset (got dims %d, "
+                    "sample layout: the %s request must be the 2D film offset (got dims %d, "
                     "array %d)",
-                    (int)requests[0].dims, (int)requests[0].array_size);
+                    leading_1d ? "first 2D" : "first", (int)requests[f].dims,
+                    (int)requests[f].array_size);
+  *film_request = f;
   int64_t total = 0;
   for (int32_t i = 0; i < count; ++i) {
     const clr_sample_request *r = &requests[i];
@@ -442,6 +449,12 @@ clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t 
                     (long long)total, CLR_MAX_VALUES_PER_SAMPLE);
   *values_per_sample = (int32_t)total;
   return CLR_SUCCESS;
+}
+
+clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
+                                    int32_t *values_per_sample) {
+  int32_t film_request = 0;
+  return layout_values(requests, count, 0, values_per_sample, &film_request);
 }
 
 /* pbrt-v3 GlobalSampler: singles take consecutive dimensions, skipping the array block that
@@ -504,7 +517,9 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
   CLR_CHECK(clr_desc_adopt(&full, sizeof full, b, "clr_sampler_generate: batch"));
   b = &full;
   int32_t values = 0;
-  CLR_CHECK(clr_sample_layout_values(b->requests, b->request_count, &values));
+  int32_t film_request = 0;
+  CLR_CHECK(layout_values(b->requests, b->request_count, s->base.v4_sampler != 0, &values,
+                          &film_request));
   const clr_bounds2i r = b->pixels, ib = s->index_bounds;
   if (r.x1 <= r.x0 || r.y1 <= r.y0 || r.x0 < ib.x0 || r.y0 < ib.y0 || r.x1 > ib.x1 || r.y1 > ib.y1)
     return clr_fail(s->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
@@ -531,6 +546,7 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
   p->sample_count = count;
   p->values_per_sample = values;
   p->request_count = b->request_count;
+  p->film_request = film_request;
   int offset = 0, max_array = 0;
   for (int i = 0; i < b->request_count; ++i) {
     clr_request_slot *sl = &slots[i];
