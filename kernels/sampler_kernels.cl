@@ -11,6 +11,29 @@
 #include "sampler_types.h"
 #include "global_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
+#include "pbrt_v4_sampler_funcs.h"
+
+#ifdef CLR_SAMPLER_V4
+/* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1), one shape for SIMD and
+ * portable contexts: one work-item per batch item, the host reference's scalar functions. */
+__kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+                              __global const uint *restrict sobol32,
+                              __global const ulong *restrict vdc,
+                              __global const ulong *restrict vdc_inv,
+                              __global const clr_halton_prime *restrict primes,
+                              __global const float *restrict pmj_pixels,
+                              __global float *restrict values, int item_count) {
+  const int item = (int)get_global_id(0);
+  if (item >= item_count) return;
+  clr_v4_tables t;
+  t.sobol32 = sobol32;
+  t.vdc = vdc;
+  t.vdc_inv = vdc_inv;
+  t.primes = primes;
+  t.pmj_pixels = pmj_pixels;
+  clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
+}
+#endif
 
 #ifndef CLR_SAMPLER_TYPE
 #define CLR_SAMPLER_TYPE CLR_SAMPLER_TYPE_SOBOL

@@ -11,9 +11,34 @@
 #define CLR_SAMPLER_TYPE_SOBOL 3
 #define CLR_SAMPLER_TYPE_ZEROTWO 4
 #define CLR_SAMPLER_TYPE_MAXMINDIST 5
+#define CLR_SAMPLER_TYPE_INDEPENDENT 6
+#define CLR_SAMPLER_TYPE_PADDEDSOBOL 7
+#define CLR_SAMPLER_TYPE_ZSOBOL 8
+#define CLR_SAMPLER_TYPE_PMJ02BN 9
+
+/* pbrt-v4's sampler algorithms (clr_sampler_params.v4_sampler; 0: not a pbrt-v4 sampler). */
+#define CLR_V4_INDEPENDENT 1
+#define CLR_V4_STRATIFIED 2
+#define CLR_V4_HALTON 3
+#define CLR_V4_SOBOL 4
+#define CLR_V4_PADDEDSOBOL 5
+#define CLR_V4_ZSOBOL 6
+#define CLR_V4_PMJ02BN 7
+
+/* pmj02bn: progressive (0,2) point sets and the points each of them holds (pbrt-v4's
+ * nPMJ02bnSets, nPMJ02bnSamples). */
+#define CLR_PMJ02_SETS 5
+#define CLR_PMJ02_POINTS 65536
+
+/* pbrt-v4's RandomizeStrategy (clr_sampler_params.randomization). */
+#define CLR_RANDOMIZE_TYPE_NONE 1
+#define CLR_RANDOMIZE_TYPE_PERMUTEDIGITS 2
+#define CLR_RANDOMIZE_TYPE_FASTOWEN 3
+#define CLR_RANDOMIZE_TYPE_OWEN 4
 
 #define CLR_SEEDING_TYPE_PBRT_V3 0
 #define CLR_SEEDING_TYPE_PIXEL 1
+#define CLR_SEEDING_TYPE_PBRT_V4 2
 
 /* pbrt-v3's render tiles (over the sample bounds) that seed the pixel samplers' RNG streams. */
 #define CLR_PBRT_TILE_SIZE 16
@@ -53,7 +78,14 @@ typedef struct clr_sampler_params {
   clr_i32 fallback_draws_per_sample;
   clr_i32 scratch_floats; /* per work-item scratch the pixel samplers need */
   clr_i32 maxmin_matrix;  /* maxmindist: index of its generator matrix (pbrt-v3's Cindex) */
-  clr_i32 pad[1];
+  /* pbrt-v4 samplers (clr_sampler_params.halton_* and sobol_* then hold pbrt-v4's values, from
+   * the full film resolution) */
+  clr_i32 v4_sampler;    /* CLR_V4_*, 0 for the other samplers */
+  clr_i32 randomization; /* CLR_RANDOMIZE_TYPE_* */
+  clr_i32 zsobol_log2_spp, zsobol_base4_digits;
+  clr_i32 pmj_tile;     /* pmj02bn: side of the tile of pixels its GetPixel2D table covers */
+  clr_i32 film_request; /* pbrt-v4 samplers: the request that is GetPixel2D (1D ones before it) */
+  clr_i32 pad[2];
 } clr_sampler_params;
 
 /* One request of the layout, resolved for the sampler family. */

@@ -65,6 +65,46 @@ static void test_csv_rows_and_header(void **state) {
   assert_string_equal(out, ref);
 }
 
+/* Values of row "px,py,sample,," (no global index) as floats; returns how many were read. */
+static int row_values(const char *out, const char *prefix, float *v, int most) {
+  const char *row = strstr(out, prefix);
+  if (!row) return 0;
+  row += strlen(prefix);
+  int n = 0;
+  while (n < most && *row && *row != '\n') {
+    char *end = NULL;
+    v[n++] = strtof(row, &end);
+    row = *end == ',' ? end + 1 : end;
+  }
+  return n;
+}
+
+/* --seeding pbrt-v4, --randomization, --seed and a wavelength-first layout reach the sampler:
+ * values pinned from pbrt-v4 (as in test_pbrt_v4_samplers). */
+static void test_pbrt_v4_flags(void **state) {
+  (void)state;
+  static char out[1 << 16];
+  float v[8];
+  assert_int_equal(run("samples --sampler sobol --seeding pbrt-v4 --randomization owen --seed 7 "
+                       "--spp 16 --res 1280x720 --pixel 100,200 --requests 2,1,2,1 --reference",
+                       out, sizeof out),
+                   0);
+  assert_int_equal(row_values(out, "\n100,200,3,,", v, 8), 6);
+  const float sobol[6] = {0x1.006p-2f,    0x1.0aap-2f,    0x1.ff6e8cp-1f,
+                          0x1.4a9eaap-1f, 0x1.459408p-1f, 0x1.2cfb12p-1f};
+  for (int k = 0; k < 6; ++k) assert_true(v[k] == sobol[k]);
+  assert_int_equal(run("samples --sampler zsobol --seed 5 --spp 16 --pixel 3,5 --requests 1,2,1,2",
+                       out, sizeof out),
+                   0);
+  assert_int_equal(row_values(out, "\n3,5,1,,", v, 8), 6);
+  const float zsobol[6] = {0x1.9f4136p-2f, 0x1.872b46p-1f, 0x1.619128p-1f,
+                           0x1.a00504p-2f, 0x1.6aec3ap-2f, 0x1.ab9fdap-1f};
+  for (int k = 0; k < 6; ++k) assert_true(v[k] == zsobol[k]);
+  assert_int_equal(run("samples --sampler zsobol --randomization fast-owen", out, sizeof out), 2);
+  assert_int_equal(run("samples --sampler maxmindist --seeding pbrt-v4", out, sizeof out), 2);
+  assert_int_equal(run("samples --sampler halton --randomization owen", out, sizeof out), 2);
+}
+
 static void test_plot_png(void **state) {
   (void)state;
   char path[] = "/tmp/clr_plot_XXXXXX.png";
@@ -126,6 +166,7 @@ static void test_devices_lists_default(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_csv_rows_and_header),
+      cmocka_unit_test(test_pbrt_v4_flags),
       cmocka_unit_test(test_plot_png),
       cmocka_unit_test(test_bad_flags_exit_2),
       cmocka_unit_test(test_devices_lists_default),

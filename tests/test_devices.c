@@ -121,10 +121,27 @@ static clr_sampler make_sampler(clr_sampler_type type, clr_seeding seeding, int 
   return r == CLR_SUCCESS ? s : NULL;
 }
 
+/* pbrt-v4's samplers have one kernel for both shapes: on Oclgrind (slow) they run in the portable
+ * context only. */
+static int v4_here(void) {
+  return !strstr(clr_context_device_name(ctx), "Oclgrind") ||
+         clr_context_kernel_shape(ctx) == CLR_KERNELS_PORTABLE;
+}
+
+/* pbrt-v4's own samplers run pbrt-v4's algorithm under every seeding (tested once); 02sequence and
+ * maxmindist have no pbrt-v4 version. */
+static int seeding_applies(int type, int seeding) {
+  if ((type >= CLR_SAMPLER_INDEPENDENT || seeding == CLR_SEEDING_PBRT_V4) && !v4_here()) return 0;
+  if (type >= CLR_SAMPLER_INDEPENDENT) return seeding == CLR_SEEDING_PBRT_V4;
+  return seeding != CLR_SEEDING_PBRT_V4 ||
+         (type != CLR_SAMPLER_ZEROTWO && type != CLR_SAMPLER_MAXMINDIST);
+}
+
 static void check_samplers(void) {
-  static const char *seedings[] = {"pbrt-v3", "pixel"};
-  for (int t = 0; t <= CLR_SAMPLER_MAXMINDIST; ++t)
-    for (int seeding = 0; seeding < 2; ++seeding) {
+  static const char *seedings[] = {"pbrt-v3", "pixel", "pbrt-v4"};
+  for (int t = 0; t < CLR_SAMPLER_TYPE_COUNT; ++t)
+    for (int seeding = 0; seeding < 3; ++seeding) {
+      if (!seeding_applies(t, seeding)) continue;
       clr_sampler s = make_sampler((clr_sampler_type)t, (clr_seeding)seeding, 20, 4);
       if (!s) continue;
       char what[96];
@@ -138,6 +155,34 @@ static void check_samplers(void) {
                seedings[seeding]);
       ok &= compare_batch(s, what, (clr_bounds2i){0, 0, 5, 3}, 1, 2, with_arrays,
                           (int)(sizeof with_arrays / sizeof with_arrays[0]));
+      printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
+      clr_sampler_release(s);
+    }
+}
+
+/* pbrt-v4's randomizations of halton, sobol, paddedsobol and zsobol (the camera layout). */
+static void check_v4_randomizations(void) {
+  if (!v4_here()) return;
+  static const clr_sampler_type types[] = {CLR_SAMPLER_HALTON, CLR_SAMPLER_SOBOL,
+                                           CLR_SAMPLER_PADDEDSOBOL, CLR_SAMPLER_ZSOBOL};
+  for (int t = 0; t < 4; ++t)
+    for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
+      if (types[t] == CLR_SAMPLER_HALTON && r == CLR_RANDOMIZATION_FASTOWEN) continue;
+      clr_sampler_desc d;
+      clr_sampler_desc_init(&d, types[t]);
+      d.seeding = CLR_SEEDING_PBRT_V4;
+      d.randomization = (clr_randomization)r;
+      d.seed = 5;
+      d.pixel_samples = 8;
+      d.film.x_resolution = 40;
+      d.film.y_resolution = 24;
+      clr_sampler s = NULL;
+      CHECK(clr_sampler_create(ctx, &d, &s) == CLR_SUCCESS, "create: %s", clr_last_error_message());
+      if (!s) continue;
+      char what[96];
+      snprintf(what, sizeof what, "%s/pbrt-v4 %s", clr_sampler_type_name(types[t]),
+               clr_randomization_name((clr_randomization)r));
+      int ok = compare_batch(s, what, (clr_bounds2i){31, 17, 34, 19}, 3, 3, camera10, 6);
       printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
       clr_sampler_release(s);
     }
@@ -321,6 +366,7 @@ static int run_child(void) {
         "kernel shape %s, expected %s", clr_kernel_shape_name(clr_context_kernel_shape(ctx)),
         expect_shape);
   check_samplers();
+  check_v4_randomizations();
   check_global_paths();
   check_film();
   clr_context_release(ctx);

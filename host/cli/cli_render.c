@@ -35,13 +35,17 @@ static void usage(FILE *f) {
       "                          beside it) or .png; overrides the scene's Film filename\n"
       "  --cropwindow x0 x1 y0 y1  render only this part of the film (NDC, [0,1])\n"
       "  --seed N                seed of the per-pixel sample streams (default 0)\n"
-      "  --seeding pbrt-v3|pixel sample stream seeding (default pixel: crops render exactly\n"
-      "                          the samples of the full frame; pbrt-v3: per-16x16-tile streams)\n"
+      "  --seeding pbrt-v3|pbrt-v4|pixel  sample stream seeding (default pixel: crops render\n"
+      "                          exactly the samples of the full frame; pbrt-v3: per-16x16-tile\n"
+      "                          streams; pbrt-v4: pbrt-v4's samplers for every name)\n"
+      "  --randomization R       pbrt-v4 halton, sobol, paddedsobol, zsobol: none |\n"
+      "                          permutedigits | fastowen | owen\n"
       "  --device D              OpenCL device index or name (see clrender devices)\n"
       "  --kernels SHAPE         simd | portable | auto (default auto: simd on PoCL CPU\n"
       "                          devices, portable elsewhere; same image either way)\n"
       "  --sampler NAME          random, stratified, halton, sobol, 02sequence\n"
-      "                          (lowdiscrepancy), maxmindist\n"
+      "                          (lowdiscrepancy), maxmindist, independent, paddedsobol, zsobol,\n"
+      "                          pmj02bn\n"
       "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
       "                          catmullrom (default parameters)\n"
       "  --tile-size N           render tile side in pixels (default 16)\n"
@@ -128,8 +132,13 @@ int cli_render(int argc, char **argv) {
         o.seeding = CLR_SEEDING_PBRT_V3;
       else if (strcmp(argv[i], "pixel") == 0)
         o.seeding = CLR_SEEDING_PIXEL;
+      else if (strcmp(argv[i], "pbrt-v4") == 0)
+        o.seeding = CLR_SEEDING_PBRT_V4;
       else
         goto bad;
+    } else if (strcmp(a, "--randomization") == 0) {
+      NEED(1);
+      if (clr_randomization_from_name(argv[++i], &o.randomization) != CLR_SUCCESS) goto bad;
     } else if (strcmp(a, "--cropwindow") == 0) {
       NEED(4);
       for (int k = 0; k < 4; ++k)

@@ -15,7 +15,8 @@ static void samples_usage(FILE *f) {
       "Prints one CSV row per sample: px,py,sample,global_index,v0,v1,... (film offset first;\n"
       "global_index is empty for samplers without one).\n"
       "  --sampler NAME        random | stratified | halton | sobol | 02sequence (alias\n"
-      "                        lowdiscrepancy) | maxmindist (required)\n"
+      "                        lowdiscrepancy) | maxmindist | independent | paddedsobol |\n"
+      "                        zsobol | pmj02bn (required)\n"
       "  --spp N               samples per pixel (stratified: factored into xsamples*ysamples)\n"
       "  --xsamples N --ysamples N  stratified strata (default 4 x 4)\n"
       "  --dimensions N        stratified, 02sequence, maxmindist 1D/2D streams (default 4)\n"
@@ -27,8 +28,10 @@ static void samples_usage(FILE *f) {
       "  --pixels x0,y0,x1,y1  pixels [x0,x1) x [y0,y1)\n"
       "  --requests LIST       request layout, e.g. 2,1,2,1,2,2 (default 2,1,2 = camera);\n"
       "                        D:N is an array of N D-dimensional values, e.g. 2,1,2,2:16\n"
-      "  --seeding MODE        pixel (default; tiling-independent) | pbrt-v3\n"
-      "  --seed N              seed mixed into per-pixel streams (default 0)\n"
+      "  --seeding MODE        pixel (default; tiling-independent) | pbrt-v3 | pbrt-v4\n"
+      "  --seed N              seed mixed into per-pixel streams, pbrt-v4's \"seed\" (default 0)\n"
+      "  --randomization R     pbrt-v4 halton, sobol, paddedsobol, zsobol: none | permutedigits\n"
+      "                        | fastowen | owen (default: pbrt-v4's for the sampler)\n"
       "  --device D            OpenCL device index or name substring\n"
       "  --kernels SHAPE       simd | portable | auto (default auto; same values either way)\n"
       "  --reference           compute on the host reference instead of the device\n"
@@ -158,12 +161,17 @@ static int parse_samples_args(int argc, char **argv, samples_options *o, const c
         o->desc.seeding = CLR_SEEDING_PBRT_V3;
       else if (strcmp(val, "pixel") == 0)
         o->desc.seeding = CLR_SEEDING_PIXEL;
+      else if (strcmp(val, "pbrt-v4") == 0)
+        o->desc.seeding = CLR_SEEDING_PBRT_V4;
       else
         return bad_value(f, val);
     } else if (strcmp(f, "--seed") == 0) {
       int32_t seed;
       if (!cli_parse_int(val, 0, 2147483647L, &seed)) return bad_value(f, val);
       o->desc.seed = (uint32_t)seed;
+    } else if (strcmp(f, "--randomization") == 0) {
+      if (clr_randomization_from_name(val, &o->desc.randomization) != CLR_SUCCESS)
+        return bad_value(f, val);
     } else if (strcmp(f, "--device") == 0) {
       o->device = val;
     } else if (strcmp(f, "--kernels") == 0) {
@@ -209,6 +217,15 @@ static void print_csv(const samples_options *o, const clr_sample_batch *b, int32
       }
 }
 
+/* pbrt-v4 samplers take 1D requests before the film offset (the wavelengths in pbrt-v4): how
+ * many lead the layout. */
+static int32_t leading_1d(const samples_options *o) {
+  int v4 = o->desc.seeding == CLR_SEEDING_PBRT_V4 || o->desc.type >= CLR_SAMPLER_INDEPENDENT;
+  int32_t n = 0;
+  while (v4 && n + 1 < o->request_count && o->requests[n].dims == 1) ++n;
+  return n;
+}
+
 static int fail(const char *what) {
   fprintf(stderr, "clrender samples: %s: %s\n", what, clr_last_error_message());
   return 1;
@@ -235,6 +252,7 @@ int cli_samples(int argc, char **argv) {
   o.desc.sample_pixel_center = desc.sample_pixel_center;
   o.desc.seeding = desc.seeding;
   o.desc.seed = desc.seed;
+  o.desc.randomization = desc.randomization;
   o.desc.film = desc.film;
   if (o.spp_set) {
     o.desc.pixel_samples = o.spp;
@@ -291,12 +309,15 @@ int cli_samples(int argc, char **argv) {
   int status = 0;
   float *v = NULL;
   uint64_t *idx = NULL;
-  if (clr_sample_layout_values(o.requests, o.request_count, &values) != CLR_SUCCESS) {
+  if (clr_sample_layout_values(o.requests + leading_1d(&o), o.request_count - leading_1d(&o),
+                               &values) != CLR_SUCCESS) {
     fprintf(stderr, "clrender samples: --requests: %s\n", clr_last_error_message());
     samples_usage(stderr);
     status = 2;
     goto done;
   }
+  for (int32_t i = 0; i < leading_1d(&o); ++i)
+    values += o.requests[i].array_size ? o.requests[i].array_size : 1;
   int32_t count = clr_sampler_spp(sampler);
   size_t pixels = (size_t)(o.pixels.x1 > o.pixels.x0 ? o.pixels.x1 - o.pixels.x0 : 0) *
                   (size_t)(o.pixels.y1 > o.pixels.y0 ? o.pixels.y1 - o.pixels.y0 : 0);

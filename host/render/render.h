@@ -24,7 +24,7 @@ typedef struct clr_render_options {
   int32_t tile_size;    /* render tile side in pixels (16); never changes the image beyond
                               float rounding of the film sums */
   uint32_t seed;        /* mixed into CLR_SEEDING_PIXEL streams (0) */
-  clr_seeding seeding;  /* CLR_SEEDING_PIXEL (default) or CLR_SEEDING_PBRT_V3 */
+  clr_seeding seeding;  /* CLR_SEEDING_PIXEL (default), CLR_SEEDING_PBRT_V3 or _PBRT_V4 */
   const char *sampler;  /* sampler name override or NULL */
   const char *filter;   /* filter name override (clr_filter_type_from_name names) or NULL */
   int32_t crop_given;   /* 1: crop_window overrides the Film's "cropwindow" */
@@ -37,10 +37,12 @@ typedef struct clr_render_options {
   int32_t progress;    /* 1: progress bar on stderr */
   clr_render_progress_fn progress_callback; /* optional: progress and cancellation */
   void *progress_user;
-  int32_t reference_samples; /* 1: samples from the single-thread host reference generator
+  int32_t reference_samples;       /* 1: samples from the single-thread host reference generator
                                 (the device's bits, slower: for comparisons) */
-  const char *kernels;       /* kernel shape: "simd", "portable" or NULL/"auto" (the device's
+  const char *kernels;             /* kernel shape: "simd", "portable" or NULL/"auto" (the device's
                               default or CLRENDER_KERNELS; see clrender/kernels.h) */
+  clr_randomization randomization; /* pbrt-v4 samplers: overrides the Sampler's
+                                      "randomization" unless CLR_RANDOMIZATION_DEFAULT */
 } clr_render_options;
 
 typedef struct clr_render_stats {

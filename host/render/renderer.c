@@ -76,6 +76,12 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     sd->jitter = clr_params_find_bool(p, "jitter", sd->jitter != 0);
     sd->dimensions = clr_params_find_int(p, "dimensions", sd->dimensions);
     sd->sample_pixel_center = clr_params_find_bool(p, "samplepixelcenter", false);
+    const char *r = clr_params_find_string(p, "randomization", NULL);
+    if (r && clr_randomization_from_name(r, &sd->randomization) != CLR_SUCCESS)
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                                "%s:%d: unknown randomization \"%s\" (expected none, "
+                                "permutedigits, fastowen or owen)",
+                                p->file ? p->file : "?", p->line, r);
   }
   if (o->spp > 0) {
     sd->pixel_samples = o->spp;
@@ -103,7 +109,9 @@ static clr_result sampler_from_desc(const clr_scene_desc *d, const clr_render_op
     warn(wu, m);
   }
   sd->seeding = o->seeding;
-  sd->seed = o->seed;
+  /* pbrt-v4: the Sampler's "seed" defaults to --seed */
+  sd->seed = same ? (uint32_t)clr_params_find_int(p, "seed", (int)o->seed) : o->seed;
+  if (o->randomization != CLR_RANDOMIZATION_DEFAULT) sd->randomization = o->randomization;
   return CLR_SUCCESS;
 }
 
@@ -172,6 +180,28 @@ static int param_line(const clr_param_list *p, const char *name) {
 
 static const char *param_file(const clr_param_list *p) { return p->file ? p->file : "<scene>"; }
 
+/* The sampler's name, seeding and randomization go together (pbrt-v4's randomizations, no
+ * pbrt-v4 02sequence): the library's message, located at the Sampler directive or the flags. */
+static clr_result check_sampler_kind(const clr_sampler_desc *sd, const clr_render_options *o,
+                                     const clr_param_list *sampler) {
+  clr_sampler_desc probe = *sd;
+  probe.pixel_samples = 1;
+  probe.x_samples = probe.y_samples = 1;
+  probe.film.x_resolution = probe.film.y_resolution = 1;
+  probe.film.crop_window[0] = probe.film.crop_window[2] = 0.0f;
+  probe.film.crop_window[1] = probe.film.crop_window[3] = 1.0f;
+  clr_sampler s = NULL;
+  clr_result r = clr_sampler_create(NULL, &probe, &s);
+  clr_sampler_release(s);
+  if (r == CLR_SUCCESS) return CLR_SUCCESS;
+  char why[512]; /* the message lives in the buffer clr_set_last_error writes */
+  snprintf(why, sizeof why, "%s", clr_last_error_message());
+  if (o->sampler || o->randomization != CLR_RANDOMIZATION_DEFAULT)
+    return clr_set_last_error(r, "render options: %s", why);
+  return clr_set_last_error(r, "%s:%d: Sampler: %s", param_file(sampler),
+                            param_line(sampler, "randomization"), why);
+}
+
 /* Semantic errors the later stages would report without a location: every message here starts
  * with the scene's FILE:LINE (or the flag that set the value). */
 static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_options *o,
@@ -222,6 +252,7 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
                                 param_file(sampler), param_line(sampler, bad),
                                 clr_sampler_type_name(sd->type), bad, value);
   }
+  CLR_CHECK(check_sampler_kind(sd, o, sampler));
   for (int k = 0; k < 2; ++k)
     if (!(fd->radius[k] > 0.0f && fd->radius[k] <= CLR_FILM_MAX_FILTER_RADIUS)) {
       const char *name = k ? "ywidth" : "xwidth";

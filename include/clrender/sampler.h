@@ -31,15 +31,41 @@ typedef enum clr_sampler_type {
    * new samplers are appended. */
   CLR_SAMPLER_ZEROTWO = 4,
   /* pbrt-v3's MaxMinDistSampler ("maxmindist"): pixelsamples below 2^17. */
-  CLR_SAMPLER_MAXMINDIST = 5
+  CLR_SAMPLER_MAXMINDIST = 5,
+  /* pbrt-v4's IndependentSampler, PaddedSobolSampler and ZSobolSampler (always pbrt-v4's
+   * algorithms, whatever the seeding). */
+  CLR_SAMPLER_INDEPENDENT = 6,
+  CLR_SAMPLER_PADDEDSOBOL = 7,
+  CLR_SAMPLER_ZSOBOL = 8,
+  /* pbrt-v4's PMJ02BNSampler structure with point sets of our own (not pbrt-v4's tables): see
+   * README. pixelsamples 1..65536. */
+  CLR_SAMPLER_PMJ02BN = 9
 } clr_sampler_type;
+
+/* Number of sampler types: every value in [0, CLR_SAMPLER_TYPE_COUNT) is a sampler, named by
+ * clr_sampler_type_name. */
+#define CLR_SAMPLER_TYPE_COUNT 10
+
+/* pbrt-v4's RandomizeStrategy ("randomization"): DEFAULT is the sampler's pbrt-v4 default
+ * (halton: permutedigits; sobol, paddedsobol, zsobol: fastowen). Only pbrt-v4 samplers use it. */
+typedef enum clr_randomization {
+  CLR_RANDOMIZATION_DEFAULT = 0,
+  CLR_RANDOMIZATION_NONE = 1,
+  CLR_RANDOMIZATION_PERMUTEDIGITS = 2,
+  CLR_RANDOMIZATION_FASTOWEN = 3, /* not for halton (pbrt-v4 refuses it too) */
+  CLR_RANDOMIZATION_OWEN = 4
+} clr_randomization;
 
 typedef enum clr_seeding {
   /* pbrt-v3: the RNG stream of a pixel sampler is the index of its 16x16 render tile over the
    * sample bounds, and the stream runs through the tile's pixels in row-major order. */
   CLR_SEEDING_PBRT_V3 = 0,
   /* One RNG stream per pixel (hash of pixel and seed): independent of tiling and visiting order. */
-  CLR_SEEDING_PIXEL = 1
+  CLR_SEEDING_PIXEL = 1,
+  /* pbrt-v4: every sampler name runs pbrt-v4's algorithm (random = independent, stratified,
+   * halton, sobol; 02sequence and maxmindist are refused), seeded by pixel, sample and `seed`,
+   * with the full film resolution where pbrt-v4 uses it (halton, sobol, zsobol). */
+  CLR_SEEDING_PBRT_V4 = 2
 } clr_seeding;
 
 /* Film geometry the sampler needs: the sample bounds are the film's (cropped) pixel bounds grown
@@ -66,21 +92,29 @@ typedef struct clr_sampler_desc {
   clr_seeding seeding;          /* default CLR_SEEDING_PIXEL; CLR_SEEDING_PBRT_V3 matches pbrt-v3 */
   uint32_t seed;                /* mixed into CLR_SEEDING_PIXEL streams; default 0 */
   clr_film_geometry film;       /* default 1280x720, full crop, radius 0.5 (pbrt-v3 box) */
+  clr_randomization randomization; /* pbrt-v4 samplers; default CLR_RANDOMIZATION_DEFAULT */
 } clr_sampler_desc;
 
 /* Defaults of pbrt-v3's scene format for `type`. */
 CLR_API void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type);
 /* "random", "stratified", "halton", "sobol", "02sequence" (alias "lowdiscrepancy"),
- * "maxmindist" -> type;
+ * "maxmindist", "independent", "paddedsobol", "zsobol", "pmj02bn" -> type;
  * CLR_ERROR_INVALID_SAMPLER otherwise. */
 CLR_API clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type);
 CLR_API const char *clr_sampler_type_name(clr_sampler_type type);
+/* "default", "none", "permutedigits", "fastowen", "owen" <-> clr_randomization;
+ * CLR_ERROR_INVALID_ARGUMENT for another name. */
+CLR_API clr_result clr_randomization_from_name(const char *name, clr_randomization *out);
+CLR_API const char *clr_randomization_name(clr_randomization randomization);
 /* pbrt-v3's Sampler::RoundCount: the array size an integrator should request for `count`
  * values (02sequence, maxmindist: rounded up to a power of two; the others: count). */
 CLR_API int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count);
 
 /* One request of the layout. The camera's requests come first: 2D film offset, 1D time, 2D lens;
- * then the integrator's 1D/2D requests and arrays in the order it makes them. */
+ * then the integrator's 1D/2D requests and arrays in the order it makes them. pbrt-v4 samplers
+ * (CLR_SEEDING_PBRT_V4, independent, paddedsobol, zsobol, pmj02bn) also accept 1D requests before
+ * the film offset (pbrt-v4 takes the wavelength sample first): the first 2D request is then the
+ * film offset (GetPixel2D). clr_sample_layout_values checks the strict form. */
 typedef struct clr_sample_request {
   int32_t dims;       /* 1 or 2 */
   int32_t array_size; /* 0: one value (Get1D/Get2D); n >= 1: an array (Get1DArray/Get2DArray) */

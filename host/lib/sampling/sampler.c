@@ -11,7 +11,9 @@
 #include "film_geometry.h"
 #include "global_sampler_funcs.h"
 #include "halton_tables.h"
+#include "pbrt_v4_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
+#include "pmj02_tables.h"
 #include "sampler_device.h"
 #include "sobol_tables.h"
 
@@ -28,14 +30,36 @@ struct clr_sampler_t {
   clr_sampler_params base; /* everything but the batch fields */
   clr_bounds2i pixel_bounds, sample_bounds, index_bounds;
   clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
+  float *pmj_pixels;          /* pmj02bn: GetPixel2D table (clr_pmj02_pixel_table) */
 };
 
-static const char *const sampler_names[] = {"random", "stratified", "halton",
-                                            "sobol",  "02sequence", "maxmindist"};
+static const char *const sampler_names[CLR_SAMPLER_TYPE_COUNT] = {
+    "random",     "stratified",  "halton",      "sobol",  "02sequence",
+    "maxmindist", "independent", "paddedsobol", "zsobol", "pmj02bn"};
+static const char *const randomization_names[] = {"default", "none", "permutedigits", "fastowen",
+                                                  "owen"};
+#define RANDOMIZATION_NAME_COUNT ((int)(sizeof randomization_names / sizeof randomization_names[0]))
 #define SAMPLER_NAME_COUNT ((int)(sizeof sampler_names / sizeof sampler_names[0]))
 
 const char *clr_sampler_type_name(clr_sampler_type type) {
   return (unsigned)type < (unsigned)SAMPLER_NAME_COUNT ? sampler_names[type] : "unknown";
+}
+
+const char *clr_randomization_name(clr_randomization r) {
+  return (unsigned)r < (unsigned)RANDOMIZATION_NAME_COUNT ? randomization_names[r] : "unknown";
+}
+
+clr_result clr_randomization_from_name(const char *name, clr_randomization *out) {
+  if (!name || !out)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_randomization_from_name: NULL argument");
+  for (int i = 0; i < RANDOMIZATION_NAME_COUNT; ++i)
+    if (strcmp(name, randomization_names[i]) == 0) {
+      *out = (clr_randomization)i;
+      return CLR_SUCCESS;
+    }
+  return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                  "unknown randomization \"%s\" (expected none, permutedigits, fastowen or owen)",
+                  name);
 }
 
 static int32_t round_up_pow2(int32_t v);
@@ -61,7 +85,7 @@ clr_result clr_sampler_type_from_name(const char *name, clr_sampler_type *type) 
   }
   return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER,
                   "unknown sampler \"%s\" (expected random, stratified, halton, sobol, "
-                  "02sequence or maxmindist)",
+                  "02sequence, maxmindist, independent, paddedsobol, zsobol or pmj02bn)",
                   name);
 }
 
@@ -70,7 +94,7 @@ void clr_sampler_desc_init(clr_sampler_desc *desc, clr_sampler_type type) {
   memset(desc, 0, sizeof *desc);
   desc->struct_size = sizeof *desc;
   desc->type = type;
-  desc->pixel_samples = type == CLR_SAMPLER_RANDOM ? 4 : 16;
+  desc->pixel_samples = type == CLR_SAMPLER_RANDOM || type == CLR_SAMPLER_INDEPENDENT ? 4 : 16;
   desc->x_samples = desc->y_samples = 4;
   desc->jitter = 1;
   desc->dimensions = 4;
@@ -99,8 +123,69 @@ static int32_t round_up_pow2(int32_t v) {
   return p;
 }
 
+/* pbrt-v4's algorithm for this sampler, 0 for pbrt-v3's. */
+static int v4_sampler_of(const clr_sampler_desc *d) {
+  switch (d->type) {
+    case CLR_SAMPLER_INDEPENDENT:
+      return CLR_V4_INDEPENDENT;
+    case CLR_SAMPLER_PADDEDSOBOL:
+      return CLR_V4_PADDEDSOBOL;
+    case CLR_SAMPLER_ZSOBOL:
+      return CLR_V4_ZSOBOL;
+    case CLR_SAMPLER_PMJ02BN:
+      return CLR_V4_PMJ02BN;
+    default:
+      break;
+  }
+  if (d->seeding != CLR_SEEDING_PBRT_V4) return 0;
+  switch (d->type) {
+    case CLR_SAMPLER_RANDOM:
+      return CLR_V4_INDEPENDENT;
+    case CLR_SAMPLER_STRATIFIED:
+      return CLR_V4_STRATIFIED;
+    case CLR_SAMPLER_HALTON:
+      return CLR_V4_HALTON;
+    case CLR_SAMPLER_SOBOL:
+      return CLR_V4_SOBOL;
+    default:
+      return 0;
+  }
+}
+
+/* The randomization a pbrt-v4 sampler runs (its pbrt-v4 default for DEFAULT). */
+static int v4_randomization(int v4, clr_randomization r) {
+  if (r != CLR_RANDOMIZATION_DEFAULT) return (int)r;
+  if (v4 == CLR_V4_HALTON) return CLR_RANDOMIZE_TYPE_PERMUTEDIGITS;
+  if (v4 == CLR_V4_SOBOL || v4 == CLR_V4_PADDEDSOBOL || v4 == CLR_V4_ZSOBOL)
+    return CLR_RANDOMIZE_TYPE_FASTOWEN;
+  return CLR_RANDOMIZE_TYPE_NONE;
+}
+
+static clr_result validate_v4(const clr_sampler_desc *d) {
+  int v4 = v4_sampler_of(d);
+  if (d->seeding == CLR_SEEDING_PBRT_V4 && !v4)
+    return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER,
+                    "%s sampler: not a pbrt-v4 sampler (seeding pbrt-v4 takes independent, "
+                    "random, stratified, halton, sobol, paddedsobol or zsobol)",
+                    clr_sampler_type_name(d->type));
+  if ((unsigned)d->randomization > CLR_RANDOMIZATION_OWEN)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_create: unknown randomization %d", (int)d->randomization);
+  int randomizable =
+      v4 == CLR_V4_HALTON || v4 == CLR_V4_SOBOL || v4 == CLR_V4_PADDEDSOBOL || v4 == CLR_V4_ZSOBOL;
+  if (d->randomization != CLR_RANDOMIZATION_DEFAULT && !randomizable)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "%s sampler: randomization \"%s\" applies only to pbrt-v4's halton, sobol, "
+                    "paddedsobol and zsobol (halton and sobol with seeding pbrt-v4)",
+                    clr_sampler_type_name(d->type), clr_randomization_name(d->randomization));
+  if (v4 == CLR_V4_HALTON && d->randomization == CLR_RANDOMIZATION_FASTOWEN)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "halton sampler: \"fastowen\" randomization not supported by Halton sampler");
+  return CLR_SUCCESS;
+}
+
 static clr_result validate_desc(const clr_sampler_desc *d) {
-  if ((unsigned)d->type > CLR_SAMPLER_MAXMINDIST)
+  if ((unsigned)d->type >= CLR_SAMPLER_TYPE_COUNT)
     return clr_fail(NULL, CLR_ERROR_INVALID_SAMPLER, "clr_sampler_create: unknown sampler type %d",
                     (int)d->type);
   if (d->type == CLR_SAMPLER_STRATIFIED) {
@@ -122,14 +207,54 @@ static clr_result validate_desc(const clr_sampler_desc *d) {
     return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
                     "maxmindist sampler: pixelsamples %d must be in 1..%d", (int)d->pixel_samples,
                     (1 << CLR_MAXMIN_MATRICES) - 1);
+  } else if (d->type == CLR_SAMPLER_PMJ02BN &&
+             (d->pixel_samples <= 0 || d->pixel_samples > CLR_PMJ02_POINTS)) {
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                    "pmj02bn sampler: pixelsamples %d must be in 1..%d", (int)d->pixel_samples,
+                    CLR_PMJ02_POINTS);
   } else if (d->pixel_samples <= 0 || d->pixel_samples > (1 << 20)) {
     return clr_fail(NULL, CLR_ERROR_INVALID_SPP, "%s sampler: pixelsamples %d must be in 1..%d",
                     clr_sampler_type_name(d->type), (int)d->pixel_samples, 1 << 20);
   }
-  if ((unsigned)d->seeding > CLR_SEEDING_PIXEL)
+  if ((unsigned)d->seeding > CLR_SEEDING_PBRT_V4)
     return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT, "clr_sampler_create: unknown seeding %d",
                     (int)d->seeding);
-  return CLR_SUCCESS;
+  return validate_v4(d);
+}
+
+static int32_t log2_int(int32_t v) {
+  int32_t l = 0;
+  while ((v >> (l + 1)) > 0) ++l;
+  return l;
+}
+
+/* pbrt-v4: spp as given (zsobol: rounded down to a power of two), Halton's scales and Sobol's
+ * resolution from the full film resolution, zsobol's digit count. */
+static void fill_v4_params(const clr_sampler_desc *d, clr_sampler_params *p) {
+  p->randomization = v4_randomization(p->v4_sampler, d->randomization);
+  if (p->v4_sampler != CLR_V4_STRATIFIED) p->spp = d->pixel_samples;
+  clr_sampler_params full = *p;
+  full.sample_x0 = full.sample_y0 = 0;
+  full.sample_x1 = d->film.x_resolution;
+  full.sample_y1 = d->film.y_resolution;
+  clr_halton_setup(&full);
+  clr_sobol_setup(&full);
+  if (p->v4_sampler == CLR_V4_HALTON) {
+    memcpy(p->halton_scale, full.halton_scale, sizeof p->halton_scale);
+    memcpy(p->halton_exponent, full.halton_exponent, sizeof p->halton_exponent);
+    memcpy(p->halton_mult_inverse, full.halton_mult_inverse, sizeof p->halton_mult_inverse);
+    p->halton_stride = full.halton_stride;
+  }
+  if (p->v4_sampler == CLR_V4_SOBOL || p->v4_sampler == CLR_V4_ZSOBOL) {
+    p->sobol_log2_resolution = full.sobol_log2_resolution;
+    p->sobol_resolution = full.sobol_resolution;
+  }
+  if (p->v4_sampler == CLR_V4_PMJ02BN) p->pmj_tile = clr_pmj02_tile_size(p->spp);
+  if (p->v4_sampler == CLR_V4_ZSOBOL) {
+    p->zsobol_log2_spp = log2_int(d->pixel_samples);
+    p->spp = 1 << p->zsobol_log2_spp;
+    p->zsobol_base4_digits = full.sobol_log2_resolution + (p->zsobol_log2_spp + 1) / 2;
+  }
 }
 
 static void fill_base_params(clr_sampler s) {
@@ -166,8 +291,29 @@ static void fill_base_params(clr_sampler s) {
     p->maxmin_matrix = 0;
     while ((d->pixel_samples >> (p->maxmin_matrix + 1)) > 0) ++p->maxmin_matrix;
   }
+  p->v4_sampler = v4_sampler_of(d);
+  if (p->v4_sampler) {
+    fill_v4_params(d, p);
+    return;
+  }
   if (d->type == CLR_SAMPLER_HALTON) clr_halton_setup(p);
   if (d->type == CLR_SAMPLER_SOBOL) clr_sobol_setup(p);
+}
+
+/* pbrt-v4's Sobol' indices must stay below 2^52 (the generator matrices' columns). */
+static clr_result check_v4_limits(const clr_sampler_params *p) {
+  if (p->v4_sampler == CLR_V4_SOBOL && (p->sobol_log2_resolution > CLR_SOBOL_VDC_MATRICES ||
+                                        p->spp > clr_sobol_max_samples(p->sobol_log2_resolution)))
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                    "sobol sampler: %d samples per pixel at resolution 2^%d exceed pbrt-v4's "
+                    "52-bit Sobol' indices",
+                    (int)p->spp, (int)p->sobol_log2_resolution);
+  if (p->v4_sampler == CLR_V4_ZSOBOL && 2 * p->zsobol_base4_digits > CLR_SOBOL_INDEX_BITS)
+    return clr_fail(NULL, CLR_ERROR_INVALID_SPP,
+                    "zsobol sampler: %d samples per pixel at resolution 2^%d exceed pbrt-v4's "
+                    "52-bit Sobol' indices",
+                    (int)p->spp, (int)p->sobol_log2_resolution);
+  return CLR_SUCCESS;
 }
 
 clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr_sampler *out) {
@@ -198,14 +344,20 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
    * over the cropped sample bounds. */
   s->index_bounds = desc->seeding == CLR_SEEDING_PBRT_V3 ? sample_bounds : full_sample_bounds;
   fill_base_params(s);
-  if (desc->type == CLR_SAMPLER_SOBOL && s->base.sobol_log2_resolution > CLR_SOBOL_VDC_MATRICES) {
+  clr_result limits = check_v4_limits(&s->base);
+  if (limits != CLR_SUCCESS) {
+    free(s);
+    return limits;
+  }
+  if (desc->type == CLR_SAMPLER_SOBOL && !s->base.v4_sampler &&
+      s->base.sobol_log2_resolution > CLR_SOBOL_VDC_MATRICES) {
     free(s);
     return clr_fail(ctx, CLR_ERROR_INVALID_RESOLUTION,
                     "sobol sampler: sample bounds of %dx%d exceed the 2^%d supported",
                     (int)(sample_bounds.x1 - sample_bounds.x0),
                     (int)(sample_bounds.y1 - sample_bounds.y0), CLR_SOBOL_VDC_MATRICES);
   }
-  if (desc->type == CLR_SAMPLER_SOBOL &&
+  if (desc->type == CLR_SAMPLER_SOBOL && !s->base.v4_sampler &&
       s->base.spp > clr_sobol_max_samples(s->base.sobol_log2_resolution)) {
     int64_t most = clr_sobol_max_samples(s->base.sobol_log2_resolution);
     free(s);
@@ -214,9 +366,15 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
                     "give at this resolution",
                     (int)desc->pixel_samples, (long long)most);
   }
+  if (s->base.v4_sampler == CLR_V4_PMJ02BN &&
+      !(s->pmj_pixels = clr_pmj02_pixel_table(s->base.spp, s->base.pmj_tile))) {
+    free(s);
+    return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_create: out of memory");
+  }
   if (ctx) {
     clr_result r = clr_sampler_device_create(ctx, &s->device);
     if (r != CLR_SUCCESS) {
+      free(s->pmj_pixels);
       free(s);
       return r;
     }
@@ -235,6 +393,7 @@ void clr_sampler_release(clr_sampler s) {
   if (!s || atomic_fetch_sub(&s->refcount, 1) != 1) return;
   clr_sampler_device_release(s->device);
   clr_context_release(s->ctx);
+  free(s->pmj_pixels);
   free(s);
 }
 
@@ -248,21 +407,29 @@ clr_bounds2i clr_sampler_pixel_bounds(clr_sampler s) {
   return s ? s->pixel_bounds : none;
 }
 int clr_sampler_has_global_index(clr_sampler s) {
-  return s && (s->desc.type == CLR_SAMPLER_HALTON || s->desc.type == CLR_SAMPLER_SOBOL);
+  return s && !s->base.v4_sampler &&
+         (s->desc.type == CLR_SAMPLER_HALTON || s->desc.type == CLR_SAMPLER_SOBOL);
 }
 
-clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
-                                    int32_t *values_per_sample) {
+/* The layout's size; *film_request receives the index of the 2D film offset: the first request,
+ * or with leading_1d (pbrt-v4 samplers, whose integrators may take 1D values such as the
+ * wavelengths before GetPixel2D) the first 2D request. */
+static clr_result layout_values(const clr_sample_request *requests, int32_t count, int leading_1d,
+                                int32_t *values_per_sample, int32_t *film_request) {
   if (!values_per_sample || (count > 0 && !requests))
     return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "sample layout: NULL requests or result");
   if (count <= 0 || count > CLR_MAX_REQUESTS)
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS, "sample layout: %d requests (must be 1..%d)",
                     (int)count, CLR_MAX_REQUESTS);
-  if (requests[0].dims != 2 || requests[0].array_size != 0)
+  int32_t f = 0;
+  while (leading_1d && f + 1 < count && requests[f].dims == 1) ++f;
+  if (requests[f].dims != 2 || requests[f].array_size != 0)
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
-                    "sample layout: the first request must be the 2D film offset (got dims %d, "
+                    "sample layout: the %s request must be the 2D film offset (got dims %d, "
                     "array %d)",
-                    (int)requests[0].dims, (int)requests[0].array_size);
+                    leading_1d ? "first 2D" : "first", (int)requests[f].dims,
+                    (int)requests[f].array_size);
+  *film_request = f;
   int64_t total = 0;
   for (int32_t i = 0; i < count; ++i) {
     const clr_sample_request *r = &requests[i];
@@ -282,6 +449,12 @@ clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t 
                     (long long)total, CLR_MAX_VALUES_PER_SAMPLE);
   *values_per_sample = (int32_t)total;
   return CLR_SUCCESS;
+}
+
+clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
+                                    int32_t *values_per_sample) {
+  int32_t film_request = 0;
+  return layout_values(requests, count, 0, values_per_sample, &film_request);
 }
 
 /* pbrt-v3 GlobalSampler: singles take consecutive dimensions, skipping the array block that
@@ -344,7 +517,9 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
   CLR_CHECK(clr_desc_adopt(&full, sizeof full, b, "clr_sampler_generate: batch"));
   b = &full;
   int32_t values = 0;
-  CLR_CHECK(clr_sample_layout_values(b->requests, b->request_count, &values));
+  int32_t film_request = 0;
+  CLR_CHECK(layout_values(b->requests, b->request_count, s->base.v4_sampler != 0, &values,
+                          &film_request));
   const clr_bounds2i r = b->pixels, ib = s->index_bounds;
   if (r.x1 <= r.x0 || r.y1 <= r.y0 || r.x0 < ib.x0 || r.y0 < ib.y0 || r.x1 > ib.x1 || r.y1 > ib.y1)
     return clr_fail(s->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
@@ -371,6 +546,7 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
   p->sample_count = count;
   p->values_per_sample = values;
   p->request_count = b->request_count;
+  p->film_request = film_request;
   int offset = 0, max_array = 0;
   for (int i = 0; i < b->request_count; ++i) {
     clr_request_slot *sl = &slots[i];
@@ -395,7 +571,9 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
                     "pixel may hold",
                     clr_sampler_type_name(s->desc.type), max_array, (int)p->spp,
                     CLR_ZEROTWO_MAX_POINTS);
-  if (clr_sampler_has_global_index(s)) {
+  if (p->v4_sampler) {
+    /* pbrt-v4 samplers walk the layout in order (pbrt_v4_sampler_funcs.h). */
+  } else if (clr_sampler_has_global_index(s)) {
     resolve_global_slots(b, slots);
   } else {
     p->fallback_draws_per_sample = resolve_pixel_slots(b, p, slots);
@@ -435,7 +613,14 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
   float *owned = NULL;
   if (!values) values = owned = malloc(items * (size_t)p.values_per_sample * sizeof(float));
   if (!values) return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "reference: out of memory");
-  if (clr_sampler_has_global_index(s)) {
+  if (p.v4_sampler) {
+    clr_v4_tables t = {clr_sobol_matrices32, &clr_vdc_sobol_matrices[0][0],
+                       &clr_vdc_sobol_matrices_inv[0][0], clr_halton_primes(), s->pmj_pixels};
+    for (size_t i = 0; i < items; ++i)
+      clr_v4_sample_vector(&p, slots, &t, (clr_i32)i, values + i * (size_t)p.values_per_sample);
+    if (out->host_indices)
+      for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
+  } else if (clr_sampler_has_global_index(s)) {
     size_t nperm = 0;
     const clr_u16 *perms = clr_halton_permutations(&nperm);
     const clr_halton_prime *primes = clr_halton_primes();
@@ -489,5 +674,5 @@ clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
   clr_sampler_params p;
   clr_request_slot slots[CLR_MAX_REQUESTS];
   CLR_CHECK(prepare_batch(s, batch, &p, slots));
-  return clr_sampler_device_generate(s->device, &p, slots, out);
+  return clr_sampler_device_generate(s->device, &p, slots, s->pmj_pixels, out);
 }

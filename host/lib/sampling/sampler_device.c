@@ -41,7 +41,7 @@ struct clr_sampler_device {
   pthread_mutex_t lock;
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
-  grow_buffer plan, index_plan, indices, scratch, slots, bounded;
+  grow_buffer plan, index_plan, indices, scratch, slots, bounded, pmj;
   cl_uint *bounded_host; /* 4 per bound b = 1..bounded_count (clr_pcg32x8_bounded) */
   int bounded_count;
   /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
@@ -71,8 +71,8 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan,    &d->index_plan, &d->indices,
-                            &d->scratch, &d->slots,      &d->bounded};
+  grow_buffer *buffers[] = {&d->plan,  &d->index_plan, &d->indices, &d->scratch,
+                            &d->slots, &d->bounded,    &d->pmj};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
@@ -474,9 +474,49 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   return launch(ctx, k, items, name);
 }
 
+/* pbrt-v4's samplers: one kernel shape, one work-item per batch item. */
+static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
+                         const clr_request_slot *slots, const float *pmj_pixels, cl_mem values) {
+  clr_context ctx = d->ctx;
+  size_t items = batch_items(p);
+  cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL;
+  CLR_CHECK(clr_context_shared_buffer(
+      ctx, "sobol_matrices32", clr_sobol_matrices32,
+      sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &sobol32));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
+                                      sizeof clr_vdc_sobol_matrices, &vdc));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
+                                      sizeof clr_vdc_sobol_matrices_inv, &vdc_inv));
+  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+                                      sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                                      &primes));
+  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
+  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
+                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  size_t pmj_bytes =
+      pmj_pixels ? sizeof(float) * 2 * (size_t)p->pmj_tile * (size_t)p->pmj_tile * (size_t)p->spp
+                 : 0;
+  CLR_CHECK(upload(ctx, &d->pmj, pmj_pixels, pmj_bytes, "pmj02bn pixel table"));
+  const char *name = "clr_v4_generate";
+  cl_kernel k;
+  CLR_CHECK(get_kernel(d, name, "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4", &k));
+  cl_int count = (cl_int)items;
+  int a = 0;
+  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, d->slots.mem);
+  SET_ARG(ctx, k, a++, sobol32);
+  SET_ARG(ctx, k, a++, vdc);
+  SET_ARG(ctx, k, a++, vdc_inv);
+  SET_ARG(ctx, k, a++, primes);
+  SET_ARG(ctx, k, a++, d->pmj.mem);
+  SET_ARG(ctx, k, a++, values);
+  SET_ARG(ctx, k, a++, count);
+  return launch(ctx, k, items, name);
+}
+
 static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_params *p,
-                                  const clr_request_slot *slots, const clr_sample_output *out,
-                                  cl_mem *temp) {
+                                  const clr_request_slot *slots, const float *pmj_pixels,
+                                  const clr_sample_output *out, cl_mem *temp) {
   clr_context ctx = d->ctx;
   size_t items = batch_items(p);
   size_t value_bytes = items * (size_t)p->values_per_sample * sizeof(float);
@@ -500,7 +540,13 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
     values = *temp;
   }
   cl_command_queue q = clr_context_cl_queue(ctx);
-  if (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL) {
+  int global =
+      !p->v4_sampler && (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL);
+  if (p->v4_sampler) {
+    CLR_CHECK(run_v4(d, p, slots, pmj_pixels, values));
+    if (out->host_indices)
+      for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
+  } else if (global) {
     CLR_CHECK(run_global(d, p, slots, values, out->host_indices != NULL));
   } else {
     CLR_CHECK(run_pixel(d, p, slots, values));
@@ -510,19 +556,18 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
   if (out->host_values)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, values, CL_TRUE, 0, value_bytes, out->host_values, 0,
                                           NULL, NULL));
-  if (out->host_indices &&
-      (p->type == CLR_SAMPLER_TYPE_HALTON || p->type == CLR_SAMPLER_TYPE_SOBOL))
+  if (out->host_indices && global)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, d->indices.mem, CL_TRUE, 0, items * sizeof(cl_ulong),
                                           out->host_indices, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
 
 clr_result clr_sampler_device_generate(clr_sampler_device *d, const clr_sampler_params *p,
-                                       const clr_request_slot *slots,
+                                       const clr_request_slot *slots, const float *pmj_pixels,
                                        const clr_sample_output *out) {
   cl_mem temp = NULL;
   pthread_mutex_lock(&d->lock);
-  clr_result r = generate_locked(d, p, slots, out, &temp);
+  clr_result r = generate_locked(d, p, slots, pmj_pixels, out, &temp);
   /* Also after a failure: queued work may still read the plans and buffers. */
   cl_int err = clFinish(clr_context_cl_queue(d->ctx));
   pthread_mutex_unlock(&d->lock);

@@ -1,0 +1,452 @@
+/* pbrt-v4's samplers (samplers.h), bit for bit on the host and on any OpenCL 1.2 device:
+ * IndependentSampler, StratifiedSampler, HaltonSampler, SobolSampler, PaddedSobolSampler and
+ * ZSobolSampler; PMJ02BNSampler's structure with point sets of our own (clr_pmj02_point). Each is stateless given (pixel, sample index, dimension): StartPixelSample, then
+ * GetPixel2D for the layout's first request and Get1D/Get2D for every other value (an array of n
+ * is n calls). Tables: the Sobol' matrices (sobol_tables.h) and the Halton prime records
+ * (halton_tables.h: base and (float)1 / base). */
+#ifndef CLR_PBRT_V4_SAMPLER_FUNCS_H
+#define CLR_PBRT_V4_SAMPLER_FUNCS_H
+
+#include "clr_platform.h"
+#include "halton_funcs.h"
+#include "pbrt_v4_hash_funcs.h"
+#include "pcg32.h"
+#include "sampler_types.h"
+#include "sobol_funcs.h"
+
+/* The tables a pbrt-v4 sampler reads (unused ones may be NULL). */
+typedef struct clr_v4_tables {
+  CLR_GLOBAL const clr_u32 *sobol32;
+  CLR_GLOBAL const clr_u64 *vdc, *vdc_inv;
+  CLR_GLOBAL const clr_halton_prime *primes;
+  CLR_GLOBAL const float *pmj_pixels; /* pmj02bn: (x, y) of GetPixel2D per tile pixel, sample */
+} clr_v4_tables;
+
+/* A sampler between StartPixelSample and the next one. */
+typedef struct clr_v4_state {
+  clr_i32 px, py, sample, dimension;
+  clr_u64 index; /* halton: haltonIndex; sobol: sobolIndex; zsobol: mortonIndex */
+  clr_pcg32 rng; /* independent, stratified */
+} clr_v4_state;
+
+/* RNG::SetSequence(Hash(p, seed)) then Advance(sampleIndex * 65536 + dimension). */
+CLR_INLINE void clr_v4_pixel_rng(clr_i32 px, clr_i32 py, clr_u32 seed, clr_i32 sample,
+                                 clr_pcg32 *out) {
+  clr_u64 sequence = clr_v4_hash12(clr_v4_pack(px, py), seed);
+  clr_pcg32 r;
+  r.state = 0u;
+  r.inc = (sequence << 1u) | 1u;
+  clr_pcg32_next(&r);
+  r.state += clr_v4_mix_bits(sequence);
+  clr_pcg32_next(&r);
+  clr_pcg32_advance(&r, (clr_u64)(clr_u32)sample * 65536u);
+  *out = r;
+}
+
+/* SobolSample(a, dimension, randomizer). */
+CLR_INLINE float clr_v4_sobol_sample(clr_u64 a, clr_i32 dim, clr_i32 randomization, clr_u32 hash,
+                                     CLR_GLOBAL const clr_u32 *sobol32) {
+  CLR_GLOBAL const clr_u32 *cols = sobol32 + (clr_u32)dim * CLR_SOBOL_MATRIX_SIZE;
+  clr_u32 high = (clr_u32)(a >> 32) & ((1u << (CLR_SOBOL_INDEX_BITS - 32)) - 1u);
+  clr_u32 v = clr_sobol_xor_columns32((clr_u32)a, cols) ^ clr_sobol_xor_columns32(high, cols + 32);
+  v = clr_v4_scramble(v, randomization, hash);
+  return clr_v4_below_one((float)v * 0x1p-32f);
+}
+
+/* RadicalInverse(baseIndex, a). */
+CLR_INLINE float clr_v4_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr, clr_u64 a) {
+  clr_u64 base = pr->base, limit = 0xffffffffffffffffUL / base - base, reversed = 0u;
+  float inv_base = pr->inv_base, inv_m = 1.0f;
+  while (a != 0u && reversed < limit) {
+    clr_u64 next = a / base;
+    reversed = reversed * base + (a - next * base);
+    inv_m *= inv_base;
+    a = next;
+  }
+  return clr_v4_below_one((float)reversed * inv_m);
+}
+
+/* ScrambledRadicalInverse with DigitPermutation(base, seed): digit i's permutation is
+ * PermutationElement(digit, base, Hash(base, i, seed)), computed here rather than stored. */
+CLR_INLINE float clr_v4_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr, clr_u64 a,
+                                                  clr_u32 seed) {
+  clr_u64 base = pr->base, limit = 0xffffffffffffffffUL / base - base, reversed = 0u;
+  float inv_base = pr->inv_base, inv_m = 1.0f, top = (float)(pr->base - 1u);
+  clr_i32 digit_index = 0;
+  while (1.0f - top * inv_m < 1.0f && reversed < limit) {
+    clr_u64 next = a / base;
+    clr_u32 digit = (clr_u32)(a - next * base);
+    clr_u32 dseed = (clr_u32)clr_v4_hash12(clr_v4_pack((clr_i32)pr->base, digit_index), seed);
+    reversed = reversed * base + clr_v4_permutation_element(digit, pr->base, dseed);
+    inv_m *= inv_base;
+    ++digit_index;
+    a = next;
+  }
+  return clr_v4_below_one(inv_m * (float)reversed);
+}
+
+/* OwenScrambledRadicalInverse(baseIndex, a, hash). */
+CLR_INLINE float clr_v4_owen_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr, clr_u64 a,
+                                             clr_u32 hash) {
+  clr_u64 base = pr->base, limit = 0xffffffffffffffffUL / base - base, reversed = 0u;
+  float inv_base = pr->inv_base, inv_m = 1.0f;
+  while (1.0f - inv_m < 1.0f && reversed < limit) {
+    clr_u64 next = a / base;
+    clr_u32 digit = (clr_u32)(a - next * base);
+    clr_u32 digit_hash = (clr_u32)clr_v4_mix_bits((clr_u64)hash ^ reversed);
+    reversed = reversed * base + clr_v4_permutation_element(digit, pr->base, digit_hash);
+    inv_m *= inv_base;
+    a = next;
+  }
+  return clr_v4_below_one(inv_m * (float)reversed);
+}
+
+/* pbrt's Mod(a, b) for b > 0: the remainder in [0, b). */
+CLR_INLINE clr_i32 clr_v4_mod(clr_i32 a, clr_i32 b) {
+  clr_i32 r = a - (a / b) * b;
+  return r < 0 ? r + b : r;
+}
+
+/* InverseRadicalInverse(inverse, base, nDigits). */
+CLR_INLINE clr_u64 clr_v4_inverse_radical_inverse(clr_u64 inverse, clr_u64 base, clr_i32 digits) {
+  clr_u64 index = 0u;
+  for (clr_i32 i = 0; i < digits; ++i) {
+    clr_u64 digit = inverse % base;
+    inverse /= base;
+    index = index * base + digit;
+  }
+  return index;
+}
+
+/* HaltonSampler::StartPixelSample's haltonIndex (halton_* from the full resolution). */
+CLR_INLINE clr_u64 clr_v4_halton_index(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
+                                       clr_i32 sample) {
+  clr_u64 index = 0u, stride = (clr_u64)p->halton_stride;
+  if (stride > 1u) {
+    clr_i32 pm[2] = {clr_v4_mod(px, CLR_HALTON_MAX_RESOLUTION),
+                     clr_v4_mod(py, CLR_HALTON_MAX_RESOLUTION)};
+    for (int i = 0; i < 2; ++i) {
+      clr_u64 offset =
+          clr_v4_inverse_radical_inverse((clr_u64)pm[i], i == 0 ? 2u : 3u, p->halton_exponent[i]);
+      index += offset * (stride / (clr_u64)p->halton_scale[i]) * p->halton_mult_inverse[i];
+    }
+    index %= stride;
+  }
+  return index + (clr_u64)sample * stride;
+}
+
+/* HaltonSampler::SampleDimension. */
+CLR_INLINE float clr_v4_halton_dimension(const clr_sampler_params *p, const clr_v4_tables *t,
+                                         clr_u64 index, clr_i32 dim) {
+  CLR_GLOBAL const clr_halton_prime *pr = t->primes + dim;
+  if (p->randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS)
+    return clr_v4_scrambled_radical_inverse(pr, index, p->seed);
+  if (p->randomization == CLR_RANDOMIZE_TYPE_OWEN)
+    return clr_v4_owen_radical_inverse(
+        pr, index, (clr_u32)clr_v4_mix_bits((clr_u64)(clr_i64)(1 + (dim << 4))));
+  return clr_v4_radical_inverse(pr, index);
+}
+
+/* SobolSampler::SampleDimension: the hash of (dimension, seed) seeds the randomizer. */
+CLR_INLINE float clr_v4_sobol_dimension(const clr_sampler_params *p, const clr_v4_tables *t,
+                                        clr_u64 index, clr_i32 dim) {
+  clr_u32 hash = (clr_u32)clr_v4_hash8(clr_v4_pack(dim, (clr_i32)p->seed));
+  return clr_v4_sobol_sample(index, dim, p->randomization, hash, t->sobol32);
+}
+
+/* Entry `digit` of the p-th of pbrt-v4's 24 permutations of 0..3: the order in which swapping
+ * entry k with entry k + c_k (k = 0, 1, 2) enumerates them, c_0 = p / 6, c_1 = p / 2 % 3,
+ * c_2 = p % 2. Entries are packed 2 bits each. */
+CLR_INLINE clr_u32 clr_v4_permute4(clr_u32 p, clr_u32 digit) {
+  clr_u32 packed = 0xe4u; /* 3 2 1 0 */
+  clr_u32 choice[3] = {p / 6u, p / 2u % 3u, p % 2u};
+  for (clr_u32 k = 0u; k < 3u; ++k) {
+    clr_u32 j = k + choice[k];
+    clr_u32 a = (packed >> (2u * k)) & 3u, b = (packed >> (2u * j)) & 3u;
+    packed &= ~((3u << (2u * k)) | (3u << (2u * j)));
+    packed |= (b << (2u * k)) | (a << (2u * j));
+  }
+  return (packed >> (2u * digit)) & 3u;
+}
+
+/* EncodeMorton2(x, y): x in the even bits, y in the odd ones. */
+CLR_INLINE clr_u64 clr_v4_left_shift2(clr_u64 x) {
+  x &= 0xffffffffu;
+  x = (x ^ (x << 16u)) & 0x0000ffff0000ffffUL;
+  x = (x ^ (x << 8u)) & 0x00ff00ff00ff00ffUL;
+  x = (x ^ (x << 4u)) & 0x0f0f0f0f0f0f0f0fUL;
+  x = (x ^ (x << 2u)) & 0x3333333333333333UL;
+  x = (x ^ (x << 1u)) & 0x5555555555555555UL;
+  return x;
+}
+
+/* ZSobolSampler::GetSampleIndex: the Morton index with each base-4 digit permuted by a hash of
+ * the digits above it and the dimension (and the last binary digit flipped when spp is 2^odd). */
+CLR_INLINE clr_u64 clr_v4_zsobol_index(const clr_sampler_params *p, clr_u64 morton,
+                                       clr_i32 dimension) {
+  clr_u64 salt = (clr_u64)(0x55555555u * (clr_u32)dimension);
+  clr_i32 odd = p->zsobol_log2_spp & 1;
+  clr_u64 index = 0u;
+  for (clr_i32 i = p->zsobol_base4_digits - 1; i >= odd; --i) {
+    clr_u32 shift = (clr_u32)(2 * i - odd);
+    clr_u32 digit = (clr_u32)(morton >> shift) & 3u;
+    clr_u32 perm = (clr_u32)((clr_v4_mix_bits((morton >> (shift + 2u)) ^ salt) >> 24u) % 24u);
+    index |= (clr_u64)clr_v4_permute4(perm, digit) << shift;
+  }
+  if (odd) index |= (morton & 1u) ^ (clr_v4_mix_bits((morton >> 1u) ^ salt) & 1u);
+  return index;
+}
+
+/* Point `index` of pmj02bn point set `set`: pbrt-v4's sets (pmj02bn, found by a randomized
+ * search) are not reproducible, so each set is the Sobol' (0,2)-sequence (dimensions 0 and 1)
+ * Owen-scrambled with a fixed seed per set and dimension: also a progressive (0,2)-sequence, whose
+ * first 2^k points form a (0,k,2)-net. Fixed point, 32 bits per coordinate. */
+CLR_INLINE clr_u32 clr_pmj02_point(clr_i32 set, clr_u32 index, clr_i32 c,
+                                   CLR_GLOBAL const clr_u32 *sobol32) {
+  clr_u32 v = clr_sobol_xor_columns32(index, sobol32 + (clr_u32)c * CLR_SOBOL_MATRIX_SIZE);
+  return clr_v4_owen(v, (clr_u32)clr_v4_mix_bits(0x706d6a3032UL + (clr_u64)(2 * set + c)));
+}
+
+/* BlueNoiseSample(p, instance) of pbrt-v4's lowdiscrepancy.h (the pixel's Morton index with
+ * hashed base-4 digit permutations, reversed), used where pbrt-v4's pmj02bn reads its blue-noise
+ * textures (BlueNoise(instance, p), also found by search). */
+CLR_INLINE float clr_v4_blue_noise_sample(clr_i32 px, clr_i32 py, clr_i32 instance) {
+  clr_u64 salt = (clr_u64)(clr_i64)(clr_i32)(0x55555555u * (clr_u32)instance);
+  clr_u64 morton =
+      clr_v4_left_shift2((clr_u32)py & 255u) << 1u | clr_v4_left_shift2((clr_u32)px & 255u);
+  clr_u32 index = 0u;
+  for (clr_i32 i = 7; i >= 0; --i) {
+    clr_u32 shift = (clr_u32)(2 * i);
+    clr_u32 digit = (clr_u32)(morton >> shift) & 3u;
+    clr_u32 perm = (clr_u32)(clr_v4_mix_bits((morton >> (shift + 2u)) ^ salt) >> 24u) % 24u;
+    index |= clr_v4_permute4(perm, digit) << shift;
+  }
+  return (float)clr_reverse_bits32(index) * 0x1p-32f;
+}
+
+/* PMJ02BNSampler::Get2D: set dimension / 2 (the sample index permuted past the sets), rotated
+ * toroidally by the pixel's blue noise. */
+CLR_INLINE void clr_v4_pmj02_get2d(const clr_sampler_params *p, const clr_v4_tables *t,
+                                   clr_v4_state *s, float *u) {
+  clr_u32 index = (clr_u32)s->sample;
+  clr_i32 set = s->dimension / 2;
+  if (set >= CLR_PMJ02_SETS) {
+    clr_u64 hash =
+        clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
+    index = clr_v4_permutation_element(index, (clr_u32)p->spp, (clr_u32)hash);
+  }
+  for (clr_i32 c = 0; c < 2; ++c) {
+    float v =
+        (float)clr_pmj02_point(set % CLR_PMJ02_SETS, index % CLR_PMJ02_POINTS, c, t->sobol32) *
+        0x1p-32f;
+    v += clr_v4_blue_noise_sample(s->px, s->py, s->dimension + c);
+    if (v >= 1.0f) v -= 1.0f;
+    u[c] = clr_v4_below_one(v);
+  }
+  s->dimension += 2;
+}
+
+/* PMJ02BNSampler::Get1D: the permuted stratum plus the pixel's blue noise. */
+CLR_INLINE float clr_v4_pmj02_get1d(const clr_sampler_params *p, clr_v4_state *s) {
+  clr_u64 hash =
+      clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
+  clr_u32 index = clr_v4_permutation_element((clr_u32)s->sample, (clr_u32)p->spp, (clr_u32)hash);
+  float delta = clr_v4_blue_noise_sample(s->px, s->py, s->dimension);
+  ++s->dimension;
+  return clr_v4_below_one(clr_v4_div((float)index + delta, (clr_u32)p->spp));
+}
+
+/* Sampler::StartPixelSample(p, sampleIndex, 0) into *out (a struct returned by value is an sret
+ * argument, whose inlining emits llvm.experimental.noalias.scope.decl: Oclgrind can't run it). */
+CLR_INLINE void clr_v4_start(const clr_sampler_params *p, const clr_v4_tables *t, clr_i32 px,
+                             clr_i32 py, clr_i32 sample, clr_v4_state *out) {
+  clr_v4_state s;
+  s.px = px;
+  s.py = py;
+  s.sample = sample;
+  s.dimension = 0;
+  s.index = 0u;
+  s.rng.state = s.rng.inc = 0u;
+  switch (p->v4_sampler) {
+    case CLR_V4_INDEPENDENT:
+    case CLR_V4_STRATIFIED:
+      clr_v4_pixel_rng(px, py, p->seed, sample, &s.rng);
+      break;
+    case CLR_V4_HALTON:
+      s.index = clr_v4_halton_index(p, px, py, sample);
+      s.dimension = 2;
+      break;
+    case CLR_V4_SOBOL:
+      s.index = clr_sobol_interval_to_index((clr_u32)p->sobol_log2_resolution, (clr_u64)sample, px,
+                                            py, t->vdc, t->vdc_inv);
+      s.dimension = 2;
+      break;
+    case CLR_V4_PMJ02BN:
+      s.dimension = 2;
+      break;
+    case CLR_V4_ZSOBOL:
+      s.index = (clr_v4_left_shift2((clr_u32)py) << 1u | clr_v4_left_shift2((clr_u32)px))
+                    << (clr_u32)p->zsobol_log2_spp |
+                (clr_u64)(clr_u32)sample;
+      break;
+    default:
+      break;
+  }
+  *out = s;
+}
+
+/* PermutationElement(sampleIndex, spp, Hash(pixel, dimension, seed)), and the hash. */
+CLR_INLINE clr_u32 clr_v4_permuted_sample(const clr_sampler_params *p, const clr_v4_state *s,
+                                          clr_u64 *hash) {
+  *hash = clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
+  return clr_v4_permutation_element((clr_u32)s->sample, (clr_u32)p->spp, (clr_u32)*hash);
+}
+
+CLR_INLINE float clr_v4_jitter(const clr_sampler_params *p, clr_v4_state *s) {
+  return p->jitter ? clr_pcg32_float(&s->rng) : 0.5f;
+}
+
+/* Sampler::Get1D. */
+CLR_INLINE float clr_v4_get1d(const clr_sampler_params *p, const clr_v4_tables *t,
+                              clr_v4_state *s) {
+  clr_u64 hash = 0u;
+  switch (p->v4_sampler) {
+    case CLR_V4_STRATIFIED: {
+      clr_u32 stratum = clr_v4_permuted_sample(p, s, &hash);
+      ++s->dimension;
+      return clr_v4_div((float)stratum + clr_v4_jitter(p, s), (clr_u32)p->spp);
+    }
+    case CLR_V4_HALTON:
+      if (s->dimension >= CLR_HALTON_PRIMES) s->dimension = 2;
+      return clr_v4_halton_dimension(p, t, s->index, s->dimension++);
+    case CLR_V4_SOBOL:
+      if (s->dimension >= CLR_SOBOL_DIMENSIONS) s->dimension = 2;
+      return clr_v4_sobol_dimension(p, t, s->index, s->dimension++);
+    case CLR_V4_PADDEDSOBOL: {
+      clr_u32 index = clr_v4_permuted_sample(p, s, &hash);
+      ++s->dimension;
+      return clr_v4_sobol_sample(index, 0, p->randomization, (clr_u32)(hash >> 32u), t->sobol32);
+    }
+    case CLR_V4_ZSOBOL: {
+      clr_u64 index = clr_v4_zsobol_index(p, s->index, s->dimension);
+      ++s->dimension;
+      hash = clr_v4_hash8(clr_v4_pack(s->dimension, (clr_i32)p->seed));
+      return clr_v4_sobol_sample(index, 0, p->randomization, (clr_u32)hash, t->sobol32);
+    }
+    case CLR_V4_PMJ02BN:
+      return clr_v4_pmj02_get1d(p, s);
+    default:
+      return clr_pcg32_float(&s->rng);
+  }
+}
+
+/* Sampler::Get2D into u[0], u[1]. */
+CLR_INLINE void clr_v4_get2d(const clr_sampler_params *p, const clr_v4_tables *t, clr_v4_state *s,
+                             float *u) {
+  clr_u64 hash = 0u;
+  switch (p->v4_sampler) {
+    case CLR_V4_STRATIFIED: {
+      clr_u32 stratum = clr_v4_permuted_sample(p, s, &hash);
+      s->dimension += 2;
+      clr_u32 x = stratum % (clr_u32)p->x_samples, y = stratum / (clr_u32)p->x_samples;
+      float dx = clr_v4_jitter(p, s);
+      float dy = clr_v4_jitter(p, s);
+      u[0] = clr_v4_div((float)x + dx, (clr_u32)p->x_samples);
+      u[1] = clr_v4_div((float)y + dy, (clr_u32)p->y_samples);
+      return;
+    }
+    case CLR_V4_HALTON:
+      if (s->dimension + 1 >= CLR_HALTON_PRIMES) s->dimension = 2;
+      u[0] = clr_v4_halton_dimension(p, t, s->index, s->dimension);
+      u[1] = clr_v4_halton_dimension(p, t, s->index, s->dimension + 1);
+      s->dimension += 2;
+      return;
+    case CLR_V4_SOBOL:
+      if (s->dimension + 1 >= CLR_SOBOL_DIMENSIONS) s->dimension = 2;
+      u[0] = clr_v4_sobol_dimension(p, t, s->index, s->dimension);
+      u[1] = clr_v4_sobol_dimension(p, t, s->index, s->dimension + 1);
+      s->dimension += 2;
+      return;
+    case CLR_V4_PADDEDSOBOL: {
+      clr_u32 index = clr_v4_permuted_sample(p, s, &hash);
+      s->dimension += 2;
+      u[0] = clr_v4_sobol_sample(index, 0, p->randomization, (clr_u32)hash, t->sobol32);
+      u[1] = clr_v4_sobol_sample(index, 1, p->randomization, (clr_u32)(hash >> 32u), t->sobol32);
+      return;
+    }
+    case CLR_V4_ZSOBOL: {
+      clr_u64 index = clr_v4_zsobol_index(p, s->index, s->dimension);
+      s->dimension += 2;
+      hash = clr_v4_hash8(clr_v4_pack(s->dimension, (clr_i32)p->seed));
+      u[0] = clr_v4_sobol_sample(index, 0, p->randomization, (clr_u32)hash, t->sobol32);
+      u[1] = clr_v4_sobol_sample(index, 1, p->randomization, (clr_u32)(hash >> 32u), t->sobol32);
+      return;
+    }
+    case CLR_V4_PMJ02BN:
+      clr_v4_pmj02_get2d(p, t, s, u);
+      return;
+    default:
+      u[0] = clr_pcg32_float(&s->rng);
+      u[1] = clr_pcg32_float(&s->rng);
+      return;
+  }
+}
+
+/* SobolSampler::GetPixel2D's remap of an unscrambled value into the pixel. */
+CLR_INLINE float clr_v4_sobol_pixel(const clr_sampler_params *p, float u, clr_i32 pixel) {
+  float v = u * p->sobol_resolution - (float)pixel;
+  return v < 0.0f ? 0.0f : (v > CLR_ONE_MINUS_EPSILON ? CLR_ONE_MINUS_EPSILON : v);
+}
+
+/* Sampler::GetPixel2D: Halton and Sobol read their unrandomized first two dimensions, the others
+ * make a Get2D. */
+CLR_INLINE void clr_v4_get_pixel2d(const clr_sampler_params *p, const clr_v4_tables *t,
+                                   clr_v4_state *s, float *u) {
+  if (p->v4_sampler == CLR_V4_HALTON) {
+    u[0] = clr_v4_radical_inverse(t->primes, s->index >> (clr_u32)p->halton_exponent[0]);
+    u[1] = clr_v4_radical_inverse(t->primes + 1, s->index / (clr_u64)p->halton_scale[1]);
+  } else if (p->v4_sampler == CLR_V4_PMJ02BN) {
+    clr_i32 x = clr_v4_mod(s->px, p->pmj_tile), y = clr_v4_mod(s->py, p->pmj_tile);
+    CLR_GLOBAL const float *xy = t->pmj_pixels + 2 * ((x + y * p->pmj_tile) * p->spp + s->sample);
+    u[0] = xy[0];
+    u[1] = xy[1];
+  } else if (p->v4_sampler == CLR_V4_SOBOL) {
+    u[0] = clr_v4_sobol_pixel(p, clr_v4_sobol_sample(s->index, 0, 0, 0u, t->sobol32), s->px);
+    u[1] = clr_v4_sobol_pixel(p, clr_v4_sobol_sample(s->index, 1, 0, 0u, t->sobol32), s->py);
+  } else {
+    clr_v4_get2d(p, t, s, u);
+  }
+}
+
+/* Sample vector of batch item `item` (pixel-major, then sample): request p->film_request is
+ * GetPixel2D, every other value Get1D/Get2D in layout order. */
+CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
+                                     CLR_GLOBAL const clr_request_slot *slots,
+                                     const clr_v4_tables *t, clr_i32 item, CLR_GLOBAL float *out) {
+  clr_i32 pixel = item / p->sample_count;
+  clr_i32 row = pixel / p->batch_width;
+  clr_v4_state s;
+  clr_v4_start(p, t, p->batch_x0 + pixel - row * p->batch_width, p->batch_y0 + row,
+               p->first_sample + item % p->sample_count, &s);
+  float u[2];
+  for (clr_i32 r = 0; r < p->request_count; ++r) {
+    clr_request_slot sl = slots[r];
+    clr_i32 elements = sl.array_size ? sl.array_size : 1;
+    CLR_GLOBAL float *v = out + sl.first_value;
+    for (clr_i32 j = 0; j < elements; ++j) {
+      if (r == p->film_request) {
+        clr_v4_get_pixel2d(p, t, &s, u);
+        v[0] = u[0];
+        v[1] = u[1];
+      } else if (sl.dims == 1) {
+        v[j] = clr_v4_get1d(p, t, &s);
+      } else {
+        clr_v4_get2d(p, t, &s, u);
+        v[2 * j] = u[0];
+        v[2 * j + 1] = u[1];
+      }
+    }
+  }
+}
+
+#endif
