@@ -12,6 +12,7 @@
 #include "render_error.h"
 #include "clrender/film.h"
 #include "clrender/kernels.h"
+#include "distributed.h"
 #include "integrator.h"
 #include "pfm_output.h"
 #include "pcg32.h"
@@ -255,6 +256,7 @@ typedef struct sample_band {
 
 typedef struct tile_info {
   int state;
+  int index; /* in the frame's tile grid (tiles[] is in this process's claim order) */
   int band;
   clr_bounds2i pixels;
   clr_film_tile film_tile;
@@ -270,6 +272,8 @@ typedef struct render_job {
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
   clr_bounds2i region; /* the sample pixels rendered (render_region) */
+  clr_dist *dist;      /* MPI ranks sharing the frame, or NULL */
+  int next_band;       /* the next band to claim when alone */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -435,10 +439,18 @@ static clr_bounds2i tile_pixels(const tile_grid *g, int tile) {
   return px;
 }
 
-/* Generates the band starting at tile `first` into band `bi`; returns its tile count in *count. */
+/* Bands split each tile row into runs of band_tiles tiles (the last may be shorter). */
+static int bands_per_row(const tile_grid *g) {
+  return (g->ntx + g->band_tiles - 1) / g->band_tiles;
+}
+
+/* Generates band `index` of the grid into band slot `bi`, its tiles at tiles[pos...]; returns its
+ * tile count in *count. */
 static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
-                                const tile_grid *g, int first, int bi, int *count) {
+                                const tile_grid *g, int index, int pos, int bi, int *count) {
   sample_band *band = &job->bands[bi];
+  int bpr = bands_per_row(g);
+  int first = (index / bpr) * g->ntx + (index % bpr) * g->band_tiles;
   int row_left = g->ntx - first % g->ntx;
   int n = row_left < g->band_tiles ? row_left : g->band_tiles;
   clr_bounds2i a = tile_pixels(g, first), z = tile_pixels(g, first + n - 1);
@@ -459,9 +471,10 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   CLR_CHECK(job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
                               : clr_sampler_generate(sampler, batch, &out));
   band->pixels = px;
-  for (int t = first; t < first + n; ++t) {
-    job->tiles[t].band = bi;
-    job->tiles[t].pixels = tile_pixels(g, t);
+  for (int k = 0; k < n; ++k) {
+    job->tiles[pos + k].index = first + k;
+    job->tiles[pos + k].band = bi;
+    job->tiles[pos + k].pixels = tile_pixels(g, first + k);
   }
   *count = n;
   return CLR_SUCCESS;
@@ -473,14 +486,30 @@ static int free_band(const render_job *job) {
   return -1;
 }
 
-/* Main thread: generates bands ahead of the workers and merges finished tiles in tile order. */
+/* The next band this process renders: the next in order when alone, else one claimed from the
+ * ranks' shared counter; -1 when none is left. */
+static clr_result claim_band(render_job *job, const tile_grid *g, int *band) {
+  if (job->dist) return clr_dist_claim_band(job->dist, band);
+  int total = bands_per_row(g) * g->nty;
+  *band = job->next_band < total ? job->next_band++ : -1;
+  return CLR_SUCCESS;
+}
+
+/* A finished tile goes into the film, or to rank 0 when ranks share the frame. */
+static clr_result commit_tile(render_job *job, tile_info *m) {
+  if (job->dist) return clr_dist_keep_tile(job->dist, m->index, m->film_tile);
+  return film_merge_tile(job->film, m->film_tile);
+}
+
+/* Main thread: generates bands ahead of the workers and merges finished tiles in claim order
+ * (tile order when alone). */
 static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_grid *g,
                                const clr_render_options *o, clr_render_stats *st) {
   clr_sample_batch batch;
   clr_sample_batch_init(&batch);
   batch.requests = job->integrator->requests;
   batch.request_count = job->integrator->request_count;
-  int next_gen = 0, next_merge = 0;
+  int next_gen = 0, next_merge = 0, claims_done = 0;
   clr_result r = CLR_SUCCESS;
   double t_start = now_seconds();
   pthread_mutex_lock(&job->mutex);
@@ -489,17 +518,21 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       job->cancelled = o->progress_callback(o->progress_user, next_merge, g->ntiles) != 0;
     int cancelled = job->cancelled;
     int bi = free_band(job);
-    if (!cancelled && next_gen < g->ntiles && bi >= 0) {
+    if (!cancelled && !claims_done && bi >= 0) {
       job->bands[bi].in_use = 1;
       pthread_mutex_unlock(&job->mutex);
-      int n = 0;
+      int n = 0, index = -1;
       double t0 = now_seconds();
-      r = generate_band(job, sampler, &batch, g, next_gen, bi, &n);
+      r = claim_band(job, g, &index);
+      if (r == CLR_SUCCESS && index >= 0)
+        r = generate_band(job, sampler, &batch, g, index, next_gen, bi, &n);
       st->seconds_sample_generation += now_seconds() - t0;
       pthread_mutex_lock(&job->mutex);
-      if (r != CLR_SUCCESS) {
+      if (r != CLR_SUCCESS || index < 0) {
         job->bands[bi].in_use = 0;
-        break;
+        claims_done = index < 0;
+        if (r != CLR_SUCCESS) break;
+        continue;
       }
       job->bands[bi].unfinished = n;
       for (int t = next_gen; t < next_gen + n; ++t) job->tiles[t].state = TILE_READY;
@@ -509,8 +542,8 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       continue;
     }
     tile_info *m = &job->tiles[next_merge];
-    if (m->state != TILE_DONE) {
-      if (next_merge >= next_gen) break; /* cancelled with nothing in flight */
+    if (next_merge >= next_gen || m->state != TILE_DONE) {
+      if (next_merge >= next_gen) break; /* cancelled or every claim made, nothing in flight */
       pthread_cond_wait(&job->cond, &job->mutex);
       continue;
     }
@@ -518,7 +551,7 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
     r = m->result;
     if (r == CLR_SUCCESS) {
       double t0 = now_seconds();
-      r = film_merge_tile(job->film, m->film_tile);
+      r = commit_tile(job, m);
       st->seconds_merge += now_seconds() - t0;
     }
     film_tile_release(m->film_tile);
@@ -535,6 +568,24 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
   job->stop = 1;
   pthread_cond_broadcast(&job->cond);
   pthread_mutex_unlock(&job->mutex);
+  return r;
+}
+
+/* Sends this rank's tiles and figures to rank 0, which merges the frame; on rank 0 the stats then
+ * count every rank's tiles and rays. */
+static clr_result finish_distributed_frame(render_job *job, clr_result r, double seconds,
+                                           clr_render_stats *st) {
+  clr_dist_rank_stats mine = {0, job->rays, (uint64_t)st->tiles_done, seconds};
+  for (int i = 0; i < st->tiles_done; ++i) {
+    clr_bounds2i p = job->tiles[i].pixels;
+    mine.samples += (uint64_t)(p.x1 - p.x0) * (uint64_t)(p.y1 - p.y0) * (uint64_t)job->spp;
+  }
+  int32_t missing = 0;
+  r = clr_dist_end_frame(job->dist, job->film, r, &mine, &missing);
+  if (clr_dist_rank(job->dist) == 0) {
+    st->tiles_done = st->tiles_total - missing;
+    st->partial = missing > 0;
+  }
   return r;
 }
 
@@ -564,6 +615,16 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
     free(threads);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render tiles");
   }
+  if (job->dist) {
+    clr_result rb = clr_dist_begin_frame(job->dist, bands_per_row(&g) * g.nty, g.ntiles);
+    if (rb != CLR_SUCCESS) {
+      free(job->tiles);
+      free(job->bands);
+      free(threads);
+      return rb;
+    }
+  }
+  double t_loop = now_seconds();
   pthread_mutex_init(&job->mutex, NULL);
   pthread_cond_init(&job->cond, NULL);
   int started = 0;
@@ -575,6 +636,8 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
   for (int i = 0; i < g.ntiles; ++i)
     if (job->tiles[i].film_tile) film_tile_release(job->tiles[i].film_tile);
+  st->partial = st->tiles_done < g.ntiles;
+  if (job->dist) r = finish_distributed_frame(job, r, now_seconds() - t_loop, st);
   for (int i = 0; i < job->nbands; ++i) free(job->bands[i].values);
   if (o->progress && st->tiles_done < g.ntiles) fputc('\n', stderr);
   pthread_cond_destroy(&job->cond);
@@ -582,7 +645,6 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   free(job->tiles);
   free(job->bands);
   free(threads);
-  st->partial = st->tiles_done < g.ntiles;
   return r;
 }
 
@@ -686,7 +748,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   CLR_CHECK(check_scene_values(d, o, &settings, &sdesc, &fdesc));
 
   clr_result r = CLR_SUCCESS;
-  if (write_files) {
+  if (write_files && clr_dist_rank(clr_dist_world()) == 0) { /* only rank 0 writes */
     r = output_paths(o->outfile ? o->outfile : settings.filename, st);
     if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
     if (r == CLR_SUCCESS && st->pfm_path[0]) r = film_check_output_path(st->pfm_path);
@@ -754,6 +816,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0;
     job.region = render_region(sampler, &sdesc);
+    job.dist = clr_dist_world();
     st->spp = job.spp;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
@@ -771,7 +834,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   }
   clr_render_image im;
   memset(&im, 0, sizeof im);
-  if (r == CLR_SUCCESS) {
+  int root = clr_dist_rank(clr_dist_world()) == 0; /* the other ranks sent rank 0 their tiles */
+  if (r == CLR_SUCCESS && root) {
     im.full_width = settings.x_resolution;
     im.full_height = settings.y_resolution;
     im.pixel_bounds = film_pixel_bounds(film);
@@ -783,7 +847,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->samples = film_sample_count(film);
     st->dropped_samples = film_dropped_samples(film);
   }
-  if (r == CLR_SUCCESS && write_files) {
+  if (r == CLR_SUCCESS && write_files && root) {
     double tw = now_seconds();
     clr_film_write_options wo;
     clr_film_write_options_init(&wo);
@@ -791,17 +855,17 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     wo.spp = st->spp;
     wo.render_time_s = st->seconds_render;
     wo.partial = st->partial;
-    const char *keys[1] = {"integrator"}, *vals[1] = {st->integrator};
+    const char *keys[8] = {"integrator"}, *vals[8] = {st->integrator};
     wo.metadata_keys = keys;
     wo.metadata_values = vals;
-    wo.metadata_count = 1;
+    wo.metadata_count = 1 + clr_dist_metadata(clr_dist_world(), keys + 1, vals + 1, 7);
     if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
     if (r == CLR_SUCCESS && st->pfm_path[0])
       r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
     if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
     st->seconds_output = now_seconds() - tw;
   }
-  if (r == CLR_SUCCESS && image)
+  if (r == CLR_SUCCESS && image && root)
     *image = im;
   else
     free(im.rgb);

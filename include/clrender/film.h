@@ -121,6 +121,15 @@ CLR_API clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_samp
  * with the same samples to float tolerance. */
 CLR_API clr_result film_merge_tile(clr_film film, clr_film_tile tile);
 CLR_API void film_tile_release(clr_film_tile tile);
+/* A tile's contents as bytes (pixel bounds, counters, float sums; native byte order), e.g. to
+ * send it to another process: film_tile_serialize writes film_tile_serialized_size(tile) bytes
+ * (0 for NULL); film_tile_deserialize makes from them a tile of `film` (a film with the same
+ * pixel bounds) that merges bit for bit as the original would. Bounds outside the film ->
+ * CLR_ERROR_INVALID_TILE, a size that does not match -> CLR_ERROR_INVALID_ARGUMENT. */
+CLR_API size_t film_tile_serialized_size(clr_film_tile tile);
+CLR_API clr_result film_tile_serialize(clr_film_tile tile, void *buf, size_t size);
+CLR_API clr_result film_tile_deserialize(clr_film film, const void *buf, size_t size,
+                                         clr_film_tile *out);
 
 /* pbrt WriteImage: per pixel of the pixel bounds (row-major, w*h*3 floats):
  * rgb = max(0, sum/weight) (sum itself where weight is 0), += splat_scale * splat, *= scale. */
