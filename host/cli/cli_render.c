@@ -47,6 +47,14 @@ static void usage(FILE *f) {
       "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
       "                          catmullrom (default parameters)\n"
       "  --tile-size N           render tile side in pixels (default 16)\n"
+      "  --resume IMAGE.exr      continue that image (written by clrender with its sums, same\n"
+      "                          scene, sampler, integrator, seed, film) up to --spp: the\n"
+      "                          samples it lacks, exactly those a longer render draws\n"
+      "  --time-limit SECONDS    stop after the pass that reaches this time (0: one pass); the\n"
+      "                          image records the spp reached (clrender.spp) and is resumable\n"
+      "  --checkpoint SECONDS    rewrite the image (atomically) after each pass once this long\n"
+      "                          has passed since the last write (0: every pass)\n"
+      "  --pass-spp N            samples per pixel per pass (default spp / 8, at least 1)\n"
       "  --quiet                 no warnings, no progress bar\n"
       "  --stats                 print timings and counts as JSON on stderr\n"
       "  --reference-samples     generate samples with the single-thread host reference\n"
@@ -160,6 +168,18 @@ static int render_command(int argc, char **argv, clr_dist *dist) {
           goto bad;
       if (!(o.crop_window[0] < o.crop_window[1] && o.crop_window[2] < o.crop_window[3])) goto bad;
       o.crop_given = 1;
+    } else if (strcmp(a, "--resume") == 0) {
+      NEED(1);
+      o.resume = argv[++i];
+    } else if (strcmp(a, "--time-limit") == 0 || strcmp(a, "--checkpoint") == 0) {
+      NEED(1);
+      float seconds = 0.0f;
+      if (!parse_float(argv[++i], &seconds) || !(seconds >= 0.0f && seconds <= 1e9f)) goto bad;
+      *(a[2] == 't' ? &o.time_limit : &o.checkpoint) = seconds;
+    } else if (strcmp(a, "--pass-spp") == 0) {
+      NEED(1);
+      if (!parse_int(argv[++i], 1, 1 << 24, &v)) goto bad;
+      o.pass_spp = (int32_t)v;
     } else if (strcmp(a, "--quiet") == 0) {
       o.quiet = 1;
     } else if (strcmp(a, "--reference-samples") == 0) {

@@ -15,8 +15,8 @@ struct clr_dist {
   int32_t nbands, ntiles;
   char *kept; /* records {int32 tile, uint32 bytes, tile bytes} */
   size_t kept_size, kept_cap;
-  clr_dist_rank_stats *stats; /* rank 0: per rank, from the last frame */
-  uint64_t bytes;             /* rank 0: bytes received in the last frame */
+  clr_dist_rank_stats *stats; /* rank 0: per rank, summed over the frames (passes) */
+  uint64_t bytes;             /* rank 0: bytes received, summed over the frames */
   char *meta[5];              /* rank 0: the last frame's attribute values */
 };
 
@@ -156,6 +156,13 @@ static clr_result index_records(const char *buf, size_t n, int rank, int32_t nti
   return CLR_SUCCESS;
 }
 
+static void add_stats(clr_dist_rank_stats *sum, const clr_dist_rank_stats *s) {
+  sum->samples += s->samples;
+  sum->rays += s->rays;
+  sum->tiles += s->tiles;
+  sum->seconds += s->seconds;
+}
+
 /* Rank 0: receives every rank's tiles, then merges all of them in tile order. */
 static clr_result gather_and_merge(clr_dist *d, clr_film film, clr_result status,
                                    const clr_dist_rank_stats *mine, clr_dist_rank_stats *stats,
@@ -166,12 +173,11 @@ static clr_result gather_and_merge(clr_dist *d, clr_film film, clr_result status
   uint32_t *size = calloc((size_t)d->ntiles + 1, sizeof *size);
   clr_result r =
       bufs && where && size ? status : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "tile index");
-  if (stats) stats[0] = *mine;
-  *total = 0;
-  for (int k = 1; k < d->size; ++k) { /* receive from everyone, even after a failure */
+  if (stats) add_stats(&stats[0], mine); /* summed over the render's passes */
+  for (int k = 1; k < d->size; ++k) {    /* receive from everyone, even after a failure */
     rank_header h;
     MPI_Recv(&h, (int)sizeof h, MPI_BYTE, k, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (stats) stats[k] = h.stats;
+    if (stats) add_stats(&stats[k], &h.stats);
     char *buf = h.status == CLR_SUCCESS ? malloc(h.bytes ? h.bytes : 1) : NULL;
     if (h.status == CLR_SUCCESS) recv_bytes(buf ? buf : NULL, buf ? h.bytes : 0, k);
     *total += h.bytes + sizeof h;
@@ -227,6 +233,11 @@ clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
   }
   d->kept_size = 0;
   return r;
+}
+
+void clr_dist_share(clr_dist *d, int32_t *value) {
+  (void)d;
+  MPI_Bcast(value, 1, MPI_INT32_T, 0, MPI_COMM_WORLD);
 }
 
 /* A comma list of one figure per rank (malloc'ed). */
@@ -299,6 +310,7 @@ clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
   *missing = 0;
   return status;
 }
+void clr_dist_share(clr_dist *d, int32_t *value) { (void)d, (void)value; }
 int clr_dist_metadata(clr_dist *d, const char **keys, const char **values, int max) {
   (void)d, (void)keys, (void)values, (void)max;
   return 0;

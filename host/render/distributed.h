@@ -43,7 +43,9 @@ clr_result clr_dist_keep_tile(clr_dist *d, int32_t tile_index, clr_film_tile til
  * (a cancelled rank). */
 clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
                               const clr_dist_rank_stats *mine, int32_t *missing);
-/* Rank 0, after clr_dist_end_frame: the frame's EXR attributes (clrender.mpi.ranks, per-rank
+/* Collective: every rank gets rank 0's *value (a decision all ranks must share). */
+void clr_dist_share(clr_dist *d, int32_t *value);
+/* Rank 0, after clr_dist_end_frame: the EXR attributes of the frames so far (a render's passes) (clrender.mpi.ranks, per-rank
  * samples, tiles and seconds as comma lists, bytes sent to rank 0) into keys/values (at most
  * `max`; the strings belong to d until the next frame). Returns the count. */
 int clr_dist_metadata(clr_dist *d, const char **keys, const char **values, int max);

@@ -17,6 +17,7 @@
 #include "pfm_output.h"
 #include "pcg32.h"
 #include "render_scene.h"
+#include "resume.h"
 #include "renderer.h"
 #include "scene_parser.h"
 
@@ -28,6 +29,8 @@ void clr_render_options_init(clr_render_options *o) {
   o->struct_size = sizeof *o;
   o->tile_size = 16;
   o->seeding = CLR_SEEDING_PIXEL;
+  o->time_limit = -1.0;
+  o->checkpoint = -1.0;
 }
 
 void clr_render_stats_init(clr_render_stats *s) {
@@ -267,7 +270,8 @@ typedef struct render_job {
   const clr_render_scene *scene;
   const clr_integrator *integrator;
   clr_film film;
-  int spp;
+  int spp;          /* samples per pixel of this pass */
+  int first_sample; /* the pass's first sample index */
   int host_samples; /* options->reference_samples: host reference generator (comparison) */
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
@@ -315,7 +319,7 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     fs[k].y = (float)py + v[1];
     b->weights[k] =
         clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
-    b->keys[k] = sample_key(job->seed, px, py, s);
+    b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
     if (++s == spp) {
       s = 0;
       ++px;
@@ -465,6 +469,8 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
       return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
   batch->pixels = px;
+  batch->first_sample = job->first_sample;
+  batch->sample_count = job->spp;
   clr_sample_output out;
   clr_sample_output_init(&out);
   out.host_values = band->values;
@@ -582,10 +588,10 @@ static clr_result finish_distributed_frame(render_job *job, clr_result r, double
   }
   int32_t missing = 0;
   r = clr_dist_end_frame(job->dist, job->film, r, &mine, &missing);
-  if (clr_dist_rank(job->dist) == 0) {
-    st->tiles_done = st->tiles_total - missing;
-    st->partial = missing > 0;
-  }
+  if (r != CLR_SUCCESS) return r; /* the job ends: the CLI aborts every rank */
+  clr_dist_share(job->dist, &missing);
+  st->tiles_done = st->tiles_total - missing;
+  st->partial = missing > 0;
   return r;
 }
 
@@ -594,6 +600,8 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
   (void)sampler;
+  job->next_take = job->ready_end = job->busy = job->stop = job->next_band = 0;
+  st->tiles_done = 0;
   g.bounds = job->region;
   g.size = o->tile_size > 0 ? o->tile_size : 16;
   g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
@@ -645,6 +653,109 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   free(job->tiles);
   free(job->bands);
   free(threads);
+  return r;
+}
+
+/* ---------- passes, output ---------- */
+
+/* What the image header records besides the film: the render's identity, for --resume. */
+typedef struct output_info {
+  const clr_render_options *o;
+  clr_render_stats *st;
+  clr_resume_identity id;
+  int whole_passes; /* the image holds whole passes of every pixel */
+} output_info;
+
+/* Writes the EXR (with the identity attributes), the PFM when rgb is given, and the preview. */
+static clr_result write_image(clr_film film, const output_info *oi, const float *rgb, int w,
+                              int h) {
+  clr_render_stats *st = oi->st;
+  clr_film_write_options wo;
+  clr_film_write_options_init(&wo);
+  wo.sampler = st->sampler;
+  wo.spp = st->spp;
+  wo.render_time_s = st->seconds_render;
+  wo.partial = st->partial;
+  char target[16], whole[4];
+  snprintf(target, sizeof target, "%d", (int)st->spp_target);
+  snprintf(whole, sizeof whole, "%d", oi->whole_passes);
+  const char *keys[16] = {"integrator",     "clrender.seed",       "clrender.seeding",
+                          "clrender.scene", "clrender.spp_target", "clrender.whole_passes"};
+  const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding, oi->id.scene, target, whole};
+  wo.metadata_keys = keys;
+  wo.metadata_values = vals;
+  wo.metadata_count = 6 + clr_dist_metadata(clr_dist_world(), keys + 6, vals + 6, 10);
+  clr_result r = CLR_SUCCESS;
+  if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
+  if (r == CLR_SUCCESS && rgb && st->pfm_path[0]) r = clr_write_pfm(st->pfm_path, rgb, w, h);
+  if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
+  return r;
+}
+
+static int pass_mode(const clr_render_options *o) {
+  return o->resume || o->time_limit >= 0.0 || o->checkpoint >= 0.0 || o->pass_spp > 0;
+}
+
+/* --resume: rank 0 adds the image's sums into `film` after checking it is this render's; every
+ * rank gets the spp it holds. */
+static clr_result load_resumed(clr_film film, const char *path, const clr_resume_identity *id,
+                               int32_t *spp_done) {
+  clr_dist *dist = clr_dist_world();
+  clr_result r = CLR_SUCCESS;
+  int32_t done = -1;
+  if (clr_dist_rank(dist) == 0) { /* the sums merged first: a refused image fails the render */
+    int32_t n = clr_resume_attribute_count;
+    char *values = calloc((size_t)n, CLR_RESUME_VALUE);
+    r = values ? film_merge_file(film, path, n, clr_resume_attributes, values, CLR_RESUME_VALUE)
+               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "resume");
+    if (r == CLR_SUCCESS) r = clr_resume_check(path, values, id, &done);
+    free(values);
+  }
+  if (dist) clr_dist_share(dist, &done);
+  if (r == CLR_SUCCESS && done < 0)
+    r = clr_set_last_error(CLR_ERROR_IO, "--resume %s: rank 0 could not resume it", path);
+  *spp_done = done;
+  return r;
+}
+
+/* Renders samples [spp_done, spp_target) in passes, each into a pass film merged whole into
+ * `film`; stops early at the time limit or when cancelled (the unfinished pass is dropped).
+ * Checkpoints rewrite the image (rank 0) when `oi` is given. */
+static clr_result render_passes(render_job *job, clr_sampler sampler, clr_context ctx,
+                                clr_film film, int spp_done, const clr_render_options *o,
+                                int nthreads, clr_render_stats *st, const output_info *oi) {
+  int total = st->spp_target, step = o->pass_spp > 0 ? o->pass_spp : total / 8;
+  if (step < 1) step = 1;
+  double t0 = now_seconds(), last_write = t0;
+  clr_result r = CLR_SUCCESS;
+  st->spp = spp_done;
+  int32_t stop = spp_done >= total;
+  while (r == CLR_SUCCESS && !stop) {
+    clr_film pass = NULL;
+    r = film_create(ctx, film_get_desc(film), &pass);
+    if (r != CLR_SUCCESS) break;
+    job->film = pass;
+    job->first_sample = spp_done;
+    job->spp = step < total - spp_done ? step : total - spp_done;
+    r = render_tiles(job, sampler, o, nthreads, st);
+    if (r == CLR_SUCCESS && !st->partial) r = film_merge_film(film, pass);
+    film_release(pass);
+    if (r == CLR_SUCCESS && !st->partial) {
+      spp_done += job->spp;
+      st->spp = spp_done;
+      st->passes++;
+    }
+    double now = now_seconds();
+    stop = r != CLR_SUCCESS || st->partial || spp_done >= total ||
+           (o->time_limit >= 0.0 && now - t0 >= o->time_limit);
+    if (job->dist) clr_dist_share(job->dist, &stop); /* rank 0's clock and film decide */
+    if (!stop && oi && o->checkpoint >= 0.0 && now - last_write >= o->checkpoint) {
+      st->seconds_render = now - t0;
+      r = write_image(film, oi, NULL, 0, 0);
+      last_write = now_seconds();
+    }
+  }
+  st->partial = st->partial != 0; /* whole passes: resumable either way */
   return r;
 }
 
@@ -806,6 +917,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
+  output_info oi;
+  memset(&oi, 0, sizeof oi);
   if (r == CLR_SUCCESS) {
     render_job job;
     memset(&job, 0, sizeof job);
@@ -817,15 +930,40 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.host_samples = o->reference_samples != 0;
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
-    st->spp = job.spp;
+    st->spp = st->spp_target = job.spp;
+    st->passes = 1;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
     snprintf(st->integrator, sizeof st->integrator, "%s",
              integ.type == CLR_INTEGRATOR_AO       ? "ambientocclusion"
              : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting"
                                                    : "path");
+    oi.o = o;
+    oi.st = st;
+    oi.id.sampler = st->sampler;
+    oi.id.integrator = st->integrator;
+    oi.id.scene = o->scene_id ? o->scene_id : "";
+    snprintf(oi.id.seed, sizeof oi.id.seed, "%u", (unsigned)o->seed);
+    oi.id.seeding = o->seeding == CLR_SEEDING_PBRT_V3 ? "pbrt-v3" : "pixel";
+    oi.id.spp_target = job.spp;
+    oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL;
     double tr = now_seconds();
-    r = render_tiles(&job, sampler, o, nthreads, st);
+    if (!pass_mode(o)) {
+      r = render_tiles(&job, sampler, o, nthreads, st);
+      oi.whole_passes = !st->partial;
+    } else {
+      int32_t spp_done = 0;
+      st->passes = 0;
+      if (o->seeding == CLR_SEEDING_PBRT_V3)
+        r = clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                               "--seeding pbrt-v3 renders whole tiles in one pass: --resume, "
+                               "--time-limit, --checkpoint and --pass-spp need --seeding pixel");
+      if (r == CLR_SUCCESS && o->resume) r = load_resumed(film, o->resume, &oi.id, &spp_done);
+      if (r == CLR_SUCCESS)
+        r = render_passes(&job, sampler, ctx, film, spp_done, o, nthreads, st,
+                          write_files ? &oi : NULL);
+      oi.whole_passes = 1;
+    }
     st->seconds_render = now_seconds() - tr;
     st->seconds_tracing = job.trace_s;
     st->seconds_shading = job.shade_s;
@@ -849,20 +987,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   }
   if (r == CLR_SUCCESS && write_files && root) {
     double tw = now_seconds();
-    clr_film_write_options wo;
-    clr_film_write_options_init(&wo);
-    wo.sampler = st->sampler;
-    wo.spp = st->spp;
-    wo.render_time_s = st->seconds_render;
-    wo.partial = st->partial;
-    const char *keys[8] = {"integrator"}, *vals[8] = {st->integrator};
-    wo.metadata_keys = keys;
-    wo.metadata_values = vals;
-    wo.metadata_count = 1 + clr_dist_metadata(clr_dist_world(), keys + 1, vals + 1, 7);
-    if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
-    if (r == CLR_SUCCESS && st->pfm_path[0])
-      r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
-    if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
+    r = write_image(film, &oi, im.rgb, im.width, im.height);
     st->seconds_output = now_seconds() - tw;
   }
   if (r == CLR_SUCCESS && image && root)
@@ -900,7 +1025,17 @@ clr_result clr_render_file(const char *path, const clr_render_options *opts,
     clr_render_stats_init(stats);
     stats->seconds_parse = parse;
   }
-  clr_result r = clr_render_desc(desc, opts, stats, 1, NULL);
+  clr_render_options with_id;
+  clr_render_options_init(&with_id);
+  if (opts && opts->struct_size == sizeof with_id) with_id = *opts;
+  char hash[17];
+  clr_result r = CLR_SUCCESS;
+  if (!with_id.scene_id) {
+    r = clr_scene_file_hash(path, hash);
+    with_id.scene_id = hash;
+  }
+  const clr_render_options *use = opts && opts->struct_size != sizeof with_id ? opts : &with_id;
+  if (r == CLR_SUCCESS) r = clr_render_desc(desc, use, stats, 1, NULL);
   if (stats) stats->seconds_total += parse;
   clr_scene_desc_free(desc);
   return r;
@@ -913,11 +1048,11 @@ int clr_render_stats_json(const clr_render_stats *s, char *buf, size_t size) {
                   "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f},"
                   "\"rays\":%llu,\"samples\":%llu,\"dropped_samples\":%llu,\"tiles\":%d,"
                   "\"tiles_total\":%d,\"threads\":%d,\"spp\":%d,\"sampler\":\"%s\","
-                  "\"integrator\":\"%s\",\"partial\":%d}",
+                  "\"integrator\":\"%s\",\"partial\":%d,\"spp_target\":%d,\"passes\":%d}",
                   s->seconds_total, s->seconds_parse, s->seconds_build, s->seconds_render,
                   s->seconds_sample_generation, s->seconds_tracing, s->seconds_shading,
                   s->seconds_reconstruction, s->seconds_merge, s->seconds_output,
                   (unsigned long long)s->rays, (unsigned long long)s->samples,
                   (unsigned long long)s->dropped_samples, s->tiles_done, s->tiles_total, s->threads,
-                  s->spp, s->sampler, s->integrator, s->partial);
+                  s->spp, s->sampler, s->integrator, s->partial, s->spp_target, s->passes);
 }

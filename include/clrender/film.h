@@ -190,6 +190,18 @@ CLR_API clr_result film_write_png(clr_film film, const char *path, float splat_s
 CLR_API clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t count,
                                     const char *out_path);
 
+/* Adds the sums and sample counts of an image film_write wrote with its sums into `film` (to
+ * resume a render): the file's resolution, pixel bounds (data window), filter and scale must be
+ * the film's, else CLR_ERROR_INVALID_FILM naming both. On success the header attributes
+ * attr_names[0..attr_count) are returned as text (strings as written, ints %d, floats %.9g, ""
+ * when absent) in attr_values, value_size bytes each. */
+CLR_API clr_result film_merge_file(clr_film film, const char *path, int32_t attr_count,
+                                   const char *const *attr_names, char *attr_values,
+                                   size_t value_size);
+/* Adds src's sums and counters into dst (same resolution, pixel bounds and filter, else
+ * CLR_ERROR_INVALID_FILM): a render pass merged into the frame. */
+CLR_API clr_result film_merge_film(clr_film dst, clr_film src);
+
 CLR_API uint64_t film_sample_count(clr_film film);    /* accepted samples */
 CLR_API uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */
 CLR_API uint64_t film_outside_samples(clr_film film); /* samples outside the sample bounds */
