@@ -8,16 +8,20 @@
 #include <mpi.h>
 #include <stdio.h>
 
+#define META 7 /* EXR attributes: ranks, five per-rank lists, bytes */
+
 struct clr_dist {
   int rank, size, local_rank;
   MPI_Win win;      /* the band counter, on rank 0 */
   int32_t *counter; /* its memory (rank 0) */
   int32_t nbands, ntiles;
+  double claim_seconds; /* this frame's band claims */
+  uint64_t claims;
   char *kept; /* records {int32 tile, uint32 bytes, tile bytes} */
   size_t kept_size, kept_cap;
   clr_dist_rank_stats *stats; /* rank 0: per rank, summed over the frames (passes) */
   uint64_t bytes;             /* rank 0: bytes received, summed over the frames */
-  char *meta[5];              /* rank 0: the last frame's attribute values */
+  char *meta[META];           /* rank 0: the attribute values */
 };
 
 /* What each rank sends rank 0 before its tiles. */
@@ -59,7 +63,7 @@ void clr_dist_finalize(int exit_status) {
   if (exit_status != 0) MPI_Abort(MPI_COMM_WORLD, exit_status);
   free(world.kept);
   free(world.stats);
-  for (int i = 0; i < 5; ++i) free(world.meta[i]);
+  for (int i = 0; i < META; ++i) free(world.meta[i]);
   memset(&world, 0, sizeof world);
   MPI_Finalize();
   started = 0;
@@ -97,10 +101,13 @@ clr_result clr_dist_begin_frame(clr_dist *d, int32_t nbands, int32_t ntiles) {
 
 clr_result clr_dist_claim_band(clr_dist *d, int32_t *band) {
   int32_t one = 1, got = 0;
+  double t0 = MPI_Wtime();
   MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, d->win);
   MPI_Fetch_and_op(&one, &got, MPI_INT32_T, 0, 0, MPI_SUM, d->win);
   MPI_Win_unlock(0, d->win);
   *band = got < d->nbands ? got : -1;
+  d->claim_seconds += MPI_Wtime() - t0;
+  d->claims++;
   return CLR_SUCCESS;
 }
 
@@ -161,6 +168,8 @@ static void add_stats(clr_dist_rank_stats *sum, const clr_dist_rank_stats *s) {
   sum->rays += s->rays;
   sum->tiles += s->tiles;
   sum->seconds += s->seconds;
+  sum->claim_seconds += s->claim_seconds;
+  sum->claims += s->claims;
 }
 
 /* Rank 0: receives every rank's tiles, then merges all of them in tile order. */
@@ -211,7 +220,12 @@ static clr_result gather_and_merge(clr_dist *d, clr_film film, clr_result status
 }
 
 clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
-                              const clr_dist_rank_stats *mine, int32_t *missing) {
+                              const clr_dist_rank_stats *mine_in, int32_t *missing) {
+  clr_dist_rank_stats own = *mine_in, *mine = &own;
+  own.claim_seconds = d->claim_seconds;
+  own.claims = d->claims;
+  d->claim_seconds = 0.0;
+  d->claims = 0;
   MPI_Win_free(&d->win);
   d->counter = NULL;
   *missing = 0;
@@ -253,25 +267,30 @@ static char *rank_list(const clr_dist *d, int which) {
       len += (size_t)snprintf(s + len, cap - len, "%s%llu", sep, (unsigned long long)st->samples);
     else if (which == 1)
       len += (size_t)snprintf(s + len, cap - len, "%s%llu", sep, (unsigned long long)st->tiles);
-    else
+    else if (which == 2)
       len += (size_t)snprintf(s + len, cap - len, "%s%.3f", sep, st->seconds);
+    else if (which == 3)
+      len += (size_t)snprintf(s + len, cap - len, "%s%llu", sep, (unsigned long long)st->claims);
+    else
+      len += (size_t)snprintf(s + len, cap - len, "%s%.6f", sep, st->claim_seconds);
   }
   return s;
 }
 
 int clr_dist_metadata(clr_dist *d, const char **keys, const char **values, int max) {
-  static const char *names[5] = {"clrender.mpi.ranks", "clrender.mpi.rank_samples",
-                                 "clrender.mpi.rank_tiles", "clrender.mpi.rank_seconds",
-                                 "clrender.mpi.bytes_to_rank0"};
+  static const char *names[META] = {"clrender.mpi.ranks",         "clrender.mpi.rank_samples",
+                                    "clrender.mpi.rank_tiles",    "clrender.mpi.rank_seconds",
+                                    "clrender.mpi.rank_claims",   "clrender.mpi.rank_claim_seconds",
+                                    "clrender.mpi.bytes_to_rank0"};
   if (!d || d->rank != 0 || !d->stats) return 0;
-  for (int i = 0; i < 5; ++i) free(d->meta[i]);
+  for (int i = 0; i < META; ++i) free(d->meta[i]);
   d->meta[0] = malloc(16);
   if (d->meta[0]) snprintf(d->meta[0], 16, "%d", d->size);
-  for (int i = 0; i < 3; ++i) d->meta[1 + i] = rank_list(d, i);
-  d->meta[4] = malloc(24);
-  if (d->meta[4]) snprintf(d->meta[4], 24, "%llu", (unsigned long long)d->bytes);
+  for (int i = 0; i < 5; ++i) d->meta[1 + i] = rank_list(d, i);
+  d->meta[6] = malloc(24);
+  if (d->meta[6]) snprintf(d->meta[6], 24, "%llu", (unsigned long long)d->bytes);
   int n = 0;
-  for (int i = 0; i < 5 && n < max; ++i)
+  for (int i = 0; i < META && n < max; ++i)
     if (d->meta[i]) {
       keys[n] = names[i];
       values[n++] = d->meta[i];

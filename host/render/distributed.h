@@ -15,7 +15,9 @@ typedef struct clr_dist clr_dist;
 /* Per-rank figures rank 0 receives with the tiles. */
 typedef struct clr_dist_rank_stats {
   uint64_t samples, rays, tiles;
-  double seconds; /* wall time of the rank's tile loop */
+  double seconds;       /* wall time of the rank's tile loop */
+  double claim_seconds; /* of it, waiting for band claims (filled by clr_dist_end_frame) */
+  uint64_t claims;
 } clr_dist_rank_stats;
 
 /* Starts MPI when this process was launched by mpirun (Open MPI's or a PMI launcher's
@@ -46,7 +48,7 @@ clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
 /* Collective: every rank gets rank 0's *value (a decision all ranks must share). */
 void clr_dist_share(clr_dist *d, int32_t *value);
 /* Rank 0, after clr_dist_end_frame: the EXR attributes of the frames so far (a render's passes) (clrender.mpi.ranks, per-rank
- * samples, tiles and seconds as comma lists, bytes sent to rank 0) into keys/values (at most
+ * samples, tiles, seconds, claims and claim seconds as comma lists, bytes sent to rank 0) into keys/values (at most
  * `max`; the strings belong to d until the next frame). Returns the count. */
 int clr_dist_metadata(clr_dist *d, const char **keys, const char **values, int max);
 

@@ -581,7 +581,7 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
  * count every rank's tiles and rays. */
 static clr_result finish_distributed_frame(render_job *job, clr_result r, double seconds,
                                            clr_render_stats *st) {
-  clr_dist_rank_stats mine = {0, job->rays, (uint64_t)st->tiles_done, seconds};
+  clr_dist_rank_stats mine = {0, job->rays, (uint64_t)st->tiles_done, seconds, 0.0, 0};
   for (int i = 0; i < st->tiles_done; ++i) {
     clr_bounds2i p = job->tiles[i].pixels;
     mine.samples += (uint64_t)(p.x1 - p.x0) * (uint64_t)(p.y1 - p.y0) * (uint64_t)job->spp;
