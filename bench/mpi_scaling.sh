@@ -13,6 +13,8 @@ shift $(( $# < 3 ? $# : 3 ))
 ranks=("$@")
 [ ${#ranks[@]} -gt 0 ] || ranks=(1 2 4)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,vader
+# No core binding: a pinned rank shares its core with its own threads and with other work.
+export OMPI_MCA_hwloc_base_binding_policy=none
 out=$(mktemp -d "$build/mpi_bench_XXXXXX")
 trap 'rm -rf "$out"' EXIT
 flags=(--spp "$spp" --nthreads 1 --quiet)
