@@ -189,6 +189,27 @@ static void test_passes_bit_identical(void **state) {
   split_matches_single(flags);
 }
 
+/* Adaptive sampling under MPI: rank 0 decides the active pixels, the image is as alone. */
+static void test_adaptive_bit_identical(void **state) {
+  (void)state;
+  const char *flags[] = {"--spp",
+                         "8",
+                         "--pass-spp",
+                         "2",
+                         "--noise-threshold",
+                         "0.3",
+                         "--nthreads",
+                         "1",
+                         "--cropwindow",
+                         "0.3",
+                         "0.6",
+                         "0.3",
+                         "0.6",
+                         "--quiet",
+                         NULL};
+  split_matches_single(flags);
+}
+
 /* A rank that exits in the middle of the frame: non-zero status, no image at the output name. */
 static void test_dying_rank_fails_the_job_without_image(void **state) {
   (void)state;
@@ -209,6 +230,7 @@ int main(void) {
       cmocka_unit_test(test_halton_two_and_three_ranks_bit_identical),
       cmocka_unit_test(test_sobol_gaussian_pbrt_seeding_bit_identical),
       cmocka_unit_test(test_passes_bit_identical),
+      cmocka_unit_test(test_adaptive_bit_identical),
       cmocka_unit_test(test_dying_rank_fails_the_job_without_image),
   };
   int failed = cmocka_run_group_tests(tests, NULL, NULL);

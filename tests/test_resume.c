@@ -178,6 +178,61 @@ static void test_interrupted_checkpointed_render_resumes(void **state) {
   assert_close_images(full, resumed);
 }
 
+/* Adaptive sampling: the same pixels converge for 1 and 2 threads (bit-identical images), fewer
+ * samples than uniform sampling are taken, an error map is written; a threshold every pixel
+ * meets after the first pair of passes stops there (the samples of a 4-spp render). */
+static void test_adaptive_sampling_is_deterministic(void **state) {
+  (void)state;
+  char one[sizeof dir + 16], two[sizeof dir + 16], map[sizeof dir + 16], all[sizeof dir + 16],
+      four[sizeof dir + 16], uniform[sizeof dir + 16];
+  in_dir(one, sizeof one, "ad1.exr");
+  in_dir(two, sizeof two, "ad2.exr");
+  in_dir(map, sizeof map, "err.exr");
+  in_dir(all, sizeof all, "adall.exr");
+  in_dir(four, sizeof four, "u4.exr");
+  in_dir(uniform, sizeof uniform, "u16.exr");
+  const char *a[] = {"--spp",      "16",        "--pass-spp", "2",           "--noise-threshold",
+                     "0.2",        "--outfile", one,          "--error-map", map,
+                     "--nthreads", "1",         NULL};
+  const char *b[] = {"--spp", "16",        "--pass-spp", "2", "--noise-threshold",
+                     "0.2",   "--outfile", two,          NULL};
+  const char *u[] = {"--spp", "16", "--outfile", uniform, NULL};
+  assert_int_equal(render(a), 0);
+  assert_int_equal(render(b), 0);
+  assert_int_equal(render(u), 0);
+  clr_exr_image *x = NULL, *y = NULL;
+  assert_int_equal(clr_exr_read(one, &x), CLR_SUCCESS);
+  assert_int_equal(clr_exr_read(two, &y), CLR_SUCCESS);
+  assert_int_equal(x->channel_count, y->channel_count);
+  size_t n = (size_t)x->width * (size_t)x->height;
+  for (int c = 0; c < x->channel_count; ++c)
+    assert_memory_equal(x->channels[c], y->channels[c], n * sizeof(float));
+  clr_exr_image_free(x);
+  clr_exr_image_free(y);
+  int32_t adaptive = int_attr(one, "clrender.samples"),
+          full = int_attr(uniform, "clrender.samples");
+  assert_true(adaptive < full);
+  assert_true(adaptive > full / 8); /* at least the first pair of passes everywhere */
+  clr_exr_image *em = NULL;
+  assert_int_equal(clr_exr_read(map, &em), CLR_SUCCESS);
+  const float *e = clr_exr_image_channel(em, "R");
+  assert_non_null(e);
+  int below = 0;
+  for (size_t i = 0; i < (size_t)em->width * (size_t)em->height; ++i) {
+    assert_true(e[i] >= 0.0f && isfinite(e[i]));
+    below += e[i] < 0.2f;
+  }
+  assert_true(below > 0);
+  clr_exr_image_free(em);
+  const char *c[] = {"--spp", "16",        "--pass-spp", "2", "--noise-threshold",
+                     "1e9",   "--outfile", all,          NULL};
+  const char *d[] = {"--spp", "4", "--outfile", four, NULL};
+  assert_int_equal(render(c), 0);
+  assert_int_equal(render(d), 0);
+  assert_int_equal(int_attr(all, "clrender.samples"), int_attr(four, "clrender.samples"));
+  assert_close_images(four, all);
+}
+
 /* Another seed, an image that already has the spp asked for, a missing file: refused. */
 static void test_resume_refuses_other_renders(void **state) {
   (void)state;
@@ -213,6 +268,7 @@ int main(void) {
       cmocka_unit_test(test_time_limit_zero_renders_one_resumable_pass),
       cmocka_unit_test(test_interrupted_checkpointed_render_resumes),
       cmocka_unit_test(test_resume_refuses_other_renders),
+      cmocka_unit_test(test_adaptive_sampling_is_deterministic),
   };
   int failed = cmocka_run_group_tests(tests, NULL, NULL);
   char cmd[sizeof dir + 16];

@@ -55,6 +55,9 @@ static void usage(FILE *f) {
       "  --checkpoint SECONDS    rewrite the image (atomically) after each pass once this long\n"
       "                          has passed since the last write (0: every pass)\n"
       "  --pass-spp N            samples per pixel per pass (default spp / 8, at least 1)\n"
+      "  --noise-threshold E     adaptive sampling: after each pair of passes, pixels whose\n"
+      "                          A/B error estimate is below E receive no more passes\n"
+      "  --error-map FILE.exr    with --noise-threshold: write the per-pixel estimates\n"
       "  --quiet                 no warnings, no progress bar\n"
       "  --stats                 print timings and counts as JSON on stderr\n"
       "  --reference-samples     generate samples with the single-thread host reference\n"
@@ -176,6 +179,14 @@ static int render_command(int argc, char **argv, clr_dist *dist) {
       float seconds = 0.0f;
       if (!parse_float(argv[++i], &seconds) || !(seconds >= 0.0f && seconds <= 1e9f)) goto bad;
       *(a[2] == 't' ? &o.time_limit : &o.checkpoint) = seconds;
+    } else if (strcmp(a, "--noise-threshold") == 0) {
+      NEED(1);
+      if (!parse_float(argv[++i], &o.noise_threshold) ||
+          !(o.noise_threshold > 0.0f && o.noise_threshold < 1e30f))
+        goto bad;
+    } else if (strcmp(a, "--error-map") == 0) {
+      NEED(1);
+      o.error_map = argv[++i];
     } else if (strcmp(a, "--pass-spp") == 0) {
       NEED(1);
       if (!parse_int(argv[++i], 1, 1 << 24, &v)) goto bad;
@@ -204,6 +215,11 @@ static int render_command(int argc, char **argv, clr_dist *dist) {
   }
   if (!scene) {
     fprintf(stderr, "clrender render: no scene file given\n");
+    usage(stderr);
+    return 2;
+  }
+  if (o.error_map && o.noise_threshold <= 0.0f) {
+    fprintf(stderr, "clrender render: --error-map needs --noise-threshold\n");
     usage(stderr);
     return 2;
   }

@@ -254,6 +254,14 @@ void clr_dist_share(clr_dist *d, int32_t *value) {
   MPI_Bcast(value, 1, MPI_INT32_T, 0, MPI_COMM_WORLD);
 }
 
+void clr_dist_share_bytes(clr_dist *d, void *p, size_t size) {
+  (void)d;
+  for (size_t off = 0; off < size; off += CHUNK_BYTES) {
+    size_t k = size - off < CHUNK_BYTES ? size - off : CHUNK_BYTES;
+    MPI_Bcast((char *)p + off, (int)k, MPI_BYTE, 0, MPI_COMM_WORLD);
+  }
+}
+
 /* A comma list of one figure per rank (malloc'ed). */
 static char *rank_list(const clr_dist *d, int which) {
   size_t cap = (size_t)d->size * 24 + 1, len = 0;
@@ -330,6 +338,7 @@ clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
   return status;
 }
 void clr_dist_share(clr_dist *d, int32_t *value) { (void)d, (void)value; }
+void clr_dist_share_bytes(clr_dist *d, void *p, size_t size) { (void)d, (void)p, (void)size; }
 int clr_dist_metadata(clr_dist *d, const char **keys, const char **values, int max) {
   (void)d, (void)keys, (void)values, (void)max;
   return 0;

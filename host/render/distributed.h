@@ -47,6 +47,8 @@ clr_result clr_dist_end_frame(clr_dist *d, clr_film film, clr_result status,
                               const clr_dist_rank_stats *mine, int32_t *missing);
 /* Collective: every rank gets rank 0's *value (a decision all ranks must share). */
 void clr_dist_share(clr_dist *d, int32_t *value);
+/* Collective: every rank gets rank 0's `size` bytes at p. */
+void clr_dist_share_bytes(clr_dist *d, void *p, size_t size);
 /* Rank 0, after clr_dist_end_frame: the EXR attributes of the frames so far (a render's passes) (clrender.mpi.ranks, per-rank
  * samples, tiles, seconds, claims and claim seconds as comma lists, bytes sent to rank 0) into keys/values (at most
  * `max`; the strings belong to d until the next frame). Returns the count. */

@@ -12,6 +12,7 @@
 #include "render_error.h"
 #include "clrender/film.h"
 #include "clrender/kernels.h"
+#include "adaptive.h"
 #include "distributed.h"
 #include "integrator.h"
 #include "pfm_output.h"
@@ -275,9 +276,10 @@ typedef struct render_job {
   int host_samples; /* options->reference_samples: host reference generator (comparison) */
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
-  clr_bounds2i region; /* the sample pixels rendered (render_region) */
-  clr_dist *dist;      /* MPI ranks sharing the frame, or NULL */
-  int next_band;       /* the next band to claim when alone */
+  clr_bounds2i region;          /* the sample pixels rendered (render_region) */
+  clr_dist *dist;               /* MPI ranks sharing the frame, or NULL */
+  const clr_adaptive *adaptive; /* pixels still sampled (--noise-threshold), or NULL: all */
+  int next_band;                /* the next band to claim when alone */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -351,21 +353,28 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
     b->fs = fs;
     b->fs_cap = total;
   }
-  for (int ly = 0; ly < h; ++ly) {
-    int py = tile->pixels.y0 + ly;
-    size_t first = ((size_t)(py - band->pixels.y0) * (size_t)band_w +
-                    (size_t)(tile->pixels.x0 - band->pixels.x0)) *
-                   spp;
-    for (size_t base = 0; base < row; base += CHUNK_SAMPLES) {
-      int n = (int)(row - base < CHUNK_SAMPLES ? row - base : CHUNK_SAMPLES);
-      CLR_CHECK(shade_run(job, b, scratch, counters, tile->pixels.x0 + (int)(base / spp), py,
-                          (int)(base % spp), n, band->values + (first + base) * vps,
-                          b->fs + (size_t)ly * row + base));
+  size_t filled = 0;
+  for (int py = tile->pixels.y0; py < tile->pixels.y1; ++py)
+    for (int x = tile->pixels.x0, xe; x < tile->pixels.x1; x = xe) { /* runs of active pixels */
+      int on = clr_adaptive_pixel_active(job->adaptive, x, py);
+      for (xe = x + 1;
+           xe < tile->pixels.x1 && clr_adaptive_pixel_active(job->adaptive, xe, py) == on;)
+        ++xe;
+      if (!on) continue;
+      size_t first =
+          ((size_t)(py - band->pixels.y0) * (size_t)band_w + (size_t)(x - band->pixels.x0)) * spp;
+      size_t run = (size_t)(xe - x) * spp;
+      for (size_t base = 0; base < run; base += CHUNK_SAMPLES) {
+        int n = (int)(run - base < CHUNK_SAMPLES ? run - base : CHUNK_SAMPLES);
+        CLR_CHECK(shade_run(job, b, scratch, counters, x + (int)(base / spp), py, (int)(base % spp),
+                            n, band->values + (first + base) * vps, b->fs + filled + base));
+      }
+      filled += run;
     }
-  }
+  (void)row;
   double t0 = now_seconds();
   clr_result r = film_get_tile(job->film, tile->pixels, &tile->film_tile);
-  if (r == CLR_SUCCESS) r = film_tile_add_samples(tile->film_tile, b->fs, total);
+  if (r == CLR_SUCCESS && filled) r = film_tile_add_samples(tile->film_tile, b->fs, filled);
   *recon_s += now_seconds() - t0;
   return r;
 }
@@ -684,7 +693,14 @@ static clr_result write_image(clr_film film, const output_info *oi, const float 
   const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding, oi->id.scene, target, whole};
   wo.metadata_keys = keys;
   wo.metadata_values = vals;
-  wo.metadata_count = 6 + clr_dist_metadata(clr_dist_world(), keys + 6, vals + 6, 10);
+  int n = 6;
+  char threshold[32];
+  if (oi->o->noise_threshold > 0.0f) {
+    snprintf(threshold, sizeof threshold, "%.9g", (double)oi->o->noise_threshold);
+    keys[n] = "clrender.noise_threshold";
+    vals[n++] = threshold;
+  }
+  wo.metadata_count = n + clr_dist_metadata(clr_dist_world(), keys + n, vals + n, 16 - n);
   clr_result r = CLR_SUCCESS;
   if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
   if (r == CLR_SUCCESS && rgb && st->pfm_path[0]) r = clr_write_pfm(st->pfm_path, rgb, w, h);
@@ -693,7 +709,23 @@ static clr_result write_image(clr_film film, const output_info *oi, const float 
 }
 
 static int pass_mode(const clr_render_options *o) {
-  return o->resume || o->time_limit >= 0.0 || o->checkpoint >= 0.0 || o->pass_spp > 0;
+  return o->resume || o->time_limit >= 0.0 || o->checkpoint >= 0.0 || o->pass_spp > 0 ||
+         o->noise_threshold > 0.0f;
+}
+
+/* After pass `index` (from 0) of an adaptive render: the pass goes into its half film; after
+ * each pair rank 0 updates the active pixels and shares them. *done: no pixel is left. */
+static clr_result adapt(clr_adaptive *ad, clr_film pass, int index, clr_dist *dist, int *done) {
+  clr_result r = clr_adaptive_add_pass(ad, pass, index);
+  if (r != CLR_SUCCESS || (index & 1) == 0) return r;
+  if (clr_dist_rank(dist) == 0) r = clr_adaptive_update(ad);
+  if (r != CLR_SUCCESS) return r;
+  if (dist) clr_dist_share_bytes(dist, ad->active, (size_t)ad->width * (size_t)ad->height);
+  int64_t left = 0;
+  for (size_t i = 0; i < (size_t)ad->width * (size_t)ad->height; ++i) left += ad->active[i];
+  ad->active_count = left;
+  *done = left == 0;
+  return CLR_SUCCESS;
 }
 
 /* --resume: rank 0 adds the image's sums into `film` after checking it is this render's; every
@@ -730,6 +762,12 @@ static clr_result render_passes(render_job *job, clr_sampler sampler, clr_contex
   clr_result r = CLR_SUCCESS;
   st->spp = spp_done;
   int32_t stop = spp_done >= total;
+  clr_adaptive ad;
+  memset(&ad, 0, sizeof ad);
+  if (o->noise_threshold > 0.0f) {
+    r = clr_adaptive_init(&ad, ctx, film, o->noise_threshold);
+    job->adaptive = &ad;
+  }
   while (r == CLR_SUCCESS && !stop) {
     clr_film pass = NULL;
     r = film_create(ctx, film_get_desc(film), &pass);
@@ -738,7 +776,10 @@ static clr_result render_passes(render_job *job, clr_sampler sampler, clr_contex
     job->first_sample = spp_done;
     job->spp = step < total - spp_done ? step : total - spp_done;
     r = render_tiles(job, sampler, o, nthreads, st);
+    int converged = 0;
     if (r == CLR_SUCCESS && !st->partial) r = film_merge_film(film, pass);
+    if (r == CLR_SUCCESS && !st->partial && job->adaptive)
+      r = adapt(&ad, pass, st->passes, job->dist, &converged);
     film_release(pass);
     if (r == CLR_SUCCESS && !st->partial) {
       spp_done += job->spp;
@@ -746,7 +787,7 @@ static clr_result render_passes(render_job *job, clr_sampler sampler, clr_contex
       st->passes++;
     }
     double now = now_seconds();
-    stop = r != CLR_SUCCESS || st->partial || spp_done >= total ||
+    stop = r != CLR_SUCCESS || st->partial || spp_done >= total || converged ||
            (o->time_limit >= 0.0 && now - t0 >= o->time_limit);
     if (job->dist) clr_dist_share(job->dist, &stop); /* rank 0's clock and film decide */
     if (!stop && oi && o->checkpoint >= 0.0 && now - last_write >= o->checkpoint) {
@@ -755,7 +796,10 @@ static clr_result render_passes(render_job *job, clr_sampler sampler, clr_contex
       last_write = now_seconds();
     }
   }
-  st->partial = st->partial != 0; /* whole passes: resumable either way */
+  if (r == CLR_SUCCESS && job->adaptive && o->error_map && oi && clr_dist_rank(job->dist) == 0)
+    r = clr_adaptive_write_error_map(&ad, ctx, film, o->error_map);
+  job->adaptive = NULL;
+  clr_adaptive_free(&ad);
   return r;
 }
 
@@ -864,6 +908,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
     if (r == CLR_SUCCESS && st->pfm_path[0]) r = film_check_output_path(st->pfm_path);
     if (r == CLR_SUCCESS) r = film_check_output_path(st->png_path);
+    if (r == CLR_SUCCESS && o->error_map) r = film_check_output_path(o->error_map);
     if (r != CLR_SUCCESS && !o->outfile) /* the path came from the scene: say where */
       return clr_set_last_error(r, "%s:%d: Film \"filename\": %s", param_file(&d->film.params),
                                 param_line(&d->film.params, "filename"), clr_last_error_message());
@@ -958,11 +1003,15 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
         r = clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
                                "--seeding pbrt-v3 renders whole tiles in one pass: --resume, "
                                "--time-limit, --checkpoint and --pass-spp need --seeding pixel");
+      if (r == CLR_SUCCESS && o->resume && o->noise_threshold > 0.0f)
+        r = clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                               "--resume with --noise-threshold: the A/B half films are not "
+                               "saved in the image; resume without adaptive sampling");
       if (r == CLR_SUCCESS && o->resume) r = load_resumed(film, o->resume, &oi.id, &spp_done);
       if (r == CLR_SUCCESS)
         r = render_passes(&job, sampler, ctx, film, spp_done, o, nthreads, st,
                           write_files ? &oi : NULL);
-      oi.whole_passes = 1;
+      oi.whole_passes = o->noise_threshold <= 0.0f; /* adaptive: pixels differ in spp */
     }
     st->seconds_render = now_seconds() - tr;
     st->seconds_tracing = job.trace_s;
