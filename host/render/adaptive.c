@@ -45,6 +45,14 @@ int clr_adaptive_pixel_active(const clr_adaptive *ad, int32_t x, int32_t y) {
   return ad->active[(size_t)(y - ad->bounds.y0) * (size_t)ad->width + (size_t)(x - ad->bounds.x0)];
 }
 
+int clr_adaptive_any_active(const clr_adaptive *ad, clr_bounds2i pixels) {
+  if (!ad) return 1;
+  for (int32_t y = pixels.y0; y < pixels.y1; ++y)
+    for (int32_t x = pixels.x0; x < pixels.x1; ++x)
+      if (clr_adaptive_pixel_active(ad, x, y)) return 1;
+  return 0;
+}
+
 clr_result clr_adaptive_add_pass(clr_adaptive *ad, clr_film pass, int32_t pass_index) {
   return film_merge_film(ad->half[pass_index & 1], pass);
 }

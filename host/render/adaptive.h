@@ -10,6 +10,10 @@
 #include <stdint.h>
 #include "clrender/film.h"
 
+/* No pixel stops before it has this many samples (8 per half): earlier estimates are too noisy
+ * (pixels whose few samples happen to agree would stop at once). */
+#define CLR_ADAPTIVE_MIN_SPP 16
+
 typedef struct clr_adaptive {
   clr_film half[2];    /* A: even passes, B: odd passes */
   uint8_t *active;     /* per film pixel: 1 while sampled */
@@ -25,6 +29,8 @@ void clr_adaptive_free(clr_adaptive *ad);
 /* 1 when the samples of sample pixel (x, y) are rendered: the nearest film pixel is active (or
  * ad is NULL). */
 int clr_adaptive_pixel_active(const clr_adaptive *ad, int32_t x, int32_t y);
+/* 1 when some sample pixel of `pixels` is active (or ad is NULL). */
+int clr_adaptive_any_active(const clr_adaptive *ad, clr_bounds2i pixels);
 /* Adds pass number `pass` (from 0) into its half film. */
 clr_result clr_adaptive_add_pass(clr_adaptive *ad, clr_film pass, int32_t pass_index);
 /* After an odd pass: new estimates, and pixels below the threshold leave the active set. */

@@ -483,8 +483,9 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   clr_sample_output out;
   clr_sample_output_init(&out);
   out.host_values = band->values;
-  CLR_CHECK(job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
-                              : clr_sampler_generate(sampler, batch, &out));
+  if (clr_adaptive_any_active(job->adaptive, px)) /* else no sample of the band is shaded */
+    CLR_CHECK(job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
+                                : clr_sampler_generate(sampler, batch, &out));
   band->pixels = px;
   for (int k = 0; k < n; ++k) {
     job->tiles[pos + k].index = first + k;
@@ -713,11 +714,13 @@ static int pass_mode(const clr_render_options *o) {
          o->noise_threshold > 0.0f;
 }
 
-/* After pass `index` (from 0) of an adaptive render: the pass goes into its half film; after
- * each pair rank 0 updates the active pixels and shares them. *done: no pixel is left. */
-static clr_result adapt(clr_adaptive *ad, clr_film pass, int index, clr_dist *dist, int *done) {
+/* After pass `index` (from 0) of an adaptive render, with spp_done samples per pixel: the pass
+ * goes into its half film; after each pair, from CLR_ADAPTIVE_MIN_SPP on, rank 0 updates the
+ * active pixels and shares them. *done: no pixel is left. */
+static clr_result adapt(clr_adaptive *ad, clr_film pass, int index, int spp_done, clr_dist *dist,
+                        int *done) {
   clr_result r = clr_adaptive_add_pass(ad, pass, index);
-  if (r != CLR_SUCCESS || (index & 1) == 0) return r;
+  if (r != CLR_SUCCESS || (index & 1) == 0 || spp_done < CLR_ADAPTIVE_MIN_SPP) return r;
   if (clr_dist_rank(dist) == 0) r = clr_adaptive_update(ad);
   if (r != CLR_SUCCESS) return r;
   if (dist) clr_dist_share_bytes(dist, ad->active, (size_t)ad->width * (size_t)ad->height);
@@ -779,7 +782,7 @@ static clr_result render_passes(render_job *job, clr_sampler sampler, clr_contex
     int converged = 0;
     if (r == CLR_SUCCESS && !st->partial) r = film_merge_film(film, pass);
     if (r == CLR_SUCCESS && !st->partial && job->adaptive)
-      r = adapt(&ad, pass, st->passes, job->dist, &converged);
+      r = adapt(&ad, pass, st->passes, spp_done + job->spp, job->dist, &converged);
     film_release(pass);
     if (r == CLR_SUCCESS && !st->partial) {
       spp_done += job->spp;
