@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include <glob.h>
 #include "exr_io.h"
 #include "hardening_util.h"
 
@@ -148,12 +149,31 @@ static void test_time_limit_zero_renders_one_resumable_pass(void **state) {
   assert_close_images(full, resumed);
 }
 
+/* Copies the complete temporary file "OUT.tmp-XXXXXX" of a stopped writer to `to`. */
+static void copy_temporary(const char *out, const char *to) {
+  char pattern[sizeof dir + 32];
+  snprintf(pattern, sizeof pattern, "%s.tmp-*", out);
+  glob_t g;
+  assert_int_equal(glob(pattern, 0, NULL, &g), 0);
+  assert_int_equal(g.gl_pathc, 1);
+  FILE *in = fopen(g.gl_pathv[0], "rb"), *o = fopen(to, "wb");
+  assert_non_null(in);
+  assert_non_null(o);
+  char buf[1 << 14];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, in)) > 0) assert_int_equal(fwrite(buf, 1, n, o), n);
+  fclose(in);
+  assert_int_equal(fclose(o), 0);
+  globfree(&g);
+}
+
 /* SIGINT while the first checkpoint is being written: the render drops the pass in flight,
  * writes the whole passes (partial, resumable) and exits 130; resuming gives the full image. */
 static void test_interrupted_checkpointed_render_resumes(void **state) {
   (void)state;
-  char cut[sizeof dir + 16], resumed[sizeof dir + 16], full[sizeof dir + 16];
+  char cut[sizeof dir + 16], resumed[sizeof dir + 16], full[sizeof dir + 16], ckpt[sizeof dir + 16];
   in_dir(cut, sizeof cut, "cut.exr");
+  in_dir(ckpt, sizeof ckpt, "checkpoint.exr");
   in_dir(resumed, sizeof resumed, "cut_resumed.exr");
   in_dir(full, sizeof full, "h16.exr");
   const char *a[] = {"--spp", "16", "--pass-spp", "4", "--checkpoint", "0", "--outfile", cut, NULL};
@@ -162,7 +182,10 @@ static void test_interrupted_checkpointed_render_resumes(void **state) {
   for (;;) {
     assert_int_equal(waitpid(pid, &status, WUNTRACED), pid);
     if (!WIFSTOPPED(status)) break;
-    if (stops++ == 0) assert_int_equal(kill(pid, SIGINT), 0); /* in the first checkpoint */
+    if (stops++ == 0) { /* in the first checkpoint: keep a copy of it, then interrupt */
+      copy_temporary(cut, ckpt);
+      assert_int_equal(kill(pid, SIGINT), 0);
+    }
     assert_int_equal(kill(pid, SIGCONT), 0);
   }
   assert_true(WIFEXITED(status));
@@ -175,6 +198,10 @@ static void test_interrupted_checkpointed_render_resumes(void **state) {
   const char *c[] = {"--spp", "16", "--outfile", full, NULL};
   assert_int_equal(render(b), 0);
   assert_int_equal(render(c), 0);
+  assert_close_images(full, resumed);
+  assert_int_equal(int_attr(ckpt, "clrender.spp"), 4); /* a checkpoint resumes as well */
+  const char *d[] = {"--spp", "16", "--outfile", resumed, "--resume", ckpt, NULL};
+  assert_int_equal(render(d), 0);
   assert_close_images(full, resumed);
 }
 

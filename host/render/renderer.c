@@ -1001,6 +1001,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
       oi.whole_passes = !st->partial;
     } else {
       int32_t spp_done = 0;
+      oi.whole_passes = o->noise_threshold <= 0.0f; /* adaptive: pixels differ in spp */
       st->passes = 0;
       if (o->seeding == CLR_SEEDING_PBRT_V3)
         r = clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
@@ -1014,7 +1015,6 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
       if (r == CLR_SUCCESS)
         r = render_passes(&job, sampler, ctx, film, spp_done, o, nthreads, st,
                           write_files ? &oi : NULL);
-      oi.whole_passes = o->noise_threshold <= 0.0f; /* adaptive: pixels differ in spp */
     }
     st->seconds_render = now_seconds() - tr;
     st->seconds_tracing = job.trace_s;
