@@ -35,10 +35,14 @@ static int run(char *const argv[], const char *log) {
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     setenv("OMPI_MCA_btl", "self,vader", 1);
     setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
-    const char *asan = getenv("ASAN_OPTIONS"); /* a preloaded shim precedes the ASan runtime */
+    /* Under ASan: a preloaded shim precedes the ASan runtime, and Open MPI dlclose()s its
+     * components in MPI_Finalize, so LeakSanitizer sees their allocations with stacks in an
+     * "<unknown module>" that no suppression can name: the ranks run without leak detection
+     * (the renderer's code paths are leak-checked by the single-process tests). */
+    const char *asan = getenv("ASAN_OPTIONS");
     char options[1024];
-    snprintf(options, sizeof options, "%s%sverify_asan_link_order=0", asan ? asan : "",
-             asan && *asan ? ":" : "");
+    snprintf(options, sizeof options, "%s%sverify_asan_link_order=0:detect_leaks=0",
+             asan ? asan : "", asan && *asan ? ":" : "");
     setenv("ASAN_OPTIONS", options, 1);
     execv(argv[0], argv);
     _exit(127);
