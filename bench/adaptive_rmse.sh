@@ -11,9 +11,9 @@ threshold=${4:-0.05}
 ref_spp=${5:-256}
 out=$(mktemp -d "$build/adaptive_bench_XXXXXX")
 trap 'rm -rf "$out"' EXIT
-flags=(--quiet --nthreads 2 --cropwindow 0.25 0.75 0.25 0.75)
+flags=(--quiet --nthreads 2 ${CROP:+--cropwindow $CROP})
 "$build/clrender" render "$scene" "${flags[@]}" --spp "$ref_spp" --seed 99 --outfile "$out/ref.pfm"
-timed=(--spp 4096 --pass-spp 2 --time-limit "$seconds")
+timed=(--spp 4096 --pass-spp "${PASS_SPP:-2}" --time-limit "$seconds")
 "$build/clrender" render "$scene" "${flags[@]}" "${timed[@]}" --outfile "$out/uniform.pfm" \
   --stats 2> "$out/uniform.json"
 "$build/clrender" render "$scene" "${flags[@]}" "${timed[@]}" --noise-threshold "$threshold" \

@@ -45,12 +45,28 @@ int clr_adaptive_pixel_active(const clr_adaptive *ad, int32_t x, int32_t y) {
   return ad->active[(size_t)(y - ad->bounds.y0) * (size_t)ad->width + (size_t)(x - ad->bounds.x0)];
 }
 
-int clr_adaptive_any_active(const clr_adaptive *ad, clr_bounds2i pixels) {
-  if (!ad) return 1;
+int64_t clr_adaptive_count_active(const clr_adaptive *ad, clr_bounds2i pixels) {
+  int64_t n = 0;
   for (int32_t y = pixels.y0; y < pixels.y1; ++y)
-    for (int32_t x = pixels.x0; x < pixels.x1; ++x)
-      if (clr_adaptive_pixel_active(ad, x, y)) return 1;
-  return 0;
+    for (int32_t x = pixels.x0; x < pixels.x1; ++x) n += clr_adaptive_pixel_active(ad, x, y);
+  return n;
+}
+
+int clr_adaptive_next_run(const clr_adaptive *ad, int32_t y, int32_t x, int32_t x1, int32_t gap,
+                          int32_t *start) {
+  while (x < x1 && !clr_adaptive_pixel_active(ad, x, y)) ++x;
+  *start = x;
+  int32_t end = x;
+  while (x < x1) {
+    if (clr_adaptive_pixel_active(ad, x, y)) {
+      end = ++x;
+    } else if (x - end + 1 < gap) {
+      ++x;
+    } else {
+      break;
+    }
+  }
+  return end > *start ? end : x1;
 }
 
 clr_result clr_adaptive_add_pass(clr_adaptive *ad, clr_film pass, int32_t pass_index) {

@@ -29,8 +29,12 @@ void clr_adaptive_free(clr_adaptive *ad);
 /* 1 when the samples of sample pixel (x, y) are rendered: the nearest film pixel is active (or
  * ad is NULL). */
 int clr_adaptive_pixel_active(const clr_adaptive *ad, int32_t x, int32_t y);
-/* 1 when some sample pixel of `pixels` is active (or ad is NULL). */
-int clr_adaptive_any_active(const clr_adaptive *ad, clr_bounds2i pixels);
+/* The active sample pixels of `pixels` (all of them when ad is NULL). */
+int64_t clr_adaptive_count_active(const clr_adaptive *ad, clr_bounds2i pixels);
+/* The next run of active sample pixels of row y in [x, x1), bridging gaps shorter than `gap`:
+ * *start = its first pixel (x1 when none), returns one past its last. */
+int clr_adaptive_next_run(const clr_adaptive *ad, int32_t y, int32_t x, int32_t x1, int32_t gap,
+                          int32_t *start);
 /* Adds pass number `pass` (from 0) into its half film. */
 clr_result clr_adaptive_add_pass(clr_adaptive *ad, clr_film pass, int32_t pass_index);
 /* After an odd pass: new estimates, and pixels below the threshold leave the active set. */

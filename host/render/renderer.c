@@ -457,6 +457,39 @@ static int bands_per_row(const tile_grid *g) {
   return (g->ntx + g->band_tiles - 1) / g->band_tiles;
 }
 
+static clr_result generate_rect(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
+                                clr_bounds2i px, float *values) {
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.host_values = values;
+  batch->pixels = px;
+  return job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
+                           : clr_sampler_generate(sampler, batch, &out);
+}
+
+/* The band's sample values (row-major over px): all of them, or with adaptive sampling only the
+ * runs of active pixels when fewer than half are active (per-pixel streams make a pixel's values
+ * the same in any batch). */
+static clr_result generate_values(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
+                                  clr_bounds2i px, float *values) {
+  int64_t active = clr_adaptive_count_active(job->adaptive, px);
+  int64_t w = px.x1 - px.x0, all = w * (px.y1 - px.y0);
+  if (active == all) return generate_rect(job, sampler, batch, px, values);
+  if (active == 0) return CLR_SUCCESS; /* no sample of the band is shaded */
+  if (active * 2 > all) return generate_rect(job, sampler, batch, px, values);
+  size_t per_pixel = (size_t)job->spp * (size_t)job->integrator->values_per_sample;
+  for (int y = px.y0; y < px.y1; ++y)
+    for (int x = px.x0, xe; x < px.x1; x = xe) {
+      xe = clr_adaptive_next_run(job->adaptive, y, x, px.x1, 16, &x);
+      if (x >= px.x1) break;
+      clr_bounds2i run = {x, y, xe, y + 1};
+      CLR_CHECK(generate_rect(
+          job, sampler, batch, run,
+          values + ((size_t)(y - px.y0) * (size_t)w + (size_t)(x - px.x0)) * per_pixel));
+    }
+  return CLR_SUCCESS;
+}
+
 /* Generates band `index` of the grid into band slot `bi`, its tiles at tiles[pos...]; returns its
  * tile count in *count. */
 static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
@@ -477,15 +510,9 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
     if (!band->values)
       return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
-  batch->pixels = px;
   batch->first_sample = job->first_sample;
   batch->sample_count = job->spp;
-  clr_sample_output out;
-  clr_sample_output_init(&out);
-  out.host_values = band->values;
-  if (clr_adaptive_any_active(job->adaptive, px)) /* else no sample of the band is shaded */
-    CLR_CHECK(job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
-                                : clr_sampler_generate(sampler, batch, &out));
+  CLR_CHECK(generate_values(job, sampler, batch, px, band->values));
   band->pixels = px;
   for (int k = 0; k < n; ++k) {
     job->tiles[pos + k].index = first + k;
