@@ -15,6 +15,7 @@ ranks=("$@")
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,vader
 # No core binding: a pinned rank shares its core with its own threads and with other work.
 export OMPI_MCA_hwloc_base_binding_policy=none
+export OMPI_MCA_plm=isolated # this machine only
 out=$(mktemp -d "$build/mpi_bench_XXXXXX")
 trap 'rm -rf "$out"' EXIT
 flags=(--spp "$spp" --nthreads 1 --quiet)

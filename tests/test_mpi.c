@@ -1,7 +1,8 @@
 /* Distributed renders (issue #13): `mpirun -np 2` and `-np 3` on this machine give the image a
  * single process renders, bit for bit (every channel, sums included), with the per-rank figures
  * in the EXR header; a rank that dies mid-frame ends the job with a non-zero status and no image.
- * Ranks talk over loopback only (btl self,vader); as root mpirun needs its two confirmations. */
+ * Ranks run on this machine only (plm isolated, btl self,vader); as root mpirun needs its two
+ * confirmations. */
 #define _GNU_SOURCE
 #include <setjmp.h>
 #include <stdarg.h>
@@ -35,6 +36,7 @@ static int run(char *const argv[], const char *log) {
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     setenv("OMPI_MCA_btl", "self,vader", 1);
     setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+    setenv("OMPI_MCA_plm", "isolated", 1); /* this machine only: no ssh/rsh agent needed */
     /* Under ASan: a preloaded shim precedes the ASan runtime, and Open MPI dlclose()s its
      * components in MPI_Finalize, so LeakSanitizer sees their allocations with stacks in an
      * "<unknown module>" that no suppression can name: the ranks run without leak detection
