@@ -291,6 +291,7 @@ typedef struct render_job {
   /* per-thread phase sums, merged under the mutex */
   double trace_s, shade_s, recon_s;
   uint64_t rays;
+  uint64_t rays_sent; /* of them, reported to rank 0 with earlier passes */
 } render_job;
 
 /* A worker's buffers, reused from tile to tile. */
@@ -618,11 +619,12 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
  * count every rank's tiles and rays. */
 static clr_result finish_distributed_frame(render_job *job, clr_result r, double seconds,
                                            clr_render_stats *st) {
-  clr_dist_rank_stats mine = {0, job->rays, (uint64_t)st->tiles_done, seconds, 0.0, 0};
-  for (int i = 0; i < st->tiles_done; ++i) {
-    clr_bounds2i p = job->tiles[i].pixels;
-    mine.samples += (uint64_t)(p.x1 - p.x0) * (uint64_t)(p.y1 - p.y0) * (uint64_t)job->spp;
-  }
+  clr_dist_rank_stats mine = {0, job->rays - job->rays_sent, (uint64_t)st->tiles_done, seconds, 0.0,
+                              0};
+  job->rays_sent = job->rays;              /* job->rays counts every pass */
+  for (int i = 0; i < st->tiles_done; ++i) /* the samples shaded: active pixels only */
+    mine.samples += (uint64_t)clr_adaptive_count_active(job->adaptive, job->tiles[i].pixels) *
+                    (uint64_t)job->spp;
   int32_t missing = 0;
   r = clr_dist_end_frame(job->dist, job->film, r, &mine, &missing);
   if (r != CLR_SUCCESS) return r; /* the job ends: the CLI aborts every rank */
