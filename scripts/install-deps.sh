@@ -10,6 +10,7 @@ packages=(
   oclgrind  # second OpenCL implementation of tests/test_devices.c (registered privately there)
   clang-15  # tests/test_kernel_portability.c: kernels compiled for spir64, nvptx64 and amdgcn
   clang-format  # tests/format/check_format.sh: the sources follow .clang-format
+  openmpi-bin libopenmpi-dev  # distributed renders (mpirun -np N clrender render), tests/test_mpi.c
 )
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include "cli.h"
 #include "clrender.h"
+#include "distributed.h"
 #include "render.h"
 
 static volatile sig_atomic_t render_cancel;
@@ -40,7 +41,8 @@ static void usage(FILE *f) {
       "                          streams; pbrt-v4: pbrt-v4's samplers for every name)\n"
       "  --randomization R       pbrt-v4 halton, sobol, paddedsobol, zsobol: none |\n"
       "                          permutedigits | fastowen | owen\n"
-      "  --device D              OpenCL device index or name (see clrender devices)\n"
+      "  --device D              OpenCL device index or name (see clrender devices); under\n"
+      "                          mpirun a comma list names one per local rank (wrapping)\n"
       "  --kernels SHAPE         simd | portable | auto (default auto: simd on PoCL CPU\n"
       "                          devices, portable elsewhere; same image either way)\n"
       "  --sampler NAME          random, stratified, halton, sobol, 02sequence\n"
@@ -49,6 +51,17 @@ static void usage(FILE *f) {
       "  --filter NAME           box, triangle, gaussian, mitchell, sinc, blackmanharris,\n"
       "                          catmullrom (default parameters)\n"
       "  --tile-size N           render tile side in pixels (default 16)\n"
+      "  --resume IMAGE.exr      continue that image (written by clrender with its sums, same\n"
+      "                          scene, sampler, integrator, seed, film) up to --spp: the\n"
+      "                          samples it lacks, exactly those a longer render draws\n"
+      "  --time-limit SECONDS    stop after the pass that reaches this time (0: one pass); the\n"
+      "                          image records the spp reached (clrender.spp) and is resumable\n"
+      "  --checkpoint SECONDS    rewrite the image (atomically) after each pass once this long\n"
+      "                          has passed since the last write (0: every pass)\n"
+      "  --pass-spp N            samples per pixel per pass (default spp / 8, at least 1)\n"
+      "  --noise-threshold E     adaptive sampling: after each pair of passes, pixels whose\n"
+      "                          A/B error estimate is below E receive no more passes\n"
+      "  --error-map FILE.exr    with --noise-threshold: write the per-pixel estimates\n"
       "  --quiet                 no warnings, no progress bar\n"
       "  --stats                 print timings and counts as JSON on stderr\n"
       "  --reference-samples     generate samples with the single-thread host reference\n"
@@ -56,7 +69,11 @@ static void usage(FILE *f) {
       "  --help                  this text\n"
       "Exit status: 0 ok, 1 scene or render error (nothing written), 2 usage error,\n"
       "130 (SIGINT) or 143 (SIGTERM): interrupted; the tiles in flight are finished and\n"
-      "a valid partial image is written (EXR attribute clrender.partial = 1).\n");
+      "a valid partial image is written (EXR attribute clrender.partial = 1).\n"
+      "Distributed: \"mpirun -np N clrender render SCENE.pbrt ...\" shares the frame between N\n"
+      "ranks (each with --nthreads threads); rank 0 writes the image, bit-identical to a\n"
+      "single-process render, with per-rank figures (EXR attributes clrender.mpi.*). A failing\n"
+      "rank ends the whole job with a non-zero status and nothing written.\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out) {
@@ -75,7 +92,23 @@ static int parse_float(const char *s, float *out) {
   return 1;
 }
 
-int cli_render(int argc, char **argv) {
+/* --device "A,B,C" under mpirun: the entry of this node-local rank, wrapping; malloc'ed. */
+static char *device_for_rank(const char *list, int local_rank) {
+  int count = 1;
+  for (const char *p = list; *p; ++p) count += *p == ',';
+  const char *start = list;
+  for (int k = local_rank % count; k > 0; --k) start = strchr(start, ',') + 1;
+  const char *end = strchr(start, ',');
+  size_t n = end ? (size_t)(end - start) : strlen(start);
+  char *s = malloc(n + 1);
+  if (s) {
+    memcpy(s, start, n);
+    s[n] = 0;
+  }
+  return s;
+}
+
+static int render_command(int argc, char **argv, clr_dist *dist) {
   clr_render_options o;
   clr_render_options_init(&o);
   const char *scene = NULL;
@@ -147,6 +180,26 @@ int cli_render(int argc, char **argv) {
           goto bad;
       if (!(o.crop_window[0] < o.crop_window[1] && o.crop_window[2] < o.crop_window[3])) goto bad;
       o.crop_given = 1;
+    } else if (strcmp(a, "--resume") == 0) {
+      NEED(1);
+      o.resume = argv[++i];
+    } else if (strcmp(a, "--time-limit") == 0 || strcmp(a, "--checkpoint") == 0) {
+      NEED(1);
+      float seconds = 0.0f;
+      if (!parse_float(argv[++i], &seconds) || !(seconds >= 0.0f && seconds <= 1e9f)) goto bad;
+      *(a[2] == 't' ? &o.time_limit : &o.checkpoint) = seconds;
+    } else if (strcmp(a, "--noise-threshold") == 0) {
+      NEED(1);
+      if (!parse_float(argv[++i], &o.noise_threshold) ||
+          !(o.noise_threshold > 0.0f && o.noise_threshold < 1e30f))
+        goto bad;
+    } else if (strcmp(a, "--error-map") == 0) {
+      NEED(1);
+      o.error_map = argv[++i];
+    } else if (strcmp(a, "--pass-spp") == 0) {
+      NEED(1);
+      if (!parse_int(argv[++i], 1, 1 << 24, &v)) goto bad;
+      o.pass_spp = (int32_t)v;
     } else if (strcmp(a, "--quiet") == 0) {
       o.quiet = 1;
     } else if (strcmp(a, "--reference-samples") == 0) {
@@ -174,6 +227,22 @@ int cli_render(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
+  if (o.error_map && o.noise_threshold <= 0.0f) {
+    fprintf(stderr, "clrender render: --error-map needs --noise-threshold\n");
+    usage(stderr);
+    return 2;
+  }
+  char *device = NULL;
+  if (o.device && strchr(o.device, ',')) {
+    device = device_for_rank(o.device, clr_dist_local_rank(dist));
+    if (!device) {
+      fprintf(stderr, "clrender: out of memory\n");
+      return 1;
+    }
+    o.device = device;
+  }
+  int root = clr_dist_rank(dist) == 0;
+  if (!root) o.quiet = 1; /* rank 0 speaks for the job */
   o.progress = !o.quiet && isatty(STDERR_FILENO);
   o.progress_callback = cancel_on_signal;
   struct sigaction sa;
@@ -185,11 +254,17 @@ int cli_render(int argc, char **argv) {
   clr_render_stats st;
   clr_render_stats_init(&st);
   clr_result r = clr_render_file(scene, &o, &st);
+  free(device);
   int interrupted = render_signal; /* 128 + signal, as a shell reports a killed command */
   if (r != CLR_SUCCESS) {
-    fprintf(stderr, "clrender: %s\n", clr_last_error_message());
+    if (dist)
+      fprintf(stderr, "clrender: rank %d of %d: %s\n", clr_dist_rank(dist), clr_dist_size(dist),
+              clr_last_error_message());
+    else
+      fprintf(stderr, "clrender: %s\n", clr_last_error_message());
     return interrupted ? 128 + interrupted : 1;
   }
+  if (!root) return 0;
   if (stats) {
     char buf[2048];
     clr_render_stats_json(&st, buf, sizeof buf);
@@ -209,4 +284,14 @@ int cli_render(int argc, char **argv) {
     return 128 + interrupted;
   }
   return 0;
+}
+
+int cli_render(int argc, char **argv) {
+  if (clr_dist_init(&argc, &argv) != 0) {
+    fprintf(stderr, "clrender: MPI_Init failed\n");
+    return 1;
+  }
+  int status = render_command(argc, argv, clr_dist_world());
+  clr_dist_finalize(status); /* a failed rank aborts the job: no rank waits for it */
+  return status;
 }

@@ -43,6 +43,20 @@ typedef struct clr_render_options {
                               default or CLRENDER_KERNELS; see clrender/kernels.h) */
   clr_randomization randomization; /* pbrt-v4 samplers: overrides the Sampler's
                                       "randomization" unless CLR_RANDOMIZATION_DEFAULT */
+  /* Passes (any of the four below set): the frame renders in passes of pass_spp samples per
+   * pixel (all tiles of samples [s, s + pass_spp)), each merged whole into the image, so an
+   * interrupted or time-limited render records whole passes and can be resumed. */
+  const char *resume;    /* continue this EXR (clrender-written, with sums) up to spp, or NULL */
+  double time_limit;     /* seconds (from the first pass); stop after the pass that reaches it;
+                            < 0 (default): none; 0: exactly one pass */
+  double checkpoint;     /* seconds; rewrite the image after each pass when this long has passed
+                            since the last write; < 0 (default): none; 0: after every pass */
+  int32_t pass_spp;      /* samples per pixel per pass; 0 (default): max(1, spp / 8) */
+  float noise_threshold; /* > 0: adaptive sampling (passes): a pixel whose A/B error estimate
+                            falls below it stops receiving passes; 0 (default): off */
+  const char *error_map; /* with noise_threshold: write the estimates to this EXR, or NULL */
+  const char *scene_id;  /* recorded as clrender.scene and checked by resume; clr_render_file
+                            sets the scene file's content hash when NULL */
 } clr_render_options;
 
 typedef struct clr_render_stats {
@@ -54,6 +68,8 @@ typedef struct clr_render_stats {
       seconds_merge, seconds_output;
   uint64_t rays, samples, dropped_samples;
   int32_t tiles_done, tiles_total, threads, spp, partial;
+  int32_t spp_target; /* the spp asked for; spp: the spp the image holds (whole passes) */
+  int32_t passes;     /* passes rendered (1 without pass mode) */
   char sampler[32], integrator[32];
   char exr_path[1024], png_path[1024];
   char pfm_path[1024]; /* the PFM written (an output name ending in .pfm), else "" */

@@ -12,10 +12,13 @@
 #include "render_error.h"
 #include "clrender/film.h"
 #include "clrender/kernels.h"
+#include "adaptive.h"
+#include "distributed.h"
 #include "integrator.h"
 #include "pfm_output.h"
 #include "pcg32.h"
 #include "render_scene.h"
+#include "resume.h"
 #include "renderer.h"
 #include "scene_parser.h"
 
@@ -27,6 +30,8 @@ void clr_render_options_init(clr_render_options *o) {
   o->struct_size = sizeof *o;
   o->tile_size = 16;
   o->seeding = CLR_SEEDING_PIXEL;
+  o->time_limit = -1.0;
+  o->checkpoint = -1.0;
 }
 
 void clr_render_stats_init(clr_render_stats *s) {
@@ -286,6 +291,7 @@ typedef struct sample_band {
 
 typedef struct tile_info {
   int state;
+  int index; /* in the frame's tile grid (tiles[] is in this process's claim order) */
   int band;
   clr_bounds2i pixels;
   clr_film_tile film_tile;
@@ -296,11 +302,15 @@ typedef struct render_job {
   const clr_render_scene *scene;
   const clr_integrator *integrator;
   clr_film film;
-  int spp;
+  int spp;          /* samples per pixel of this pass */
+  int first_sample; /* the pass's first sample index */
   int host_samples; /* options->reference_samples: host reference generator (comparison) */
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
-  clr_bounds2i region; /* the sample pixels rendered (render_region) */
+  clr_bounds2i region;          /* the sample pixels rendered (render_region) */
+  clr_dist *dist;               /* MPI ranks sharing the frame, or NULL */
+  const clr_adaptive *adaptive; /* pixels still sampled (--noise-threshold), or NULL: all */
+  int next_band;                /* the next band to claim when alone */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -312,6 +322,7 @@ typedef struct render_job {
   /* per-thread phase sums, merged under the mutex */
   double trace_s, shade_s, recon_s;
   uint64_t rays;
+  uint64_t rays_sent; /* of them, reported to rank 0 with earlier passes */
 } render_job;
 
 /* A worker's buffers, reused from tile to tile. */
@@ -342,7 +353,7 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     fs[k].y = (float)py + v[1];
     b->weights[k] =
         clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
-    b->keys[k] = sample_key(job->seed, px, py, s);
+    b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
     if (++s == spp) {
       s = 0;
       ++px;
@@ -374,21 +385,28 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
     b->fs = fs;
     b->fs_cap = total;
   }
-  for (int ly = 0; ly < h; ++ly) {
-    int py = tile->pixels.y0 + ly;
-    size_t first = ((size_t)(py - band->pixels.y0) * (size_t)band_w +
-                    (size_t)(tile->pixels.x0 - band->pixels.x0)) *
-                   spp;
-    for (size_t base = 0; base < row; base += CHUNK_SAMPLES) {
-      int n = (int)(row - base < CHUNK_SAMPLES ? row - base : CHUNK_SAMPLES);
-      CLR_CHECK(shade_run(job, b, scratch, counters, tile->pixels.x0 + (int)(base / spp), py,
-                          (int)(base % spp), n, band->values + (first + base) * vps,
-                          b->fs + (size_t)ly * row + base));
+  size_t filled = 0;
+  for (int py = tile->pixels.y0; py < tile->pixels.y1; ++py)
+    for (int x = tile->pixels.x0, xe; x < tile->pixels.x1; x = xe) { /* runs of active pixels */
+      int on = clr_adaptive_pixel_active(job->adaptive, x, py);
+      for (xe = x + 1;
+           xe < tile->pixels.x1 && clr_adaptive_pixel_active(job->adaptive, xe, py) == on;)
+        ++xe;
+      if (!on) continue;
+      size_t first =
+          ((size_t)(py - band->pixels.y0) * (size_t)band_w + (size_t)(x - band->pixels.x0)) * spp;
+      size_t run = (size_t)(xe - x) * spp;
+      for (size_t base = 0; base < run; base += CHUNK_SAMPLES) {
+        int n = (int)(run - base < CHUNK_SAMPLES ? run - base : CHUNK_SAMPLES);
+        CLR_CHECK(shade_run(job, b, scratch, counters, x + (int)(base / spp), py, (int)(base % spp),
+                            n, band->values + (first + base) * vps, b->fs + filled + base));
+      }
+      filled += run;
     }
-  }
+  (void)row;
   double t0 = now_seconds();
   clr_result r = film_get_tile(job->film, tile->pixels, &tile->film_tile);
-  if (r == CLR_SUCCESS) r = film_tile_add_samples(tile->film_tile, b->fs, total);
+  if (r == CLR_SUCCESS && filled) r = film_tile_add_samples(tile->film_tile, b->fs, filled);
   *recon_s += now_seconds() - t0;
   return r;
 }
@@ -466,10 +484,51 @@ static clr_bounds2i tile_pixels(const tile_grid *g, int tile) {
   return px;
 }
 
-/* Generates the band starting at tile `first` into band `bi`; returns its tile count in *count. */
+/* Bands split each tile row into runs of band_tiles tiles (the last may be shorter). */
+static int bands_per_row(const tile_grid *g) {
+  return (g->ntx + g->band_tiles - 1) / g->band_tiles;
+}
+
+static clr_result generate_rect(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
+                                clr_bounds2i px, float *values) {
+  clr_sample_output out;
+  clr_sample_output_init(&out);
+  out.host_values = values;
+  batch->pixels = px;
+  return job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
+                           : clr_sampler_generate(sampler, batch, &out);
+}
+
+/* The band's sample values (row-major over px): all of them, or with adaptive sampling only the
+ * runs of active pixels when fewer than half are active (per-pixel streams make a pixel's values
+ * the same in any batch). */
+static clr_result generate_values(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
+                                  clr_bounds2i px, float *values) {
+  int64_t active = clr_adaptive_count_active(job->adaptive, px);
+  int64_t w = px.x1 - px.x0, all = w * (px.y1 - px.y0);
+  if (active == all) return generate_rect(job, sampler, batch, px, values);
+  if (active == 0) return CLR_SUCCESS; /* no sample of the band is shaded */
+  if (active * 2 > all) return generate_rect(job, sampler, batch, px, values);
+  size_t per_pixel = (size_t)job->spp * (size_t)job->integrator->values_per_sample;
+  for (int y = px.y0; y < px.y1; ++y)
+    for (int x = px.x0, xe; x < px.x1; x = xe) {
+      xe = clr_adaptive_next_run(job->adaptive, y, x, px.x1, 16, &x);
+      if (x >= px.x1) break;
+      clr_bounds2i run = {x, y, xe, y + 1};
+      CLR_CHECK(generate_rect(
+          job, sampler, batch, run,
+          values + ((size_t)(y - px.y0) * (size_t)w + (size_t)(x - px.x0)) * per_pixel));
+    }
+  return CLR_SUCCESS;
+}
+
+/* Generates band `index` of the grid into band slot `bi`, its tiles at tiles[pos...]; returns its
+ * tile count in *count. */
 static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
-                                const tile_grid *g, int first, int bi, int *count) {
+                                const tile_grid *g, int index, int pos, int bi, int *count) {
   sample_band *band = &job->bands[bi];
+  int bpr = bands_per_row(g);
+  int first = (index / bpr) * g->ntx + (index % bpr) * g->band_tiles;
   int row_left = g->ntx - first % g->ntx;
   int n = row_left < g->band_tiles ? row_left : g->band_tiles;
   clr_bounds2i a = tile_pixels(g, first), z = tile_pixels(g, first + n - 1);
@@ -483,16 +542,14 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
     if (!band->values)
       return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "sample values (%zu floats)", need);
   }
-  batch->pixels = px;
-  clr_sample_output out;
-  clr_sample_output_init(&out);
-  out.host_values = band->values;
-  CLR_CHECK(job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
-                              : clr_sampler_generate(sampler, batch, &out));
+  batch->first_sample = job->first_sample;
+  batch->sample_count = job->spp;
+  CLR_CHECK(generate_values(job, sampler, batch, px, band->values));
   band->pixels = px;
-  for (int t = first; t < first + n; ++t) {
-    job->tiles[t].band = bi;
-    job->tiles[t].pixels = tile_pixels(g, t);
+  for (int k = 0; k < n; ++k) {
+    job->tiles[pos + k].index = first + k;
+    job->tiles[pos + k].band = bi;
+    job->tiles[pos + k].pixels = tile_pixels(g, first + k);
   }
   *count = n;
   return CLR_SUCCESS;
@@ -504,14 +561,30 @@ static int free_band(const render_job *job) {
   return -1;
 }
 
-/* Main thread: generates bands ahead of the workers and merges finished tiles in tile order. */
+/* The next band this process renders: the next in order when alone, else one claimed from the
+ * ranks' shared counter; -1 when none is left. */
+static clr_result claim_band(render_job *job, const tile_grid *g, int *band) {
+  if (job->dist) return clr_dist_claim_band(job->dist, band);
+  int total = bands_per_row(g) * g->nty;
+  *band = job->next_band < total ? job->next_band++ : -1;
+  return CLR_SUCCESS;
+}
+
+/* A finished tile goes into the film, or to rank 0 when ranks share the frame. */
+static clr_result commit_tile(render_job *job, tile_info *m) {
+  if (job->dist) return clr_dist_keep_tile(job->dist, m->index, m->film_tile);
+  return film_merge_tile(job->film, m->film_tile);
+}
+
+/* Main thread: generates bands ahead of the workers and merges finished tiles in claim order
+ * (tile order when alone). */
 static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_grid *g,
                                const clr_render_options *o, clr_render_stats *st) {
   clr_sample_batch batch;
   clr_sample_batch_init(&batch);
   batch.requests = job->integrator->requests;
   batch.request_count = job->integrator->request_count;
-  int next_gen = 0, next_merge = 0;
+  int next_gen = 0, next_merge = 0, claims_done = 0;
   clr_result r = CLR_SUCCESS;
   double t_start = now_seconds();
   pthread_mutex_lock(&job->mutex);
@@ -520,17 +593,21 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       job->cancelled = o->progress_callback(o->progress_user, next_merge, g->ntiles) != 0;
     int cancelled = job->cancelled;
     int bi = free_band(job);
-    if (!cancelled && next_gen < g->ntiles && bi >= 0) {
+    if (!cancelled && !claims_done && bi >= 0) {
       job->bands[bi].in_use = 1;
       pthread_mutex_unlock(&job->mutex);
-      int n = 0;
+      int n = 0, index = -1;
       double t0 = now_seconds();
-      r = generate_band(job, sampler, &batch, g, next_gen, bi, &n);
+      r = claim_band(job, g, &index);
+      if (r == CLR_SUCCESS && index >= 0)
+        r = generate_band(job, sampler, &batch, g, index, next_gen, bi, &n);
       st->seconds_sample_generation += now_seconds() - t0;
       pthread_mutex_lock(&job->mutex);
-      if (r != CLR_SUCCESS) {
+      if (r != CLR_SUCCESS || index < 0) {
         job->bands[bi].in_use = 0;
-        break;
+        claims_done = index < 0;
+        if (r != CLR_SUCCESS) break;
+        continue;
       }
       job->bands[bi].unfinished = n;
       for (int t = next_gen; t < next_gen + n; ++t) job->tiles[t].state = TILE_READY;
@@ -540,8 +617,8 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       continue;
     }
     tile_info *m = &job->tiles[next_merge];
-    if (m->state != TILE_DONE) {
-      if (next_merge >= next_gen) break; /* cancelled with nothing in flight */
+    if (next_merge >= next_gen || m->state != TILE_DONE) {
+      if (next_merge >= next_gen) break; /* cancelled or every claim made, nothing in flight */
       pthread_cond_wait(&job->cond, &job->mutex);
       continue;
     }
@@ -549,7 +626,7 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
     r = m->result;
     if (r == CLR_SUCCESS) {
       double t0 = now_seconds();
-      r = film_merge_tile(job->film, m->film_tile);
+      r = commit_tile(job, m);
       st->seconds_merge += now_seconds() - t0;
     }
     film_tile_release(m->film_tile);
@@ -569,11 +646,32 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
   return r;
 }
 
+/* Sends this rank's tiles and figures to rank 0, which merges the frame; on rank 0 the stats then
+ * count every rank's tiles and rays. */
+static clr_result finish_distributed_frame(render_job *job, clr_result r, double seconds,
+                                           clr_render_stats *st) {
+  clr_dist_rank_stats mine = {0, job->rays - job->rays_sent, (uint64_t)st->tiles_done, seconds, 0.0,
+                              0};
+  job->rays_sent = job->rays;              /* job->rays counts every pass */
+  for (int i = 0; i < st->tiles_done; ++i) /* the samples shaded: active pixels only */
+    mine.samples += (uint64_t)clr_adaptive_count_active(job->adaptive, job->tiles[i].pixels) *
+                    (uint64_t)job->spp;
+  int32_t missing = 0;
+  r = clr_dist_end_frame(job->dist, job->film, r, &mine, &missing);
+  if (r != CLR_SUCCESS) return r; /* the job ends: the CLI aborts every rank */
+  clr_dist_share(job->dist, &missing);
+  st->tiles_done = st->tiles_total - missing;
+  st->partial = missing > 0;
+  return r;
+}
+
 /* Runs the tile pipeline; *partial set when cancelled. */
 static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
   (void)sampler;
+  job->next_take = job->ready_end = job->busy = job->stop = job->next_band = 0;
+  st->tiles_done = 0;
   g.bounds = job->region;
   g.size = o->tile_size > 0 ? o->tile_size : 16;
   g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
@@ -595,6 +693,16 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
     free(threads);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render tiles");
   }
+  if (job->dist) {
+    clr_result rb = clr_dist_begin_frame(job->dist, bands_per_row(&g) * g.nty, g.ntiles);
+    if (rb != CLR_SUCCESS) {
+      free(job->tiles);
+      free(job->bands);
+      free(threads);
+      return rb;
+    }
+  }
+  double t_loop = now_seconds();
   pthread_mutex_init(&job->mutex, NULL);
   pthread_cond_init(&job->cond, NULL);
   int started = 0;
@@ -606,6 +714,8 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
   for (int i = 0; i < g.ntiles; ++i)
     if (job->tiles[i].film_tile) film_tile_release(job->tiles[i].film_tile);
+  st->partial = st->tiles_done < g.ntiles;
+  if (job->dist) r = finish_distributed_frame(job, r, now_seconds() - t_loop, st);
   for (int i = 0; i < job->nbands; ++i) free(job->bands[i].values);
   if (o->progress && st->tiles_done < g.ntiles) fputc('\n', stderr);
   pthread_cond_destroy(&job->cond);
@@ -613,7 +723,146 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   free(job->tiles);
   free(job->bands);
   free(threads);
-  st->partial = st->tiles_done < g.ntiles;
+  return r;
+}
+
+/* ---------- passes, output ---------- */
+
+/* What the image header records besides the film: the render's identity, for --resume. */
+typedef struct output_info {
+  const clr_render_options *o;
+  clr_render_stats *st;
+  clr_resume_identity id;
+  int whole_passes; /* the image holds whole passes of every pixel */
+} output_info;
+
+/* Writes the EXR (with the identity attributes), the PFM when rgb is given, and the preview. */
+static clr_result write_image(clr_film film, const output_info *oi, const float *rgb, int w,
+                              int h) {
+  clr_render_stats *st = oi->st;
+  clr_film_write_options wo;
+  clr_film_write_options_init(&wo);
+  wo.sampler = st->sampler;
+  wo.spp = st->spp;
+  wo.render_time_s = st->seconds_render;
+  wo.partial = st->partial;
+  char target[16], whole[4];
+  snprintf(target, sizeof target, "%d", (int)st->spp_target);
+  snprintf(whole, sizeof whole, "%d", oi->whole_passes);
+  const char *keys[16] = {"integrator",     "clrender.seed",       "clrender.seeding",
+                          "clrender.scene", "clrender.spp_target", "clrender.whole_passes"};
+  const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding, oi->id.scene, target, whole};
+  wo.metadata_keys = keys;
+  wo.metadata_values = vals;
+  int n = 6;
+  char threshold[32];
+  if (oi->o->noise_threshold > 0.0f) {
+    snprintf(threshold, sizeof threshold, "%.9g", (double)oi->o->noise_threshold);
+    keys[n] = "clrender.noise_threshold";
+    vals[n++] = threshold;
+  }
+  wo.metadata_count = n + clr_dist_metadata(clr_dist_world(), keys + n, vals + n, 16 - n);
+  clr_result r = CLR_SUCCESS;
+  if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
+  if (r == CLR_SUCCESS && rgb && st->pfm_path[0]) r = clr_write_pfm(st->pfm_path, rgb, w, h);
+  if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
+  return r;
+}
+
+static int pass_mode(const clr_render_options *o) {
+  return o->resume || o->time_limit >= 0.0 || o->checkpoint >= 0.0 || o->pass_spp > 0 ||
+         o->noise_threshold > 0.0f;
+}
+
+/* After pass `index` (from 0) of an adaptive render, with spp_done samples per pixel: the pass
+ * goes into its half film; after each pair, from CLR_ADAPTIVE_MIN_SPP on, rank 0 updates the
+ * active pixels and shares them. *done: no pixel is left. */
+static clr_result adapt(clr_adaptive *ad, clr_film pass, int index, int spp_done, clr_dist *dist,
+                        int *done) {
+  clr_result r = clr_adaptive_add_pass(ad, pass, index);
+  if (r != CLR_SUCCESS || (index & 1) == 0 || spp_done < CLR_ADAPTIVE_MIN_SPP) return r;
+  if (clr_dist_rank(dist) == 0) r = clr_adaptive_update(ad);
+  if (r != CLR_SUCCESS) return r;
+  if (dist) clr_dist_share_bytes(dist, ad->active, (size_t)ad->width * (size_t)ad->height);
+  int64_t left = 0;
+  for (size_t i = 0; i < (size_t)ad->width * (size_t)ad->height; ++i) left += ad->active[i];
+  ad->active_count = left;
+  *done = left == 0;
+  return CLR_SUCCESS;
+}
+
+/* --resume: rank 0 adds the image's sums into `film` after checking it is this render's; every
+ * rank gets the spp it holds. */
+static clr_result load_resumed(clr_film film, const char *path, const clr_resume_identity *id,
+                               int32_t *spp_done) {
+  clr_dist *dist = clr_dist_world();
+  clr_result r = CLR_SUCCESS;
+  int32_t done = -1;
+  if (clr_dist_rank(dist) == 0) { /* the sums merged first: a refused image fails the render */
+    int32_t n = clr_resume_attribute_count;
+    char *values = calloc((size_t)n, CLR_RESUME_VALUE);
+    r = values ? film_merge_file(film, path, n, clr_resume_attributes, values, CLR_RESUME_VALUE)
+               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "resume");
+    if (r == CLR_SUCCESS) r = clr_resume_check(path, values, id, &done);
+    free(values);
+  }
+  if (dist) clr_dist_share(dist, &done);
+  if (r == CLR_SUCCESS && done < 0)
+    r = clr_set_last_error(CLR_ERROR_IO, "--resume %s: rank 0 could not resume it", path);
+  *spp_done = done;
+  return r;
+}
+
+/* Renders samples [spp_done, spp_target) in passes, each into a pass film merged whole into
+ * `film`; stops early at the time limit or when cancelled (the unfinished pass is dropped).
+ * Checkpoints rewrite the image (rank 0) when `oi` is given. */
+static clr_result render_passes(render_job *job, clr_sampler sampler, clr_context ctx,
+                                clr_film film, int spp_done, const clr_render_options *o,
+                                int nthreads, clr_render_stats *st, const output_info *oi) {
+  int total = st->spp_target, step = o->pass_spp > 0 ? o->pass_spp : total / 8;
+  if (step < 1) step = 1;
+  double t0 = now_seconds(), last_write = t0;
+  clr_result r = CLR_SUCCESS;
+  st->spp = spp_done;
+  int32_t stop = spp_done >= total;
+  clr_adaptive ad;
+  memset(&ad, 0, sizeof ad);
+  if (o->noise_threshold > 0.0f) {
+    r = clr_adaptive_init(&ad, ctx, film, o->noise_threshold);
+    job->adaptive = &ad;
+  }
+  while (r == CLR_SUCCESS && !stop) {
+    clr_film pass = NULL;
+    r = film_create(ctx, film_get_desc(film), &pass);
+    if (r != CLR_SUCCESS) break;
+    job->film = pass;
+    job->first_sample = spp_done;
+    job->spp = step < total - spp_done ? step : total - spp_done;
+    r = render_tiles(job, sampler, o, nthreads, st);
+    int converged = 0;
+    if (r == CLR_SUCCESS && !st->partial) r = film_merge_film(film, pass);
+    if (r == CLR_SUCCESS && !st->partial && job->adaptive)
+      r = adapt(&ad, pass, st->passes, spp_done + job->spp, job->dist, &converged);
+    film_release(pass);
+    if (r == CLR_SUCCESS && !st->partial) {
+      spp_done += job->spp;
+      st->spp = spp_done;
+      st->passes++;
+    }
+    double now = now_seconds();
+    stop = r != CLR_SUCCESS || st->partial || spp_done >= total || converged ||
+           (o->time_limit >= 0.0 && now - t0 >= o->time_limit);
+    if (job->dist) clr_dist_share(job->dist, &stop); /* rank 0's clock and film decide */
+    if (!stop && oi && o->checkpoint >= 0.0 && now - last_write >= o->checkpoint) {
+      st->seconds_render = now - t0;
+      r = write_image(film, oi, NULL, 0, 0);
+      last_write = now_seconds();
+    }
+  }
+  if (r == CLR_SUCCESS && job->adaptive && o->error_map && oi && clr_dist_rank(job->dist) == 0)
+    r = clr_adaptive_write_error_map(&ad, ctx, film, o->error_map);
+  job->adaptive = NULL;
+  clr_adaptive_free(&ad);
   return r;
 }
 
@@ -717,11 +966,12 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   CLR_CHECK(check_scene_values(d, o, &settings, &sdesc, &fdesc));
 
   clr_result r = CLR_SUCCESS;
-  if (write_files) {
+  if (write_files && clr_dist_rank(clr_dist_world()) == 0) { /* only rank 0 writes */
     r = output_paths(o->outfile ? o->outfile : settings.filename, st);
     if (r == CLR_SUCCESS && st->exr_path[0]) r = film_check_output_path(st->exr_path);
     if (r == CLR_SUCCESS && st->pfm_path[0]) r = film_check_output_path(st->pfm_path);
     if (r == CLR_SUCCESS) r = film_check_output_path(st->png_path);
+    if (r == CLR_SUCCESS && o->error_map) r = film_check_output_path(o->error_map);
     if (r != CLR_SUCCESS && !o->outfile) /* the path came from the scene: say where */
       return clr_set_last_error(r, "%s:%d: Film \"filename\": %s", param_file(&d->film.params),
                                 param_line(&d->film.params, "filename"), clr_last_error_message());
@@ -775,6 +1025,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
+  output_info oi;
+  memset(&oi, 0, sizeof oi);
   if (r == CLR_SUCCESS) {
     render_job job;
     memset(&job, 0, sizeof job);
@@ -785,15 +1037,45 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0;
     job.region = render_region(sampler, &sdesc);
-    st->spp = job.spp;
+    job.dist = clr_dist_world();
+    st->spp = st->spp_target = job.spp;
+    st->passes = 1;
     st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
     snprintf(st->integrator, sizeof st->integrator, "%s",
              integ.type == CLR_INTEGRATOR_AO       ? "ambientocclusion"
              : integ.type == CLR_INTEGRATOR_DIRECT ? "directlighting"
                                                    : "path");
+    oi.o = o;
+    oi.st = st;
+    oi.id.sampler = st->sampler;
+    oi.id.integrator = st->integrator;
+    oi.id.scene = o->scene_id ? o->scene_id : "";
+    snprintf(oi.id.seed, sizeof oi.id.seed, "%u", (unsigned)o->seed);
+    oi.id.seeding = o->seeding == CLR_SEEDING_PBRT_V3 ? "pbrt-v3" : "pixel";
+    oi.id.spp_target = job.spp;
+    oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL;
     double tr = now_seconds();
-    r = render_tiles(&job, sampler, o, nthreads, st);
+    if (!pass_mode(o)) {
+      r = render_tiles(&job, sampler, o, nthreads, st);
+      oi.whole_passes = !st->partial;
+    } else {
+      int32_t spp_done = 0;
+      oi.whole_passes = o->noise_threshold <= 0.0f; /* adaptive: pixels differ in spp */
+      st->passes = 0;
+      if (o->seeding == CLR_SEEDING_PBRT_V3)
+        r = clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                               "--seeding pbrt-v3 renders whole tiles in one pass: --resume, "
+                               "--time-limit, --checkpoint and --pass-spp need --seeding pixel");
+      if (r == CLR_SUCCESS && o->resume && o->noise_threshold > 0.0f)
+        r = clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                               "--resume with --noise-threshold: the A/B half films are not "
+                               "saved in the image; resume without adaptive sampling");
+      if (r == CLR_SUCCESS && o->resume) r = load_resumed(film, o->resume, &oi.id, &spp_done);
+      if (r == CLR_SUCCESS)
+        r = render_passes(&job, sampler, ctx, film, spp_done, o, nthreads, st,
+                          write_files ? &oi : NULL);
+    }
     st->seconds_render = now_seconds() - tr;
     st->seconds_tracing = job.trace_s;
     st->seconds_shading = job.shade_s;
@@ -802,7 +1084,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   }
   clr_render_image im;
   memset(&im, 0, sizeof im);
-  if (r == CLR_SUCCESS) {
+  int root = clr_dist_rank(clr_dist_world()) == 0; /* the other ranks sent rank 0 their tiles */
+  if (r == CLR_SUCCESS && root) {
     im.full_width = settings.x_resolution;
     im.full_height = settings.y_resolution;
     im.pixel_bounds = film_pixel_bounds(film);
@@ -814,25 +1097,12 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->samples = film_sample_count(film);
     st->dropped_samples = film_dropped_samples(film);
   }
-  if (r == CLR_SUCCESS && write_files) {
+  if (r == CLR_SUCCESS && write_files && root) {
     double tw = now_seconds();
-    clr_film_write_options wo;
-    clr_film_write_options_init(&wo);
-    wo.sampler = st->sampler;
-    wo.spp = st->spp;
-    wo.render_time_s = st->seconds_render;
-    wo.partial = st->partial;
-    const char *keys[1] = {"integrator"}, *vals[1] = {st->integrator};
-    wo.metadata_keys = keys;
-    wo.metadata_values = vals;
-    wo.metadata_count = 1;
-    if (st->exr_path[0]) r = film_write(film, st->exr_path, &wo);
-    if (r == CLR_SUCCESS && st->pfm_path[0])
-      r = clr_write_pfm(st->pfm_path, im.rgb, im.width, im.height);
-    if (r == CLR_SUCCESS) r = film_write_png(film, st->png_path, 1.0f);
+    r = write_image(film, &oi, im.rgb, im.width, im.height);
     st->seconds_output = now_seconds() - tw;
   }
-  if (r == CLR_SUCCESS && image)
+  if (r == CLR_SUCCESS && image && root)
     *image = im;
   else
     free(im.rgb);
@@ -867,7 +1137,17 @@ clr_result clr_render_file(const char *path, const clr_render_options *opts,
     clr_render_stats_init(stats);
     stats->seconds_parse = parse;
   }
-  clr_result r = clr_render_desc(desc, opts, stats, 1, NULL);
+  clr_render_options with_id;
+  clr_render_options_init(&with_id);
+  if (opts && opts->struct_size == sizeof with_id) with_id = *opts;
+  char hash[17];
+  clr_result r = CLR_SUCCESS;
+  if (!with_id.scene_id) {
+    r = clr_scene_file_hash(path, hash);
+    with_id.scene_id = hash;
+  }
+  const clr_render_options *use = opts && opts->struct_size != sizeof with_id ? opts : &with_id;
+  if (r == CLR_SUCCESS) r = clr_render_desc(desc, use, stats, 1, NULL);
   if (stats) stats->seconds_total += parse;
   clr_scene_desc_free(desc);
   return r;
@@ -880,11 +1160,11 @@ int clr_render_stats_json(const clr_render_stats *s, char *buf, size_t size) {
                   "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f},"
                   "\"rays\":%llu,\"samples\":%llu,\"dropped_samples\":%llu,\"tiles\":%d,"
                   "\"tiles_total\":%d,\"threads\":%d,\"spp\":%d,\"sampler\":\"%s\","
-                  "\"integrator\":\"%s\",\"partial\":%d}",
+                  "\"integrator\":\"%s\",\"partial\":%d,\"spp_target\":%d,\"passes\":%d}",
                   s->seconds_total, s->seconds_parse, s->seconds_build, s->seconds_render,
                   s->seconds_sample_generation, s->seconds_tracing, s->seconds_shading,
                   s->seconds_reconstruction, s->seconds_merge, s->seconds_output,
                   (unsigned long long)s->rays, (unsigned long long)s->samples,
                   (unsigned long long)s->dropped_samples, s->tiles_done, s->tiles_total, s->threads,
-                  s->spp, s->sampler, s->integrator, s->partial);
+                  s->spp, s->sampler, s->integrator, s->partial, s->spp_target, s->passes);
 }

@@ -121,6 +121,15 @@ CLR_API clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_samp
  * with the same samples to float tolerance. */
 CLR_API clr_result film_merge_tile(clr_film film, clr_film_tile tile);
 CLR_API void film_tile_release(clr_film_tile tile);
+/* A tile's contents as bytes (pixel bounds, counters, float sums; native byte order), e.g. to
+ * send it to another process: film_tile_serialize writes film_tile_serialized_size(tile) bytes
+ * (0 for NULL); film_tile_deserialize makes from them a tile of `film` (a film with the same
+ * pixel bounds) that merges bit for bit as the original would. Bounds outside the film ->
+ * CLR_ERROR_INVALID_TILE, a size that does not match -> CLR_ERROR_INVALID_ARGUMENT. */
+CLR_API size_t film_tile_serialized_size(clr_film_tile tile);
+CLR_API clr_result film_tile_serialize(clr_film_tile tile, void *buf, size_t size);
+CLR_API clr_result film_tile_deserialize(clr_film film, const void *buf, size_t size,
+                                         clr_film_tile *out);
 
 /* pbrt WriteImage: per pixel of the pixel bounds (row-major, w*h*3 floats):
  * rgb = max(0, sum/weight) (sum itself where weight is 0), += splat_scale * splat, *= scale. */
@@ -180,6 +189,18 @@ CLR_API clr_result film_write_png(clr_film film, const char *path, float splat_s
  * `out_path`. Refuses mismatched resolutions or filters and files without sum channels. */
 CLR_API clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t count,
                                     const char *out_path);
+
+/* Adds the sums and sample counts of an image film_write wrote with its sums into `film` (to
+ * resume a render): the file's resolution, pixel bounds (data window), filter and scale must be
+ * the film's, else CLR_ERROR_INVALID_FILM naming both. On success the header attributes
+ * attr_names[0..attr_count) are returned as text (strings as written, ints %d, floats %.9g, ""
+ * when absent) in attr_values, value_size bytes each. */
+CLR_API clr_result film_merge_file(clr_film film, const char *path, int32_t attr_count,
+                                   const char *const *attr_names, char *attr_values,
+                                   size_t value_size);
+/* Adds src's sums and counters into dst (same resolution, pixel bounds and filter, else
+ * CLR_ERROR_INVALID_FILM): a render pass merged into the frame. */
+CLR_API clr_result film_merge_film(clr_film dst, clr_film src);
 
 CLR_API uint64_t film_sample_count(clr_film film);    /* accepted samples */
 CLR_API uint64_t film_dropped_samples(clr_film film); /* NaN/Inf/negative samples and splats */

@@ -281,6 +281,37 @@ clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_
   return CLR_SUCCESS;
 }
 
+clr_result film_merge_film(clr_film dst, clr_film src) {
+  if (!dst || !src)
+    return clr_fail(dst ? dst->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_merge_film: %s is NULL",
+                    !dst ? "dst" : "src");
+  const clr_film_params *a = &dst->params, *b = &src->params;
+  if (dst == src || a->pixel_x0 != b->pixel_x0 || a->pixel_y0 != b->pixel_y0 ||
+      a->pixel_x1 != b->pixel_x1 || a->pixel_y1 != b->pixel_y1 ||
+      dst->desc.x_resolution != src->desc.x_resolution ||
+      dst->desc.y_resolution != src->desc.y_resolution ||
+      dst->desc.filter.type != src->desc.filter.type ||
+      dst->desc.filter.radius[0] != src->desc.filter.radius[0] ||
+      dst->desc.filter.radius[1] != src->desc.filter.radius[1])
+    return clr_fail(dst->ctx, CLR_ERROR_INVALID_FILM,
+                    "film_merge_film: the films differ (resolution, pixel bounds or filter)");
+  pthread_mutex_lock(&src->lock);
+  pthread_mutex_lock(&dst->lock);
+  for (size_t i = 0; i < dst->pixel_count; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      dst->rgb_sum[3 * i + c] += src->rgb_sum[3 * i + c];
+      dst->splat_rgb[3 * i + c] += src->splat_rgb[3 * i + c];
+    }
+    dst->weight_sum[i] += src->weight_sum[i];
+  }
+  dst->accepted += src->accepted;
+  dst->dropped += src->dropped;
+  dst->outside += src->outside;
+  pthread_mutex_unlock(&dst->lock);
+  pthread_mutex_unlock(&src->lock);
+  return CLR_SUCCESS;
+}
+
 static uint64_t read_counter(clr_film film, const uint64_t *counter) {
   pthread_mutex_lock(&film->lock);
   uint64_t v = *counter;

@@ -222,3 +222,59 @@ clr_result film_merge_files(clr_context ctx, const char *const *paths, int32_t c
   free(images);
   return r;
 }
+
+/* A header attribute as text: strings as written, ints with %d, floats with %.9g; "" if absent. */
+static void attribute_text(const clr_exr_image *im, const char *name, char *out, size_t size) {
+  const char *s = clr_exr_image_string_attr(im, name);
+  int32_t i = 0;
+  float f = 0.0f;
+  if (s)
+    snprintf(out, size, "%s", s);
+  else if (clr_exr_image_int_attr(im, name, &i))
+    snprintf(out, size, "%d", (int)i);
+  else if (clr_exr_image_float_attr(im, name, &f))
+    snprintf(out, size, "%.9g", (double)f);
+  else if (size)
+    out[0] = 0;
+}
+
+clr_result film_merge_file(clr_film film, const char *path, int32_t attr_count,
+                           const char *const *attr_names, char *attr_values, size_t value_size) {
+  if (!film || !path || (attr_count > 0 && (!attr_names || !attr_values)))
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_merge_file: %s is NULL",
+                    !film   ? "film"
+                    : !path ? "path"
+                            : "attribute");
+  clr_exr_image *im = NULL;
+  CLR_CHECK(clr_exr_read(path, &im));
+  clr_film_desc d;
+  float splat_scale = 1.0f;
+  clr_result r = desc_from_image(im, path, &d, &splat_scale);
+  const clr_film_params *p = &film->params;
+  clr_bounds2i w = im->data_window;
+  if (r == CLR_SUCCESS && (!same_film(&film->desc, &d, 1.0f, 1.0f) || w.x0 != p->pixel_x0 ||
+                           w.y0 != p->pixel_y0 || w.x1 != p->pixel_x1 || w.y1 != p->pixel_y1))
+    r = clr_fail(film->ctx, CLR_ERROR_INVALID_FILM,
+                 "%s: its film (%dx%d, pixels [%d,%d)x[%d,%d), filter %s %gx%g) is not this one "
+                 "(%dx%d, pixels [%d,%d)x[%d,%d), filter %s %gx%g)",
+                 path, (int)d.x_resolution, (int)d.y_resolution, w.x0, w.x1, w.y0, w.y1,
+                 clr_filter_type_name(d.filter.type), (double)d.filter.radius[0],
+                 (double)d.filter.radius[1], (int)film->desc.x_resolution,
+                 (int)film->desc.y_resolution, p->pixel_x0, p->pixel_x1, p->pixel_y0, p->pixel_y1,
+                 clr_filter_type_name(film->desc.filter.type), (double)film->desc.filter.radius[0],
+                 (double)film->desc.filter.radius[1]);
+  if (r == CLR_SUCCESS) r = merge_image(film, im, path);
+  if (r == CLR_SUCCESS) {
+    int32_t samples = 0, dropped = 0;
+    clr_exr_image_int_attr(im, "clrender.samples", &samples);
+    clr_exr_image_int_attr(im, "clrender.dropped_samples", &dropped);
+    pthread_mutex_lock(&film->lock);
+    film->accepted += samples > 0 ? (uint64_t)samples : 0;
+    film->dropped += dropped > 0 ? (uint64_t)dropped : 0;
+    pthread_mutex_unlock(&film->lock);
+    for (int32_t i = 0; i < attr_count; ++i)
+      attribute_text(im, attr_names[i], attr_values + (size_t)i * value_size, value_size);
+  }
+  clr_exr_image_free(im);
+  return r;
+}

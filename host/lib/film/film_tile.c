@@ -115,3 +115,80 @@ void film_tile_release(clr_film_tile tile) {
   free(tile->sums);
   free(tile);
 }
+
+/* Serialized tile: magic, pixel bounds, counters, then the float sums (native byte order). */
+typedef struct tile_header {
+  uint32_t magic, reserved;
+  int32_t bounds[4];
+  uint64_t accepted, dropped, outside;
+} tile_header;
+#define TILE_MAGIC 0x544c5243u /* "CRLT" */
+
+static size_t tile_pixels(clr_bounds2i b) { return (size_t)(b.x1 - b.x0) * (size_t)(b.y1 - b.y0); }
+
+size_t film_tile_serialized_size(clr_film_tile tile) {
+  if (!tile) return 0;
+  return sizeof(tile_header) + tile_pixels(tile->bounds) * CLR_FILM_SUM_FLOATS * sizeof(float);
+}
+
+clr_result film_tile_serialize(clr_film_tile tile, void *buf, size_t size) {
+  if (!tile || !buf)
+    return clr_fail(tile ? tile->film->ctx : NULL, CLR_ERROR_NULL_POINTER,
+                    "film_tile_serialize: %s is NULL", !tile ? "tile" : "buf");
+  size_t need = film_tile_serialized_size(tile);
+  if (size < need)
+    return clr_fail(tile->film->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_tile_serialize: size %zu, the tile needs %zu bytes", size, need);
+  tile_header h = {TILE_MAGIC,
+                   0,
+                   {tile->bounds.x0, tile->bounds.y0, tile->bounds.x1, tile->bounds.y1},
+                   tile->accepted,
+                   tile->dropped,
+                   tile->outside};
+  memcpy(buf, &h, sizeof h);
+  memcpy((char *)buf + sizeof h, tile->sums, need - sizeof h);
+  return CLR_SUCCESS;
+}
+
+clr_result film_tile_deserialize(clr_film film, const void *buf, size_t size, clr_film_tile *out) {
+  if (!film || !buf || !out)
+    return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER,
+                    "film_tile_deserialize: %s is NULL",
+                    !film  ? "film"
+                    : !buf ? "buf"
+                           : "out");
+  *out = NULL;
+  tile_header h;
+  if (size < sizeof h)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_tile_deserialize: %zu bytes, shorter than a tile header", size);
+  memcpy(&h, buf, sizeof h);
+  const clr_film_params *p = &film->params;
+  clr_bounds2i b = {h.bounds[0], h.bounds[1], h.bounds[2], h.bounds[3]};
+  if (h.magic != TILE_MAGIC || b.x0 < p->pixel_x0 || b.y0 < p->pixel_y0 || b.x1 > p->pixel_x1 ||
+      b.y1 > p->pixel_y1 || b.x1 < b.x0 || b.y1 < b.y0)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE,
+                    "film_tile_deserialize: not a tile of this film (bounds [%d,%d)x[%d,%d))", b.x0,
+                    b.x1, b.y0, b.y1);
+  size_t floats = tile_pixels(b) * CLR_FILM_SUM_FLOATS;
+  if (size != sizeof h + floats * sizeof(float))
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_tile_deserialize: %zu bytes, a [%d,%d)x[%d,%d) tile has %zu", size, b.x0,
+                    b.x1, b.y0, b.y1, sizeof h + floats * sizeof(float));
+  clr_film_tile tile = calloc(1, sizeof *tile);
+  if (tile) tile->sums = malloc(floats ? floats * sizeof(float) : 1);
+  if (!tile || !tile->sums) {
+    free(tile);
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_tile_deserialize: %zu floats",
+                    floats);
+  }
+  memcpy(tile->sums, (const char *)buf + sizeof h, floats * sizeof(float));
+  film_retain(film);
+  tile->film = film;
+  tile->bounds = b;
+  tile->accepted = h.accepted;
+  tile->dropped = h.dropped;
+  tile->outside = h.outside;
+  *out = tile;
+  return CLR_SUCCESS;
+}

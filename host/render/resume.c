@@ -1,0 +1,69 @@
+/* Resume checks: the image's header must describe the render being continued. */
+#include "resume.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *const clr_resume_attributes[] = {
+    "clrender.sampler",    "integrator",       "clrender.scene",
+    "clrender.seed",       "clrender.seeding", "clrender.spp",
+    "clrender.spp_target", "clrender.partial", "clrender.whole_passes"};
+const int32_t clr_resume_attribute_count =
+    (int32_t)(sizeof clr_resume_attributes / sizeof clr_resume_attributes[0]);
+
+enum { A_SAMPLER, A_INTEGRATOR, A_SCENE, A_SEED, A_SEEDING, A_SPP, A_TARGET, A_PARTIAL, A_WHOLE };
+
+clr_result clr_scene_file_hash(const char *path, char out[17]) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return clr_set_last_error(CLR_ERROR_IO, "%s: cannot read the scene to hash it", path);
+  uint64_t h = 0xcbf29ce484222325ull;
+  unsigned char buf[1 << 14];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+    for (size_t i = 0; i < n; ++i) h = (h ^ buf[i]) * 0x100000001b3ull;
+  fclose(f);
+  snprintf(out, 17, "%016llx", (unsigned long long)h);
+  return CLR_SUCCESS;
+}
+
+static const char *value(const char *values, int k) { return values + k * CLR_RESUME_VALUE; }
+
+/* A recorded text value that differs from this render's. */
+static clr_result mismatch(const char *path, const char *what, const char *then, const char *now) {
+  return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                            "--resume %s: it was rendered with %s \"%s\", this render has \"%s\": "
+                            "resume only the same scene, sampler, integrator, seed and seeding",
+                            path, what, then[0] ? then : "(not recorded)", now);
+}
+
+clr_result clr_resume_check(const char *path, const char *values, const clr_resume_identity *now,
+                            int32_t *spp_done) {
+  const char *names[5] = {"sampler", "integrator", "scene (content hash)", "seed", "seeding"};
+  const char *mine[5] = {now->sampler, now->integrator, now->scene, now->seed, now->seeding};
+  for (int k = 0; k < 5; ++k)
+    if (strcmp(value(values, k), mine[k]) != 0)
+      return mismatch(path, names[k], value(values, k), mine[k]);
+  int spp = atoi(value(values, A_SPP)), target = atoi(value(values, A_TARGET));
+  int partial = atoi(value(values, A_PARTIAL)), whole = atoi(value(values, A_WHOLE));
+  if (!whole || spp <= 0)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "--resume %s: the image does not hold whole passes (%s): it cannot "
+                              "be continued sample for sample (render with --checkpoint or "
+                              "--time-limit to make interrupted renders resumable)",
+                              path,
+                              partial ? "interrupted in the middle of its only pass"
+                                      : "no clrender.whole_passes attribute");
+  if (spp >= now->spp_target)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "--resume %s: the image already holds %d spp, --spp asks for %d: "
+                              "nothing to add",
+                              path, spp, (int)now->spp_target);
+  if (!now->global_sampler && target != now->spp_target)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "--resume %s: the %s sampler's samples depend on the total spp: the "
+                              "image was started for %d spp, this render asks for %d (resume it "
+                              "with --spp %d, or use halton or sobol, whose samples do not)",
+                              path, now->sampler, target, (int)now->spp_target, target);
+  *spp_done = spp;
+  return CLR_SUCCESS;
+}
