@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "render_error.h"
+#include "device_setup.h"
 #include "clrender/film.h"
 #include "clrender/kernels.h"
 #include "integrator.h"
@@ -241,7 +242,10 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
 
 /* Sample values of one generation call: consecutive tiles of one tile row, so the values are
  * those of the band's pixel rectangle (row-major pixels, samples, values). */
-#define BATCH_VALUES_BUDGET ((size_t)8 << 20) /* floats per batch, at least one tile */
+/* Floats per batch, at least one tile: 4 MiB batches keep a PoCL launch's overhead near 1 % while
+ * the bands (2 + threads / tiles per band of them, each also mirrored in a device buffer) stay
+ * small; 32 MiB batches held a third of a 256x256 path render's peak RSS. */
+#define BATCH_VALUES_BUDGET ((size_t)1 << 20)
 
 enum { TILE_PENDING, TILE_READY, TILE_BUSY, TILE_DONE, TILE_MERGED };
 
@@ -697,49 +701,50 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     if (r != CLR_SUCCESS) return r;
   }
 
+  /* The OpenCL side is set up on a helper thread while the scene is built (device_setup.c). */
+  clr_device_setup device;
+  clr_context_desc cdesc;
+  clr_context_desc_init(&cdesc);
+  cdesc.device = o->device;
+  clr_film_desc fd;
+  clr_film_desc_init(&fd);
+  fd.x_resolution = settings.x_resolution;
+  fd.y_resolution = settings.y_resolution;
+  memcpy(fd.crop_window, settings.crop_window, sizeof fd.crop_window);
+  fd.scale = settings.scale;
+  fd.max_sample_luminance = settings.max_sample_luminance;
+  fd.filter = fdesc;
+  sdesc.film.x_resolution = settings.x_resolution;
+  sdesc.film.y_resolution = settings.y_resolution;
+  memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
+  sdesc.film.filter_radius[0] = fdesc.radius[0];
+  sdesc.film.filter_radius[1] = fdesc.radius[1];
+  clr_device_setup_start(&device, &cdesc, o->kernels, &fd, &sdesc);
+
   double t0 = now_seconds();
   clr_render_scene *scene = NULL;
-  CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
+  r = clr_render_scene_build(d, warn, wu, &scene);
   clr_integrator integ;
-  r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
-  if (r != CLR_SUCCESS) {
-    clr_render_scene_free(scene);
-    return r;
+  if (r == CLR_SUCCESS) {
+    r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
+    if (r != CLR_SUCCESS) clr_render_scene_free(scene);
+  }
+  if (r != CLR_SUCCESS) { /* the scene's error comes first, as before the overlap */
+    char message[1024];
+    snprintf(message, sizeof message, "%s", clr_last_error_message());
+    clr_device_setup_finish(&device);
+    clr_device_setup_release(&device);
+    return clr_set_last_error(r, "%s", message);
   }
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
   st->seconds_build = now_seconds() - t0;
 
-  clr_context ctx = NULL;
-  clr_sampler sampler = NULL;
-  clr_film film = NULL;
-  clr_context_desc cdesc;
-  clr_context_desc_init(&cdesc);
-  cdesc.device = o->device;
-  r = clr_context_create(&cdesc, &ctx);
-  if (r == CLR_SUCCESS && o->kernels) {
-    clr_kernel_shape shape;
-    r = clr_kernel_shape_from_name(o->kernels, &shape);
-    if (r == CLR_SUCCESS) r = clr_context_set_kernel_shape(ctx, shape);
-  }
-  if (r == CLR_SUCCESS) {
-    clr_film_desc fd;
-    clr_film_desc_init(&fd);
-    fd.x_resolution = settings.x_resolution;
-    fd.y_resolution = settings.y_resolution;
-    memcpy(fd.crop_window, settings.crop_window, sizeof fd.crop_window);
-    fd.scale = settings.scale;
-    fd.max_sample_luminance = settings.max_sample_luminance;
-    fd.filter = fdesc;
-    r = film_create(ctx, &fd, &film);
-  }
-  if (r == CLR_SUCCESS) {
-    sdesc.film.x_resolution = settings.x_resolution;
-    sdesc.film.y_resolution = settings.y_resolution;
-    memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
-    sdesc.film.filter_radius[0] = fdesc.radius[0];
-    sdesc.film.filter_radius[1] = fdesc.radius[1];
-    r = clr_sampler_create(ctx, &sdesc, &sampler);
-  }
+  double ts = now_seconds();
+  r = clr_device_setup_finish(&device);
+  st->seconds_device_wait = now_seconds() - ts;
+  clr_context ctx = device.ctx;
+  clr_sampler sampler = device.sampler;
+  clr_film film = device.film;
   if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
   if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
@@ -846,14 +851,15 @@ int clr_render_stats_json(const clr_render_stats *s, char *buf, size_t size) {
   return snprintf(buf, size,
                   "{\"seconds\":{\"total\":%.6f,\"parse\":%.6f,\"build\":%.6f,\"render\":%.6f,"
                   "\"sample_generation\":%.6f,\"tracing\":%.6f,\"shading\":%.6f,"
-                  "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f},"
+                  "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f,\"device_wait\":%.6f},"
                   "\"rays\":%llu,\"samples\":%llu,\"dropped_samples\":%llu,\"tiles\":%d,"
                   "\"tiles_total\":%d,\"threads\":%d,\"spp\":%d,\"sampler\":\"%s\","
                   "\"integrator\":\"%s\",\"partial\":%d}",
                   s->seconds_total, s->seconds_parse, s->seconds_build, s->seconds_render,
                   s->seconds_sample_generation, s->seconds_tracing, s->seconds_shading,
                   s->seconds_reconstruction, s->seconds_merge, s->seconds_output,
-                  (unsigned long long)s->rays, (unsigned long long)s->samples,
-                  (unsigned long long)s->dropped_samples, s->tiles_done, s->tiles_total, s->threads,
-                  s->spp, s->sampler, s->integrator, s->partial);
+                  s->seconds_device_wait, (unsigned long long)s->rays,
+                  (unsigned long long)s->samples, (unsigned long long)s->dropped_samples,
+                  s->tiles_done, s->tiles_total, s->threads, s->spp, s->sampler, s->integrator,
+                  s->partial);
 }
