@@ -20,8 +20,9 @@ typedef struct clr_device_setup {
   clr_sampler sampler;
   clr_result result;
   char message[1024]; /* the failing call's last-error message */
-  pthread_t thread;
-  int threaded; /* the thread started (otherwise the work ran inline) */
+  pthread_t thread, tables_thread;
+  int threaded;        /* the setup thread started (otherwise the work ran inline) */
+  int tables_threaded; /* the host tables thread started (otherwise the setup builds them) */
 } clr_device_setup;
 
 /* Starts creating the context, film and sampler and building the sampler's program. */
