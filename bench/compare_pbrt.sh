@@ -10,12 +10,13 @@
 # directions, directlighting, path) and sampler at 256x256, 16 spp, box filter, 2 threads, with
 # clrender and pbrt-v3 interleaved (the order alternates per repetition), and prints one JSON line
 # per case: both medians of the wall time, the ratio pbrt / clrender (> 1: clrender faster), rays
-# traced, CPU seconds and peak RSS of each; then a summary table with the geometric mean. The machine may be
-# shared: only ratios measured in the same run are meaningful, and the medians tame the noise.
+# traced, CPU seconds (user + system) and their ratio, peak RSS; then a summary table with the
+# geometric means. The machine may be shared: only ratios measured in the same run mean anything,
+# the medians tame the noise, and on a loaded machine the CPU ratio is the steadier figure.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 if [ $# -lt 1 ] || [ "$1" = "--help" ] || [ "$1" = "-h" ]; then
-  sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 2
 fi
 pbrt="$1"
@@ -125,20 +126,29 @@ for scene, integ, sampler in cases:
             "clrender_peak_rss_mb": round(max(rss["clrender"]), 1),
             "pbrt_v3_peak_rss_mb": round(max(rss["pbrt"]), 1)}
     line["speedup"] = round(line["pbrt_v3_s"] / line["clrender_s"], 3)
+    line["cpu_ratio"] = round(line["pbrt_v3_cpu_s"] / line["clrender_cpu_s"], 3)
     results.append(line)
     print(json.dumps(line), flush=True)
 
-print("\n| scene | integrator | sampler | clrender s | pbrt-v3 s | speed-up | rays clr / pbrt "
-      "| RSS MB clr / pbrt |")
-print("|---|---|---|---|---|---|---|---|")
+print("\n| scene | integrator | sampler | clrender s | pbrt-v3 s | speed-up | CPU s clr / pbrt "
+      "| CPU ratio | rays clr / pbrt | RSS MB clr / pbrt |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for r in results:
     ray_ratio = ("%.2f" % (r["clrender_rays"] / r["pbrt_v3_rays"])
                  if r["clrender_rays"] and r["pbrt_v3_rays"] else "?")
-    print("| %s | %s | %s | %.3f | %.3f | %.2fx | %s | %.0f / %.0f |" % (
+    print("| %s | %s | %s | %.3f | %.3f | %.2fx | %.2f / %.2f | %.2fx | %s | %.0f / %.0f |" % (
         r["scene"], r["integrator"], r["sampler"], r["clrender_s"], r["pbrt_v3_s"], r["speedup"],
-        ray_ratio, r["clrender_peak_rss_mb"], r["pbrt_v3_peak_rss_mb"]))
-geo = math.exp(sum(math.log(r["speedup"]) for r in results) / len(results))
-print("\ngeometric mean speed-up over %d cases: %.2fx (pbrt-v3 time / clrender time, medians of "
-      "%d interleaved runs)" % (len(results), geo, reps))
-print(json.dumps({"summary": "geomean_speedup", "cases": len(results), "value": round(geo, 3)}))
+        r["clrender_cpu_s"], r["pbrt_v3_cpu_s"], r["cpu_ratio"], ray_ratio,
+        r["clrender_peak_rss_mb"], r["pbrt_v3_peak_rss_mb"]))
+
+
+def geomean(key):
+    return math.exp(sum(math.log(r[key]) for r in results) / len(results))
+
+
+print("\ngeometric mean over %d cases (medians of %d interleaved runs): wall-time speed-up %.2fx, "
+      "CPU-time ratio %.2fx (pbrt-v3 / clrender)" % (len(results), reps, geomean("speedup"),
+                                                     geomean("cpu_ratio")))
+print(json.dumps({"summary": "geomean", "cases": len(results), "speedup": round(geomean("speedup"), 3),
+                  "cpu_ratio": round(geomean("cpu_ratio"), 3)}))
 PYTHON

@@ -67,7 +67,9 @@ void clr_device_setup_start(clr_device_setup *s, const clr_context_desc *context
   s->sampler_desc = *sampler_desc;
   s->threaded = pthread_create(&s->thread, NULL, setup_main, s) == 0;
   if (!s->threaded) setup_main(s);
-  s->tables_threaded = pthread_create(&s->tables_thread, NULL, tables_main, s) == 0;
+  /* Only Halton's tables are worth it (the host reference of any global sampler builds them). */
+  if (sampler_desc->type == CLR_SAMPLER_HALTON)
+    s->tables_threaded = pthread_create(&s->tables_thread, NULL, tables_main, s) == 0;
 }
 
 clr_result clr_device_setup_finish(clr_device_setup *s) {
