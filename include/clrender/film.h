@@ -53,9 +53,9 @@ extern "C" {
  * of its (2r + 1)^2 neighbouring bins. */
 #define CLR_FILM_MAX_FILTER_RADIUS 32.0f
 /* film_add_samples processes larger calls in consecutive chunks of this many samples; a chunk's
- * binning and kernel scratch (about 200 bytes per sample) is what the accumulation holds besides
- * the film's 32 bytes per pixel. */
-#define CLR_FILM_CHUNK_SAMPLES (1u << 16)
+ * binning and kernel scratch (about 200 bytes per chunk sample, plus 30 bytes per pixel the chunk
+ * reaches) is what the accumulation holds besides the film's 32 bytes per pixel. */
+#define CLR_FILM_CHUNK_SAMPLES (1u << 18)
 
 typedef struct clr_film_t *clr_film;
 typedef struct clr_film_tile_t *clr_film_tile;
