@@ -1,5 +1,6 @@
-/* Context, film and sampler made on a helper thread, overlapping the scene build. */
+/* Context, film and sampler made beside a helper thread's work (the scene build). */
 #include "device_setup.h"
+#include <pthread.h>
 #include <stdio.h>
 #include <string.h>
 #include "clrender/kernels.h"
@@ -25,60 +26,74 @@ static clr_result warm_sampler(clr_sampler sampler, int reference) {
                    : clr_sampler_generate(sampler, &batch, &out);
 }
 
-static clr_result setup(clr_device_setup *s) {
-  clr_result r = clr_context_create(&s->context_desc, &s->ctx);
-  if (r == CLR_SUCCESS && s->kernels) {
+static clr_result setup(clr_device_setup *s, const clr_context_desc *context_desc,
+                        const char *kernels, const clr_film_desc *film_desc,
+                        const clr_sampler_desc *sampler_desc) {
+  clr_result r = clr_context_create(context_desc, &s->ctx);
+  if (r == CLR_SUCCESS && kernels) {
     clr_kernel_shape shape;
-    r = clr_kernel_shape_from_name(s->kernels, &shape);
+    r = clr_kernel_shape_from_name(kernels, &shape);
     if (r == CLR_SUCCESS) r = clr_context_set_kernel_shape(s->ctx, shape);
   }
-  if (r == CLR_SUCCESS) r = film_create(s->ctx, &s->film_desc, &s->film);
-  if (r == CLR_SUCCESS) r = clr_sampler_create(s->ctx, &s->sampler_desc, &s->sampler);
+  if (r == CLR_SUCCESS) r = film_create(s->ctx, film_desc, &s->film);
+  if (r == CLR_SUCCESS) r = clr_sampler_create(s->ctx, sampler_desc, &s->sampler);
   if (r == CLR_SUCCESS) r = warm_sampler(s->sampler, 0);
   return r;
 }
 
-static void *setup_main(void *arg) {
-  clr_device_setup *s = arg;
-  s->result = setup(s);
-  if (s->result != CLR_SUCCESS)
-    snprintf(s->message, sizeof s->message, "%s", clr_last_error_message());
+/* A helper thread's job: the caller's work, or the sampler's host tables. */
+typedef struct helper {
+  clr_setup_work_fn work;
+  void *user;
+  const clr_sampler_desc *tables_of; /* build this sampler's host tables instead of work */
+  clr_result result;
+  char message[1024];
+  pthread_t thread;
+  int started;
+} helper;
+
+static void *helper_main(void *arg) {
+  helper *h = arg;
+  if (h->tables_of) { /* errors are left to the device setup, which meets them again */
+    clr_sampler host = NULL;
+    if (clr_sampler_create(NULL, h->tables_of, &host) == CLR_SUCCESS) warm_sampler(host, 1);
+    if (host) clr_sampler_release(host);
+    return NULL;
+  }
+  h->result = h->work(h->user);
+  if (h->result != CLR_SUCCESS)
+    snprintf(h->message, sizeof h->message, "%s", clr_last_error_message());
   return NULL;
 }
 
-/* Builds the sampler's tables through a host-only sampler while the OpenCL implementation loads
- * (Halton's take a fifth of the setup thread's time, profile 2026-11-30); errors are left to the
- * setup thread, which meets them again. */
-static void *tables_main(void *arg) {
-  clr_device_setup *s = arg;
-  clr_sampler host = NULL;
-  if (clr_sampler_create(NULL, &s->sampler_desc, &host) == CLR_SUCCESS) warm_sampler(host, 1);
-  if (host) clr_sampler_release(host);
-  return NULL;
-}
-
-void clr_device_setup_start(clr_device_setup *s, const clr_context_desc *context_desc,
-                            const char *kernels, const clr_film_desc *film_desc,
-                            const clr_sampler_desc *sampler_desc) {
+clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *context_desc,
+                                const char *kernels, const clr_film_desc *film_desc,
+                                const clr_sampler_desc *sampler_desc, clr_setup_work_fn work,
+                                void *user) {
   memset(s, 0, sizeof *s);
-  s->context_desc = *context_desc;
-  s->kernels = kernels;
-  s->film_desc = *film_desc;
-  s->sampler_desc = *sampler_desc;
-  s->threaded = pthread_create(&s->thread, NULL, setup_main, s) == 0;
-  if (!s->threaded) setup_main(s);
-  /* Only Halton's tables are worth it (the host reference of any global sampler builds them). */
+  helper job, tables;
+  memset(&job, 0, sizeof job);
+  memset(&tables, 0, sizeof tables);
+  job.work = work;
+  job.user = user;
+  /* Halton's tables take a fifth of the setup's time (profile 2026-11-30); a host-only sampler
+   * builds them beside it (the host reference of any global sampler would build them). */
+  tables.tables_of = sampler_desc;
   if (sampler_desc->type == CLR_SAMPLER_HALTON)
-    s->tables_threaded = pthread_create(&s->tables_thread, NULL, tables_main, s) == 0;
-}
-
-clr_result clr_device_setup_finish(clr_device_setup *s) {
-  if (s->threaded) pthread_join(s->thread, NULL);
-  if (s->tables_threaded) pthread_join(s->tables_thread, NULL);
-  s->threaded = s->tables_threaded = 0;
-  if (s->result == CLR_SUCCESS) return CLR_SUCCESS;
+    tables.started = pthread_create(&tables.thread, NULL, helper_main, &tables) == 0;
+  job.started = pthread_create(&job.thread, NULL, helper_main, &job) == 0;
+  clr_result r = setup(s, context_desc, kernels, film_desc, sampler_desc);
+  char message[1024] = "";
+  if (r != CLR_SUCCESS) snprintf(message, sizeof message, "%s", clr_last_error_message());
+  if (job.started)
+    pthread_join(job.thread, NULL);
+  else
+    helper_main(&job);
+  if (tables.started) pthread_join(tables.thread, NULL);
+  if (job.result == CLR_SUCCESS && r == CLR_SUCCESS) return CLR_SUCCESS;
   clr_device_setup_release(s);
-  return clr_set_last_error(s->result, "%s", s->message);
+  if (job.result != CLR_SUCCESS) return clr_set_last_error(job.result, "%s", job.message);
+  return clr_set_last_error(r, "%s", message);
 }
 
 void clr_device_setup_release(clr_device_setup *s) {

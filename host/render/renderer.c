@@ -661,6 +661,32 @@ static clr_result output_paths(const char *path, clr_render_stats *st) {
 
 /* ---------- entry points ---------- */
 
+/* The scene and its integrator, built beside the device setup. */
+typedef struct scene_build_job {
+  const clr_scene_desc *d;
+  clr_warn_fn warn;
+  void *wu;
+  clr_sampler_type sampler_type;
+  clr_render_scene *scene; /* NULL unless both were made */
+  clr_integrator integ;
+  double seconds;
+} scene_build_job;
+
+static clr_result build_scene(void *user) {
+  scene_build_job *b = user;
+  double t0 = now_seconds();
+  clr_render_scene *scene = NULL;
+  CLR_CHECK(clr_render_scene_build(b->d, b->warn, b->wu, &scene));
+  clr_result r = clr_integrator_create_for(b->d, scene, b->sampler_type, b->warn, b->wu, &b->integ);
+  if (r != CLR_SUCCESS) {
+    clr_render_scene_free(scene);
+    return r;
+  }
+  b->scene = scene;
+  b->seconds = now_seconds() - t0;
+  return CLR_SUCCESS;
+}
+
 clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *opts,
                            clr_render_stats *stats, int write_files, clr_render_image *image) {
   clr_render_options defaults;
@@ -701,8 +727,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     if (r != CLR_SUCCESS) return r;
   }
 
-  /* The OpenCL side is set up on a helper thread while the scene is built (device_setup.c). */
-  clr_device_setup device;
+  /* The scene is built on a helper thread while this one sets up the OpenCL side
+   * (device_setup.c). */
   clr_context_desc cdesc;
   clr_context_desc_init(&cdesc);
   cdesc.device = o->device;
@@ -719,29 +745,27 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
   sdesc.film.filter_radius[0] = fdesc.radius[0];
   sdesc.film.filter_radius[1] = fdesc.radius[1];
-  clr_device_setup_start(&device, &cdesc, o->kernels, &fd, &sdesc);
-
+  scene_build_job build;
+  memset(&build, 0, sizeof build);
+  build.d = d;
+  build.warn = warn;
+  build.wu = wu;
+  build.sampler_type = sdesc.type;
+  clr_device_setup device;
   double t0 = now_seconds();
-  clr_render_scene *scene = NULL;
-  r = clr_render_scene_build(d, warn, wu, &scene);
-  clr_integrator integ;
-  if (r == CLR_SUCCESS) {
-    r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
-    if (r != CLR_SUCCESS) clr_render_scene_free(scene);
+  r = clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene, &build);
+  if (r != CLR_SUCCESS) {
+    if (build.scene) { /* the scene was built; the device failed */
+      clr_integrator_free(&build.integ);
+      clr_render_scene_free(build.scene);
+    }
+    return r;
   }
-  if (r != CLR_SUCCESS) { /* the scene's error comes first, as before the overlap */
-    char message[1024];
-    snprintf(message, sizeof message, "%s", clr_last_error_message());
-    clr_device_setup_finish(&device);
-    clr_device_setup_release(&device);
-    return clr_set_last_error(r, "%s", message);
-  }
+  clr_render_scene *scene = build.scene;
+  clr_integrator integ = build.integ;
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
-  st->seconds_build = now_seconds() - t0;
-
-  double ts = now_seconds();
-  r = clr_device_setup_finish(&device);
-  st->seconds_device_wait = now_seconds() - ts;
+  st->seconds_build = build.seconds;
+  st->seconds_device_wait = now_seconds() - t0 - build.seconds;
   clr_context ctx = device.ctx;
   clr_sampler sampler = device.sampler;
   clr_film film = device.film;
