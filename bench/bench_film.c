@@ -63,9 +63,14 @@ static clr_film make_film(clr_context ctx, int type, int use_table) {
   return film_create(ctx, &d, &film) == CLR_SUCCESS ? film : NULL;
 }
 
-/* Samples per second of one path; *bytes_per_pixel gets the film's peak memory per pixel. */
+/* The film's memory: its sums per pixel and the accumulation's scratch (bounded by the chunk). */
+typedef struct film_memory {
+  double sums_bytes_per_pixel, scratch_mib;
+} film_memory;
+
+/* Samples per second of one path; *mem gets the film's peak memory. */
 static double rate(clr_context ctx, int type, int use_table, int path, size_t count, int reps,
-                   const clr_film_sample *samples, double *bytes_per_pixel) {
+                   const clr_film_sample *samples, film_memory *mem) {
   run r = {make_film(ctx, type, use_table), samples, NULL, count, path == 2};
   if (!r.film) return -1;
   if (path == 1) {
@@ -78,8 +83,10 @@ static double rate(clr_context ctx, int type, int use_table, int path, size_t co
     }
   }
   double t = bench_median(reps, run_once, &r);
-  if (bytes_per_pixel)
-    *bytes_per_pixel = (double)clr_film_peak_memory_bytes(r.film) / ((double)FILM_W * FILM_H);
+  if (mem) {
+    mem->sums_bytes_per_pixel = (double)clr_film_sums_bytes(r.film) / ((double)FILM_W * FILM_H);
+    mem->scratch_mib = (double)clr_film_scratch_bytes(r.film) / (1024.0 * 1024.0);
+  }
   if (r.buffer) clReleaseMemObject(r.buffer);
   film_release(r.film);
   return t > 0 ? (double)count / t : -1;
@@ -122,8 +129,8 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     for (int t = 0; t < FILTER_COUNT; ++t)
       for (int m = 0; m < 2; ++m)
         for (int path = 0; path < 2; ++path) {
-          double bpp = 0;
-          double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &bpp);
+          film_memory mem = {0, 0};
+          double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &mem);
           printf("{\"bench\":\"film\",");
           bench_json_device(ctx);
           printf(
@@ -136,10 +143,11 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
             bench_json_escape(stdout, clr_last_error_message());
           } else {
             printf(
-                ",\"samples_per_s\":%.4g,\"peak_bytes_per_pixel\":%.1f,"
+                ",\"samples_per_s\":%.4g,\"film_bytes_per_pixel\":%.1f,\"scratch_mib\":%.1f,"
                 "\"baseline\":\"host reference, 1 thread\",\"baseline_samples_per_s\":%.4g,"
                 "\"ratio\":%.2f",
-                v, bpp, baseline[t][m], baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
+                v, mem.sums_bytes_per_pixel, mem.scratch_mib, baseline[t][m],
+                baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
           }
           printf("}\n");
           fflush(stdout);

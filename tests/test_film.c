@@ -703,6 +703,35 @@ static void test_sums_roundtrip(void **state) {
   film_release(c);
 }
 
+/* The film holds 4 double sums per pixel (32 bytes) until something splats; merging sums whose
+ * splats are all zero keeps it so, and the resolve and the sums read zero splats meanwhile. */
+static void test_film_memory_until_splat(void **state) {
+  (void)state;
+  film_setup s = basic(30, 20, CLR_FILTER_TYPE_TRIANGLE, 2.0f);
+  clr_film a = make_film(&s), b = make_film(&s);
+  const size_t table = CLR_FILTER_TABLE_SIZE * CLR_FILTER_TABLE_SIZE * sizeof(float);
+  clr_film_sample *samples = random_samples(a, 2000, 0.0f, 7u);
+  assert_int_equal(film_add_samples(a, samples, 2000), CLR_SUCCESS);
+  assert_int_equal(clr_film_sums_bytes(a), 30 * 20 * 32 + table);
+  sums sa = get_sums(a);
+  for (size_t i = 0; i < 3 * sa.n; ++i) assert_true(sa.splat[i] == 0.0);
+  clr_bounds2i all = film_pixel_bounds(a);
+  assert_int_equal(film_merge_sums(b, all, sa.rgb, sa.w, sa.splat), CLR_SUCCESS);
+  assert_int_equal(clr_film_sums_bytes(b), 30 * 20 * 32 + table);
+  sa.splat[3 * 45 + 1] = 0.25; /* a nonzero splat sum allocates the splats */
+  assert_int_equal(film_merge_sums(b, all, NULL, NULL, sa.splat), CLR_SUCCESS);
+  assert_int_equal(clr_film_sums_bytes(b), 30 * 20 * 56 + table);
+  sums sb = get_sums(b);
+  for (size_t i = 0; i < 3 * sb.n; ++i) assert_true(sb.splat[i] == (i == 3 * 45 + 1 ? 0.25 : 0.0));
+  assert_int_equal(film_add_splat(a, 5.5f, 6.5f, 1, 2, 3), CLR_SUCCESS);
+  assert_int_equal(clr_film_sums_bytes(a), 30 * 20 * 56 + table);
+  free_sums(&sa);
+  free_sums(&sb);
+  free(samples);
+  film_release(a);
+  film_release(b);
+}
+
 /* Every filter, exact and table mode, default radius: tile-size, group-size, device-buffer and
  * host-reference invariance (bit-identical sums). */
 static void test_every_filter_invariance(void **state) {
@@ -855,6 +884,7 @@ static void test_canonical_order(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_every_filter_invariance),
+      cmocka_unit_test(test_film_memory_until_splat),
       cmocka_unit_test(test_constant_radiance_every_filter),
       cmocka_unit_test(test_brute_force_double_every_filter),
       cmocka_unit_test(test_bounds_match_pbrt),

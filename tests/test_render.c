@@ -333,6 +333,39 @@ static void expect_cli_failure(const char *name, const char *expect) {
 static const char *head =
     "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\nWorldBegin\n";
 
+/* The OpenCL setup runs beside the scene build (device_setup.c): a scene error is reported
+ * before a device error, as when the two ran one after the other, and a device error alone is
+ * reported with its own message. */
+static void test_scene_error_before_device_error(void **state) {
+  (void)state;
+  const char *bad_scene =
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
+      "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+      "WorldBegin\nShape \"plymesh\" \"string filename\" \"missing-mesh.ply\"\nWorldEnd\n";
+  const char *good_scene =
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
+      "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
+      "WorldBegin\nShape \"sphere\"\nWorldEnd\n";
+  const char *scenes[2] = {bad_scene, good_scene};
+  const char *expected[2] = {"missing-mesh.ply", "no-such-device-here"};
+  for (int k = 0; k < 2; ++k) {
+    clr_scene_desc *desc = NULL;
+    clr_parse_options po;
+    clr_parse_options_init(&po);
+    assert_int_equal(clr_scene_parse_string(scenes[k], "test.pbrt", &po, &desc), CLR_SUCCESS);
+    clr_render_options o;
+    clr_render_options_init(&o);
+    o.quiet = 1;
+    o.device = "no-such-device-here";
+    clr_render_image im;
+    memset(&im, 0, sizeof im);
+    assert_int_not_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+    assert_non_null(strstr(clr_last_error_message(), expected[k]));
+    assert_null(im.rgb);
+    clr_scene_desc_free(desc);
+  }
+}
+
 static void test_cli_bad_files(void **state) {
   (void)state;
   snprintf(tmpdir, sizeof tmpdir, "%s/test_render_tmp_XXXXXX", CLR_BINARY_DIR);
@@ -385,6 +418,7 @@ int main(void) {
       cmocka_unit_test(test_threads_bit_identical),
       cmocka_unit_test(test_tile_sizes_agree),
       cmocka_unit_test(test_crop_matches_full),
+      cmocka_unit_test(test_scene_error_before_device_error),
       cmocka_unit_test(test_cli_bad_files),
       cmocka_unit_test(test_progress_callback_cancels),
   };

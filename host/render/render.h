@@ -66,6 +66,7 @@ typedef struct clr_render_stats {
   /* phase breakdown; worker phases are summed over threads (CPU seconds) */
   double seconds_sample_generation, seconds_tracing, seconds_shading, seconds_reconstruction,
       seconds_merge, seconds_output;
+  double seconds_device_wait; /* the OpenCL setup's time past the scene build (overlapped) */
   uint64_t rays, samples, dropped_samples;
   int32_t tiles_done, tiles_total, threads, spp, partial;
   int32_t spp_target; /* the spp asked for; spp: the spp the image holds (whole passes) */

@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "render_error.h"
+#include "device_setup.h"
 #include "clrender/film.h"
 #include "clrender/kernels.h"
 #include "adaptive.h"
@@ -277,7 +278,10 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
 
 /* Sample values of one generation call: consecutive tiles of one tile row, so the values are
  * those of the band's pixel rectangle (row-major pixels, samples, values). */
-#define BATCH_VALUES_BUDGET ((size_t)8 << 20) /* floats per batch, at least one tile */
+/* Floats per batch, at least one tile. The bands (2 + threads / tiles per band of them, each also
+ * mirrored in a device buffer) held 32 MiB each before; at 4 MiB the sample generation time is
+ * unchanged (README, Benchmarks). */
+#define BATCH_VALUES_BUDGET ((size_t)1 << 20)
 
 enum { TILE_PENDING, TILE_READY, TILE_BUSY, TILE_DONE, TILE_MERGED };
 
@@ -937,6 +941,32 @@ static clr_result output_paths(const char *path, clr_render_stats *st) {
 
 /* ---------- entry points ---------- */
 
+/* The scene and its integrator, built beside the device setup. */
+typedef struct scene_build_job {
+  const clr_scene_desc *d;
+  clr_warn_fn warn;
+  void *wu;
+  clr_sampler_type sampler_type;
+  clr_render_scene *scene; /* NULL unless both were made */
+  clr_integrator integ;
+  double seconds;
+} scene_build_job;
+
+static clr_result build_scene(void *user) {
+  scene_build_job *b = user;
+  double t0 = now_seconds();
+  clr_render_scene *scene = NULL;
+  CLR_CHECK(clr_render_scene_build(b->d, b->warn, b->wu, &scene));
+  clr_result r = clr_integrator_create_for(b->d, scene, b->sampler_type, b->warn, b->wu, &b->integ);
+  if (r != CLR_SUCCESS) {
+    clr_render_scene_free(scene);
+    return r;
+  }
+  b->scene = scene;
+  b->seconds = now_seconds() - t0;
+  return CLR_SUCCESS;
+}
+
 clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *opts,
                            clr_render_stats *stats, int write_files, clr_render_image *image) {
   clr_render_options defaults;
@@ -978,49 +1008,48 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     if (r != CLR_SUCCESS) return r;
   }
 
-  double t0 = now_seconds();
-  clr_render_scene *scene = NULL;
-  CLR_CHECK(clr_render_scene_build(d, warn, wu, &scene));
-  clr_integrator integ;
-  r = clr_integrator_create_for(d, scene, sdesc.type, warn, wu, &integ);
-  if (r != CLR_SUCCESS) {
-    clr_render_scene_free(scene);
-    return r;
-  }
-  if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
-  st->seconds_build = now_seconds() - t0;
-
-  clr_context ctx = NULL;
-  clr_sampler sampler = NULL;
-  clr_film film = NULL;
+  /* The scene is built on a helper thread while this one sets up the OpenCL side
+   * (device_setup.c). */
   clr_context_desc cdesc;
   clr_context_desc_init(&cdesc);
   cdesc.device = o->device;
-  r = clr_context_create(&cdesc, &ctx);
-  if (r == CLR_SUCCESS && o->kernels) {
-    clr_kernel_shape shape;
-    r = clr_kernel_shape_from_name(o->kernels, &shape);
-    if (r == CLR_SUCCESS) r = clr_context_set_kernel_shape(ctx, shape);
+  clr_film_desc fd;
+  clr_film_desc_init(&fd);
+  fd.x_resolution = settings.x_resolution;
+  fd.y_resolution = settings.y_resolution;
+  memcpy(fd.crop_window, settings.crop_window, sizeof fd.crop_window);
+  fd.scale = settings.scale;
+  fd.max_sample_luminance = settings.max_sample_luminance;
+  fd.filter = fdesc;
+  sdesc.film.x_resolution = settings.x_resolution;
+  sdesc.film.y_resolution = settings.y_resolution;
+  memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
+  sdesc.film.filter_radius[0] = fdesc.radius[0];
+  sdesc.film.filter_radius[1] = fdesc.radius[1];
+  scene_build_job build;
+  memset(&build, 0, sizeof build);
+  build.d = d;
+  build.warn = warn;
+  build.wu = wu;
+  build.sampler_type = sdesc.type;
+  clr_device_setup device;
+  double t0 = now_seconds();
+  r = clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene, &build);
+  if (r != CLR_SUCCESS) {
+    if (build.scene) { /* the scene was built; the device failed */
+      clr_integrator_free(&build.integ);
+      clr_render_scene_free(build.scene);
+    }
+    return r;
   }
-  if (r == CLR_SUCCESS) {
-    clr_film_desc fd;
-    clr_film_desc_init(&fd);
-    fd.x_resolution = settings.x_resolution;
-    fd.y_resolution = settings.y_resolution;
-    memcpy(fd.crop_window, settings.crop_window, sizeof fd.crop_window);
-    fd.scale = settings.scale;
-    fd.max_sample_luminance = settings.max_sample_luminance;
-    fd.filter = fdesc;
-    r = film_create(ctx, &fd, &film);
-  }
-  if (r == CLR_SUCCESS) {
-    sdesc.film.x_resolution = settings.x_resolution;
-    sdesc.film.y_resolution = settings.y_resolution;
-    memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
-    sdesc.film.filter_radius[0] = fdesc.radius[0];
-    sdesc.film.filter_radius[1] = fdesc.radius[1];
-    r = clr_sampler_create(ctx, &sdesc, &sampler);
-  }
+  clr_render_scene *scene = build.scene;
+  clr_integrator integ = build.integ;
+  if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
+  st->seconds_build = build.seconds;
+  st->seconds_device_wait = now_seconds() - t0 - build.seconds;
+  clr_context ctx = device.ctx;
+  clr_sampler sampler = device.sampler;
+  clr_film film = device.film;
   if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
   if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
@@ -1157,14 +1186,15 @@ int clr_render_stats_json(const clr_render_stats *s, char *buf, size_t size) {
   return snprintf(buf, size,
                   "{\"seconds\":{\"total\":%.6f,\"parse\":%.6f,\"build\":%.6f,\"render\":%.6f,"
                   "\"sample_generation\":%.6f,\"tracing\":%.6f,\"shading\":%.6f,"
-                  "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f},"
+                  "\"reconstruction\":%.6f,\"merge\":%.6f,\"output\":%.6f,\"device_wait\":%.6f},"
                   "\"rays\":%llu,\"samples\":%llu,\"dropped_samples\":%llu,\"tiles\":%d,"
                   "\"tiles_total\":%d,\"threads\":%d,\"spp\":%d,\"sampler\":\"%s\","
                   "\"integrator\":\"%s\",\"partial\":%d,\"spp_target\":%d,\"passes\":%d}",
                   s->seconds_total, s->seconds_parse, s->seconds_build, s->seconds_render,
                   s->seconds_sample_generation, s->seconds_tracing, s->seconds_shading,
                   s->seconds_reconstruction, s->seconds_merge, s->seconds_output,
-                  (unsigned long long)s->rays, (unsigned long long)s->samples,
-                  (unsigned long long)s->dropped_samples, s->tiles_done, s->tiles_total, s->threads,
-                  s->spp, s->sampler, s->integrator, s->partial, s->spp_target, s->passes);
+                  s->seconds_device_wait, (unsigned long long)s->rays,
+                  (unsigned long long)s->samples, (unsigned long long)s->dropped_samples,
+                  s->tiles_done, s->tiles_total, s->threads, s->spp, s->sampler, s->integrator,
+                  s->partial, s->spp_target, s->passes);
 }

@@ -52,8 +52,10 @@ extern "C" {
 /* Filter radii above this are rejected (CLR_ERROR_INVALID_RADIUS): a pixel gathers the samples
  * of its (2r + 1)^2 neighbouring bins. */
 #define CLR_FILM_MAX_FILTER_RADIUS 32.0f
-/* film_add_samples processes larger calls in consecutive chunks of this many samples. */
-#define CLR_FILM_CHUNK_SAMPLES (1u << 20)
+/* film_add_samples processes larger calls in consecutive chunks of this many samples; a chunk's
+ * binning and kernel scratch (about 200 bytes per chunk sample, plus 30 bytes per pixel the chunk
+ * reaches) is what the accumulation holds besides the film's 32 bytes per pixel. */
+#define CLR_FILM_CHUNK_SAMPLES (1u << 18)
 
 typedef struct clr_film_t *clr_film;
 typedef struct clr_film_tile_t *clr_film_tile;

@@ -56,7 +56,8 @@ clr_result clr_context_kernel(clr_context ctx, const char *program_name, const c
                               const char *kernel_name, cl_kernel *kernel);
 
 /* Device copy of a constant table shared by every user of a context (created on first use from
- * `data`, owned by the context, keyed by `key`). */
+ * `data`, owned by the context, keyed by `key`); `data` must live, unchanged, as long as the
+ * context (devices with host-unified memory use it in place). */
 clr_result clr_context_shared_buffer(clr_context ctx, const char *key, const void *data,
                                      size_t bytes, cl_mem *buffer);
 

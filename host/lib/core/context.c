@@ -35,6 +35,7 @@ struct clr_context_t {
   char device_name[300];
   int is_gpu;
   int correctly_rounded_divide;
+  int unified_memory;             /* CL_DEVICE_HOST_UNIFIED_MEMORY: constant tables used in place */
   clr_kernel_shape default_shape; /* the device's (or CLRENDER_KERNELS's) shape */
   _Atomic int shape;              /* the shape in use */
   size_t max_group;               /* CL_DEVICE_MAX_WORK_GROUP_SIZE, capped by item sizes[0] */
@@ -289,6 +290,10 @@ clr_result clr_context_create(const clr_context_desc *desc, clr_context *out) {
   cl_device_fp_config fp = 0;
   if (clGetDeviceInfo(ctx->device, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL) == CL_SUCCESS)
     ctx->correctly_rounded_divide = (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
+  cl_bool unified = CL_FALSE;
+  if (clGetDeviceInfo(ctx->device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified, NULL) ==
+      CL_SUCCESS)
+    ctx->unified_memory = unified == CL_TRUE;
   clr_result dr = query_device(ctx, &entries[chosen]);
   if (dr != CLR_SUCCESS) {
     clr_context_release(ctx);
@@ -520,8 +525,10 @@ clr_result clr_context_shared_buffer(clr_context ctx, const char *key, const voi
     r = clr_fail(ctx, CLR_ERROR_INTERNAL, "shared buffer table full or key %s too long", key);
   } else {
     cl_int err = CL_SUCCESS;
-    cl_mem mem =
-        clCreateBuffer(ctx->cl, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, (void *)data, &err);
+    /* The tables live as long as the process and never change: a device sharing the host's
+     * memory reads them in place (PoCL: no second copy of Halton's 7.9 MB permutations). */
+    cl_mem_flags where = ctx->unified_memory ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR;
+    cl_mem mem = clCreateBuffer(ctx->cl, CL_MEM_READ_ONLY | where, bytes, (void *)data, &err);
     if (err != CL_SUCCESS) {
       r = clr_fail(ctx, CLR_ERROR_OPENCL, "clCreateBuffer(%s, %zu bytes) failed: %s (%d)", key,
                    bytes, clr_cl_error_name(err), (int)err);

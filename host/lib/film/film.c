@@ -114,8 +114,7 @@ clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out
   }
   film->rgb_sum = calloc(film->pixel_count * 3, sizeof(double));
   film->weight_sum = calloc(film->pixel_count, sizeof(double));
-  film->splat_rgb = calloc(film->pixel_count * 3, sizeof(double));
-  if (!film->rgb_sum || !film->weight_sum || !film->splat_rgb) {
+  if (!film->rgb_sum || !film->weight_sum) {
     size_t n = film->pixel_count;
     film_release(film);
     return clr_fail(ctx, CLR_ERROR_OUT_OF_MEMORY, "film_create: no memory for %zu pixels", n);
@@ -176,6 +175,13 @@ void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums) {
   }
 }
 
+/* The splat sums are allocated by the first splat (most renders never splat): the film holds
+ * 32 bytes per pixel until then. Caller holds the lock. */
+static int ensure_splats(clr_film film) {
+  if (!film->splat_rgb) film->splat_rgb = calloc(film->pixel_count * 3, sizeof(double));
+  return film->splat_rgb != NULL;
+}
+
 clr_result film_add_splat(clr_film film, float x, float y, float r, float g, float b) {
   if (!film) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "film_add_splat: film is NULL");
   const clr_film_params *p = &film->params;
@@ -185,6 +191,9 @@ clr_result film_add_splat(clr_film film, float x, float y, float r, float g, flo
   pthread_mutex_lock(&film->lock);
   if (bad) {
     ++film->dropped;
+  } else if (!ensure_splats(film)) {
+    pthread_mutex_unlock(&film->lock);
+    return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_splat: no memory for splats");
   } else {
     float fx = floorf(x), fy = floorf(y);
     if (fx >= (float)p->pixel_x0 && fx < (float)p->pixel_x1 && fy >= (float)p->pixel_y0 &&
@@ -221,7 +230,7 @@ clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale) {
         v /= w;
         if (!(v > 0.0)) v = 0.0;
       }
-      v += (double)splat_scale * film->splat_rgb[3 * i + c];
+      if (film->splat_rgb) v += (double)splat_scale * film->splat_rgb[3 * i + c];
       rgb[3 * i + c] = (float)(v * (double)film->scale);
     }
   }
@@ -237,9 +246,16 @@ clr_result film_get_sums(clr_film film, double *rgb_sum, double *weight_sum, dou
   size_t n = film->pixel_count;
   if (rgb_sum) memcpy(rgb_sum, film->rgb_sum, n * 3 * sizeof(double));
   if (weight_sum) memcpy(weight_sum, film->weight_sum, n * sizeof(double));
-  if (splat_rgb) memcpy(splat_rgb, film->splat_rgb, n * 3 * sizeof(double));
+  if (splat_rgb && film->splat_rgb) memcpy(splat_rgb, film->splat_rgb, n * 3 * sizeof(double));
+  if (splat_rgb && !film->splat_rgb) memset(splat_rgb, 0, n * 3 * sizeof(double));
   pthread_mutex_unlock(&film->lock);
   return CLR_SUCCESS;
+}
+
+static int any_nonzero(const double *v, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (v[i] != 0.0) return 1;
+  return 0;
 }
 
 clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_sum,
@@ -257,6 +273,11 @@ clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_
                     p->pixel_y0, p->pixel_y1);
   pthread_mutex_lock(&dst->lock);
   size_t rw = (size_t)(region.x1 - region.x0);
+  if (splat_rgb && !dst->splat_rgb &&
+      any_nonzero(splat_rgb, rw * (size_t)(region.y1 - region.y0) * 3) && !ensure_splats(dst)) {
+    pthread_mutex_unlock(&dst->lock);
+    return clr_fail(dst->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_merge_sums: no memory for splats");
+  }
   for (int32_t y = region.y0; y < region.y1; ++y)
     for (int32_t x = region.x0; x < region.x1; ++x) {
       size_t s = (size_t)(y - region.y0) * rw + (size_t)(x - region.x0);
@@ -273,7 +294,7 @@ clr_result film_merge_sums(clr_film dst, clr_bounds2i region, const double *rgb_
       }
       for (int c = 0; c < 3; ++c) {
         if (rgb_sum) dst->rgb_sum[3 * d + c] += rgb_sum[3 * s + c];
-        if (splat_rgb) dst->splat_rgb[3 * d + c] += splat_rgb[3 * s + c];
+        if (splat_rgb && dst->splat_rgb) dst->splat_rgb[3 * d + c] += splat_rgb[3 * s + c];
       }
       if (weight_sum) dst->weight_sum[d] += weight_sum[s];
     }

@@ -506,11 +506,14 @@ clr_result film_set_group_size(clr_film film, size_t group_size) {
   return CLR_SUCCESS;
 }
 
-size_t clr_film_peak_memory_bytes(clr_film film) {
+size_t clr_film_sums_bytes(clr_film film) {
+  return film->pixel_count * (film->splat_rgb ? 7 : 4) * sizeof(double) + sizeof film->table;
+}
+
+size_t clr_film_scratch_bytes(clr_film film) {
   const clr_film_device *d = &film->dev;
   const clr_film_bins *b = &film->bins;
-  size_t bytes = film->pixel_count * 7 * sizeof(double) + sizeof film->table;
-  bytes += d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
+  size_t bytes = d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
   bytes += b->keys_cap * sizeof *b->keys + b->rowed_cap * sizeof(row_entry) +
            (b->starts_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
            b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;

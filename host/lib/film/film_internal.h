@@ -49,7 +49,7 @@ struct clr_film_t {
   size_t pixel_count;
   double *rgb_sum;    /* 3 per pixel */
   double *weight_sum; /* 1 per pixel */
-  double *splat_rgb;  /* 3 per pixel */
+  double *splat_rgb;  /* 3 per pixel, NULL until the first splat */
   uint64_t accepted, dropped, outside;
   pthread_mutex_t lock;
   clr_film_device dev;
@@ -83,9 +83,11 @@ clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samp
 /* Forces the gather kernel's work-group size in work-items, each a run of tile_size pixels
  * (1..CLR_FILM_GROUP_MAX; 0 = automatic). */
 clr_result film_set_group_size(clr_film film, size_t group_size);
-/* Bytes the film holds: its double sums plus the accumulation's host and device scratch (which
- * only grows, so this is also the peak). */
-size_t clr_film_peak_memory_bytes(clr_film film);
+/* Bytes the film holds (the scratch only grows, so these are also the peaks): its sums (32 bytes
+ * per pixel, 56 once splatted) and the accumulation's host and device scratch, bounded by
+ * CLR_FILM_CHUNK_SAMPLES and the chunk's pixel footprint. */
+size_t clr_film_sums_bytes(clr_film film);
+size_t clr_film_scratch_bytes(clr_film film);
 /* Releases the device resources and binning scratch. */
 void clr_film_accumulate_release(clr_film film);
 

@@ -73,12 +73,17 @@ static clr_result make_planes(clr_film film, float splat_scale, int sums, film_p
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) p->plane[c][i] = p->rgb[3 * i + c];
   if (!sums) return CLR_SUCCESS;
+  static const double no_splat[3] = {0.0, 0.0, 0.0}; /* a film that was never splatted */
   pthread_mutex_lock(&film->lock);
   for (size_t i = 0; i < n; ++i) {
-    double v[SUM_PLANES] = {film->rgb_sum[3 * i],      film->rgb_sum[3 * i + 1],
-                            film->rgb_sum[3 * i + 2],  film->weight_sum[i],
-                            film->splat_rgb[3 * i],    film->splat_rgb[3 * i + 1],
-                            film->splat_rgb[3 * i + 2]};
+    const double *splat = film->splat_rgb ? film->splat_rgb + 3 * i : no_splat;
+    double v[SUM_PLANES] = {film->rgb_sum[3 * i],
+                            film->rgb_sum[3 * i + 1],
+                            film->rgb_sum[3 * i + 2],
+                            film->weight_sum[i],
+                            splat[0],
+                            splat[1],
+                            splat[2]};
     for (int k = 0; k < SUM_PLANES; ++k) {
       p->sum[k][i] = (float)v[k];
       p->lo[k][i] = (float)(v[k] - (double)p->sum[k][i]);

@@ -60,6 +60,7 @@ clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, c
     image.width = (png_uint_32)width;
     image.height = (png_uint_32)height;
     image.format = PNG_FORMAT_RGB;
+    image.flags = PNG_IMAGE_FLAG_FAST; /* zlib's fast level: the preview is written every render */
     if (!png_image_write_to_stdio(&image, stream, 0, srgb, 0, NULL))
       result = clr_fail(NULL, CLR_ERROR_PNG, "png_image_write_to_stdio failed for '%s': %s", path,
                         image.message);

@@ -9,7 +9,8 @@
 #define CLR_HALTON_SIEVE_LIMIT 7920
 
 static clr_halton_prime halton_primes[CLR_HALTON_PRIME_RECORDS];
-static clr_u16 halton_permutations[CLR_HALTON_TABLE_ENTRIES];
+/* Aligned so that devices sharing host memory can use it in place (clr_context_shared_buffer). */
+static _Alignas(4096) clr_u16 halton_permutations[CLR_HALTON_TABLE_ENTRIES];
 static pthread_once_t halton_once = PTHREAD_ONCE_INIT;
 
 static void sieve_primes(clr_u32 *primes) {

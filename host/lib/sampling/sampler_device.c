@@ -258,7 +258,7 @@ static int global_defines(clr_sampler_device *d, const clr_sampler_params *p, co
   return 1;
 }
 
-static clr_u32 sobol_groups[CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE];
+static _Alignas(4096) clr_u32 sobol_groups[CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE];
 static pthread_once_t sobol_groups_once = PTHREAD_ONCE_INIT;
 
 static void build_sobol_groups(void) {
