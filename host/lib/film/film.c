@@ -318,11 +318,15 @@ clr_result film_merge_film(clr_film dst, clr_film src) {
                     "film_merge_film: the films differ (resolution, pixel bounds or filter)");
   pthread_mutex_lock(&src->lock);
   pthread_mutex_lock(&dst->lock);
+  if (src->splat_rgb && !ensure_splats(dst)) {
+    pthread_mutex_unlock(&dst->lock);
+    pthread_mutex_unlock(&src->lock);
+    return clr_fail(dst->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_merge_film: no memory for splats");
+  }
   for (size_t i = 0; i < dst->pixel_count; ++i) {
-    for (int c = 0; c < 3; ++c) {
-      dst->rgb_sum[3 * i + c] += src->rgb_sum[3 * i + c];
-      dst->splat_rgb[3 * i + c] += src->splat_rgb[3 * i + c];
-    }
+    for (int c = 0; c < 3; ++c) dst->rgb_sum[3 * i + c] += src->rgb_sum[3 * i + c];
+    if (src->splat_rgb)
+      for (int c = 0; c < 3; ++c) dst->splat_rgb[3 * i + c] += src->splat_rgb[3 * i + c];
     dst->weight_sum[i] += src->weight_sum[i];
   }
   dst->accepted += src->accepted;
