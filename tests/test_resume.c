@@ -97,21 +97,26 @@ static void assert_close_images(const char *a_path, const char *b_path) {
   clr_exr_image_free(b);
 }
 
-static void resumed_equals_full(const char *sampler) {
+/* 8 spp resumed to 16 equals 16; flag and value (or NULL) go to every render. */
+static void resumed_equals_full_with(const char *sampler, const char *flag, const char *value) {
   char part[sizeof dir + 16], resumed[sizeof dir + 16], full[sizeof dir + 16];
   in_dir(part, sizeof part, "s8.exr");
   in_dir(resumed, sizeof resumed, "s8to16.exr");
   in_dir(full, sizeof full, "s16.exr");
-  const char *a[] = {"--sampler", sampler, "--spp", "8", "--outfile", part, NULL};
-  const char *b[] = {"--sampler", sampler,    "--spp", "16", "--outfile",
-                     resumed,     "--resume", part,    NULL};
-  const char *c[] = {"--sampler", sampler, "--spp", "16", "--outfile", full, NULL};
+  const char *a[] = {"--sampler", sampler, "--spp", "8", "--outfile", part, flag, value, NULL};
+  const char *b[] = {"--sampler", sampler, "--spp", "16",  "--outfile", resumed,
+                     "--resume",  part,    flag,    value, NULL};
+  const char *c[] = {"--sampler", sampler, "--spp", "16", "--outfile", full, flag, value, NULL};
   assert_int_equal(render(a), 0);
   assert_int_equal(render(b), 0);
   assert_int_equal(render(c), 0);
   assert_int_equal(int_attr(resumed, "clrender.spp"), 16);
   assert_int_equal(int_attr(resumed, "clrender.samples"), int_attr(full, "clrender.samples"));
   assert_close_images(full, resumed);
+}
+
+static void resumed_equals_full(const char *sampler) {
+  resumed_equals_full_with(sampler, NULL, NULL);
 }
 
 static void test_halton_8_resumed_to_16_equals_16(void **state) {
@@ -122,6 +127,29 @@ static void test_halton_8_resumed_to_16_equals_16(void **state) {
 static void test_sobol_8_resumed_to_16_equals_16(void **state) {
   (void)state;
   resumed_equals_full("sobol");
+}
+
+/* pbrt-v4's independent sampler draws sample i of a pixel whatever the total spp. */
+static void test_pbrt_v4_independent_8_resumed_to_16_equals_16(void **state) {
+  (void)state;
+  resumed_equals_full_with("independent", "--seeding", "pbrt-v4");
+}
+
+/* Another randomization draws other samples: refused, naming it. */
+static void test_resume_refuses_another_randomization(void **state) {
+  (void)state;
+  char part[sizeof dir + 16], resumed[sizeof dir + 16];
+  in_dir(part, sizeof part, "owen8.exr");
+  in_dir(resumed, sizeof resumed, "owen8to16.exr");
+  const char *a[] = {"--sampler",       "sobol", "--seeding", "pbrt-v4",
+                     "--randomization", "owen",  "--spp",     "8",
+                     "--outfile",       part,    NULL};
+  const char *b[] = {"--sampler", "sobol", "--seeding", "pbrt-v4",   "--randomization",
+                     "fastowen",  "--spp", "16",        "--outfile", resumed,
+                     "--resume",  part,    NULL};
+  assert_int_equal(render(a), 0);
+  assert_int_equal(render(b), 1);
+  assert_true(log_contains("randomization \"owen\""));
 }
 
 /* --time-limit 0: one pass of --pass-spp samples, recorded; resumed to the full spp. A pixel
@@ -292,6 +320,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_halton_8_resumed_to_16_equals_16),
       cmocka_unit_test(test_sobol_8_resumed_to_16_equals_16),
+      cmocka_unit_test(test_pbrt_v4_independent_8_resumed_to_16_equals_16),
+      cmocka_unit_test(test_resume_refuses_another_randomization),
       cmocka_unit_test(test_time_limit_zero_renders_one_resumable_pass),
       cmocka_unit_test(test_interrupted_checkpointed_render_resumes),
       cmocka_unit_test(test_resume_refuses_other_renders),

@@ -753,12 +753,14 @@ static clr_result write_image(clr_film film, const output_info *oi, const float 
   char target[16], whole[4];
   snprintf(target, sizeof target, "%d", (int)st->spp_target);
   snprintf(whole, sizeof whole, "%d", oi->whole_passes);
-  const char *keys[16] = {"integrator",     "clrender.seed",       "clrender.seeding",
-                          "clrender.scene", "clrender.spp_target", "clrender.whole_passes"};
-  const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding, oi->id.scene, target, whole};
+  const char *keys[16] = {
+      "integrator",          "clrender.seed",         "clrender.seeding",      "clrender.scene",
+      "clrender.spp_target", "clrender.whole_passes", "clrender.randomization"};
+  const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding,      oi->id.scene,
+                          target,         whole,       oi->id.randomization};
   wo.metadata_keys = keys;
   wo.metadata_values = vals;
-  int n = 6;
+  int n = 7;
   char threshold[32];
   if (oi->o->noise_threshold > 0.0f) {
     snprintf(threshold, sizeof threshold, "%.9g", (double)oi->o->noise_threshold);
@@ -1081,9 +1083,13 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     oi.id.integrator = st->integrator;
     oi.id.scene = o->scene_id ? o->scene_id : "";
     snprintf(oi.id.seed, sizeof oi.id.seed, "%u", (unsigned)o->seed);
-    oi.id.seeding = o->seeding == CLR_SEEDING_PBRT_V3 ? "pbrt-v3" : "pixel";
+    oi.id.seeding = o->seeding == CLR_SEEDING_PBRT_V3   ? "pbrt-v3"
+                    : o->seeding == CLR_SEEDING_PBRT_V4 ? "pbrt-v4"
+                                                        : "pixel";
+    oi.id.randomization = clr_randomization_name(sdesc.randomization);
     oi.id.spp_target = job.spp;
-    oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL;
+    oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL ||
+                           sdesc.type == CLR_SAMPLER_INDEPENDENT; /* spp-independent samples */
     double tr = now_seconds();
     if (!pass_mode(o)) {
       r = render_tiles(&job, sampler, o, nthreads, st);

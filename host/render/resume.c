@@ -4,14 +4,26 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const clr_resume_attributes[] = {
-    "clrender.sampler",    "integrator",       "clrender.scene",
-    "clrender.seed",       "clrender.seeding", "clrender.spp",
-    "clrender.spp_target", "clrender.partial", "clrender.whole_passes"};
+const char *const clr_resume_attributes[] = {"clrender.sampler", "integrator",
+                                             "clrender.scene",   "clrender.seed",
+                                             "clrender.seeding", "clrender.randomization",
+                                             "clrender.spp",     "clrender.spp_target",
+                                             "clrender.partial", "clrender.whole_passes"};
 const int32_t clr_resume_attribute_count =
     (int32_t)(sizeof clr_resume_attributes / sizeof clr_resume_attributes[0]);
 
-enum { A_SAMPLER, A_INTEGRATOR, A_SCENE, A_SEED, A_SEEDING, A_SPP, A_TARGET, A_PARTIAL, A_WHOLE };
+enum {
+  A_SAMPLER,
+  A_INTEGRATOR,
+  A_SCENE,
+  A_SEED,
+  A_SEEDING,
+  A_RANDOMIZATION,
+  A_SPP,
+  A_TARGET,
+  A_PARTIAL,
+  A_WHOLE
+};
 
 clr_result clr_scene_file_hash(const char *path, char out[17]) {
   FILE *f = fopen(path, "rb");
@@ -30,17 +42,20 @@ static const char *value(const char *values, int k) { return values + k * CLR_RE
 
 /* A recorded text value that differs from this render's. */
 static clr_result mismatch(const char *path, const char *what, const char *then, const char *now) {
-  return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
-                            "--resume %s: it was rendered with %s \"%s\", this render has \"%s\": "
-                            "resume only the same scene, sampler, integrator, seed and seeding",
-                            path, what, then[0] ? then : "(not recorded)", now);
+  return clr_set_last_error(
+      CLR_ERROR_INVALID_ARGUMENT,
+      "--resume %s: it was rendered with %s \"%s\", this render has \"%s\": "
+      "resume only the same scene, sampler, integrator, seed, seeding and randomization",
+      path, what, then[0] ? then : "(not recorded)", now);
 }
 
 clr_result clr_resume_check(const char *path, const char *values, const clr_resume_identity *now,
                             int32_t *spp_done) {
-  const char *names[5] = {"sampler", "integrator", "scene (content hash)", "seed", "seeding"};
-  const char *mine[5] = {now->sampler, now->integrator, now->scene, now->seed, now->seeding};
-  for (int k = 0; k < 5; ++k)
+  const char *names[A_SPP] = {"sampler", "integrator", "scene (content hash)",
+                              "seed",    "seeding",    "randomization"};
+  const char *mine[A_SPP] = {now->sampler, now->integrator, now->scene,
+                             now->seed,    now->seeding,    now->randomization};
+  for (int k = 0; k < A_SPP; ++k)
     if (strcmp(value(values, k), mine[k]) != 0)
       return mismatch(path, names[k], value(values, k), mine[k]);
   int spp = atoi(value(values, A_SPP)), target = atoi(value(values, A_TARGET));

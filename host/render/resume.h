@@ -10,13 +10,14 @@
 /* The header attributes a render records to be resumed (film_write metadata, besides the film
  * geometry, clrender.sampler and clrender.spp that film_write records itself). */
 typedef struct clr_resume_identity {
-  const char *sampler;    /* sampler name */
-  const char *integrator; /* integrator name */
-  const char *scene;      /* scene id (content hash) */
-  char seed[16];          /* the seed as text */
-  const char *seeding;    /* "pixel" or "pbrt-v3" */
-  int32_t spp_target;     /* the sampler's total spp: pixel samplers' patterns depend on it */
-  int32_t global_sampler; /* 1: halton or sobol, whose samples do not depend on the total */
+  const char *sampler;       /* sampler name */
+  const char *integrator;    /* integrator name */
+  const char *scene;         /* scene id (content hash) */
+  char seed[16];             /* the seed as text */
+  const char *seeding;       /* "pixel", "pbrt-v3" or "pbrt-v4" */
+  const char *randomization; /* the sampler's randomization name ("default" unless given) */
+  int32_t spp_target;        /* the sampler's total spp: pixel samplers' patterns depend on it */
+  int32_t global_sampler;    /* 1: halton or sobol, whose samples do not depend on the total */
 } clr_resume_identity;
 
 #define CLR_RESUME_VALUE 128
