@@ -20,6 +20,8 @@ struct clr_render_scene {
   clr_tracer tracer;
   rs_camera camera;
   rs_texture_set textures;
+  rs_material *materials; /* one per description material, without shape parameters (mix) */
+  int material_count;
   rs_shape *shapes;
   int shape_count;
   clr_transform *instances; /* instance to world */
@@ -227,9 +229,9 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   }
 }
 
-static int material_is_supported(const char *type) {
-  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 ||
-         strcmp(type, "plastic") == 0 || strcmp(type, "glass") == 0 || strcmp(type, "metal") == 0;
+static int material_is_supported(const clr_scene_desc *d, const clr_material_desc *md) {
+  rs_material m;
+  return rs_material_build(d, md, NULL, &m);
 }
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
@@ -267,12 +269,18 @@ static void metal_params(const clr_shape_desc *sd, const clr_material_desc *md,
   float ur = clr_params_find_float(&md->params, "uroughness", rough);
   float vr = clr_params_find_float(&md->params, "vroughness", rough);
   (void)sd;
-  if (ur != vr)
-    warn_fmt(warn, wu, "%s:%d: anisotropic metal roughness not supported: using their mean",
-             md->params.file ? md->params.file : p->file, md->params.line);
   float r = 0.5f * (ur + vr);
   sh->alpha =
       clr_params_find_bool(&md->params, "remaproughness", true) ? clr_tr_roughness_to_alpha(r) : r;
+}
+
+static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) {
+  s->materials = calloc((size_t)(d->material_count ? d->material_count : 1), sizeof *s->materials);
+  if (!s->materials) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "materials");
+  s->material_count = d->material_count;
+  for (int i = 0; i < d->material_count; ++i)
+    rs_material_build(d, &d->materials[i], NULL, &s->materials[i]);
+  return CLR_SUCCESS;
 }
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
@@ -346,11 +354,6 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       rs_colour_param(&sd->params, &md->params, "Kt", 1.0f, &sh->kt);
       float eta = clr_params_find_float(&md->params, "index", 1.5f);
       sh->eta = clr_params_find_float(&md->params, "eta", eta);
-      float ur = clr_params_find_float(&md->params, "uroughness", 0.0f);
-      float vr = clr_params_find_float(&md->params, "vroughness", 0.0f);
-      if (ur != 0.0f || vr != 0.0f)
-        warn_fmt(warn, wu, "%s:%d: rough glass not supported: rendered as smooth glass",
-                 md->params.file ? md->params.file : p->file, md->params.line);
     }
     sh->metal = strcmp(mtype, "metal") == 0;
     if (sh->metal) metal_params(sd, md, p, warn, wu, sh);
@@ -368,7 +371,12 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       sh->alpha = remap ? clr_tr_roughness_to_alpha(rough) : rough;
     }
     oren_nayar_params(sd, md, mtype, sh);
-    if (sh->has_material && !material_is_supported(mtype)) {
+    if (sh->has_material) {
+      sh->general = 0;
+      if (rs_material_build(d, md, &sd->params, &sh->gmat) && rs_material_needs_lobes(&sh->gmat))
+        sh->general = 1;
+    }
+    if (sh->has_material && !material_is_supported(d, md)) {
       int seen = 0;
       for (int k = 0; k < warned_count; ++k) seen |= strcmp(warned[k], mtype) == 0;
       if (!seen) {
@@ -474,6 +482,7 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   clr_result r = clr_tracer_create(&s->tracer);
   if (r == CLR_SUCCESS) r = rs_camera_build(&s->camera, d, warn, wu);
   if (r == CLR_SUCCESS) r = rs_textures_build(&s->textures, d, warn, wu);
+  if (r == CLR_SUCCESS) r = build_materials(s, d);
   if (r == CLR_SUCCESS) r = build_shapes(s, d, warn, wu, object_group);
   if (r == CLR_SUCCESS) r = build_instances(s, d, object_group);
   if (r == CLR_SUCCESS) {
@@ -520,6 +529,7 @@ void clr_render_scene_free(clr_render_scene *s) {
   if (!s) return;
   if (s->tracer) clr_tracer_release(s->tracer);
   rs_textures_free(&s->textures);
+  free(s->materials);
   for (int i = 0; i < s->shape_count; ++i) clr_mesh_free(&s->shapes[i].mesh);
   free(s->shapes);
   free(s->instances);
@@ -687,24 +697,32 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     memcpy(out->ns, out->ng, sizeof n);
   }
   out->has_material = sh->has_material;
+  rs_tex_ctx tc = {{uv[0], uv[1]}, {p[0], p[1], p[2]}};
+  out->general = sh->has_material && sh->general;
+  if (out->general) {
+    rs_material_bsdf(&sh->gmat, s->materials, s->material_count, &s->textures, &tc, &out->bsdf);
+    float nso[3] = {out->ns[0], out->ns[1], out->ns[2]}; /* pbrt: oriented as the shape's n */
+    if (rs_dot(nso, n) < 0.0f) negate(nso);
+    clr_bsdf_set_frame(&out->bsdf, out->dpdu, nso, n);
+  }
   out->on_a = sh->on_a;
   out->on_b = sh->on_b;
-  out->mirror = sh->has_material && sh->mirror;
-  out->glass = sh->has_material && sh->glass;
-  out->metal = sh->has_material && sh->metal;
+  out->mirror = sh->has_material && sh->mirror && !sh->general;
+  out->glass = sh->has_material && sh->glass && !sh->general;
+  out->metal = sh->has_material && sh->metal && !sh->general;
   memcpy(out->m_eta, sh->m_eta, sizeof out->m_eta);
   memcpy(out->m_k, sh->m_k, sizeof out->m_k);
   out->eta = sh->eta;
   out->kt[0] = out->kt[1] = out->kt[2] = 0.0f;
-  if (out->glass) rs_colour_eval(&s->textures, &sh->kt, uv, out->kt);
-  out->plastic = sh->has_material && sh->plastic;
+  if (out->glass) rs_colour_eval(&s->textures, &sh->kt, &tc, out->kt);
+  out->plastic = sh->has_material && sh->plastic && !sh->general;
   out->alpha = sh->alpha;
   out->ks[0] = out->ks[1] = out->ks[2] = 0.0f;
-  if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
+  if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, &tc, out->ks);
   out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
-  if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
-  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal)
-    rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, &tc, out->kr);
+  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal && !sh->general)
+    rs_colour_eval(&s->textures, &sh->kd, &tc, out->kd);
   else
     out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;

@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 #include "clrender/result.h"
+#include "bsdf_lobes.h"
 #include "lights.h"
 #include "scene_desc.h"
 #include "tracer.h"
@@ -64,6 +65,8 @@ typedef struct clr_surface {
   float le[3];          /* emitted radiance toward -ray.dir if an area light, else 0 */
   int32_t has_material; /* 0 for material "none" (invisible: continue the ray) */
   int32_t area_light;   /* index of the area light (into the light list) or -1 */
+  int32_t general;      /* 1: the material is the lobe list `bsdf` (uber, substrate, mix, ...) */
+  clr_bsdf bsdf;
 } clr_surface;
 
 /* Fills `s` for a hit of `ray`. */

@@ -3,6 +3,7 @@
 #ifndef CLR_RENDER_SHAPES_H
 #define CLR_RENDER_SHAPES_H
 
+#include "materials.h"
 #include "mesh.h"
 #include "textures.h"
 #include "transform.h"
@@ -31,6 +32,8 @@ typedef struct rs_shape {
   float eta;
   rs_colour ks;
   float alpha;
+  int general; /* material built as lobes at each hit (materials.h) */
+  rs_material gmat;
   int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
 } rs_shape;
