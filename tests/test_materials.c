@@ -129,8 +129,9 @@ static void test_texture_formulas(void **state) {
     float amount = (((int)floorf(r[0]) + (int)floorf(r[1])) % 2 == 0) ? 0.25f : 1.0f;
     assert_true(fabsf(eval_at(&set, m, r[0], r[1], 0, 0, 0, 0) - (1 - amount)) < 1e-6f);
     assert_true(fabsf(eval_at(&set, m, r[0], r[1], 0, 0, 0, 2) - amount) < 1e-6f);
+    /* pbrt-v3's CreateDots*Texture swaps them: "inside" is the colour outside the dots */
     assert_true(eval_at(&set, dots, r[0], r[1], 0, 0, 0, 1) ==
-                (float)rs_dots_inside(4.0f * r[0], r[1]));
+                (float)!rs_dots_inside(4.0f * r[0], r[1]));
     float ps = 0.5f + p[2], pt = p[0];
     float ck = (((int)floorf(ps) + (int)floorf(pt)) % 2 == 0) ? 1.0f : 0.0f;
     assert_true(eval_at(&set, pl, 0, 0, p[0], p[1], p[2], 0) == ck);

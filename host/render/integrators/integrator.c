@@ -8,6 +8,7 @@
 #include "render_error.h"
 #include "grow.h"
 #include "integrator.h"
+#include "light_distribution.h"
 #include "microfacet.h"
 #include "pcg32.h"
 #include "render_scene.h"
@@ -144,11 +145,14 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
     }
     it->path_bounces_in_layout = b + 1;
   }
+  if (strcmp(strategy, "spatial") == 0 && it->light_count > 1)
+    CLR_CHECK(clr_light_distribution_create(scene, &it->light_spatial));
   return build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
 }
 
 void clr_integrator_free(clr_integrator *it) {
   free(it->light_cdf);
+  clr_light_distribution_free(it->light_spatial);
   free(it->light_samples);
   free(it->light_offsets);
   memset(it, 0, sizeof *it);
@@ -619,17 +623,19 @@ static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
 }
 
 /* pbrt Distribution1D::SampleDiscrete over the light cdf. */
-static int choose_light(const clr_integrator *it, float u, float *pdf) {
+static int choose_light(const clr_integrator *it, const float p[3], float u, float *pdf) {
+  const float *cdf = it->light_spatial ? clr_light_distribution_lookup(it->light_spatial, p) : NULL;
+  if (!cdf) cdf = it->light_cdf;
   int lo = 0, hi = it->light_count - 1;
   while (lo < hi) {
     int mid = (lo + hi + 1) / 2;
-    if (it->light_cdf[mid] <= u)
+    if (cdf[mid] <= u)
       lo = mid;
     else
       hi = mid - 1;
   }
-  while (lo < it->light_count - 1 && it->light_cdf[lo + 1] - it->light_cdf[lo] <= 0.0f) ++lo;
-  *pdf = it->light_cdf[lo + 1] - it->light_cdf[lo];
+  while (lo < it->light_count - 1 && cdf[lo + 1] - cdf[lo] <= 0.0f) ++lo;
+  *pdf = cdf[lo + 1] - cdf[lo];
   return lo;
 }
 
@@ -1067,7 +1073,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       if (it->light_count &&
           (!sf->general || clr_bsdf_count(&sf->bsdf, CLR_BXDF_NON_SPECULAR) > 0)) {
         float lpdf;
-        int light = choose_light(it, path_value(it, v, keys[i], bounces, 0), &lpdf);
+        int light = choose_light(it, sf->p, path_value(it, v, keys[i], bounces, 0), &lpdf);
         if (lpdf > 0.0f) {
           direct_job *jb = &s->jobs[nj++];
           jb->sample = i;

@@ -28,6 +28,7 @@ struct clr_render_scene {
   int instance_count;
   rs_light_set lights;
   float world_center[3];
+  float world_lo[3], world_hi[3]; /* pbrt-v3 Scene::WorldBound */
 };
 
 static void rs_xform_m16(const clr_transform *t, float out[16]) {
@@ -36,6 +37,10 @@ static void rs_xform_m16(const clr_transform *t, float out[16]) {
 }
 
 clr_tracer clr_render_scene_tracer(const clr_render_scene *scene) { return scene->tracer; }
+void clr_render_scene_world_bounds(const clr_render_scene *scene, float lo[3], float hi[3]) {
+  memcpy(lo, scene->world_lo, 3 * sizeof(float));
+  memcpy(hi, scene->world_hi, 3 * sizeof(float));
+}
 int32_t clr_render_scene_light_count(const clr_render_scene *scene) { return scene->lights.count; }
 
 void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
@@ -461,6 +466,8 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     hi[0] = hi[1] = hi[2] = 0;
   }
   float diag[3];
+  memcpy(s->world_lo, lo, sizeof lo);
+  memcpy(s->world_hi, hi, sizeof hi);
   for (int i = 0; i < 3; ++i) {
     s->world_center[i] = 0.5f * (lo[i] + hi[i]);
     diag[i] = hi[i] - s->world_center[i];

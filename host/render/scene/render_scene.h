@@ -34,6 +34,8 @@ void clr_render_scene_free(clr_render_scene *scene);
 void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *settings);
 
 clr_tracer clr_render_scene_tracer(const clr_render_scene *scene);
+/* The bounds of every shape (pbrt-v3 Scene::WorldBound). */
+void clr_render_scene_world_bounds(const clr_render_scene *scene, float lo[3], float hi[3]);
 
 /* --- camera (pbrt-v3 perspective/orthographic, thin lens) --- */
 /* Must be called once the final film resolution / crop is known (before generating rays). */

@@ -213,9 +213,9 @@ static int build_type(rs_texture *t, const clr_texture_desc *td) {
   } else if (strcmp(type, "uv") == 0) { /* pbrt-v3 UVTexture: (s - floor s, t - floor t, 0) */
     t->type = RS_TEX_UV;
   } else if (strcmp(type, "dots") == 0) {
-    t->type = RS_TEX_DOTS;
-    kind_param(td, "inside", 1.0f, &t->tex1);
-    kind_param(td, "outside", 0.0f, &t->tex2);
+    t->type = RS_TEX_DOTS; /* pbrt-v3 passes "inside" as the outside texture and vice versa */
+    kind_param(td, "outside", 0.0f, &t->tex1);
+    kind_param(td, "inside", 1.0f, &t->tex2);
   } else if (strcmp(type, "fbm") == 0 || strcmp(type, "wrinkled") == 0) {
     t->type = type[0] == 'f' ? RS_TEX_FBM : RS_TEX_WRINKLED;
     t->octaves = clr_params_find_int(p, "octaves", 8);
