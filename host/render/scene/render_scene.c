@@ -11,6 +11,7 @@
 #include "ply_reader.h"
 #include "camera.h"
 #include "lights.h"
+#include "quadric_shapes.h"
 #include "render_scene.h"
 #include "shapes.h"
 #include "textures.h"
@@ -221,6 +222,10 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
       }
     return;
   }
+  if (sh->type == RS_SHAPE_QUADRIC) {
+    rs_quadric_bounds(&sh->quadric, &sh->object_to_world, lo, hi);
+    return;
+  }
   for (int c = 0; c < 8; ++c) {
     float q[3] = {(c & 1) ? sh->radius : -sh->radius, (c & 2) ? sh->radius : -sh->radius,
                   (c & 4) ? sh->radius : -sh->radius},
@@ -338,6 +343,9 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
                                   p->file ? p->file : "?", p->line, (double)sh->inner_radius,
                                   (double)sh->radius, (double)phimax);
       sh->phimax = phimax * RS_PI / 180.0f;
+    } else if (rs_is_quadric(sd->type)) {
+      sh->type = RS_SHAPE_QUADRIC;
+      CLR_CHECK(rs_quadric_from_params(sd->type, p, &sh->quadric));
     } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
@@ -399,6 +407,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     int index = s->shape_count - 1;
     if (sh->type == RS_SHAPE_MESH) {
       CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
+    } else if (sh->type == RS_SHAPE_QUADRIC) {
+      float xf[16];
+      rs_xform_m16(&sh->object_to_world, xf);
+      CLR_CHECK(clr_tracer_add_quadric(s->tracer, group, xf, &sh->quadric, (uint32_t)index, NULL));
     } else if (sh->type == RS_SHAPE_DISK) {
       float xf[16];
       rs_xform_m16(&sh->object_to_world, xf);
@@ -416,7 +428,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     }
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
-      if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
+      if (sh->type == RS_SHAPE_QUADRIC) {
+        warn_fmt(warn, wu, "%s:%d: area light on a \"%s\" not supported: ignored", p->file, p->line,
+                 sd->type);
+      } else if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
         warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line,
                  a->type);
       } else {
@@ -684,6 +699,13 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     clr_transform o2w =
         inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     disk_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
+  } else if (sh->type == RS_SHAPE_QUADRIC) {
+    clr_transform o2w =
+        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
+                   ray->oz + hit->t * ray->dz};
+    rs_quadric_surface(&sh->quadric, &o2w, pw, p, n, uv, dpdu);
+    if (sh->flip_normal) negate(n);
   } else {
     clr_transform o2w =
         inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;

@@ -5,10 +5,11 @@
 
 #include "materials.h"
 #include "mesh.h"
+#include "quadrics.h"
 #include "textures.h"
 #include "transform.h"
 
-typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK } rs_shape_type;
+typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK, RS_SHAPE_QUADRIC } rs_shape_type;
 
 typedef struct rs_shape {
   rs_shape_type type;
@@ -17,6 +18,7 @@ typedef struct rs_shape {
   float height, inner_radius, phimax; /* disk (phimax in radians); sphere: phimax too */
   float zmin, zmax;                   /* sphere: pbrt-v3's clipping (object space), with phimax */
   int partial;                        /* sphere clipped by zmin/zmax/phimax */
+  clr_quadric quadric;                /* cylinder, cone, paraboloid, hyperboloid */
   clr_transform object_to_world;      /* sphere: object to world (or to instance) */
   int flip_normal;                    /* pbrt reverseOrientation ^ transformSwapsHandedness */
   int has_material;
