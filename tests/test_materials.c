@@ -428,12 +428,42 @@ static void test_rough_glass_limit(void **state) {
     }
 }
 
+/* pbrt-v3 Material::Bump on a plane: a float imagemap (2x1 PNG, 0 and 1, gamma off, bilinear,
+ * scale 0.5) is linear in u with slope 1 between its texel centres, so the displaced plane tilts
+ * by 45 degrees: under a distant light along the plane's normal (L = pi, matte Kd 1) the radiance
+ * is cos 45 = 0.70711 there. Both integrators. */
+static void test_bump_plane(void **state) {
+  (void)state;
+  float rgb[6] = {0, 0, 0, 1, 1, 1};
+  clr_image im = {2, 1, rgb};
+  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/materials_ramp.png", &im), CLR_SUCCESS);
+  for (int t = 0; t < 2; ++t) {
+    char scene[2048];
+    snprintf(scene, sizeof scene,
+             "LookAt 0.5 0.5 5  0.5 0.5 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" "
+             "[-0.2 0.2 -0.2 0.2]\nFilm \"image\" \"integer xresolution\" [8] \"integer "
+             "yresolution\" [8]\nSampler \"halton\" \"integer pixelsamples\" [1] \"bool "
+             "samplepixelcenter\" \"true\"\nIntegrator \"%s\"\nWorldBegin\n"
+             "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" "
+             "[3.14159265 3.14159265 3.14159265]\n"
+             "Texture \"ramp\" \"float\" \"imagemap\" \"string filename\" \"materials_ramp.png\" "
+             "\"bool gamma\" \"false\" \"float scale\" [0.5] \"string wrap\" \"clamp\"\n"
+             "Material \"matte\" \"rgb Kd\" [1 1 1] \"texture bumpmap\" \"ramp\"\n"
+             "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [0 0 0  1 0 0  "
+             "1 1 0  0 1 0] \"float uv\" [0 0 1 0 1 1 0 1]\nWorldEnd\n",
+             t ? "directlighting" : "path");
+    double m = render_mean(scene);
+    fprintf(stderr, "bumped plane (%s): %.6f, expected 0.707107\n", t ? "direct" : "path", m);
+    assert_true(fabs(m - 0.70710678) < 1e-4);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_noise_values),      cmocka_unit_test(test_texture_formulas),
       cmocka_unit_test(test_imagemap_options),  cmocka_unit_test(test_lobes_sample_pdf_f),
       cmocka_unit_test(test_lobes_reciprocity), cmocka_unit_test(test_material_furnaces),
-      cmocka_unit_test(test_rough_glass_limit),
+      cmocka_unit_test(test_rough_glass_limit), cmocka_unit_test(test_bump_plane),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

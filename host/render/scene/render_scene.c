@@ -11,6 +11,7 @@
 #include "ply_reader.h"
 #include "camera.h"
 #include "lights.h"
+#include "bump.h"
 #include "quadric_shapes.h"
 #include "render_scene.h"
 #include "shapes.h"
@@ -384,6 +385,8 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       sh->alpha = remap ? clr_tr_roughness_to_alpha(rough) : rough;
     }
     oren_nayar_params(sd, md, mtype, sh);
+    sh->bump = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
+    if (sh->has_material) rs_float_param(&sd->params, &md->params, "bumpmap", 0.0f, &sh->bump);
     if (sh->has_material) {
       sh->general = 0;
       if (rs_material_build(d, md, &sd->params, &sh->gmat) && rs_material_needs_lobes(&sh->gmat))
@@ -668,6 +671,79 @@ static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr
   if (sh->flip_normal) negate(n);
 }
 
+/* pbrt-v3's shading dpdv (and dndu, dndv for spheres; 0 for the other shapes) at a hit, for
+ * Material::Bump; dpdu becomes the unit shading tangent for meshes with normals, as pbrt-v3's
+ * Triangle sets it. o2w: object (or mesh) to world. */
+static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const clr_hit *hit,
+                          const float pw[3], const float ns[3], int has_ns, float dpdu[3],
+                          float dpdv[3], float dndu[3], float dndv[3]) {
+  float zero[3] = {0, 0, 0}, po[3], v[3] = {0, 0, 0};
+  memcpy(dndu, zero, sizeof zero);
+  memcpy(dndv, zero, sizeof zero);
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  if (sh->type == RS_SHAPE_MESH) {
+    if (has_ns) {
+      float ss[3] = {dpdu[0], dpdu[1], dpdu[2]}, ts[3];
+      rs_normalize(ss);
+      rs_cross(ss, ns, ts);
+      if (rs_dot(ts, ts) > 0.0f) {
+        rs_normalize(ts);
+        rs_cross(ts, ns, ss);
+      }
+      memcpy(dpdu, ss, sizeof ss);
+      memcpy(dpdv, ts, sizeof ts);
+      return;
+    }
+    const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
+    const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1],
+                *p2 = sh->mesh.p + 3 * ix[2];
+    float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
+    if (sh->mesh.uv) {
+      memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
+      memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
+      memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
+    }
+    float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
+          dv12 = uv1[1] - uv2[1], det = du02 * dv12 - dv02 * du12;
+    if (fabsf(det) < 1e-8f) {
+      rs_cross(ns, dpdu, dpdv);
+      return;
+    }
+    for (int i = 0; i < 3; ++i) v[i] = (-du12 * (p0[i] - p2[i]) + du02 * (p1[i] - p2[i])) / det;
+  } else if (sh->type == RS_SHAPE_SPHERE) {
+    float r = sh->radius, zr = sqrtf(po[0] * po[0] + po[1] * po[1]);
+    float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / r)), st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+    float t0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmin / r : -1.0f)));
+    float t1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmax / r : 1.0f)));
+    float cp = zr > 0.0f ? po[0] / zr : 1.0f, sp = zr > 0.0f ? po[1] / zr : 0.0f;
+    float du_o[3] = {-(sh->partial ? sh->phimax : 2.0f * RS_PI) * po[1],
+                     (sh->partial ? sh->phimax : 2.0f * RS_PI) * po[0], 0.0f};
+    float dv_o[3] = {(t1 - t0) * po[2] * cp, (t1 - t0) * po[2] * sp, -(t1 - t0) * r * st}, w[3];
+    memcpy(v, dv_o, sizeof v);
+    for (int i = 0; i < 3; ++i) { /* n = p / r on a sphere */
+      du_o[i] /= r;
+      dv_o[i] /= r;
+    }
+    clr_transform_normal(o2w, du_o, dndu);
+    clr_transform_normal(o2w, dv_o, w);
+    memcpy(dndv, w, sizeof w);
+  } else if (sh->type == RS_SHAPE_DISK) {
+    float r = sqrtf(po[0] * po[0] + po[1] * po[1]),
+          k = r > 0.0f ? (sh->inner_radius - sh->radius) / r : 0.0f;
+    v[0] = po[0] * k;
+    v[1] = po[1] * k;
+  } else {
+    double pd[3] = {po[0], po[1], po[2]}, uvd[2], du[3], dv[3];
+    clr_quadric qi = sh->quadric;
+    const char *why;
+    clr_quadric_init(&qi, &why);
+    clr_quadric_param(&qi, pd, uvd, du, dv);
+    for (int i = 0; i < 3; ++i) v[i] = (float)dv[i];
+  }
+  clr_transform_vector(o2w, v, dpdv);
+}
+
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
@@ -710,6 +786,18 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     clr_transform o2w =
         inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
+  }
+  if (sh->has_material && sh->bump.texture >= 0) { /* pbrt-v3 Material::Bump */
+    clr_transform o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : sh->object_to_world;
+    if (inst) o2w = clr_transform_compose(inst, &o2w);
+    float nsh[3], dpdv[3], dndu[3], dndv[3];
+    memcpy(nsh, has_ns ? ns : n, sizeof nsh);
+    rs_normalize(nsh);
+    if (rs_dot(nsh, n) < 0.0f) negate(nsh);
+    bump_partials(sh, &o2w, hit, p, nsh, has_ns, dpdu, dpdv, dndu, dndv);
+    rs_bump(&s->textures, &sh->bump, p, uv, n, dpdu, dpdv, dndu, dndv, nsh);
+    memcpy(ns, nsh, sizeof ns);
+    has_ns = 1;
   }
   memcpy(out->p, p, sizeof p);
   memcpy(out->n_geom, n, sizeof n);

@@ -34,7 +34,8 @@ typedef struct rs_shape {
   float eta;
   rs_colour ks;
   float alpha;
-  int general; /* material built as lobes at each hit (materials.h) */
+  rs_colour bump; /* material "bumpmap" (float texture; texture -1: none) */
+  int general;    /* material built as lobes at each hit (materials.h) */
   rs_material gmat;
   int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
