@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "blackbody.h"
+#include "envmap.h"
 #include "render_error.h"
 #include "lights.h"
 #include "vec3.h"
@@ -42,6 +44,11 @@ static clr_result push_light(rs_light_set *set, const rs_light *l) {
 static void scaled_colour(const clr_param_list *p, const char *name, float out[3]) {
   float one[3] = {1, 1, 1}, sc[3];
   clr_params_find_rgb(p, name, one, out);
+  const clr_param *bb = clr_params_find(p, name, CLR_PARAM_BLACKBODY);
+  if (bb && bb->count >= 2) { /* pbrt-v3: (temperature, scale) pairs; a light uses the first */
+    rs_blackbody_rgb(bb->floats[0], out);
+    for (int i = 0; i < 3; ++i) out[i] *= bb->floats[1];
+  }
   clr_params_find_rgb(p, "scale", one, sc);
   const clr_param *fs = clr_params_find(p, "scale", CLR_PARAM_FLOAT);
   if (fs && fs->count == 1) sc[0] = sc[1] = sc[2] = fs->floats[0];
@@ -103,15 +110,25 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
     l.type = RS_LIGHT_INFINITE;
     scaled_colour(p, "L", l.colour);
     const char *map = clr_params_find_string(p, "mapname", "");
-    if (map[0] && warn) {
-      char m[512];
-      snprintf(m, sizeof m, "%s:%d: infinite light \"mapname\" not supported: using constant L",
-               p->file, p->line);
-      warn(wu, m);
-    }
     linear_part(ctm->m, l.light_to_world);
     linear_part(ctm->m_inv, l.to_light);
     l.power = luminance(l.colour) * RS_PI * set->world_radius * set->world_radius;
+    if (map[0]) {
+      char path[4096];
+      const char *slash = p->file && map[0] != '/' ? strrchr(p->file, '/') : NULL;
+      if (slash)
+        snprintf(path, sizeof path, "%.*s/%s", (int)(slash - p->file), p->file, map);
+      else
+        snprintf(path, sizeof path, "%s", map);
+      clr_result r = rs_envmap_load(path, l.colour, &l.envmap);
+      if (r != CLR_SUCCESS)
+        return clr_set_last_error(r, "%s:%d: infinite light \"mapname\" \"%s\": %s",
+                                  p->file ? p->file : "?", p->line, path, clr_last_error_message());
+      l.power = l.envmap->mean_y * RS_PI * set->world_radius * set->world_radius;
+      clr_result pr = push_light(set, &l);
+      if (pr != CLR_SUCCESS) rs_envmap_free(l.envmap);
+      return pr;
+    }
   } else {
     if (warn) {
       char m[512];
@@ -130,6 +147,7 @@ clr_result rs_lights_build(rs_light_set *set, const clr_scene_desc *d, clr_warn_
 }
 
 void rs_lights_free(rs_light_set *set) {
+  for (int i = 0; i < set->count; ++i) rs_envmap_free(set->items[i].envmap);
   free(set->items);
   free(set->infinite);
   set->items = NULL;
@@ -361,14 +379,19 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       for (int i = 0; i < 3; ++i) target[i] = p[i] + l->dir[i] * 2.0f * set->world_radius;
       break;
     case RS_LIGHT_INFINITE: {
-      float theta = u[1] * RS_PI, phi = u[0] * 2.0f * RS_PI;
+      float uv[2] = {u[0], u[1]}, map_pdf = 1.0f;
+      if (l->envmap && !((map_pdf = rs_envmap_sample(l->envmap, u, uv)) > 0.0f)) return;
+      float theta = uv[1] * RS_PI, phi = uv[0] * 2.0f * RS_PI;
       float st = sinf(theta), ct = cosf(theta);
       if (st == 0.0f) return;
       float wl[3] = {st * cosf(phi), st * sinf(phi), ct};
       mat3_vec(l->light_to_world, wl, ls->wi);
       rs_normalize(ls->wi);
-      ls->pdf = 1.0f / (2.0f * RS_PI * RS_PI * st);
-      memcpy(ls->li, l->colour, sizeof ls->li);
+      ls->pdf = map_pdf / (2.0f * RS_PI * RS_PI * st);
+      if (l->envmap)
+        rs_envmap_lookup(l->envmap, uv[0], uv[1], ls->li);
+      else
+        memcpy(ls->li, l->colour, sizeof ls->li);
       for (int i = 0; i < 3; ++i) target[i] = p[i] + ls->wi[i] * 2.0f * set->world_radius;
       break;
     }
@@ -396,6 +419,14 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
   shadow_to(p, ng, target, &ls->shadow);
 }
 
+/* pbrt-v3's lat-long coordinates of a light-space unit direction: (phi / 2 pi, theta / pi). */
+static void envmap_coords(const float w[3], float *s, float *t) {
+  float phi = atan2f(w[1], w[0]);
+  if (phi < 0.0f) phi += 2.0f * RS_PI;
+  *s = phi / (2.0f * RS_PI);
+  *t = acosf(fminf(1.0f, fmaxf(-1.0f, w[2]))) / RS_PI;
+}
+
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,
                    const float n_hit[3]) {
   const rs_light *l = &set->items[light];
@@ -404,8 +435,13 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     mat3_vec(l->to_light, wi, wl);
     rs_normalize(wl);
     float ct = fminf(1.0f, fmaxf(-1.0f, wl[2]));
-    float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
-    return st == 0.0f ? 0.0f : 1.0f / (2.0f * RS_PI * RS_PI * st);
+    float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct)), map_pdf = 1.0f;
+    if (l->envmap) {
+      float s_, t_;
+      envmap_coords(wl, &s_, &t_);
+      map_pdf = rs_envmap_pdf(l->envmap, s_, t_);
+    }
+    return st == 0.0f ? 0.0f : map_pdf / (2.0f * RS_PI * RS_PI * st);
   }
   if (l->type == RS_LIGHT_AREA_SPHERE) {
     float wc[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
@@ -426,8 +462,13 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
 
 void rs_light_le(const rs_light_set *set, int light, const float d[3], float le[3]) {
   const rs_light *l = &set->items[light];
-  (void)d;
-  if (l->type == RS_LIGHT_INFINITE)
+  if (l->type == RS_LIGHT_INFINITE && l->envmap) {
+    float wl[3], s_, t_;
+    mat3_vec(l->to_light, d, wl);
+    rs_normalize(wl);
+    envmap_coords(wl, &s_, &t_);
+    rs_envmap_lookup(l->envmap, s_, t_, le);
+  } else if (l->type == RS_LIGHT_INFINITE)
     memcpy(le, l->colour, 3 * sizeof(float));
   else
     le[0] = le[1] = le[2] = 0.0f;

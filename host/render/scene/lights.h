@@ -32,6 +32,7 @@ typedef struct rs_light {
   float radius; /* sphere */
   int nsamples;
   float power;
+  struct rs_envmap *envmap; /* infinite light "mapname" (owned by the light set), or NULL */
 } rs_light;
 
 /* Every light of the scene; infinite lights also listed apart (they are not contiguous). */

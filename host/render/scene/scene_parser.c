@@ -421,7 +421,7 @@ static clr_result check_value_count(parser *p, const clr_param *q, const locatio
     return clr_set_last_error(
         CLR_ERROR_PARSE, "%s:%d:%d: expected a multiple of %d values for %s parameter '%s', got %d",
         decl->file, decl->line, decl->col, arity, type, q->name, q->count);
-  if (q->type == CLR_PARAM_XYZ || q->type == CLR_PARAM_BLACKBODY || q->type == CLR_PARAM_SPECTRUM)
+  if (q->type == CLR_PARAM_XYZ || q->type == CLR_PARAM_SPECTRUM) /* blackbody: converted */
     warnf(p,
           "%s:%d: parameter '%s' has spectral type '%s', which clrender keeps unconverted "
           "(use rgb)",

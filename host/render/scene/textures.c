@@ -7,6 +7,7 @@
 #include <strings.h>
 #include "render_error.h"
 #include "clrender/image.h"
+#include "blackbody.h"
 #include "procedural_textures.h"
 #include "textures.h"
 
@@ -25,6 +26,12 @@ void rs_colour_param(const clr_param_list *first, const clr_param_list *second, 
     if (clr_params_find(lists[i], name, CLR_PARAM_RGB)) {
       float d[3] = {def, def, def};
       clr_params_find_rgb(lists[i], name, d, out->rgb);
+      return;
+    }
+    const clr_param *bb = clr_params_find(lists[i], name, CLR_PARAM_BLACKBODY);
+    if (bb && bb->count >= 2) { /* pbrt-v3: the first (temperature, scale) pair */
+      rs_blackbody_rgb(bb->floats[0], out->rgb);
+      for (int k = 0; k < 3; ++k) out->rgb[k] *= bb->floats[1];
       return;
     }
     const clr_param *f = clr_params_find(lists[i], name, CLR_PARAM_FLOAT);
