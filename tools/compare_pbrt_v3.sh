@@ -10,6 +10,7 @@ clr=${2:-$here/build/clrender}
 out=${3:-$(mktemp -d)}
 ref_spp=${REF_SPP:-1024}
 mkdir -p "$out"
+cp "$here"/tests/data/scenes/*.png "$out"/  # images the scenes name, beside the reference copies
 printf '%-14s %12s %12s %10s\n' scene rmse_clr16 rmse_pbrt16 mean_ratio
 for scene in "$here"/tests/data/scenes/v3_*.pbrt; do
   name=$(basename "$scene" .pbrt)
