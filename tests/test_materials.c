@@ -565,6 +565,48 @@ static void test_camera_motion_blur(void **state) {
   clr_scene_desc_free(desc);
 }
 
+/* Projection and goniometric lights (I = 2) at the origin with a 1x1 PNG map (byte 128: pbrt-v3
+ * reads 128 / 255 as linear) over a white matte plane at z = 1: radiance 2 v / (pi d^3) at
+ * distance d; the projection (fov 60) lights only |x|, |y| < tan 30 degrees. */
+static void test_pattern_lights(void **state) {
+  (void)state;
+  float rgb[3] = {0.21586f, 0.21586f, 0.21586f}; /* sRGB byte 128 */
+  clr_image im1 = {1, 1, rgb};
+  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/materials_1x1.png", &im1), CLR_SUCCESS);
+  const double v = 128.0 / 255.0, t30 = tan(PI_D / 6);
+  for (int kind = 0; kind < 2; ++kind) {
+    char scene[2048];
+    snprintf(scene, sizeof scene,
+             "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"orthographic\"\nFilm \"image\" \"integer "
+             "xresolution\" [16] \"integer yresolution\" [16]\nSampler \"halton\" \"integer "
+             "pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\nIntegrator "
+             "\"directlighting\"\nWorldBegin\nLightSource \"%s\" \"string mapname\" "
+             "\"materials_1x1.png\" \"rgb I\" [2 2 2]%s\n"
+             "Material \"matte\" \"rgb Kd\" [1 1 1]\nShape \"trianglemesh\" \"integer "
+             "indices\" [0 1 2 0 2 3] \"point P\" [-5 -5 1  5 -5 1  5 5 1  -5 5 1]\nWorldEnd\n",
+             kind ? "goniometric" : "projection", kind ? "" : " \"float fov\" [60]");
+    clr_scene_desc *desc = parse(scene);
+    clr_render_options o;
+    clr_render_options_init(&o);
+    o.quiet = 1;
+    clr_render_image im;
+    memset(&im, 0, sizeof im);
+    assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+    for (int py = 0; py < 16; ++py)
+      for (int px = 0; px < 16; ++px) {
+        double x = -1 + 2 * (px + 0.5) / 16, y = 1 - 2 * (py + 0.5) / 16;
+        double d = sqrt(x * x + y * y + 1), e = 2 * v / (PI_D * d * d * d);
+        if (!kind && (fabs(x) > t30 || fabs(y) > t30)) e = 0;
+        double got = im.rgb[3 * (py * 16 + px)];
+        if (fabs(got - e) > 1e-4)
+          fprintf(stderr, "%s px %d %d: %g vs %g\n", kind ? "gonio" : "proj", px, py, got, e);
+        assert_true(fabs(got - e) <= 1e-4);
+      }
+    free(im.rgb);
+    clr_scene_desc_free(desc);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_noise_values),
@@ -578,6 +620,7 @@ int main(void) {
       cmocka_unit_test(test_infinite_map_and_blackbody),
       cmocka_unit_test(test_progress_eta),
       cmocka_unit_test(test_camera_motion_blur),
+      cmocka_unit_test(test_pattern_lights),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -60,6 +60,68 @@ static void linear_part(const float m[4][4], float out[3][3]) {
     for (int j = 0; j < 3; ++j) out[i][j] = m[i][j];
 }
 
+/* Loads a pattern light's image (none: a factor of 1), its screen and power, and adds it. */
+static clr_result pattern_light(rs_light_set *set, rs_light *l, const clr_param_list *p) {
+  const char *map = clr_params_find_string(p, "mapname", "");
+  float aspect = 1.0f, average = 1.0f;
+  if (map[0]) {
+    char path[4096];
+    const char *slash = p->file && map[0] != '/' ? strrchr(p->file, '/') : NULL;
+    if (slash)
+      snprintf(path, sizeof path, "%.*s/%s", (int)(slash - p->file), p->file, map);
+    else
+      snprintf(path, sizeof path, "%s", map);
+    const float one[3] = {1, 1, 1};
+    clr_result r = rs_envmap_load(path, one, &l->envmap);
+    if (r != CLR_SUCCESS)
+      return clr_set_last_error(
+          r, "%s:%d: %s light \"mapname\" \"%s\": %s", p->file ? p->file : "?", p->line,
+          l->pattern == 1 ? "goniometric" : "projection", path, clr_last_error_message());
+    aspect = (float)l->envmap->w / (float)l->envmap->h;
+    average = l->envmap->mean_y;
+  }
+  float x = aspect > 1.0f ? aspect : 1.0f, y = aspect > 1.0f ? 1.0f : 1.0f / aspect;
+  l->proj_screen[0] = -x;
+  l->proj_screen[1] = x;
+  l->proj_screen[2] = -y;
+  l->proj_screen[3] = y;
+  if (l->pattern == 1) {
+    l->power = 4.0f * RS_PI * luminance(l->colour) * average;
+  } else {
+    float tan_diag = l->proj_tan * sqrtf(1.0f + 1.0f / (aspect * aspect));
+    l->power = luminance(l->colour) * average * 2.0f * RS_PI * (1.0f - cosf(atanf(tan_diag)));
+  }
+  clr_result r = push_light(set, l);
+  if (r != CLR_SUCCESS) rs_envmap_free(l->envmap);
+  return r;
+}
+
+/* pbrt-v3 GonioPhotometricLight::Scale and ProjectionLight::Projection for the world direction
+ * w leaving the light. */
+static float pattern_factor(const rs_light *l, const float w[3], float rgb[3]) {
+  rgb[0] = rgb[1] = rgb[2] = 1.0f;
+  float wl[3];
+  mat3_vec(l->to_light, w, wl);
+  rs_normalize(wl);
+  if (l->pattern == 1) {
+    float t = wl[1]; /* pbrt-v3 swaps y and z */
+    wl[1] = wl[2];
+    wl[2] = t;
+    float phi = atan2f(wl[1], wl[0]);
+    if (phi < 0.0f) phi += 2.0f * RS_PI;
+    float theta = acosf(fminf(1.0f, fmaxf(-1.0f, wl[2])));
+    if (l->envmap) rs_envmap_lookup(l->envmap, phi / (2.0f * RS_PI), theta / RS_PI, rgb);
+    return 1.0f;
+  }
+  if (wl[2] < 1e-3f) return 0.0f;
+  float px = wl[0] / (wl[2] * l->proj_tan), py = wl[1] / (wl[2] * l->proj_tan);
+  const float *b = l->proj_screen;
+  if (px < b[0] || px > b[1] || py < b[2] || py > b[3]) return 0.0f;
+  if (l->envmap)
+    rs_envmap_lookup(l->envmap, (px - b[0]) / (b[1] - b[0]), (py - b[2]) / (b[3] - b[2]), rgb);
+  return 1.0f;
+}
+
 static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_warn_fn warn,
                               void *wu) {
   const clr_param_list *p = &ld->params;
@@ -97,6 +159,17 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
       l.power =
           luminance(l.colour) * 2.0f * RS_PI * (1.0f - 0.5f * (l.cos_falloff_start + l.cos_total));
     }
+  } else if (strcmp(ld->type, "goniometric") == 0 || strcmp(ld->type, "projection") == 0) {
+    /* pbrt-v3 GonioPhotometricLight / ProjectionLight: a point light at the CTM's origin whose
+     * intensity is scaled by an image looked up by direction */
+    l.type = RS_LIGHT_POINT;
+    l.pattern = ld->type[0] == 'g' ? 1 : 2;
+    scaled_colour(p, "I", l.colour);
+    clr_transform_point(ctm, zero, l.pos);
+    linear_part(ctm->m_inv, l.to_light);
+    float fov = l.pattern == 2 ? clr_params_find_float(p, "fov", 45.0f) : 45.0f;
+    l.proj_tan = tanf(fov * RS_PI / 360.0f);
+    return pattern_light(set, &l, p);
   } else if (strcmp(ld->type, "distant") == 0) {
     l.type = RS_LIGHT_DISTANT;
     scaled_colour(p, "L", l.colour);
@@ -362,12 +435,15 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       if (!(d2 > 0.0f)) return;
       memcpy(ls->wi, d, sizeof d);
       rs_normalize(ls->wi);
-      float f = 1.0f;
+      float f = 1.0f, pat[3] = {1.0f, 1.0f, 1.0f};
       if (l->type == RS_LIGHT_SPOT) {
         float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
         f = spot_falloff(l, w);
+      } else if (l->pattern) {
+        float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
+        f = pattern_factor(l, w, pat);
       }
-      for (int i = 0; i < 3; ++i) ls->li[i] = l->colour[i] * f / d2;
+      for (int i = 0; i < 3; ++i) ls->li[i] = l->colour[i] * pat[i] * f / d2;
       ls->pdf = 1.0f;
       memcpy(target, l->pos, sizeof target);
       break;
