@@ -147,7 +147,12 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
   }
   if (strcmp(strategy, "spatial") == 0 && it->light_count > 1)
     CLR_CHECK(clr_light_distribution_create(scene, &it->light_spatial));
-  return build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
+  clr_result r = build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
+  if (r != CLR_SUCCESS) {
+    clr_light_distribution_free(it->light_spatial);
+    it->light_spatial = NULL;
+  }
+  return r;
 }
 
 void clr_integrator_free(clr_integrator *it) {

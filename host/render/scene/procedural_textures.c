@@ -40,7 +40,13 @@ static float noise_weight(float t) {
 
 static float lerp(float t, float a, float b) { return (1.0f - t) * a + t * b; }
 
+/* Coordinates whose floor fits an int (others: the pattern is flat there). */
+static int in_range(float x, float y, float z) {
+  return fabsf(x) < 1e9f && fabsf(y) < 1e9f && fabsf(z) < 1e9f;
+}
+
 float rs_noise(float x, float y, float z) {
+  if (!in_range(x, y, z)) return 0.0f;
   float fx = floorf(x), fy = floorf(y), fz = floorf(z);
   int ix = (int)fx, iy = (int)fy, iz = (int)fz;
   float dx = x - fx, dy = y - fy, dz = z - fz;
@@ -110,6 +116,7 @@ void rs_marble(const float p[3], float omega, int octaves, float variation, floa
 }
 
 int rs_dots_inside(float s, float t) {
+  if (!in_range(s, t, 0.0f)) return 0;
   float s_cell = floorf(s + 0.5f), t_cell = floorf(t + 0.5f);
   if (!(rs_noise(s_cell + 0.5f, t_cell + 0.5f, 0.5f) > 0.0f)) return 0;
   const float radius = 0.35f, max_shift = 0.5f - radius;
@@ -120,5 +127,6 @@ int rs_dots_inside(float s, float t) {
 }
 
 int rs_checker3d_first(const float p[3]) {
+  if (!in_range(p[0], p[1], p[2])) return 1;
   return ((int)floorf(p[0]) + (int)floorf(p[1]) + (int)floorf(p[2])) % 2 == 0;
 }

@@ -39,9 +39,8 @@ clr_result rs_quadric_from_params(const char *type, const clr_param_list *p, clr
       q->p2[k] = b[k];
     }
   }
-  clr_quadric check = *q;
   const char *why;
-  if (!clr_quadric_init(&check, &why))
+  if (!clr_quadric_init(q, &why)) /* q keeps the derived values the surface needs */
     return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: Shape \"%s\": %s", p->file ? p->file : "?",
                               p->line, type, why);
   return CLR_SUCCESS;
@@ -49,9 +48,7 @@ clr_result rs_quadric_from_params(const char *type, const clr_param_list *p, clr
 
 void rs_quadric_surface(const clr_quadric *q, const clr_transform *o2w, const float pw[3],
                         float p[3], float n[3], float uv[2], float dpdu[3]) {
-  clr_quadric qi = *q;
-  const char *why;
-  clr_quadric_init(&qi, &why);
+  const clr_quadric qi = *q;
   clr_transform w2o = clr_transform_inverse(o2w);
   float po[3];
   clr_transform_point(&w2o, pw, po);
@@ -76,11 +73,8 @@ void rs_quadric_surface(const clr_quadric *q, const clr_transform *o2w, const fl
 }
 
 void rs_quadric_bounds(const clr_quadric *q, const clr_transform *o2w, float lo[3], float hi[3]) {
-  clr_quadric qi = *q;
-  const char *why;
-  clr_quadric_init(&qi, &why);
   double r, z0, z1;
-  clr_quadric_bounds(&qi, &r, &z0, &z1);
+  clr_quadric_bounds(q, &r, &z0, &z1);
   for (int i = 0; i < 3; ++i) {
     lo[i] = INFINITY;
     hi[i] = -INFINITY;

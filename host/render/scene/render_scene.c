@@ -735,10 +735,7 @@ static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const cl
     v[1] = po[1] * k;
   } else {
     double pd[3] = {po[0], po[1], po[2]}, uvd[2], du[3], dv[3];
-    clr_quadric qi = sh->quadric;
-    const char *why;
-    clr_quadric_init(&qi, &why);
-    clr_quadric_param(&qi, pd, uvd, du, dv);
+    clr_quadric_param(&sh->quadric, pd, uvd, du, dv);
     for (int i = 0; i < 3; ++i) v[i] = (float)dv[i];
   }
   clr_transform_vector(o2w, v, dpdv);

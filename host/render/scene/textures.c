@@ -372,6 +372,7 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
         c = &t->value;
         break;
       case RS_TEX_CHECKER:
+        if (!(fabsf(st[0]) < 1e9f && fabsf(st[1]) < 1e9f)) st[0] = st[1] = 0.0f;
         c = (((int)floorf(st[0]) + (int)floorf(st[1])) % 2 == 0) ? &t->tex1 : &t->tex2;
         break;
       case RS_TEX_CHECKER3D:
