@@ -103,6 +103,7 @@ void rs_marble(const float p[3], float omega, int octaves, float variation, floa
   const int nseg = 9 - 3;
   float marble = p[1] + variation * rs_fbm(p, omega, octaves);
   float t = 0.5f + 0.5f * sinf(marble);
+  if (!(t >= 0.0f && t <= 1.0f)) t = 0.5f; /* a NaN point */
   int first = (int)floorf(t * (float)nseg);
   if (first > 1) first = 1; /* pbrt-v3's std::min(1, ...) */
   t = t * (float)nseg - (float)first;
