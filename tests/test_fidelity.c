@@ -1120,7 +1120,7 @@ static void test_cli_habits(void **state) {
            "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
            "Sampler \"sobol\" \"integer pixelsamples\" [10]\n"
            "Accelerator \"bvh\" \"integer maxnodeprims\" [4]\nWorldBegin\n"
-           "Shape \"cylinder\" \"float radius\" [1] \"rgb Kd\" [1 0 0]\n"
+           "Shape \"nurbs\" \"float radius\" [1] \"rgb Kd\" [1 0 0]\n"
            "Shape \"sphere\" \"float radius\" [1] \"float bogus\" [2]\nWorldEnd\n");
   write_text("habits.pbrt", scene);
   assert_int_equal(
@@ -1129,7 +1129,7 @@ static void test_cli_habits(void **state) {
   assert_null(strstr(out, "Accelerator"));
   assert_null(strstr(out, "'radius'"));
   assert_null(strstr(out, "'Kd'"));
-  assert_non_null(strstr(out, "habits.pbrt:5: shape \"cylinder\" not supported"));
+  assert_non_null(strstr(out, "habits.pbrt:5: shape \"nurbs\" not supported"));
   assert_non_null(strstr(out, "habits.pbrt:6: unused parameter 'bogus' in Shape 'sphere'"));
   assert_non_null(strstr(out, "habits.pbrt:2: non power-of-two sample count rounded up to 16"));
   assert_non_null(strstr(out, "\"spp\":16"));

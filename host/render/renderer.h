@@ -18,4 +18,8 @@ typedef struct clr_render_image {
 clr_result clr_render_desc(const clr_scene_desc *desc, const clr_render_options *options,
                            clr_render_stats *stats, int write_files, clr_render_image *image);
 
+/* The progress bar's seconds left after `done` of `total` tiles merged at `elapsed` seconds, the
+ * first one at `first_elapsed`: the rate after the first tile times the tiles left. */
+double clr_progress_eta(int done, int total, double elapsed, double first_elapsed);
+
 #endif

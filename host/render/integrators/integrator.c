@@ -8,6 +8,7 @@
 #include "render_error.h"
 #include "grow.h"
 #include "integrator.h"
+#include "light_distribution.h"
 #include "microfacet.h"
 #include "pcg32.h"
 #include "render_scene.h"
@@ -144,11 +145,19 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
     }
     it->path_bounces_in_layout = b + 1;
   }
-  return build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
+  if (strcmp(strategy, "spatial") == 0 && it->light_count > 1)
+    CLR_CHECK(clr_light_distribution_create(scene, &it->light_spatial));
+  clr_result r = build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
+  if (r != CLR_SUCCESS) {
+    clr_light_distribution_free(it->light_spatial);
+    it->light_spatial = NULL;
+  }
+  return r;
 }
 
 void clr_integrator_free(clr_integrator *it) {
   free(it->light_cdf);
+  clr_light_distribution_free(it->light_spatial);
   free(it->light_samples);
   free(it->light_offsets);
   memset(it, 0, sizeof *it);
@@ -410,6 +419,7 @@ static int metal_eval_local(const clr_surface *s, const float lo[3], const float
 
 /* f * |cos(wi, ns)| (colour) with BSDF::f's reflect rule; 1 when not black. */
 static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3], float f[3]) {
+  if (s->general) return clr_bsdf_f(&s->bsdf, wo, wi, f);
   if (s->metal) {
     f[0] = f[1] = f[2] = 0.0f;
     if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
@@ -438,6 +448,7 @@ static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3],
 }
 
 static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
+  if (s->general) return clr_bsdf_pdf(&s->bsdf, wo, wi, CLR_BXDF_NON_SPECULAR);
   if (s->metal) {
     float ss[3], ts[3], lo[3], li[3];
     shading_frame(s, ss, ts);
@@ -461,6 +472,9 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
 /* BSDF::Sample_f: wi, pdf and f * |cos| (colour); 1 when usable. */
 static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in[2], float wi[3],
                        float *pdf, float f[3]) {
+  int flags;
+  if (s->general)
+    return clr_bsdf_sample(&s->bsdf, wo, u_in, CLR_BXDF_NON_SPECULAR, wi, pdf, f, &flags);
   if (s->metal) {
     float ss[3], ts[3], lo[3], li[3];
     *pdf = 0.0f;
@@ -614,17 +628,19 @@ static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
 }
 
 /* pbrt Distribution1D::SampleDiscrete over the light cdf. */
-static int choose_light(const clr_integrator *it, float u, float *pdf) {
+static int choose_light(const clr_integrator *it, const float p[3], float u, float *pdf) {
+  const float *cdf = it->light_spatial ? clr_light_distribution_lookup(it->light_spatial, p) : NULL;
+  if (!cdf) cdf = it->light_cdf;
   int lo = 0, hi = it->light_count - 1;
   while (lo < hi) {
     int mid = (lo + hi + 1) / 2;
-    if (it->light_cdf[mid] <= u)
+    if (cdf[mid] <= u)
       lo = mid;
     else
       hi = mid - 1;
   }
-  while (lo < it->light_count - 1 && it->light_cdf[lo + 1] - it->light_cdf[lo] <= 0.0f) ++lo;
-  *pdf = it->light_cdf[lo + 1] - it->light_cdf[lo];
+  while (lo < it->light_count - 1 && cdf[lo + 1] - cdf[lo] <= 0.0f) ++lo;
+  *pdf = cdf[lo + 1] - cdf[lo];
   return lo;
 }
 
@@ -714,6 +730,24 @@ static void mirror_direction(const clr_surface *sf, const float wo[3], float wi[
   for (int a = 0; a < 3; ++a) wi[a] = -wo[a] + d * sf->ns[a];
 }
 
+/* pbrt-v3 SpecularReflect and SpecularTransmit for a lobe BSDF: each followed when it has such
+ * a component, with f |cos| / pdf as the factor (sample values hashed). */
+static void general_specular(const clr_surface *sf, const float wo[3], uint64_t key, int depth,
+                             clr_ray next[2], float factor[6], int cont[2]) {
+  for (int q = 0; q < 2; ++q) {
+    int mask = q ? CLR_BXDF_SPECULAR_TRANSMISSION : CLR_BXDF_SPECULAR_REFLECTION, flags;
+    if (!clr_bsdf_count(&sf->bsdf, mask)) continue;
+    float u[2] = {fallback(key, 9000 + 16 * depth + 2 * q),
+                  fallback(key, 9001 + 16 * depth + 2 * q)};
+    float wi[3], pdf, f[3];
+    if (!clr_bsdf_sample(&sf->bsdf, wo, u, mask, wi, &pdf, f, &flags)) continue;
+    if (rs_dot(wi, sf->ns) == 0.0f) continue;
+    for (int a = 0; a < 3; ++a) factor[3 * q + a] = f[a] / pdf;
+    clr_render_scene_spawn_ray(sf, wi, &next[q]);
+    cont[q] = 1;
+  }
+}
+
 /* Direct lighting of the surfaces s->surfaces[0..n) hit by s->rays2[0..n) (n samples mapped to
  * the caller's samples by map) into Lk; mirror surfaces continue into next[] (pbrt-v3
  * SpecularReflect while depth + 1 < maxdepth). Light sample values: the layout's depth-0 arrays,
@@ -777,6 +811,8 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       }
       continue;
     }
+    if (sf->general && depth + 1 < it->max_depth)
+      general_specular(sf, wo + 3 * k, keys[i], depth, next + 2 * k, factor + 6 * k, cont + 2 * k);
     if (!it->light_count) continue;
     if (it->direct_all) {
       int dim = 0;
@@ -1039,9 +1075,10 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         s->bounces[i] = bounces + 1;
         continue;
       }
-      if (it->light_count) {
+      if (it->light_count &&
+          (!sf->general || clr_bsdf_count(&sf->bsdf, CLR_BXDF_NON_SPECULAR) > 0)) {
         float lpdf;
-        int light = choose_light(it, path_value(it, v, keys[i], bounces, 0), &lpdf);
+        int light = choose_light(it, sf->p, path_value(it, v, keys[i], bounces, 0), &lpdf);
         if (lpdf > 0.0f) {
           direct_job *jb = &s->jobs[nj++];
           jb->sample = i;
@@ -1056,9 +1093,16 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       float u[2] = {path_value(it, v, keys[i], bounces, 5), path_value(it, v, keys[i], bounces, 6)};
       float wi[3], pdf;
       float f3[3];
-      if (!bsdf_sample(sf, w, u, wi, &pdf, f3)) {
+      int flags = 0;
+      if (sf->general ? !clr_bsdf_sample(&sf->bsdf, w, u, CLR_BXDF_ALL, wi, &pdf, f3, &flags)
+                      : !bsdf_sample(sf, w, u, wi, &pdf, f3)) {
         s->active[i] = 0;
         continue;
+      }
+      specular[i] = (flags & CLR_BSDF_SPECULAR) != 0;
+      if (specular[i] && (flags & CLR_BSDF_TRANSMISSION)) { /* pbrt-v3 etaScale */
+        float e2 = sf->bsdf.eta * sf->bsdf.eta;
+        eta_scale[i] *= rs_dot(w, sf->n_geom) > 0.0f ? e2 : 1.0f / e2;
       }
       for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);

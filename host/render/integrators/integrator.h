@@ -20,8 +20,9 @@ typedef struct clr_integrator {
   int max_depth;
   float rr_threshold;
   int light_count;
-  float *light_cdf;   /* light_count + 1 entries: light selection for path (uniform or power) */
-  int *light_samples; /* directlighting "all": pbrt nsamples per light */
+  float *light_cdf; /* light_count + 1 entries: light selection for path (uniform or power) */
+  struct clr_light_distribution *light_spatial; /* "spatial" (pbrt-v3's default), or NULL */
+  int *light_samples;                           /* directlighting "all": pbrt nsamples per light */
   int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
   int value_offset;   /* first integrator value (after the camera's 5) */
   int path_bounces_in_layout;

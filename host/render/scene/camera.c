@@ -41,6 +41,9 @@ clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn 
     if (half > 0.0f) cam->fov = 2.0f * half;
   }
   cam->camera_to_world = d->camera.camera_to_world;
+  rs_animated_transform_init(&cam->motion, &d->camera.camera_to_world,
+                             &d->camera.camera_to_world_end, d->transform_start_time,
+                             d->transform_end_time);
   return CLR_SUCCESS;
 }
 
@@ -110,10 +113,16 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
     for (int i = 0; i < 3; ++i) d[i] = focus[i] - o[i];
     rs_normalize(d);
   }
-  (void)time; /* no motion blur: every transform is static (time only consumes its dimension) */
   float ow[3], dw[3];
-  clr_transform_point(&cam->camera_to_world, o, ow);
-  clr_transform_vector(&cam->camera_to_world, d, dw);
+  const clr_transform *c2w = &cam->camera_to_world;
+  clr_transform moved;
+  if (cam->motion.animated) { /* pbrt-v3: ray time Lerp(sample, shutter open, close) */
+    float t = (1.0f - time) * cam->shutter_open + time * cam->shutter_close;
+    rs_animated_transform_at(&cam->motion, t, &moved);
+    c2w = &moved;
+  }
+  clr_transform_point(c2w, o, ow);
+  clr_transform_vector(c2w, d, dw);
   rs_normalize(dw);
   ray->ox = ow[0];
   ray->oy = ow[1];

@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 #include "clrender/result.h"
+#include "animated_transform.h"
 #include "scene_desc.h"
 #include "tracer.h"
 
@@ -16,6 +17,7 @@ typedef struct rs_camera {
   float screen[4];    /* x0 x1 y0 y1; given when screen_given */
   int screen_given;
   clr_transform camera_to_world;
+  rs_animated_transform motion; /* ActiveTransform EndTime moved the camera: used per ray time */
   clr_transform raster_to_camera;
 } rs_camera;
 

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "blackbody.h"
+#include "envmap.h"
 #include "render_error.h"
 #include "lights.h"
 #include "vec3.h"
@@ -42,6 +44,11 @@ static clr_result push_light(rs_light_set *set, const rs_light *l) {
 static void scaled_colour(const clr_param_list *p, const char *name, float out[3]) {
   float one[3] = {1, 1, 1}, sc[3];
   clr_params_find_rgb(p, name, one, out);
+  const clr_param *bb = clr_params_find(p, name, CLR_PARAM_BLACKBODY);
+  if (bb && bb->count >= 2) { /* pbrt-v3: (temperature, scale) pairs; a light uses the first */
+    rs_blackbody_rgb(bb->floats[0], out);
+    for (int i = 0; i < 3; ++i) out[i] *= bb->floats[1];
+  }
   clr_params_find_rgb(p, "scale", one, sc);
   const clr_param *fs = clr_params_find(p, "scale", CLR_PARAM_FLOAT);
   if (fs && fs->count == 1) sc[0] = sc[1] = sc[2] = fs->floats[0];
@@ -51,6 +58,68 @@ static void scaled_colour(const clr_param_list *p, const char *name, float out[3
 static void linear_part(const float m[4][4], float out[3][3]) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) out[i][j] = m[i][j];
+}
+
+/* Loads a pattern light's image (none: a factor of 1), its screen and power, and adds it. */
+static clr_result pattern_light(rs_light_set *set, rs_light *l, const clr_param_list *p) {
+  const char *map = clr_params_find_string(p, "mapname", "");
+  float aspect = 1.0f, average = 1.0f;
+  if (map[0]) {
+    char path[4096];
+    const char *slash = p->file && map[0] != '/' ? strrchr(p->file, '/') : NULL;
+    if (slash)
+      snprintf(path, sizeof path, "%.*s/%s", (int)(slash - p->file), p->file, map);
+    else
+      snprintf(path, sizeof path, "%s", map);
+    const float one[3] = {1, 1, 1};
+    clr_result r = rs_envmap_load(path, one, &l->envmap);
+    if (r != CLR_SUCCESS)
+      return clr_set_last_error(
+          r, "%s:%d: %s light \"mapname\" \"%s\": %s", p->file ? p->file : "?", p->line,
+          l->pattern == 1 ? "goniometric" : "projection", path, clr_last_error_message());
+    aspect = (float)l->envmap->w / (float)l->envmap->h;
+    average = l->envmap->mean_y;
+  }
+  float x = aspect > 1.0f ? aspect : 1.0f, y = aspect > 1.0f ? 1.0f : 1.0f / aspect;
+  l->proj_screen[0] = -x;
+  l->proj_screen[1] = x;
+  l->proj_screen[2] = -y;
+  l->proj_screen[3] = y;
+  if (l->pattern == 1) {
+    l->power = 4.0f * RS_PI * luminance(l->colour) * average;
+  } else {
+    float tan_diag = l->proj_tan * sqrtf(1.0f + 1.0f / (aspect * aspect));
+    l->power = luminance(l->colour) * average * 2.0f * RS_PI * (1.0f - cosf(atanf(tan_diag)));
+  }
+  clr_result r = push_light(set, l);
+  if (r != CLR_SUCCESS) rs_envmap_free(l->envmap);
+  return r;
+}
+
+/* pbrt-v3 GonioPhotometricLight::Scale and ProjectionLight::Projection for the world direction
+ * w leaving the light. */
+static float pattern_factor(const rs_light *l, const float w[3], float rgb[3]) {
+  rgb[0] = rgb[1] = rgb[2] = 1.0f;
+  float wl[3];
+  mat3_vec(l->to_light, w, wl);
+  rs_normalize(wl);
+  if (l->pattern == 1) {
+    float t = wl[1]; /* pbrt-v3 swaps y and z */
+    wl[1] = wl[2];
+    wl[2] = t;
+    float phi = atan2f(wl[1], wl[0]);
+    if (phi < 0.0f) phi += 2.0f * RS_PI;
+    float theta = acosf(fminf(1.0f, fmaxf(-1.0f, wl[2])));
+    if (l->envmap) rs_envmap_lookup(l->envmap, phi / (2.0f * RS_PI), theta / RS_PI, rgb);
+    return 1.0f;
+  }
+  if (wl[2] < 1e-3f) return 0.0f;
+  float px = wl[0] / (wl[2] * l->proj_tan), py = wl[1] / (wl[2] * l->proj_tan);
+  const float *b = l->proj_screen;
+  if (px < b[0] || px > b[1] || py < b[2] || py > b[3]) return 0.0f;
+  if (l->envmap)
+    rs_envmap_lookup(l->envmap, (px - b[0]) / (b[1] - b[0]), (py - b[2]) / (b[3] - b[2]), rgb);
+  return 1.0f;
 }
 
 static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_warn_fn warn,
@@ -90,6 +159,17 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
       l.power =
           luminance(l.colour) * 2.0f * RS_PI * (1.0f - 0.5f * (l.cos_falloff_start + l.cos_total));
     }
+  } else if (strcmp(ld->type, "goniometric") == 0 || strcmp(ld->type, "projection") == 0) {
+    /* pbrt-v3 GonioPhotometricLight / ProjectionLight: a point light at the CTM's origin whose
+     * intensity is scaled by an image looked up by direction */
+    l.type = RS_LIGHT_POINT;
+    l.pattern = ld->type[0] == 'g' ? 1 : 2;
+    scaled_colour(p, "I", l.colour);
+    clr_transform_point(ctm, zero, l.pos);
+    linear_part(ctm->m_inv, l.to_light);
+    float fov = l.pattern == 2 ? clr_params_find_float(p, "fov", 45.0f) : 45.0f;
+    l.proj_tan = tanf(fov * RS_PI / 360.0f);
+    return pattern_light(set, &l, p);
   } else if (strcmp(ld->type, "distant") == 0) {
     l.type = RS_LIGHT_DISTANT;
     scaled_colour(p, "L", l.colour);
@@ -103,15 +183,25 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
     l.type = RS_LIGHT_INFINITE;
     scaled_colour(p, "L", l.colour);
     const char *map = clr_params_find_string(p, "mapname", "");
-    if (map[0] && warn) {
-      char m[512];
-      snprintf(m, sizeof m, "%s:%d: infinite light \"mapname\" not supported: using constant L",
-               p->file, p->line);
-      warn(wu, m);
-    }
     linear_part(ctm->m, l.light_to_world);
     linear_part(ctm->m_inv, l.to_light);
     l.power = luminance(l.colour) * RS_PI * set->world_radius * set->world_radius;
+    if (map[0]) {
+      char path[4096];
+      const char *slash = p->file && map[0] != '/' ? strrchr(p->file, '/') : NULL;
+      if (slash)
+        snprintf(path, sizeof path, "%.*s/%s", (int)(slash - p->file), p->file, map);
+      else
+        snprintf(path, sizeof path, "%s", map);
+      clr_result r = rs_envmap_load(path, l.colour, &l.envmap);
+      if (r != CLR_SUCCESS)
+        return clr_set_last_error(r, "%s:%d: infinite light \"mapname\" \"%s\": %s",
+                                  p->file ? p->file : "?", p->line, path, clr_last_error_message());
+      l.power = l.envmap->mean_y * RS_PI * set->world_radius * set->world_radius;
+      clr_result pr = push_light(set, &l);
+      if (pr != CLR_SUCCESS) rs_envmap_free(l.envmap);
+      return pr;
+    }
   } else {
     if (warn) {
       char m[512];
@@ -130,6 +220,7 @@ clr_result rs_lights_build(rs_light_set *set, const clr_scene_desc *d, clr_warn_
 }
 
 void rs_lights_free(rs_light_set *set) {
+  for (int i = 0; i < set->count; ++i) rs_envmap_free(set->items[i].envmap);
   free(set->items);
   free(set->infinite);
   set->items = NULL;
@@ -344,12 +435,15 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       if (!(d2 > 0.0f)) return;
       memcpy(ls->wi, d, sizeof d);
       rs_normalize(ls->wi);
-      float f = 1.0f;
+      float f = 1.0f, pat[3] = {1.0f, 1.0f, 1.0f};
       if (l->type == RS_LIGHT_SPOT) {
         float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
         f = spot_falloff(l, w);
+      } else if (l->pattern) {
+        float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
+        f = pattern_factor(l, w, pat);
       }
-      for (int i = 0; i < 3; ++i) ls->li[i] = l->colour[i] * f / d2;
+      for (int i = 0; i < 3; ++i) ls->li[i] = l->colour[i] * pat[i] * f / d2;
       ls->pdf = 1.0f;
       memcpy(target, l->pos, sizeof target);
       break;
@@ -361,14 +455,19 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       for (int i = 0; i < 3; ++i) target[i] = p[i] + l->dir[i] * 2.0f * set->world_radius;
       break;
     case RS_LIGHT_INFINITE: {
-      float theta = u[1] * RS_PI, phi = u[0] * 2.0f * RS_PI;
+      float uv[2] = {u[0], u[1]}, map_pdf = 1.0f;
+      if (l->envmap && !((map_pdf = rs_envmap_sample(l->envmap, u, uv)) > 0.0f)) return;
+      float theta = uv[1] * RS_PI, phi = uv[0] * 2.0f * RS_PI;
       float st = sinf(theta), ct = cosf(theta);
       if (st == 0.0f) return;
       float wl[3] = {st * cosf(phi), st * sinf(phi), ct};
       mat3_vec(l->light_to_world, wl, ls->wi);
       rs_normalize(ls->wi);
-      ls->pdf = 1.0f / (2.0f * RS_PI * RS_PI * st);
-      memcpy(ls->li, l->colour, sizeof ls->li);
+      ls->pdf = map_pdf / (2.0f * RS_PI * RS_PI * st);
+      if (l->envmap)
+        rs_envmap_lookup(l->envmap, uv[0], uv[1], ls->li);
+      else
+        memcpy(ls->li, l->colour, sizeof ls->li);
       for (int i = 0; i < 3; ++i) target[i] = p[i] + ls->wi[i] * 2.0f * set->world_radius;
       break;
     }
@@ -396,6 +495,14 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
   shadow_to(p, ng, target, &ls->shadow);
 }
 
+/* pbrt-v3's lat-long coordinates of a light-space unit direction: (phi / 2 pi, theta / pi). */
+static void envmap_coords(const float w[3], float *s, float *t) {
+  float phi = atan2f(w[1], w[0]);
+  if (phi < 0.0f) phi += 2.0f * RS_PI;
+  *s = phi / (2.0f * RS_PI);
+  *t = acosf(fminf(1.0f, fmaxf(-1.0f, w[2]))) / RS_PI;
+}
+
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,
                    const float n_hit[3]) {
   const rs_light *l = &set->items[light];
@@ -404,8 +511,13 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     mat3_vec(l->to_light, wi, wl);
     rs_normalize(wl);
     float ct = fminf(1.0f, fmaxf(-1.0f, wl[2]));
-    float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
-    return st == 0.0f ? 0.0f : 1.0f / (2.0f * RS_PI * RS_PI * st);
+    float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct)), map_pdf = 1.0f;
+    if (l->envmap) {
+      float s_, t_;
+      envmap_coords(wl, &s_, &t_);
+      map_pdf = rs_envmap_pdf(l->envmap, s_, t_);
+    }
+    return st == 0.0f ? 0.0f : map_pdf / (2.0f * RS_PI * RS_PI * st);
   }
   if (l->type == RS_LIGHT_AREA_SPHERE) {
     float wc[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
@@ -426,8 +538,13 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
 
 void rs_light_le(const rs_light_set *set, int light, const float d[3], float le[3]) {
   const rs_light *l = &set->items[light];
-  (void)d;
-  if (l->type == RS_LIGHT_INFINITE)
+  if (l->type == RS_LIGHT_INFINITE && l->envmap) {
+    float wl[3], s_, t_;
+    mat3_vec(l->to_light, d, wl);
+    rs_normalize(wl);
+    envmap_coords(wl, &s_, &t_);
+    rs_envmap_lookup(l->envmap, s_, t_, le);
+  } else if (l->type == RS_LIGHT_INFINITE)
     memcpy(le, l->colour, 3 * sizeof(float));
   else
     le[0] = le[1] = le[2] = 0.0f;

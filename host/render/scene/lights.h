@@ -32,6 +32,10 @@ typedef struct rs_light {
   float radius; /* sphere */
   int nsamples;
   float power;
+  struct rs_envmap *envmap; /* infinite, goniometric, projection "mapname" (owned), or NULL */
+  int pattern;              /* point light: 0, 1 goniometric, 2 projection */
+  float proj_tan;           /* projection: tan(fov / 2) */
+  float proj_screen[4];     /* projection: screen bounds x0 x1 y0 y1 */
 } rs_light;
 
 /* Every light of the scene; infinite lights also listed apart (they are not contiguous). */

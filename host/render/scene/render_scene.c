@@ -11,6 +11,8 @@
 #include "ply_reader.h"
 #include "camera.h"
 #include "lights.h"
+#include "bump.h"
+#include "quadric_shapes.h"
 #include "render_scene.h"
 #include "shapes.h"
 #include "textures.h"
@@ -20,12 +22,15 @@ struct clr_render_scene {
   clr_tracer tracer;
   rs_camera camera;
   rs_texture_set textures;
+  rs_material *materials; /* one per description material, without shape parameters (mix) */
+  int material_count;
   rs_shape *shapes;
   int shape_count;
   clr_transform *instances; /* instance to world */
   int instance_count;
   rs_light_set lights;
   float world_center[3];
+  float world_lo[3], world_hi[3]; /* pbrt-v3 Scene::WorldBound */
 };
 
 static void rs_xform_m16(const clr_transform *t, float out[16]) {
@@ -34,6 +39,10 @@ static void rs_xform_m16(const clr_transform *t, float out[16]) {
 }
 
 clr_tracer clr_render_scene_tracer(const clr_render_scene *scene) { return scene->tracer; }
+void clr_render_scene_world_bounds(const clr_render_scene *scene, float lo[3], float hi[3]) {
+  memcpy(lo, scene->world_lo, 3 * sizeof(float));
+  memcpy(hi, scene->world_hi, 3 * sizeof(float));
+}
 int32_t clr_render_scene_light_count(const clr_render_scene *scene) { return scene->lights.count; }
 
 void clr_render_scene_light_info(const clr_render_scene *scene, int32_t light,
@@ -214,6 +223,10 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
       }
     return;
   }
+  if (sh->type == RS_SHAPE_QUADRIC) {
+    rs_quadric_bounds(&sh->quadric, &sh->object_to_world, lo, hi);
+    return;
+  }
   for (int c = 0; c < 8; ++c) {
     float q[3] = {(c & 1) ? sh->radius : -sh->radius, (c & 2) ? sh->radius : -sh->radius,
                   (c & 4) ? sh->radius : -sh->radius},
@@ -227,9 +240,9 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   }
 }
 
-static int material_is_supported(const char *type) {
-  return strcmp(type, "matte") == 0 || strcmp(type, "mirror") == 0 ||
-         strcmp(type, "plastic") == 0 || strcmp(type, "glass") == 0 || strcmp(type, "metal") == 0;
+static int material_is_supported(const clr_scene_desc *d, const clr_material_desc *md) {
+  rs_material m;
+  return rs_material_build(d, md, NULL, &m);
 }
 
 /* pbrt-v3 MatteMaterial: "sigma" in degrees, clamped to [0, 90]; 0 is Lambertian, else
@@ -267,12 +280,18 @@ static void metal_params(const clr_shape_desc *sd, const clr_material_desc *md,
   float ur = clr_params_find_float(&md->params, "uroughness", rough);
   float vr = clr_params_find_float(&md->params, "vroughness", rough);
   (void)sd;
-  if (ur != vr)
-    warn_fmt(warn, wu, "%s:%d: anisotropic metal roughness not supported: using their mean",
-             md->params.file ? md->params.file : p->file, md->params.line);
   float r = 0.5f * (ur + vr);
   sh->alpha =
       clr_params_find_bool(&md->params, "remaproughness", true) ? clr_tr_roughness_to_alpha(r) : r;
+}
+
+static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) {
+  s->materials = calloc((size_t)(d->material_count ? d->material_count : 1), sizeof *s->materials);
+  if (!s->materials) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "materials");
+  s->material_count = d->material_count;
+  for (int i = 0; i < d->material_count; ++i)
+    rs_material_build(d, &d->materials[i], NULL, &s->materials[i]);
+  return CLR_SUCCESS;
 }
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
@@ -325,6 +344,9 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
                                   p->file ? p->file : "?", p->line, (double)sh->inner_radius,
                                   (double)sh->radius, (double)phimax);
       sh->phimax = phimax * RS_PI / 180.0f;
+    } else if (rs_is_quadric(sd->type)) {
+      sh->type = RS_SHAPE_QUADRIC;
+      CLR_CHECK(rs_quadric_from_params(sd->type, p, &sh->quadric));
     } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
@@ -346,11 +368,6 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       rs_colour_param(&sd->params, &md->params, "Kt", 1.0f, &sh->kt);
       float eta = clr_params_find_float(&md->params, "index", 1.5f);
       sh->eta = clr_params_find_float(&md->params, "eta", eta);
-      float ur = clr_params_find_float(&md->params, "uroughness", 0.0f);
-      float vr = clr_params_find_float(&md->params, "vroughness", 0.0f);
-      if (ur != 0.0f || vr != 0.0f)
-        warn_fmt(warn, wu, "%s:%d: rough glass not supported: rendered as smooth glass",
-                 md->params.file ? md->params.file : p->file, md->params.line);
     }
     sh->metal = strcmp(mtype, "metal") == 0;
     if (sh->metal) metal_params(sd, md, p, warn, wu, sh);
@@ -368,7 +385,14 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       sh->alpha = remap ? clr_tr_roughness_to_alpha(rough) : rough;
     }
     oren_nayar_params(sd, md, mtype, sh);
-    if (sh->has_material && !material_is_supported(mtype)) {
+    sh->bump = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
+    if (sh->has_material) rs_float_param(&sd->params, &md->params, "bumpmap", 0.0f, &sh->bump);
+    if (sh->has_material) {
+      sh->general = 0;
+      if (rs_material_build(d, md, &sd->params, &sh->gmat) && rs_material_needs_lobes(&sh->gmat))
+        sh->general = 1;
+    }
+    if (sh->has_material && !material_is_supported(d, md)) {
       int seen = 0;
       for (int k = 0; k < warned_count; ++k) seen |= strcmp(warned[k], mtype) == 0;
       if (!seen) {
@@ -386,6 +410,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     int index = s->shape_count - 1;
     if (sh->type == RS_SHAPE_MESH) {
       CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
+    } else if (sh->type == RS_SHAPE_QUADRIC) {
+      float xf[16];
+      rs_xform_m16(&sh->object_to_world, xf);
+      CLR_CHECK(clr_tracer_add_quadric(s->tracer, group, xf, &sh->quadric, (uint32_t)index, NULL));
     } else if (sh->type == RS_SHAPE_DISK) {
       float xf[16];
       rs_xform_m16(&sh->object_to_world, xf);
@@ -403,7 +431,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     }
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
-      if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
+      if (sh->type == RS_SHAPE_QUADRIC) {
+        warn_fmt(warn, wu, "%s:%d: area light on a \"%s\" not supported: ignored", p->file, p->line,
+                 sd->type);
+      } else if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
         warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line,
                  a->type);
       } else {
@@ -453,6 +484,8 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     hi[0] = hi[1] = hi[2] = 0;
   }
   float diag[3];
+  memcpy(s->world_lo, lo, sizeof lo);
+  memcpy(s->world_hi, hi, sizeof hi);
   for (int i = 0; i < 3; ++i) {
     s->world_center[i] = 0.5f * (lo[i] + hi[i]);
     diag[i] = hi[i] - s->world_center[i];
@@ -474,6 +507,7 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   clr_result r = clr_tracer_create(&s->tracer);
   if (r == CLR_SUCCESS) r = rs_camera_build(&s->camera, d, warn, wu);
   if (r == CLR_SUCCESS) r = rs_textures_build(&s->textures, d, warn, wu);
+  if (r == CLR_SUCCESS) r = build_materials(s, d);
   if (r == CLR_SUCCESS) r = build_shapes(s, d, warn, wu, object_group);
   if (r == CLR_SUCCESS) r = build_instances(s, d, object_group);
   if (r == CLR_SUCCESS) {
@@ -520,6 +554,7 @@ void clr_render_scene_free(clr_render_scene *s) {
   if (!s) return;
   if (s->tracer) clr_tracer_release(s->tracer);
   rs_textures_free(&s->textures);
+  free(s->materials);
   for (int i = 0; i < s->shape_count; ++i) clr_mesh_free(&s->shapes[i].mesh);
   free(s->shapes);
   free(s->instances);
@@ -636,6 +671,76 @@ static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr
   if (sh->flip_normal) negate(n);
 }
 
+/* pbrt-v3's shading dpdv (and dndu, dndv for spheres; 0 for the other shapes) at a hit, for
+ * Material::Bump; dpdu becomes the unit shading tangent for meshes with normals, as pbrt-v3's
+ * Triangle sets it. o2w: object (or mesh) to world. */
+static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const clr_hit *hit,
+                          const float pw[3], const float ns[3], int has_ns, float dpdu[3],
+                          float dpdv[3], float dndu[3], float dndv[3]) {
+  float zero[3] = {0, 0, 0}, po[3], v[3] = {0, 0, 0};
+  memcpy(dndu, zero, sizeof zero);
+  memcpy(dndv, zero, sizeof zero);
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  if (sh->type == RS_SHAPE_MESH) {
+    if (has_ns) {
+      float ss[3] = {dpdu[0], dpdu[1], dpdu[2]}, ts[3];
+      rs_normalize(ss);
+      rs_cross(ss, ns, ts);
+      if (rs_dot(ts, ts) > 0.0f) {
+        rs_normalize(ts);
+        rs_cross(ts, ns, ss);
+      }
+      memcpy(dpdu, ss, sizeof ss);
+      memcpy(dpdv, ts, sizeof ts);
+      return;
+    }
+    const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
+    const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1],
+                *p2 = sh->mesh.p + 3 * ix[2];
+    float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
+    if (sh->mesh.uv) {
+      memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
+      memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
+      memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
+    }
+    float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
+          dv12 = uv1[1] - uv2[1], det = du02 * dv12 - dv02 * du12;
+    if (fabsf(det) < 1e-8f) {
+      rs_cross(ns, dpdu, dpdv);
+      return;
+    }
+    for (int i = 0; i < 3; ++i) v[i] = (-du12 * (p0[i] - p2[i]) + du02 * (p1[i] - p2[i])) / det;
+  } else if (sh->type == RS_SHAPE_SPHERE) {
+    float r = sh->radius, zr = sqrtf(po[0] * po[0] + po[1] * po[1]);
+    float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / r)), st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+    float t0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmin / r : -1.0f)));
+    float t1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmax / r : 1.0f)));
+    float cp = zr > 0.0f ? po[0] / zr : 1.0f, sp = zr > 0.0f ? po[1] / zr : 0.0f;
+    float du_o[3] = {-(sh->partial ? sh->phimax : 2.0f * RS_PI) * po[1],
+                     (sh->partial ? sh->phimax : 2.0f * RS_PI) * po[0], 0.0f};
+    float dv_o[3] = {(t1 - t0) * po[2] * cp, (t1 - t0) * po[2] * sp, -(t1 - t0) * r * st}, w[3];
+    memcpy(v, dv_o, sizeof v);
+    for (int i = 0; i < 3; ++i) { /* n = p / r on a sphere */
+      du_o[i] /= r;
+      dv_o[i] /= r;
+    }
+    clr_transform_normal(o2w, du_o, dndu);
+    clr_transform_normal(o2w, dv_o, w);
+    memcpy(dndv, w, sizeof w);
+  } else if (sh->type == RS_SHAPE_DISK) {
+    float r = sqrtf(po[0] * po[0] + po[1] * po[1]),
+          k = r > 0.0f ? (sh->inner_radius - sh->radius) / r : 0.0f;
+    v[0] = po[0] * k;
+    v[1] = po[1] * k;
+  } else {
+    double pd[3] = {po[0], po[1], po[2]}, uvd[2], du[3], dv[3];
+    clr_quadric_param(&sh->quadric, pd, uvd, du, dv);
+    for (int i = 0; i < 3; ++i) v[i] = (float)dv[i];
+  }
+  clr_transform_vector(o2w, v, dpdv);
+}
+
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
@@ -667,10 +772,29 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     clr_transform o2w =
         inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     disk_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
+  } else if (sh->type == RS_SHAPE_QUADRIC) {
+    clr_transform o2w =
+        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
+                   ray->oz + hit->t * ray->dz};
+    rs_quadric_surface(&sh->quadric, &o2w, pw, p, n, uv, dpdu);
+    if (sh->flip_normal) negate(n);
   } else {
     clr_transform o2w =
         inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
+  }
+  if (sh->has_material && sh->bump.texture >= 0) { /* pbrt-v3 Material::Bump */
+    clr_transform o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : sh->object_to_world;
+    if (inst) o2w = clr_transform_compose(inst, &o2w);
+    float nsh[3], dpdv[3], dndu[3], dndv[3];
+    memcpy(nsh, has_ns ? ns : n, sizeof nsh);
+    rs_normalize(nsh);
+    if (rs_dot(nsh, n) < 0.0f) negate(nsh);
+    bump_partials(sh, &o2w, hit, p, nsh, has_ns, dpdu, dpdv, dndu, dndv);
+    rs_bump(&s->textures, &sh->bump, p, uv, n, dpdu, dpdv, dndu, dndv, nsh);
+    memcpy(ns, nsh, sizeof ns);
+    has_ns = 1;
   }
   memcpy(out->p, p, sizeof p);
   memcpy(out->n_geom, n, sizeof n);
@@ -687,24 +811,32 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     memcpy(out->ns, out->ng, sizeof n);
   }
   out->has_material = sh->has_material;
+  rs_tex_ctx tc = {{uv[0], uv[1]}, {p[0], p[1], p[2]}};
+  out->general = sh->has_material && sh->general;
+  if (out->general) {
+    rs_material_bsdf(&sh->gmat, s->materials, s->material_count, &s->textures, &tc, &out->bsdf);
+    float nso[3] = {out->ns[0], out->ns[1], out->ns[2]}; /* pbrt: oriented as the shape's n */
+    if (rs_dot(nso, n) < 0.0f) negate(nso);
+    clr_bsdf_set_frame(&out->bsdf, out->dpdu, nso, n);
+  }
   out->on_a = sh->on_a;
   out->on_b = sh->on_b;
-  out->mirror = sh->has_material && sh->mirror;
-  out->glass = sh->has_material && sh->glass;
-  out->metal = sh->has_material && sh->metal;
+  out->mirror = sh->has_material && sh->mirror && !sh->general;
+  out->glass = sh->has_material && sh->glass && !sh->general;
+  out->metal = sh->has_material && sh->metal && !sh->general;
   memcpy(out->m_eta, sh->m_eta, sizeof out->m_eta);
   memcpy(out->m_k, sh->m_k, sizeof out->m_k);
   out->eta = sh->eta;
   out->kt[0] = out->kt[1] = out->kt[2] = 0.0f;
-  if (out->glass) rs_colour_eval(&s->textures, &sh->kt, uv, out->kt);
-  out->plastic = sh->has_material && sh->plastic;
+  if (out->glass) rs_colour_eval(&s->textures, &sh->kt, &tc, out->kt);
+  out->plastic = sh->has_material && sh->plastic && !sh->general;
   out->alpha = sh->alpha;
   out->ks[0] = out->ks[1] = out->ks[2] = 0.0f;
-  if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, uv, out->ks);
+  if (out->plastic) rs_colour_eval(&s->textures, &sh->ks, &tc, out->ks);
   out->kr[0] = out->kr[1] = out->kr[2] = 0.0f;
-  if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, uv, out->kr);
-  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal)
-    rs_colour_eval(&s->textures, &sh->kd, uv, out->kd);
+  if (out->mirror || out->glass) rs_colour_eval(&s->textures, &sh->kr, &tc, out->kr);
+  if (sh->has_material && !sh->mirror && !sh->glass && !sh->metal && !sh->general)
+    rs_colour_eval(&s->textures, &sh->kd, &tc, out->kd);
   else
     out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
   out->area_light = -1;

@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 #include "clrender/result.h"
+#include "bsdf_lobes.h"
 #include "lights.h"
 #include "scene_desc.h"
 #include "tracer.h"
@@ -33,6 +34,8 @@ void clr_render_scene_free(clr_render_scene *scene);
 void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *settings);
 
 clr_tracer clr_render_scene_tracer(const clr_render_scene *scene);
+/* The bounds of every shape (pbrt-v3 Scene::WorldBound). */
+void clr_render_scene_world_bounds(const clr_render_scene *scene, float lo[3], float hi[3]);
 
 /* --- camera (pbrt-v3 perspective/orthographic, thin lens) --- */
 /* Must be called once the final film resolution / crop is known (before generating rays). */
@@ -64,6 +67,8 @@ typedef struct clr_surface {
   float le[3];          /* emitted radiance toward -ray.dir if an area light, else 0 */
   int32_t has_material; /* 0 for material "none" (invisible: continue the ray) */
   int32_t area_light;   /* index of the area light (into the light list) or -1 */
+  int32_t general;      /* 1: the material is the lobe list `bsdf` (uber, substrate, mix, ...) */
+  clr_bsdf bsdf;
 } clr_surface;
 
 /* Fills `s` for a hit of `ray`. */

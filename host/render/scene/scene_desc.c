@@ -37,6 +37,9 @@ clr_scene_desc *clr_scene_desc_create(void) {
   desc->camera.type = copy_string("perspective");
   clr_params_init(&desc->camera.params, "Camera", desc->camera.type, NULL, 0);
   desc->camera.camera_to_world = clr_transform_identity();
+  desc->camera.camera_to_world_end = clr_transform_identity();
+  desc->transform_start_time = 0.0f;
+  desc->transform_end_time = 1.0f;
   bool ok = desc->camera.type != NULL;
   ok = init_option(&desc->sampler, "Sampler", "halton") && ok;
   ok = init_option(&desc->film, "Film", "image") && ok;

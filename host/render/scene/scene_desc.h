@@ -24,6 +24,7 @@ typedef struct clr_camera_desc {
   /* Inverse of the CTM at the Camera directive (identity when absent). m_inv is world-to-camera.
    * Also the named coordinate system "camera". */
   clr_transform camera_to_world;
+  clr_transform camera_to_world_end; /* at TransformTimes' end (ActiveTransform EndTime/All) */
 } clr_camera_desc;
 
 /* Material (anonymous, name NULL) or MakeNamedMaterial (type from its "string type").
@@ -84,10 +85,11 @@ typedef struct clr_instance_desc {
 
 typedef struct clr_scene_desc {
   clr_camera_desc camera;
-  clr_scene_option sampler;    /* default "halton" */
-  clr_scene_option film;       /* default "image" */
-  clr_scene_option filter;     /* default "box" */
-  clr_scene_option integrator; /* default "path" */
+  float transform_start_time, transform_end_time; /* TransformTimes (0 1) */
+  clr_scene_option sampler;                       /* default "halton" */
+  clr_scene_option film;                          /* default "image" */
+  clr_scene_option filter;                        /* default "box" */
+  clr_scene_option integrator;                    /* default "path" */
 
   clr_material_desc *materials;
   int material_count, material_capacity;

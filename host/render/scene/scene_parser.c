@@ -21,8 +21,10 @@ typedef struct location {
 
 /* What AttributeBegin saves (pbrt-v3 GraphicsState plus the CTM). */
 typedef struct graphics_state {
-  clr_transform ctm;
-  bool transform_active;      /* false after "ActiveTransform EndTime": CTM edits ignored */
+  clr_transform ctm;          /* at the start time */
+  clr_transform ctm_end;      /* at the end time (pbrt-v3's second TransformSet entry) */
+  bool transform_active;      /* the start CTM takes edits ("ActiveTransform All/StartTime") */
+  bool end_active;            /* the end CTM takes edits ("ActiveTransform All/EndTime") */
   int material;               /* index of the current Material */
   const char *named_material; /* from NamedMaterial (parser pool), NULL after Material */
   int area_light;             /* -1 when none */
@@ -75,7 +77,8 @@ typedef struct parser {
   char **pool;
   int pool_count, pool_capacity;
   bool in_world;
-  bool done; /* after WorldEnd */
+  bool warned_moving_shape; /* one warning for shapes given two transforms */
+  bool done;                /* after WorldEnd */
   int current_object;
 } parser;
 
@@ -421,7 +424,7 @@ static clr_result check_value_count(parser *p, const clr_param *q, const locatio
     return clr_set_last_error(
         CLR_ERROR_PARSE, "%s:%d:%d: expected a multiple of %d values for %s parameter '%s', got %d",
         decl->file, decl->line, decl->col, arity, type, q->name, q->count);
-  if (q->type == CLR_PARAM_XYZ || q->type == CLR_PARAM_BLACKBODY || q->type == CLR_PARAM_SPECTRUM)
+  if (q->type == CLR_PARAM_XYZ || q->type == CLR_PARAM_SPECTRUM) /* blackbody: converted */
     warnf(p,
           "%s:%d: parameter '%s' has spectral type '%s', which clrender keeps unconverted "
           "(use rgb)",
@@ -529,6 +532,13 @@ static void resolve_textures(parser *p, clr_param_list *list) {
 
 static void apply_transform(parser *p, const clr_transform *t) {
   if (p->gs.transform_active) p->gs.ctm = clr_transform_compose(&p->gs.ctm, t);
+  if (p->gs.end_active) p->gs.ctm_end = clr_transform_compose(&p->gs.ctm_end, t);
+}
+
+/* Sets the active CTMs to t. */
+static void set_transform(parser *p, const clr_transform *t) {
+  if (p->gs.transform_active) p->gs.ctm = *t;
+  if (p->gs.end_active) p->gs.ctm_end = *t;
 }
 
 static clr_result push_block(parser *p, block_kind kind, location at) {
@@ -564,7 +574,9 @@ static clr_result pop_block(parser *p, block_kind kind, location at) {
                               b->at.file, b->at.line, block_end_name(kind));
   if (kind == BLOCK_TRANSFORM) {
     p->gs.ctm = b->saved.ctm;
+    p->gs.ctm_end = b->saved.ctm_end;
     p->gs.transform_active = b->saved.transform_active;
+    p->gs.end_active = b->saved.end_active;
   } else {
     p->gs = b->saved;
     p->binding_count = b->binding_count;
@@ -632,7 +644,7 @@ static clr_result read_file_matrix(parser *p, const directive *d, location at, c
 static clr_result d_transform(parser *p, const directive *d, location at) {
   clr_transform t;
   CLR_CHECK(read_file_matrix(p, d, at, &t));
-  if (p->gs.transform_active) p->gs.ctm = t;
+  set_transform(p, &t);
   return CLR_SUCCESS;
 }
 
@@ -646,7 +658,8 @@ static clr_result d_concat_transform(parser *p, const directive *d, location at)
 static clr_result d_identity(parser *p, const directive *d, location at) {
   (void)at;
   (void)d;
-  if (p->gs.transform_active) p->gs.ctm = clr_transform_identity();
+  clr_transform identity = clr_transform_identity();
+  set_transform(p, &identity);
   return CLR_SUCCESS;
 }
 
@@ -684,7 +697,7 @@ static clr_result d_coord_sys_transform(parser *p, const directive *d, location 
   for (int i = 0; i < p->coord_count && found < 0; ++i)
     if (strcmp(p->coords[i].name, name) == 0) found = i;
   if (found >= 0)
-    p->gs.ctm = p->coords[found].transform;
+    p->gs.ctm = p->gs.ctm_end = p->coords[found].transform; /* pbrt-v3 sets both */
   else
     warnf(p, "%s:%d: unknown coordinate system '%s' in CoordSysTransform; ignored", at.file,
           at.line, name);
@@ -764,14 +777,15 @@ static clr_result d_camera(parser *p, const directive *d, location at) {
   c->params = params;
   c->given = true;
   c->camera_to_world = clr_transform_inverse(&p->gs.ctm);
+  c->camera_to_world_end = clr_transform_inverse(&p->gs.ctm_end);
   return set_coord_system(p, "camera", &c->camera_to_world, at);
 }
 
 static clr_result d_world_begin(parser *p, const directive *d, location at) {
   if (!phase_allows(p, d, at)) return CLR_SUCCESS;
   p->in_world = true;
-  p->gs.ctm = clr_transform_identity();
-  p->gs.transform_active = true;
+  p->gs.ctm = p->gs.ctm_end = clr_transform_identity();
+  p->gs.transform_active = p->gs.end_active = true;
   clr_transform identity = clr_transform_identity();
   return set_coord_system(p, "world", &identity, at);
 }
@@ -991,6 +1005,13 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
     area_light = -1;
   }
   resolve_textures(p, &params);
+  if (memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0 && !p->warned_moving_shape) {
+    p->warned_moving_shape = true;
+    warnf(p,
+          "%s:%d: moving shapes (ActiveTransform) are not supported: rendered at their start "
+          "transform (only the camera moves)",
+          at.file, at.line);
+  }
   int index = s->shape_count++;
   s->shapes[index] = (clr_shape_desc){
       type,       params,           p->gs.ctm, p->gs.reverse_orientation, shape_material(p, at),
@@ -1095,27 +1116,32 @@ static clr_result d_medium_interface(parser *p, const directive *d, location at)
 }
 
 static clr_result d_transform_times(parser *p, const directive *d, location at) {
+  (void)d;
   float v[2];
   CLR_CHECK(expect_numbers(p, 2, v));
-  warn_unsupported(p, d, at);
+  if (!(isfinite(v[0]) && isfinite(v[1]) && v[0] <= v[1]))
+    return clr_set_last_error(CLR_ERROR_PARSE,
+                              "%s:%d:%d: TransformTimes needs finite start <= end, got %g %g",
+                              at.file, at.line, at.col, (double)v[0], (double)v[1]);
+  p->desc->transform_start_time = v[0];
+  p->desc->transform_end_time = v[1];
   return CLR_SUCCESS;
 }
 
-/* Only start-time transforms are kept: edits made while only EndTime is active are skipped. */
+/* pbrt-v3 ActiveTransform: which of the start and end CTMs later edits change. */
 static clr_result d_active_transform(parser *p, const directive *d, location at) {
   (void)d;
+  (void)at;
   clr_token tok;
   CLR_CHECK(next_token(p, &tok));
-  if (clr_token_is(&tok, CLR_TOKEN_WORD, "All") || clr_token_is(&tok, CLR_TOKEN_WORD, "StartTime"))
-    p->gs.transform_active = true;
+  if (clr_token_is(&tok, CLR_TOKEN_WORD, "All"))
+    p->gs.transform_active = p->gs.end_active = true;
+  else if (clr_token_is(&tok, CLR_TOKEN_WORD, "StartTime"))
+    p->gs.transform_active = true, p->gs.end_active = false;
   else if (clr_token_is(&tok, CLR_TOKEN_WORD, "EndTime"))
-    p->gs.transform_active = false;
+    p->gs.transform_active = false, p->gs.end_active = true;
   else
     return expected(&tok, "All, StartTime or EndTime after ActiveTransform");
-  warnf(p,
-        "%s:%d: ActiveTransform is not supported by clrender (no motion blur); only "
-        "start-time transforms are kept",
-        at.file, at.line);
   return CLR_SUCCESS;
 }
 
@@ -1201,8 +1227,8 @@ static clr_result parser_init(parser *p, const clr_parse_options *opts) {
   if (!p->desc)
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY,
                               "clr_scene_parse: out of memory creating the scene");
-  p->gs.ctm = clr_transform_identity();
-  p->gs.transform_active = true;
+  p->gs.ctm = p->gs.ctm_end = clr_transform_identity();
+  p->gs.transform_active = p->gs.end_active = true;
   p->gs.material = 0;
   p->gs.area_light = -1;
   p->current_object = -1;

@@ -3,11 +3,13 @@
 #ifndef CLR_RENDER_SHAPES_H
 #define CLR_RENDER_SHAPES_H
 
+#include "materials.h"
 #include "mesh.h"
+#include "quadrics.h"
 #include "textures.h"
 #include "transform.h"
 
-typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK } rs_shape_type;
+typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK, RS_SHAPE_QUADRIC } rs_shape_type;
 
 typedef struct rs_shape {
   rs_shape_type type;
@@ -16,6 +18,7 @@ typedef struct rs_shape {
   float height, inner_radius, phimax; /* disk (phimax in radians); sphere: phimax too */
   float zmin, zmax;                   /* sphere: pbrt-v3's clipping (object space), with phimax */
   int partial;                        /* sphere clipped by zmin/zmax/phimax */
+  clr_quadric quadric;                /* cylinder, cone, paraboloid, hyperboloid */
   clr_transform object_to_world;      /* sphere: object to world (or to instance) */
   int flip_normal;                    /* pbrt reverseOrientation ^ transformSwapsHandedness */
   int has_material;
@@ -31,6 +34,9 @@ typedef struct rs_shape {
   float eta;
   rs_colour ks;
   float alpha;
+  rs_colour bump; /* material "bumpmap" (float texture; texture -1: none) */
+  int general;    /* material built as lobes at each hit (materials.h) */
+  rs_material gmat;
   int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
 } rs_shape;

@@ -1,11 +1,14 @@
-/* Spectrum textures of pbrt-v3: constant, checkerboard (2D, no antialiasing) and imagemap, all
- * with the uv mapping; colour parameters that may name a texture. */
+/* pbrt-v3's textures, float and spectrum (no ray differentials: unfiltered, bilinear images),
+ * their 2D and 3D mappings, and colour or float parameters that may name a texture. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include "render_error.h"
 #include "clrender/image.h"
+#include "blackbody.h"
+#include "procedural_textures.h"
 #include "textures.h"
 
 void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
@@ -23,6 +26,32 @@ void rs_colour_param(const clr_param_list *first, const clr_param_list *second, 
     if (clr_params_find(lists[i], name, CLR_PARAM_RGB)) {
       float d[3] = {def, def, def};
       clr_params_find_rgb(lists[i], name, d, out->rgb);
+      return;
+    }
+    const clr_param *bb = clr_params_find(lists[i], name, CLR_PARAM_BLACKBODY);
+    if (bb && bb->count >= 2) { /* pbrt-v3: the first (temperature, scale) pair */
+      rs_blackbody_rgb(bb->floats[0], out->rgb);
+      for (int k = 0; k < 3; ++k) out->rgb[k] *= bb->floats[1];
+      return;
+    }
+    const clr_param *f = clr_params_find(lists[i], name, CLR_PARAM_FLOAT);
+    if (f && f->count == 1) {
+      out->rgb[0] = out->rgb[1] = out->rgb[2] = f->floats[0];
+      return;
+    }
+  }
+}
+
+void rs_float_param(const clr_param_list *first, const clr_param_list *second, const char *name,
+                    float def, rs_colour *out) {
+  out->texture = -1;
+  out->rgb[0] = out->rgb[1] = out->rgb[2] = def;
+  const clr_param_list *lists[2] = {first, second};
+  for (int i = 0; i < 2; ++i) {
+    if (!lists[i]) continue;
+    int t = clr_params_find_texture_index(lists[i], name, CLR_TEXTURE_FLOAT);
+    if (t >= 0) {
+      out->texture = t;
       return;
     }
     const clr_param *f = clr_params_find(lists[i], name, CLR_PARAM_FLOAT);
@@ -47,6 +76,38 @@ static void resolve_path(const char *scene_file, const char *name, char *out, si
   snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
 }
 
+static int has_extension(const char *name, const char *ext) {
+  size_t n = strlen(name), e = strlen(ext);
+  return n >= e && strcasecmp(name + n - e, ext) == 0;
+}
+
+/* pbrt-v3 GammaCorrect (sRGB encode) and InverseGammaCorrect. */
+static float gamma_correct(float v) {
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+}
+static float inverse_gamma_correct(float v) {
+  return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
+}
+
+/* pbrt-v3 ImageTexture::convertIn on every texel: scale * (gamma ? InverseGammaCorrect(x) : x),
+ * x the file's value (the PNG reader decodes sRGB already, so it is encoded back first); a
+ * float texture keeps the luminance y. pbrt-v4's `invert` (1 - value, clamped at 0) after. */
+static void convert_texels(rs_texture *t, int png, int gamma, int is_float, int invert) {
+  size_t n = (size_t)t->width * (size_t)t->height;
+  for (size_t i = 0; i < n; ++i) {
+    float *v = t->rgb + 3 * i, raw[3];
+    for (int k = 0; k < 3; ++k) raw[k] = png ? gamma_correct(v[k]) : v[k];
+    if (is_float) {
+      float y = 0.212671f * raw[0] + 0.715160f * raw[1] + 0.072169f * raw[2];
+      raw[0] = raw[1] = raw[2] = y;
+    }
+    for (int k = 0; k < 3; ++k) {
+      float x = t->scale * (gamma ? inverse_gamma_correct(raw[k]) : raw[k]);
+      v[k] = invert ? fmaxf(0.0f, 1.0f - x) : x;
+    }
+  }
+}
+
 static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn,
                               void *wu) {
   const clr_param_list *p = &td->params;
@@ -60,13 +121,23 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
   t->scale = clr_params_find_float(p, "scale", 1.0f);
   const char *filter = clr_params_find_string(p, "filtertype", "bilinear");
   t->nearest = strcmp(filter, "nearest") == 0;
+  clr_params_find_float(p, "maxanisotropy", 8.0f); /* no ray differentials: bilinear only */
+  clr_params_find_bool(p, "trilinear", false);
   const char *wrap = clr_params_find_string(p, "wrap", "repeat");
-  if (strcmp(wrap, "repeat") != 0 && warn) {
+  t->wrap = RS_WRAP_REPEAT;
+  if (strcmp(wrap, "black") == 0)
+    t->wrap = RS_WRAP_BLACK;
+  else if (strcmp(wrap, "clamp") == 0)
+    t->wrap = RS_WRAP_CLAMP;
+  else if (strcmp(wrap, "repeat") != 0 && warn) {
     char m[512];
-    snprintf(m, sizeof m, "%s:%d: imagemap wrap \"%s\" not supported: using repeat", p->file,
-             p->line, wrap);
+    snprintf(m, sizeof m, "%s:%d: imagemap wrap \"%s\" unknown: using repeat", p->file, p->line,
+             wrap);
     warn(wu, m);
   }
+  int png = has_extension(name, ".png");
+  int gamma = clr_params_find_bool(p, "gamma", png || has_extension(name, ".tga"));
+  int invert = clr_params_find_bool(p, "invert", false);
   clr_image image;
   clr_result r = clr_image_read(path, &image);
   t->width = image.width;
@@ -75,6 +146,7 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
   if (r != CLR_SUCCESS)
     return clr_set_last_error(r, "%s:%d: imagemap \"%s\": %s", p->file, p->line, path,
                               clr_last_error_message());
+  convert_texels(t, png, gamma, td->kind == CLR_TEXTURE_FLOAT, invert);
   return CLR_SUCCESS;
 }
 
@@ -85,6 +157,91 @@ static void warn_at(clr_warn_fn warn, void *wu, const clr_param_list *p, const c
   snprintf(m, sizeof m, "%s:%d: %s \"%s\" not supported", p->file ? p->file : "?", p->line, what,
            type);
   warn(wu, m);
+}
+
+/* A texture parameter of the texture's own kind (float or spectrum). */
+static void kind_param(const clr_texture_desc *td, const char *name, float def, rs_colour *out) {
+  if (td->kind == CLR_TEXTURE_FLOAT)
+    rs_float_param(&td->params, NULL, name, def, out);
+  else
+    rs_colour_param(&td->params, NULL, name, def, out);
+}
+
+/* pbrt-v3's 2D mapping parameters (uv, spherical, cylindrical, planar). */
+static void build_mapping(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn, void *wu) {
+  const clr_param_list *p = &td->params;
+  const char *mapping = clr_params_find_string(p, "mapping", "uv");
+  t->mapping = RS_MAP_UV;
+  if (strcmp(mapping, "spherical") == 0) {
+    t->mapping = RS_MAP_SPHERICAL;
+  } else if (strcmp(mapping, "cylindrical") == 0) {
+    t->mapping = RS_MAP_CYLINDRICAL;
+  } else if (strcmp(mapping, "planar") == 0) {
+    static const float x[3] = {1, 0, 0}, y[3] = {0, 1, 0};
+    t->mapping = RS_MAP_PLANAR;
+    const clr_param *a = clr_params_find(p, "v1", CLR_PARAM_VECTOR3);
+    const clr_param *b = clr_params_find(p, "v2", CLR_PARAM_VECTOR3);
+    memcpy(t->v1, a && a->count == 3 ? a->floats : x, sizeof t->v1);
+    memcpy(t->v2, b && b->count == 3 ? b->floats : y, sizeof t->v2);
+  } else if (strcmp(mapping, "uv") != 0) {
+    warn_at(warn, wu, p, "texture mapping (using uv)", mapping);
+  }
+  t->su = clr_params_find_float(p, "uscale", 1.0f);
+  t->sv = clr_params_find_float(p, "vscale", 1.0f);
+  t->du = clr_params_find_float(p, "udelta", 0.0f);
+  t->dv = clr_params_find_float(p, "vdelta", 0.0f);
+}
+
+static int is_2d(rs_texture_type type) {
+  return type == RS_TEX_CHECKER || type == RS_TEX_IMAGE || type == RS_TEX_UV || type == RS_TEX_DOTS;
+}
+
+/* Type and parameters of one texture; 0 when the type is unknown. */
+static int build_type(rs_texture *t, const clr_texture_desc *td) {
+  const clr_param_list *p = &td->params;
+  const char *type = td->type;
+  if (strcmp(type, "constant") == 0) {
+    kind_param(td, "value", 1.0f, &t->value);
+  } else if (strcmp(type, "checkerboard") == 0) {
+    int dim = clr_params_find_int(p, "dimension", 2);
+    t->type = dim == 3 ? RS_TEX_CHECKER3D : RS_TEX_CHECKER;
+    kind_param(td, "tex1", 1.0f, &t->tex1);
+    kind_param(td, "tex2", 0.0f, &t->tex2);
+    clr_params_find_string(p, "aamode", "closedform"); /* no ray differentials: unfiltered */
+  } else if (strcmp(type, "scale") == 0) {             /* pbrt-v3 ScaleTexture: tex1 * tex2 */
+    t->type = RS_TEX_SCALE;
+    kind_param(td, "tex1", 1.0f, &t->tex1);
+    kind_param(td, "tex2", 1.0f, &t->tex2);
+  } else if (strcmp(type, "mix") == 0) { /* pbrt-v3 MixTexture: lerp(amount, tex1, tex2) */
+    t->type = RS_TEX_MIX;
+    kind_param(td, "tex1", 0.0f, &t->tex1);
+    kind_param(td, "tex2", 1.0f, &t->tex2);
+    rs_float_param(p, NULL, "amount", 0.5f, &t->amount);
+  } else if (strcmp(type, "uv") == 0) { /* pbrt-v3 UVTexture: (s - floor s, t - floor t, 0) */
+    t->type = RS_TEX_UV;
+  } else if (strcmp(type, "dots") == 0) {
+    t->type = RS_TEX_DOTS; /* pbrt-v3 passes "inside" as the outside texture and vice versa */
+    kind_param(td, "outside", 0.0f, &t->tex1);
+    kind_param(td, "inside", 1.0f, &t->tex2);
+  } else if (strcmp(type, "fbm") == 0 || strcmp(type, "wrinkled") == 0) {
+    t->type = type[0] == 'f' ? RS_TEX_FBM : RS_TEX_WRINKLED;
+    t->octaves = clr_params_find_int(p, "octaves", 8);
+    t->omega = clr_params_find_float(p, "roughness", 0.5f);
+  } else if (strcmp(type, "windy") == 0) {
+    t->type = RS_TEX_WINDY;
+  } else if (strcmp(type, "marble") == 0 && td->kind == CLR_TEXTURE_SPECTRUM) {
+    t->type = RS_TEX_MARBLE;
+    t->octaves = clr_params_find_int(p, "octaves", 8);
+    t->omega = clr_params_find_float(p, "roughness", 0.5f);
+    t->scale = clr_params_find_float(p, "scale", 1.0f);
+    t->variation = clr_params_find_float(p, "variation", 0.2f);
+  } else if (strcmp(type, "imagemap") == 0) {
+    t->type = RS_TEX_IMAGE;
+  } else {
+    return 0;
+  }
+  if (t->octaves < 0 || t->octaves > 64) t->octaves = t->octaves < 0 ? 0 : 64;
+  return 1;
 }
 
 clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_warn_fn warn,
@@ -99,44 +256,16 @@ clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_w
     t->type = RS_TEX_CONSTANT;
     t->value.texture = -1;
     t->value.rgb[0] = t->value.rgb[1] = t->value.rgb[2] = 0.5f;
-    t->su = clr_params_find_float(p, "uscale", 1.0f);
-    t->sv = clr_params_find_float(p, "vscale", 1.0f);
-    t->du = clr_params_find_float(p, "udelta", 0.0f);
-    t->dv = clr_params_find_float(p, "vdelta", 0.0f);
-    const char *mapping = clr_params_find_string(p, "mapping", "uv");
-    if (strcmp(mapping, "uv") != 0) warn_at(warn, wu, p, "texture mapping", mapping);
-    if (td->kind == CLR_TEXTURE_FLOAT) {
-      warn_at(warn, wu, p, "float texture (ignored)", td->type);
+    t->world_to_texture = clr_transform_inverse(&td->texture_to_world);
+    if (!build_type(t, td)) {
+      warn_at(warn, wu, p,
+              td->kind == CLR_TEXTURE_FLOAT ? "float texture (using 0.5)" : "texture (using 0.5)",
+              td->type);
+      clr_params_mark_used(p);
       continue;
     }
-    if (strcmp(td->type, "constant") == 0) {
-      rs_colour_param(p, NULL, "value", 1.0f, &t->value);
-    } else if (strcmp(td->type, "checkerboard") == 0) {
-      t->type = RS_TEX_CHECKER;
-      rs_colour_param(p, NULL, "tex1", 1.0f, &t->tex1);
-      rs_colour_param(p, NULL, "tex2", 0.0f, &t->tex2);
-      if (clr_params_find_int(p, "dimension", 2) != 2)
-        warn_at(warn, wu, p, "checkerboard dimension", "3");
-      clr_params_find_string(p, "aamode", "none"); /* always unfiltered */
-    } else if (strcmp(td->type, "scale") == 0) {   /* pbrt-v3 ScaleTexture: tex1 * tex2 */
-      t->type = RS_TEX_SCALE;
-      rs_colour_param(p, NULL, "tex1", 1.0f, &t->tex1);
-      rs_colour_param(p, NULL, "tex2", 1.0f, &t->tex2);
-    } else if (strcmp(td->type, "mix") == 0) { /* pbrt-v3 MixTexture: lerp(amount, tex1, tex2) */
-      t->type = RS_TEX_MIX;
-      rs_colour_param(p, NULL, "tex1", 0.0f, &t->tex1);
-      rs_colour_param(p, NULL, "tex2", 1.0f, &t->tex2);
-      t->amount = clr_params_find_float(p, "amount", 0.5f);
-      if (clr_params_find(p, "amount", CLR_PARAM_TEXTURE))
-        warn_at(warn, wu, p, "mix \"amount\" as a texture (using 0.5)", "texture");
-    } else if (strcmp(td->type, "uv") == 0) { /* pbrt-v3 UVTexture: (s - floor s, t - floor t, 0) */
-      t->type = RS_TEX_UV;
-    } else if (strcmp(td->type, "imagemap") == 0) {
-      t->type = RS_TEX_IMAGE;
-      CLR_CHECK(build_image(t, td, warn, wu));
-    } else {
-      warn_at(warn, wu, p, "texture (using 0.5)", td->type);
-    }
+    if (is_2d(t->type)) build_mapping(t, td, warn, wu);
+    if (t->type == RS_TEX_IMAGE) CLR_CHECK(build_image(t, td, warn, wu));
   }
   return CLR_SUCCESS;
 }
@@ -153,9 +282,18 @@ static int wrap_index(int i, int n) {
   return m < 0 ? m + n : m;
 }
 
+/* pbrt-v3 MIPMap::Texel at level 0 with its wrap mode. */
 static void texel(const rs_texture *t, int x, int y, float out[3]) {
-  x = wrap_index(x, t->width);
-  y = wrap_index(y, t->height);
+  if (t->wrap == RS_WRAP_REPEAT) {
+    x = wrap_index(x, t->width);
+    y = wrap_index(y, t->height);
+  } else if (t->wrap == RS_WRAP_CLAMP) {
+    x = x < 0 ? 0 : x >= t->width ? t->width - 1 : x;
+    y = y < 0 ? 0 : y >= t->height ? t->height - 1 : y;
+  } else if (x < 0 || y < 0 || x >= t->width || y >= t->height) {
+    out[0] = out[1] = out[2] = 0.0f;
+    return;
+  }
   /* pbrt flips images so that t = 0 is the bottom row */
   const float *v = t->rgb + 3 * ((size_t)(t->height - 1 - y) * (size_t)t->width + (size_t)x);
   out[0] = v[0];
@@ -165,23 +303,58 @@ static void texel(const rs_texture *t, int x, int y, float out[3]) {
 
 static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[3]) {
   float x = st_s * (float)t->width - 0.5f, y = st_t * (float)t->height - 0.5f;
+  if (!(fabsf(x) < 1e9f && fabsf(y) < 1e9f)) {
+    out[0] = out[1] = out[2] = 0.0f;
+    return;
+  }
   if (t->nearest) {
     texel(t, (int)floorf(x + 0.5f), (int)floorf(y + 0.5f), out);
-  } else {
-    int x0 = (int)floorf(x), y0 = (int)floorf(y);
-    float dx = x - (float)x0, dy = y - (float)y0, a[3], b[3], c[3], e[3];
-    texel(t, x0, y0, a);
-    texel(t, x0 + 1, y0, b);
-    texel(t, x0, y0 + 1, c);
-    texel(t, x0 + 1, y0 + 1, e);
-    for (int k = 0; k < 3; ++k)
-      out[k] =
-          (1 - dx) * (1 - dy) * a[k] + dx * (1 - dy) * b[k] + (1 - dx) * dy * c[k] + dx * dy * e[k];
+    return;
   }
-  for (int k = 0; k < 3; ++k) out[k] *= t->scale;
+  int x0 = (int)floorf(x), y0 = (int)floorf(y);
+  float dx = x - (float)x0, dy = y - (float)y0, a[3], b[3], c[3], e[3];
+  texel(t, x0, y0, a);
+  texel(t, x0 + 1, y0, b);
+  texel(t, x0, y0 + 1, c);
+  texel(t, x0 + 1, y0 + 1, e);
+  for (int k = 0; k < 3; ++k)
+    out[k] =
+        (1 - dx) * (1 - dy) * a[k] + dx * (1 - dy) * b[k] + (1 - dx) * dy * c[k] + dx * dy * e[k];
 }
 
-static void colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
+/* pbrt-v3 TextureMapping2D::Map (without differentials). */
+static void map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2]) {
+  const float inv_pi = 0.31830988618379067154f, inv_2pi = 0.15915494309189533577f;
+  float q[3];
+  switch (t->mapping) {
+    case RS_MAP_SPHERICAL: {
+      clr_transform_point(&t->world_to_texture, ctx->p, q);
+      float len = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+      if (len > 0.0f)
+        for (int k = 0; k < 3; ++k) q[k] /= len;
+      float phi = atan2f(q[1], q[0]);
+      st[0] = acosf(fminf(1.0f, fmaxf(-1.0f, q[2]))) * inv_pi;
+      st[1] = (phi < 0.0f ? phi + 2.0f * 3.14159265f : phi) * inv_2pi;
+      return;
+    }
+    case RS_MAP_CYLINDRICAL:
+      clr_transform_point(&t->world_to_texture, ctx->p, q);
+      st[0] = (3.14159265f + atan2f(q[1], q[0])) * inv_2pi;
+      st[1] = q[2];
+      return;
+    case RS_MAP_PLANAR:
+      st[0] = t->du + ctx->p[0] * t->v1[0] + ctx->p[1] * t->v1[1] + ctx->p[2] * t->v1[2];
+      st[1] = t->dv + ctx->p[0] * t->v2[0] + ctx->p[1] * t->v2[1] + ctx->p[2] * t->v2[2];
+      return;
+    default:
+      st[0] = t->su * ctx->uv[0] + t->du;
+      st[1] = t->sv * ctx->uv[1] + t->dv;
+  }
+}
+
+static void fill(float out[3], float v) { out[0] = out[1] = out[2] = v; }
+
+static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx,
                         float out[3], int depth) {
   for (; depth < 16; ++depth) {
     if (c->texture < 0) {
@@ -189,38 +362,68 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const flo
       return;
     }
     const rs_texture *t = &set->items[c->texture];
-    float st_s = t->su * uv[0] + t->du, st_t = t->sv * uv[1] + t->dv;
+    float st[2] = {0.0f, 0.0f}, q[3];
+    if (is_2d(t->type))
+      map_2d(t, ctx, st);
+    else if (t->type != RS_TEX_CONSTANT && t->type != RS_TEX_SCALE && t->type != RS_TEX_MIX)
+      clr_transform_point(&t->world_to_texture, ctx->p, q); /* pbrt-v3 IdentityMapping3D */
     switch (t->type) {
       case RS_TEX_CONSTANT:
         c = &t->value;
         break;
       case RS_TEX_CHECKER:
-        c = (((int)floorf(st_s) + (int)floorf(st_t)) % 2 == 0) ? &t->tex1 : &t->tex2;
+        if (!(fabsf(st[0]) < 1e9f && fabsf(st[1]) < 1e9f)) st[0] = st[1] = 0.0f;
+        c = (((int)floorf(st[0]) + (int)floorf(st[1])) % 2 == 0) ? &t->tex1 : &t->tex2;
+        break;
+      case RS_TEX_CHECKER3D:
+        c = rs_checker3d_first(q) ? &t->tex1 : &t->tex2;
+        break;
+      case RS_TEX_DOTS:
+        c = rs_dots_inside(st[0], st[1]) ? &t->tex1 : &t->tex2;
         break;
       case RS_TEX_IMAGE:
-        image_lookup(t, st_s, st_t, out);
+        image_lookup(t, st[0], st[1], out);
         return;
       case RS_TEX_UV:
-        out[0] = st_s - floorf(st_s);
-        out[1] = st_t - floorf(st_t);
+        out[0] = st[0] - floorf(st[0]);
+        out[1] = st[1] - floorf(st[1]);
         out[2] = 0.0f;
+        return;
+      case RS_TEX_FBM:
+        fill(out, rs_fbm(q, t->omega, t->octaves));
+        return;
+      case RS_TEX_WRINKLED:
+        fill(out, rs_turbulence(q, t->omega, t->octaves));
+        return;
+      case RS_TEX_WINDY:
+        fill(out, rs_windy(q));
+        return;
+      case RS_TEX_MARBLE:
+        for (int k = 0; k < 3; ++k) q[k] *= t->scale;
+        rs_marble(q, t->omega, t->octaves, t->variation, out);
         return;
       case RS_TEX_SCALE:
       case RS_TEX_MIX: {
-        float a[3], b[3];
-        colour_eval(set, &t->tex1, uv, a, depth + 1);
-        colour_eval(set, &t->tex2, uv, b, depth + 1);
+        float a[3], b[3], m[3];
+        colour_eval(set, &t->tex1, ctx, a, depth + 1);
+        colour_eval(set, &t->tex2, ctx, b, depth + 1);
+        if (t->type == RS_TEX_MIX) colour_eval(set, &t->amount, ctx, m, depth + 1);
         for (int k = 0; k < 3; ++k)
-          out[k] =
-              t->type == RS_TEX_SCALE ? a[k] * b[k] : (1.0f - t->amount) * a[k] + t->amount * b[k];
+          out[k] = t->type == RS_TEX_SCALE ? a[k] * b[k] : (1.0f - m[0]) * a[k] + m[0] * b[k];
         return;
       }
     }
   }
-  out[0] = out[1] = out[2] = 0.5f;
+  fill(out, 0.5f);
 }
 
-void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2],
+void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx,
                     float out[3]) {
-  colour_eval(set, c, uv, out, 0);
+  colour_eval(set, c, ctx, out, 0);
+}
+
+float rs_float_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx) {
+  float v[3];
+  colour_eval(set, c, ctx, v, 0);
+  return v[0];
 }

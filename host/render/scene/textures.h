@@ -1,13 +1,16 @@
-/* Spectrum textures (constant, checkerboard, imagemap, scale, mix, uv) and colour parameters that
- * may name one. */
+/* pbrt-v3 textures, float and spectrum: constant, scale, mix, uv, checkerboard (2D and 3D),
+ * imagemap, dots, fbm, wrinkled, windy, marble; the 2D mappings uv, spherical, cylindrical,
+ * planar; colour and float parameters that may name one. */
 #ifndef CLR_RENDER_TEXTURES_H
 #define CLR_RENDER_TEXTURES_H
 
 #include <stdint.h>
 #include "clrender/result.h"
 #include "scene_desc.h"
+#include "transform.h"
 
-/* A colour that is either constant or a spectrum texture (index into the texture set). */
+/* A colour or float that is either constant or a texture (index into the texture set). Float
+ * values are kept in all three channels. */
 typedef struct rs_colour {
   int texture; /* -1: constant rgb */
   float rgb[3];
@@ -19,25 +22,45 @@ typedef enum {
   RS_TEX_IMAGE,
   RS_TEX_SCALE,
   RS_TEX_MIX,
-  RS_TEX_UV
+  RS_TEX_UV,
+  RS_TEX_CHECKER3D,
+  RS_TEX_DOTS,
+  RS_TEX_FBM,
+  RS_TEX_WRINKLED,
+  RS_TEX_WINDY,
+  RS_TEX_MARBLE
 } rs_texture_type;
+
+typedef enum { RS_MAP_UV, RS_MAP_SPHERICAL, RS_MAP_CYLINDRICAL, RS_MAP_PLANAR } rs_mapping;
+typedef enum { RS_WRAP_REPEAT, RS_WRAP_BLACK, RS_WRAP_CLAMP } rs_wrap;
 
 typedef struct rs_texture {
   rs_texture_type type;
-  float su, sv, du, dv; /* pbrt UVMapping2D */
-  rs_colour value, tex1, tex2;
-  float amount; /* mix: constant "amount" (float textures are not evaluated) */
+  rs_mapping mapping;
+  float su, sv, du, dv;           /* pbrt UVMapping2D; planar: du, dv */
+  float v1[3], v2[3];             /* PlanarMapping2D */
+  clr_transform world_to_texture; /* 3D textures and the spherical/cylindrical mappings */
+  rs_colour value, tex1, tex2, amount;
   int32_t width, height;
-  float *rgb; /* image texels, row 0 = top of the file */
+  float *rgb; /* image texels, row 0 = top of the file, scale and gamma applied */
   float scale;
   int nearest; /* 1: nearest texel, 0: bilinear */
+  rs_wrap wrap;
+  int octaves;
+  float omega, variation; /* fbm/wrinkled/marble "roughness"; marble "variation" */
 } rs_texture;
 
-/* The scene's textures, one per description texture (float textures left constant). */
+/* The scene's textures, one per description texture. */
 typedef struct rs_texture_set {
   rs_texture *items;
   int count;
 } rs_texture_set;
+
+/* Where a texture is looked up: the surface's (u, v) and world point. */
+typedef struct rs_tex_ctx {
+  float uv[2];
+  float p[3];
+} rs_tex_ctx;
 
 clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_warn_fn warn,
                              void *wu);
@@ -45,6 +68,11 @@ void rs_textures_free(rs_texture_set *set);
 /* Colour parameter `name` looked up in `first` then `second` (may be NULL), default def. */
 void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
                      float def, rs_colour *out);
-void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const float uv[2], float out[3]);
+/* Float parameter `name` (a float or a float texture) in `first` then `second`, default def. */
+void rs_float_param(const clr_param_list *first, const clr_param_list *second, const char *name,
+                    float def, rs_colour *out);
+void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx,
+                    float out[3]);
+float rs_float_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx);
 
 #endif

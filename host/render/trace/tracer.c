@@ -36,7 +36,12 @@ typedef struct
   double height, radius, inner, phimax;
 } disk_shape;
 
-typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE, GEOM_DISK } geom_kind;
+typedef struct quadric_shape { /* pbrt-v3 cylinder, cone, paraboloid, hyperboloid */
+  affine object_to_group;
+  clr_quadric q;
+} quadric_shape;
+
+typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE, GEOM_DISK, GEOM_QUADRIC } geom_kind;
 
 typedef struct geom_record { /* indexed by Embree geometry id within its group */
   geom_kind kind;
@@ -44,6 +49,7 @@ typedef struct geom_record { /* indexed by Embree geometry id within its group *
   tracer_mesh mesh;        /* GEOM_MESH */
   sphere_shape *sphere;    /* GEOM_SPHERE */
   disk_shape *disk;        /* GEOM_DISK */
+  quadric_shape *quadric;  /* GEOM_QUADRIC */
   int32_t instanced_group; /* GEOM_INSTANCE */
   affine instance_to_world;
 } geom_record;
@@ -339,6 +345,43 @@ static void disk_occluded(const struct RTCOccludedFunctionNArguments *args) {
   user_occluded(args, disk_test);
 }
 
+/* ---- quadrics (quadrics.c): exact intersection in object space ---- */
+
+static int quadric_test(const void *shape, const float org[3], const float dir[3], float tnear,
+                        float tfar, sphere_hit *hit) {
+  const quadric_shape *s = shape;
+  double og[3] = {org[0], org[1], org[2]}, dg[3] = {dir[0], dir[1], dir[2]}, o[3], d[3], t;
+  map_point(s->object_to_group.inv, og, o);
+  map_vector(s->object_to_group.inv, dg, d);
+  if (!clr_quadric_intersect(&s->q, o, d, tfar, &t) || !((float)t >= tnear && (float)t <= tfar))
+    return 0;
+  double p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]}, uv[2], du[3], dv[3], n[3];
+  clr_quadric_param(&s->q, p, uv, du, dv);
+  n[0] = du[1] * dv[2] - du[2] * dv[1];
+  n[1] = du[2] * dv[0] - du[0] * dv[2];
+  n[2] = du[0] * dv[1] - du[1] * dv[0];
+  hit->t = (float)t;
+  hit->u = (float)uv[0];
+  hit->v = (float)uv[1];
+  map_normal(&s->object_to_group, n, hit->ng);
+  return 1;
+}
+
+static void quadric_bounds(const struct RTCBoundsFunctionArguments *args) {
+  const quadric_shape *s = args->geometryUserPtr;
+  double r, z0, z1;
+  clr_quadric_bounds(&s->q, &r, &z0, &z1);
+  box_bounds(s->object_to_group.m, r, z0, z1, 1e-7, args->bounds_o);
+}
+
+static void quadric_intersect(const struct RTCIntersectFunctionNArguments *args) {
+  user_intersect(args, quadric_test);
+}
+
+static void quadric_occluded(const struct RTCOccludedFunctionNArguments *args) {
+  user_occluded(args, quadric_test);
+}
+
 /* ---- building ---- */
 
 static void free_record(geom_record *r) {
@@ -348,6 +391,7 @@ static void free_record(geom_record *r) {
   free(r->mesh.indices);
   free(r->sphere);
   free(r->disk);
+  free(r->quadric);
   memset(r, 0, sizeof *r);
 }
 
@@ -647,6 +691,28 @@ clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_gr
   }
   return attach_user(t, g, &record, record.disk, disk_bounds, disk_intersect, disk_occluded,
                      geom_id);
+}
+
+clr_result clr_tracer_add_quadric(clr_tracer t, int32_t g, const float object_to_group[16],
+                                  const clr_quadric *quadric, uint32_t user_id, uint32_t *geom_id) {
+  static const char fn[] = "clr_tracer_add_quadric";
+  CLR_CHECK(check_building(t, g, object_to_group, "object_to_group", fn));
+  geom_record record = {.kind = GEOM_QUADRIC, .user_id = user_id};
+  record.quadric = malloc(sizeof *record.quadric);
+  if (!record.quadric) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
+  record.quadric->q = *quadric;
+  const char *why;
+  if (!clr_quadric_init(&record.quadric->q, &why)) {
+    free_record(&record);
+    return clr_set_last_error(CLR_ERROR_SCENE, "%s: %s", fn, why);
+  }
+  if (!affine_from_matrix(object_to_group, &record.quadric->object_to_group)) {
+    free_record(&record);
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s: object_to_group is not a finite, invertible affine matrix", fn);
+  }
+  return attach_user(t, g, &record, record.quadric, quadric_bounds, quadric_intersect,
+                     quadric_occluded, geom_id);
 }
 
 clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance_to_world[16],
@@ -956,6 +1022,18 @@ clr_result clr_tracer_mesh_interpolate(clr_tracer t, const clr_hit *hit, float p
     double o[3] = {r * cos(phi), r * sin(phi), s->height}, z[3] = {0.0, 0.0, 1.0};
     map_point(s->object_to_group.m, o, p);
     map_normal(&s->object_to_group, z, n);
+    uv[0] = hit->u;
+    uv[1] = hit->v;
+  } else if (rec->kind == GEOM_QUADRIC) {
+    const quadric_shape *s = rec->quadric;
+    double o[3], puv[2], du[3], dv[3], no[3];
+    clr_quadric_point(&s->q, hit->u, hit->v, o);
+    clr_quadric_param(&s->q, o, puv, du, dv);
+    no[0] = du[1] * dv[2] - du[2] * dv[1];
+    no[1] = du[2] * dv[0] - du[0] * dv[2];
+    no[2] = du[0] * dv[1] - du[1] * dv[0];
+    map_point(s->object_to_group.m, o, p);
+    map_normal(&s->object_to_group, no, n);
     uv[0] = hit->u;
     uv[1] = hit->v;
   } else {

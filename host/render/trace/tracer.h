@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include "clrender/result.h"
 #include "mesh.h"
+#include "quadrics.h"
 
 /* A scene being built (before clr_tracer_commit) or a static, queryable scene (after it).
  * Geometry goes into groups: group 0 is the world; every other group is an object definition
@@ -73,6 +74,12 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer tracer, int32_t group,
 clr_result clr_tracer_add_disk(clr_tracer tracer, int32_t group, const float object_to_group[16],
                                float height, float radius, float inner_radius, float phimax_deg,
                                uint32_t user_id, uint32_t *geom_id);
+
+/* Adds one of pbrt-v3's quadrics (quadrics.h: cylinder, cone, paraboloid, hyperboloid) as exact
+ * user geometry; hits: pbrt-v3's (u, v), ng = dpdu x dpdv mapped as a normal. Parameters that
+ * describe no surface are an error naming the problem. */
+clr_result clr_tracer_add_quadric(clr_tracer tracer, int32_t group, const float object_to_group[16],
+                                  const clr_quadric *quadric, uint32_t user_id, uint32_t *geom_id);
 
 /* Places group `group` (>= 1) into the world with the row-major affine 4x4 `instance_to_world`.
  * Instances and world geometry share the world's id sequence: the n-th mesh, sphere or instance

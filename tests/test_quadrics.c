@@ -1,0 +1,166 @@
+/* pbrt-v3's quadrics (issue #11): the exact intersectors against the implicit surfaces and the
+ * parametrization, and a rendered cylinder against its analytic shading. */
+#define _GNU_SOURCE
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+#include "clrender.h"
+#include "quadrics.h"
+#include "renderer.h"
+#include "scene_parser.h"
+
+#define PI_D 3.14159265358979323846
+
+static double implicit(const clr_quadric *q, const double p[3]) {
+  double xy = p[0] * p[0] + p[1] * p[1];
+  switch (q->type) {
+    case CLR_QUADRIC_CYLINDER:
+      return xy - q->radius * q->radius;
+    case CLR_QUADRIC_CONE: {
+      double k = (q->radius / q->height) * (q->radius / q->height), dz = p[2] - q->height;
+      return xy - k * dz * dz;
+    }
+    case CLR_QUADRIC_PARABOLOID:
+      return q->zmax / (q->radius * q->radius) * xy - p[2];
+    default:
+      return q->ah * xy - q->ch * p[2] * p[2] - 1.0;
+  }
+}
+
+static double rnd(uint32_t *s) {
+  *s = *s * 1664525u + 1013904223u;
+  return (*s >> 8) / 16777216.0;
+}
+
+/* For each quadric: points at random (u, v) lie on the implicit surface and map back to (u, v);
+ * a ray from a random outside point toward such a point hits the surface at a point that is on
+ * it and inside the clipping, no farther than the target; dpdu x dpdv is parallel to the
+ * implicit gradient. The hyperboloid passes through p1 and p2 (pbrt-v3's coefficients). */
+static void test_quadric_intersections(void **state) {
+  (void)state;
+  clr_quadric qs[4];
+  memset(qs, 0, sizeof qs);
+  qs[0] = (clr_quadric){
+      .type = CLR_QUADRIC_CYLINDER, .radius = 0.7, .zmin = 1, .zmax = -0.5, .phimax = 1.5 * PI_D};
+  qs[1] = (clr_quadric){.type = CLR_QUADRIC_CONE, .radius = 0.8, .height = 1.3, .phimax = 2 * PI_D};
+  qs[2] = (clr_quadric){.type = CLR_QUADRIC_PARABOLOID,
+                        .radius = 0.9,
+                        .zmin = 0.2,
+                        .zmax = 1.4,
+                        .phimax = 1.2 * PI_D};
+  qs[3] = (clr_quadric){.type = CLR_QUADRIC_HYPERBOLOID,
+                        .p1 = {0.6, 0, 0},
+                        .p2 = {0.6, 0.5, 1.1},
+                        .phimax = 2 * PI_D};
+  uint32_t s = 4242u;
+  for (int c = 0; c < 4; ++c) {
+    clr_quadric q = qs[c];
+    const char *why;
+    assert_true(clr_quadric_init(&q, &why));
+    if (c == 0) assert_true(q.zmin == -0.5 && q.zmax == 1);
+    if (c == 3) {
+      assert_true(fabs(implicit(&q, q.p1)) < 1e-9 && fabs(implicit(&q, q.p2)) < 1e-9);
+    }
+    double r, z0, z1;
+    clr_quadric_bounds(&q, &r, &z0, &z1);
+    int hits = 0;
+    for (int i = 0; i < 4000; ++i) {
+      double u = 0.01 + 0.98 * rnd(&s), v = 0.01 + 0.98 * rnd(&s), p[3], uv[2], du[3], dv[3];
+      clr_quadric_point(&q, u, v, p);
+      assert_true(fabs(implicit(&q, p)) < 1e-9 * (1 + fabs(p[2]) + r * r));
+      clr_quadric_param(&q, p, uv, du, dv);
+      assert_true(fabs(uv[0] - u) < 1e-9 && fabs(uv[1] - v) < 1e-9);
+      double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
+                     du[0] * dv[1] - du[1] * dv[0]};
+      double e = 1e-6, g[3];
+      for (int k = 0; k < 3; ++k) {
+        double a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[1], p[2]};
+        a[k] += e;
+        b[k] -= e;
+        g[k] = (implicit(&q, a) - implicit(&q, b)) / (2 * e);
+      }
+      double cr[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
+                      n[0] * g[1] - n[1] * g[0]};
+      double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]),
+             lg = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      assert_true(sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) <= 1e-5 * ln * lg);
+      /* a ray from outside the bounds toward p */
+      double o[3] = {(rnd(&s) - 0.5) * 8 * (r + 1), (rnd(&s) - 0.5) * 8 * (r + 1),
+                     z1 + 1 + 3 * rnd(&s)};
+      if (rnd(&s) < 0.5) o[2] = z0 - 1 - 3 * rnd(&s);
+      double d[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]}, t;
+      assert_true(clr_quadric_intersect(&q, o, d, INFINITY, &t));
+      assert_true(t <= 1 + 1e-9 && t > 0);
+      double h[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]}, huv[2];
+      assert_true(fabs(implicit(&q, h)) < 1e-7 * (1 + r * r + h[2] * h[2]));
+      assert_true(h[2] >= z0 - 1e-9 && h[2] <= z1 + 1e-9);
+      clr_quadric_param(&q, h, huv, du, dv);
+      assert_true(huv[0] <= 1 + 1e-9);
+      hits += t > 1 - 1e-9;
+      /* tmax before the hit: none */
+      assert_false(clr_quadric_intersect(&q, o, d, t * (1 - 1e-6), &t) && t < 0);
+    }
+    fprintf(stderr, "quadric %d: %d of 4000 rays hit the target point first\n", c, hits);
+    assert_true(hits > 1000);
+  }
+  clr_quadric bad = {
+      .type = CLR_QUADRIC_HYPERBOLOID, .p1 = {1, 0, 1}, .p2 = {1, 0, 1}, .phimax = PI_D};
+  const char *why;
+  assert_false(clr_quadric_init(&bad, &why));
+  assert_true(strlen(why) > 0);
+}
+
+/* A cylinder (radius 0.6 along y, z in [-0.5, 0.8]) seen by an orthographic camera, lit by a
+ * distant light along the view with L = pi, matte Kd 1: each pixel centre shows cos = sqrt(1 -
+ * (x / r)^2) on the cylinder and 0 elsewhere. */
+static void test_cylinder_render(void **state) {
+  (void)state;
+  const char *text =
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+      "Film \"image\" \"integer xresolution\" [40] \"integer yresolution\" [40]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"directlighting\"\nWorldBegin\n"
+      "LightSource \"distant\" \"point from\" [0 0 5] \"point to\" [0 0 0] \"rgb L\" "
+      "[3.14159265 3.14159265 3.14159265]\n"
+      "Material \"matte\" \"rgb Kd\" [1 1 1]\nAttributeBegin\nRotate -90 1 0 0\n"
+      "Shape \"cylinder\" \"float radius\" [0.6] \"float zmin\" [-0.5] \"float zmax\" [0.8]\n"
+      "AttributeEnd\nWorldEnd\n";
+  clr_scene_desc *desc = NULL;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  assert_int_equal(clr_scene_parse_string(text, "quadrics.pbrt", &po, &desc), CLR_SUCCESS);
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.quiet = 1;
+  clr_render_image im;
+  memset(&im, 0, sizeof im);
+  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+  int inside = 0;
+  for (int py = 0; py < 40; ++py)
+    for (int px = 0; px < 40; ++px) {
+      double wx = -1.0 + 2.0 * (px + 0.5) / 40.0, wy = 1.0 - 2.0 * (py + 0.5) / 40.0;
+      int in = fabs(wx) < 0.6 && wy >= -0.5 && wy <= 0.8;
+      double expect = in ? sqrt(1 - (wx / 0.6) * (wx / 0.6)) : 0.0;
+      inside += in;
+      if (fabs(im.rgb[3 * (py * 40 + px)] - expect) >= 1e-4)
+        fprintf(stderr, "px %d %d: %g vs %g\n", px, py, im.rgb[3 * (py * 40 + px)], expect);
+      assert_true(fabs(im.rgb[3 * (py * 40 + px)] - expect) < 1e-4);
+    }
+  assert_true(inside > 200);
+  free(im.rgb);
+  clr_scene_desc_free(desc);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_quadric_intersections),
+      cmocka_unit_test(test_cylinder_render),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
