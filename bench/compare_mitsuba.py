@@ -3,14 +3,16 @@
 
   MITSUBA_PYTHON=/path/to/venv/bin/python DRJIT_LIBLLVM_PATH=/path/to/libLLVM.so \\
     bench/compare_mitsuba.py [--clrender PATH] [--scene bench/scenes/cornell.pbrt] [--reps N]
-        [--ref-spp N] [--target-spp N] [--target-sampler sobol] [--max-spp N] [--threads N]
-        [--res N] [--clr-samplers "halton sobol zsobol"]
+        [--ref-spp N] [--ref-sampler sobol] [--target-spp N] [--target-sampler sobol]
+        [--max-spp N] [--threads N] [--res N] [--maxdepth 5] [--clr-samplers "halton sobol zsobol"]
         [--mi-samplers "independent stratified multijitter ldsampler"]
 
 Renders the pbrt Cornell box (path tracer, maxdepth 5, box filter) with clrender and with
 Mitsuba 3's llvm_ad_rgb variant (the scene translated by a tiny parser of that one pbrt file into
 Mitsuba's dict API: same camera, triangles, two-sided diffuse materials, one-sided area light).
-The reference is a clrender render at --ref-spp; Mitsuba's high-spp mean is checked against it.
+The reference is a clrender render at --ref-spp with --ref-sampler (halton and sobol ignore the
+seed: a sobol reference shares its first samples with the sobol sweep; "random" avoids that at
+the price of a noisier reference); Mitsuba's high-spp mean is checked against it.
 Each sampler is swept over powers of two of spp (each render a fresh process, renderers and
 samplers interleaved, the order rotating per repetition); relRMSE = sqrt(mean over pixels and
 channels of (x - ref)^2 / (ref^2 + 1e-2)), as bench/adaptive_rmse.sh. The target error is
@@ -283,7 +285,7 @@ def main():
         return 0
     opts = {"clrender": os.path.join(HERE, "..", "build", "clrender"),
             "scene": os.path.join(HERE, "scenes", "cornell.pbrt"), "reps": "3",
-            "ref-spp": "1024", "target-spp": "16", "target-sampler": "sobol", "max-spp": "64",
+            "ref-spp": "1024", "ref-sampler": "sobol", "target-spp": "16", "target-sampler": "sobol", "max-spp": "64",
             "threads": "2", "res": "256", "maxdepth": "5",
             "clr-samplers": "halton sobol zsobol",
             "mi-samplers": "independent stratified multijitter ldsampler"}
@@ -338,9 +340,9 @@ def drive(opts, py, mi_version, clrender, scene_path, work, reps, res, threads):
                       "ref_spp": int(opts["ref-spp"]), "reps": reps,
                       "loadavg": os.getloadavg()[0]}), flush=True)
     ref_path = os.path.join(work, "ref.pfm")
-    wall, cpu, _ = clr(opts["target-sampler"], int(opts["ref-spp"]), 1000, ref_path)
+    wall, cpu, _ = clr(opts["ref-sampler"], int(opts["ref-spp"]), 1000, ref_path)
     ref = read_pfm(ref_path)
-    print(json.dumps({"reference": "clrender", "sampler": opts["target-sampler"],
+    print(json.dumps({"reference": "clrender", "sampler": opts["ref-sampler"],
                       "spp": int(opts["ref-spp"]), "wall_s": round(wall, 2),
                       "cpu_s": round(cpu, 2), "mean": sum(ref) / len(ref)}), flush=True)
 
@@ -413,9 +415,10 @@ def drive(opts, py, mi_version, clrender, scene_path, work, reps, res, threads):
 
     best = {w: min((r for r in rows if r["renderer"] == w), key=lambda r: finite(r, "cpu"))
             for w in ("clrender", "mitsuba")}
-    print("\ntarget relRMSE %.4f (clrender %s %d spp), reference clrender %s spp, %d reps, "
+    print("\ntarget relRMSE %.4f (clrender %s %d spp), reference clrender %s %s spp, %d reps, "
           "%s threads, load %.1f" % (target, opts["target-sampler"], int(opts["target-spp"]),
-                                     opts["ref-spp"], reps, threads, os.getloadavg()[0]))
+                                     opts["ref-sampler"], opts["ref-spp"], reps, threads,
+                                     os.getloadavg()[0]))
     print("| renderer | sampler | wall s to target | CPU s to target | Mitsuba render-only s "
           "| mean / ref (max spp) | relRMSE at max spp |")
     print("|---|---|---|---|---|---|---|")
