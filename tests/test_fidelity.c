@@ -271,8 +271,8 @@ static void test_sphere_light_noise(void **state) {
           "sphere light: 16 spp relative RMSE %.4f (without the light's pixels %.4f), mean ratio "
           "%.4f\n",
           e, sqrt(e2 / n2) / (ref_sum / n2), m);
-  /* regression bounds (measured 0.223 and 0.992 with cone sampling; pbrt-v3's own 16-spp error
-   * on this scene is not measured here) */
+  /* regression bounds (measured 0.223 and 0.992 with cone sampling; against pbrt-v3, the 96x64
+   * version tests/data/scenes/v3_spherelight.pbrt has pbrt-v3's error, see the README) */
   assert_true(e < 0.26);
   assert_true(fabs(m - 1.0) < 0.02);
   free(ref.rgb);

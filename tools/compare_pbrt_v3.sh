@@ -2,7 +2,8 @@
 # Compares clrender with a pbrt-v3 build on tests/data/scenes/v3_*.pbrt (issue #11): for each
 # scene a pbrt-v3 reference at REF_SPP (default 1024), pbrt-v3 and clrender at the scene's 16 spp;
 # prints relative RMSE (RMSE / reference mean) of both against the reference and clrender's mean
-# ratio. Usage: tools/compare_pbrt_v3.sh PBRT [CLRENDER] [OUTDIR]. Not used by the tests.
+# ratio. Usage: tools/compare_pbrt_v3.sh PBRT [CLRENDER] [OUTDIR]; SCENES (a glob, default v3_*)
+# picks scenes. Not used by the tests.
 set -euo pipefail
 pbrt=${1:?usage: $0 /path/to/pbrt-v3/pbrt [clrender] [outdir]}
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -12,7 +13,7 @@ ref_spp=${REF_SPP:-1024}
 mkdir -p "$out"
 cp "$here"/tests/data/scenes/*.png "$out"/  # images the scenes name, beside the reference copies
 printf '%-14s %12s %12s %10s\n' scene rmse_clr16 rmse_pbrt16 mean_ratio
-for scene in "$here"/tests/data/scenes/v3_*.pbrt; do
+for scene in "$here"/tests/data/scenes/${SCENES:-v3_*}.pbrt; do
   name=$(basename "$scene" .pbrt)
   sed "s/\"integer pixelsamples\" \[16\]/\"integer pixelsamples\" [$ref_spp]/" "$scene" > "$out/$name.ref.pbrt"
   "$pbrt" --quiet --outfile "$out/$name.ref.pfm" "$out/$name.ref.pbrt" > /dev/null

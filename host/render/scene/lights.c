@@ -1,5 +1,6 @@
 /* pbrt-v3 lights: point, spot, distant, infinite (constant), diffuse area lights on triangles
- * (one light per triangle, as pbrt-v3's per-triangle shapes) and spheres (cone sampling). */
+ * (one light per triangle, as pbrt-v3's per-triangle shapes), spheres (cone sampling), disks and
+ * cylinders (sampled by area). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -261,6 +262,13 @@ clr_result rs_area_lights_add(rs_light_set *set, rs_shape *sh, int shape_index,
     l.power = luminance(l.colour) * sides * RS_PI * l.area;
     return push_light(set, &l);
   }
+  if (sh->type == RS_SHAPE_QUADRIC) { /* a cylinder: render_scene rejects the other quadrics */
+    const clr_quadric *q = &sh->quadric;
+    l.type = RS_LIGHT_AREA_CYLINDER;
+    l.area = (float)((q->zmax - q->zmin) * q->radius * q->phimax);
+    l.power = luminance(l.colour) * sides * RS_PI * l.area;
+    return push_light(set, &l);
+  }
   l.type = RS_LIGHT_AREA_TRIANGLE;
   for (int t = 0; t < sh->mesh.triangle_count; ++t) {
     const float *p0, *p1, *p2;
@@ -291,6 +299,23 @@ static void area_emit(const rs_light *l, const float n[3], const float w[3], flo
 /* Points on the sphere itself count as inside (pbrt-v3 tests its offset ray origin): cone
  * sampling from them would see the sphere from the wrong side. */
 static int sphere_inside(float dc2, float r) { return dc2 <= r * r * (1.0f + 2e-4f); }
+
+/* pbrt-v3 Cylinder::Sample(u): z uniform in [zmin, zmax], phi uniform in [0, phimax]; the
+ * normal (x, y, 0) transformed, flipped as the shape's hit normals are. */
+static void sample_cylinder(const rs_shape *sh, const float u[2], float pt[3], float n[3]) {
+  const clr_quadric *q = &sh->quadric;
+  float z = (float)(q->zmin + u[0] * (q->zmax - q->zmin)), phi = (float)(u[1] * q->phimax);
+  float r = (float)q->radius;
+  float po[3] = {r * cosf(phi), r * sinf(phi), z}, no[3] = {po[0], po[1], 0.0f};
+  clr_transform_point(&sh->object_to_world, po, pt);
+  clr_transform_normal(&sh->object_to_world, no, n);
+  rs_normalize(n);
+  if (sh->flip_normal) {
+    n[0] = -n[0];
+    n[1] = -n[1];
+    n[2] = -n[2];
+  }
+}
 
 /* Samples a point on the emitter: position, oriented normal, area-measure pdf or (cone)
  * solid-angle pdf with *solid = 1. */
@@ -342,6 +367,11 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
       n[1] = -n[1];
       n[2] = -n[2];
     }
+    *pdf = 1.0f / l->area;
+    return;
+  }
+  if (l->type == RS_LIGHT_AREA_CYLINDER) {
+    sample_cylinder(&shapes[l->shape], u, pt, n);
     *pdf = 1.0f / l->area;
     return;
   }
@@ -529,7 +559,8 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     float c = fabsf(rs_dot(n_hit, wi));
     return c > 0.0f ? t * t / (c * 4.0f * RS_PI * l->radius * l->radius) : 0.0f;
   }
-  if (l->type == RS_LIGHT_AREA_TRIANGLE || l->type == RS_LIGHT_AREA_DISK) {
+  if (l->type == RS_LIGHT_AREA_TRIANGLE || l->type == RS_LIGHT_AREA_DISK ||
+      l->type == RS_LIGHT_AREA_CYLINDER) {
     float c = fabsf(rs_dot(n_hit, wi));
     return c > 0.0f ? t * t / (c * l->area) : 0.0f;
   }
@@ -600,6 +631,15 @@ int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int 
     double phi = atan2(y, x);
     if (phi < 0.0) phi += 2.0 * RS_PI;
     return phi <= (double)sh->phimax * (1.0 + 1e-6);
+  }
+  if (l->type == RS_LIGHT_AREA_CYLINDER) { /* Cylinder::Intersect in object space */
+    const rs_shape *sh = &shapes[l->shape];
+    clr_transform w2o = clr_transform_inverse(&sh->object_to_world);
+    float ow[3] = {ray->ox, ray->oy, ray->oz}, dw[3] = {ray->dx, ray->dy, ray->dz}, o[3], d[3];
+    clr_transform_point(&w2o, ow, o);
+    clr_transform_vector(&w2o, dw, d);
+    double od[3] = {o[0], o[1], o[2]}, dd[3] = {d[0], d[1], d[2]}, t;
+    return clr_quadric_intersect(&sh->quadric, od, dd, ray->tfar, &t) && t >= (double)ray->tnear;
   }
   if (l->type != RS_LIGHT_AREA_TRIANGLE) return 1;
   const float *p0, *p1, *p2;

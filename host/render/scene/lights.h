@@ -1,5 +1,5 @@
 /* pbrt-v3 lights: point, spot, distant, infinite (constant), diffuse area lights on triangles
- * (one light per triangle) and spheres. */
+ * (one light per triangle), spheres, disks and cylinders. */
 #ifndef CLR_RENDER_LIGHTS_H
 #define CLR_RENDER_LIGHTS_H
 
@@ -16,7 +16,8 @@ typedef enum {
   RS_LIGHT_INFINITE,
   RS_LIGHT_AREA_TRIANGLE,
   RS_LIGHT_AREA_SPHERE,
-  RS_LIGHT_AREA_DISK
+  RS_LIGHT_AREA_DISK,
+  RS_LIGHT_AREA_CYLINDER
 } rs_light_type;
 
 typedef struct rs_light {
@@ -28,7 +29,7 @@ typedef struct rs_light {
   float light_to_world[3][3]; /* infinite */
   float cos_total, cos_falloff_start;
   int shape, prim, two_sided;
-  float area;   /* triangle area; disk: pbrt-v3 Disk::Area (object space) */
+  float area;   /* triangle area; disk, cylinder: pbrt-v3 Disk/Cylinder::Area (object space) */
   float radius; /* sphere */
   int nsamples;
   float power;

@@ -431,9 +431,13 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     }
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
-      if (sh->type == RS_SHAPE_QUADRIC) {
-        warn_fmt(warn, wu, "%s:%d: area light on a \"%s\" not supported: ignored", p->file, p->line,
-                 sd->type);
+      if (sh->type == RS_SHAPE_QUADRIC && sh->quadric.type != CLR_QUADRIC_CYLINDER) {
+        /* pbrt-v3's Cone/Paraboloid/Hyperboloid::Sample stop with "not implemented" */
+        return clr_set_last_error(CLR_ERROR_SCENE,
+                                  "%s:%d: area light on a \"%s\": pbrt-v3 cannot sample it "
+                                  "(its Sample is not implemented); a cylinder, disk, sphere or "
+                                  "triangle mesh can emit",
+                                  p->file ? p->file : "?", p->line, sd->type);
       } else if (strcmp(a->type, "diffuse") != 0 && strcmp(a->type, "area") != 0) {
         warn_fmt(warn, wu, "%s:%d: area light \"%s\" not supported: ignored", p->file, p->line,
                  a->type);
