@@ -154,18 +154,28 @@ CLR_INLINE float clr_v4_sobol_dimension(const clr_sampler_params *p, const clr_v
   return clr_v4_sobol_sample(index, dim, p->randomization, hash, t->sobol32);
 }
 
-/* Entry `digit` of the p-th of pbrt-v4's 24 permutations of 0..3: the order in which swapping
- * entry k with entry k + c_k (k = 0, 1, 2) enumerates them, c_0 = p / 6, c_1 = p / 2 % 3,
- * c_2 = p % 2. Entries are packed 2 bits each. */
+/* The p-th of pbrt-v4's 24 permutations of 0..3, entries packed 2 bits each: the order in which
+ * swapping entry k with entry k + c_k (k = 0, 1, 2) enumerates them, c_0 = p / 6,
+ * c_1 = p / 2 % 3, c_2 = p % 2. Constant expressions: the compiler builds the table. */
+#define CLR_V4_SWAP2(x, i, j)                           \
+  (((x) & ~((3u << (2u * (i))) | (3u << (2u * (j))))) | \
+   ((((x) >> (2u * (i))) & 3u) << (2u * (j))) | ((((x) >> (2u * (j))) & 3u) << (2u * (i))))
+#define CLR_V4_PERM4(p)                                                                     \
+  CLR_V4_SWAP2(CLR_V4_SWAP2(CLR_V4_SWAP2(0xe4u, 0u, (p) / 6u), 1u, 1u + (p) / 2u % 3u), 2u, \
+               2u + (p) % 2u)
+/* Permutations p .. p + 7, one byte each. */
+#define CLR_V4_PERM4_BYTE(p, i) ((clr_u64)CLR_V4_PERM4((p) + (i)) << (8u * (i)))
+#define CLR_V4_PERM4_WORD(p)                                                        \
+  (CLR_V4_PERM4_BYTE(p, 0u) | CLR_V4_PERM4_BYTE(p, 1u) | CLR_V4_PERM4_BYTE(p, 2u) | \
+   CLR_V4_PERM4_BYTE(p, 3u) | CLR_V4_PERM4_BYTE(p, 4u) | CLR_V4_PERM4_BYTE(p, 5u) | \
+   CLR_V4_PERM4_BYTE(p, 6u) | CLR_V4_PERM4_BYTE(p, 7u))
+
+/* Entry `digit` of permutation p < 24. */
 CLR_INLINE clr_u32 clr_v4_permute4(clr_u32 p, clr_u32 digit) {
-  clr_u32 packed = 0xe4u; /* 3 2 1 0 */
-  clr_u32 choice[3] = {p / 6u, p / 2u % 3u, p % 2u};
-  for (clr_u32 k = 0u; k < 3u; ++k) {
-    clr_u32 j = k + choice[k];
-    clr_u32 a = (packed >> (2u * k)) & 3u, b = (packed >> (2u * j)) & 3u;
-    packed &= ~((3u << (2u * k)) | (3u << (2u * j)));
-    packed |= (b << (2u * k)) | (a << (2u * j));
-  }
+  clr_u64 word = p < 8u    ? CLR_V4_PERM4_WORD(0u)
+                 : p < 16u ? CLR_V4_PERM4_WORD(8u)
+                           : CLR_V4_PERM4_WORD(16u);
+  clr_u32 packed = (clr_u32)(word >> (8u * (p & 7u))) & 0xffu;
   return (packed >> (2u * digit)) & 3u;
 }
 
