@@ -565,6 +565,43 @@ static void test_camera_motion_blur(void **state) {
   clr_scene_desc_free(desc);
 }
 
+/* Moving shape motion blur: a black quad covering world x < 0 at the start is translated 0.5
+ * along x at the end (ActiveTransform EndTime, TransformTimes 0 1, shutter 0 1) in front of a
+ * constant sky (L = 1). A pixel at camera x = c (world x = -c) sees the sky while
+ * -c > 0.5 t: for a fraction clamp(-2 c, 0, 1) of the shutter (Halton time samples, 64 spp: within 0.03), as pbrt-v3's
+ * TransformedPrimitive with an AnimatedTransform. */
+static void test_moving_shape_motion_blur(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 5  0 0 0  0 1 0\n"
+      "Camera \"orthographic\" \"float shutteropen\" [0] \"float shutterclose\" [1] "
+      "\"float screenwindow\" [-1 1 -0.25 0.25]\n"
+      "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [4]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [64] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"directlighting\"\nTransformTimes 0 1\nWorldBegin\n"
+      "LightSource \"infinite\" \"rgb L\" [1 1 1]\n"
+      "AttributeBegin\nActiveTransform EndTime\nTranslate 0.5 0 0\nActiveTransform All\n"
+      "Material \"matte\" \"rgb Kd\" [0 0 0]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 0  0 -10 0  "
+      "0 10 0  -10 10 0]\nAttributeEnd\nWorldEnd\n";
+  clr_scene_desc *desc = parse(scene);
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.quiet = 1;
+  clr_render_image im;
+  memset(&im, 0, sizeof im);
+  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+  double worst = 0;
+  for (int px = 0; px < 16; ++px) {
+    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, -2 * c));
+    for (int py = 0; py < 4; ++py) worst = fmax(worst, fabs(im.rgb[3 * (py * 16 + px)] - expect));
+  }
+  fprintf(stderr, "moving shape motion blur: worst pixel error %.4f\n", worst);
+  assert_true(worst <= 0.03);
+  free(im.rgb);
+  clr_scene_desc_free(desc);
+}
+
 /* Projection and goniometric lights (I = 2) at the origin with a 1x1 PNG map (byte 128: pbrt-v3
  * reads 128 / 255 as linear) over a white matte plane at z = 1: radiance 2 v / (pi d^3) at
  * distance d; the projection (fov 60) lights only |x|, |y| < tan 30 degrees. */
@@ -620,6 +657,7 @@ int main(void) {
       cmocka_unit_test(test_infinite_map_and_blackbody),
       cmocka_unit_test(test_progress_eta),
       cmocka_unit_test(test_camera_motion_blur),
+      cmocka_unit_test(test_moving_shape_motion_blur),
       cmocka_unit_test(test_pattern_lights),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

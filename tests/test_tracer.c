@@ -20,7 +20,7 @@
 
 static clr_ray make_ray(float ox, float oy, float oz, float dx, float dy, float dz, float tnear,
                         float tfar) {
-  clr_ray r = {ox, oy, oz, tnear, dx, dy, dz, tfar};
+  clr_ray r = {ox, oy, oz, tnear, dx, dy, dz, tfar, 0.0f};
   return r;
 }
 

@@ -98,6 +98,7 @@ void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray 
   ray->dz = d[2];
   ray->tnear = 0.0f;
   ray->tfar = INFINITY;
+  ray->time = s->time;
 }
 
 void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *st) {
@@ -191,6 +192,8 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
   (void)warn;
   (void)wu;
   if (r != CLR_SUCCESS) return r;
+  if (memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m, sizeof sd->object_to_world.m))
+    return CLR_SUCCESS; /* moving: placed by its instance */
   float xf[16];
   rs_xform_m16(&sd->object_to_world, xf);
   r = clr_mesh_transform(m, xf);
@@ -294,6 +297,36 @@ static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) 
   return CLR_SUCCESS;
 }
 
+/* Instance user ids of moving meshes: the shape index with this bit (not an instance desc). */
+#define RS_MOVING_INSTANCE 0x80000000u
+
+/* A moving mesh (object space) in its own group, placed by a two-step Embree instance built from
+ * pbrt-v3's decomposition of its start and end transforms (scale must be diagonal). */
+static clr_result add_moving_mesh(clr_render_scene *s, const clr_scene_desc *d,
+                                  const clr_shape_desc *sd, const rs_shape *sh, uint32_t index) {
+  rs_animated_transform a;
+  rs_animated_transform_init(&a, &sd->object_to_world, &sd->object_to_world_end,
+                             d->transform_start_time, d->transform_end_time);
+  float scale[2][3];
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 3; ++i) {
+      scale[k][i] = a.s[k][i][i];
+      for (int j = 0; j < 3; ++j)
+        if (i != j && fabsf(a.s[k][i][j]) > 1e-5f * fabsf(a.s[k][i][i]))
+          return clr_set_last_error(CLR_ERROR_SCENE,
+                                    "%s:%d: moving Shape \"%s\": its transform's scale is not "
+                                    "axis-aligned (sheared), which moving instances cannot "
+                                    "interpolate",
+                                    sd->params.file ? sd->params.file : "?", sd->params.line,
+                                    sd->type);
+    }
+  int32_t group;
+  CLR_CHECK(clr_tracer_new_group(s->tracer, &group));
+  CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, index, NULL));
+  return clr_tracer_add_motion_instance(s->tracer, group, a.t, a.q, scale,
+                                        RS_MOVING_INSTANCE | index);
+}
+
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
                                void *wu, int32_t *object_group) {
   char warned[32][64];
@@ -307,6 +340,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     sh->first_light = -1;
     sh->in_object = sd->object >= 0;
     sh->object_to_world = sd->object_to_world;
+    sh->object_to_world_end = sd->object_to_world_end;
     sh->flip_normal =
         sd->reverse_orientation != clr_transform_swaps_handedness(&sd->object_to_world);
     if (strcmp(sd->type, "sphere") == 0) {
@@ -408,7 +442,12 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       group = object_group[sd->object];
     }
     int index = s->shape_count - 1;
-    if (sh->type == RS_SHAPE_MESH) {
+    sh->moving =
+        sh->type == RS_SHAPE_MESH && memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m,
+                                            sizeof sd->object_to_world.m) != 0;
+    if (sh->moving) {
+      CLR_CHECK(add_moving_mesh(s, d, sd, sh, (uint32_t)index));
+    } else if (sh->type == RS_SHAPE_MESH) {
       CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
     } else if (sh->type == RS_SHAPE_QUADRIC) {
       float xf[16];
@@ -471,6 +510,15 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     float a[3], b[3];
     shape_bounds(&s->shapes[k], a, b);
     if (!(a[0] <= b[0])) continue;
+    if (s->shapes[k].moving) { /* start and end placements (a turn may sweep past them) */
+      for (int c = 0; c < 16; ++c) {
+        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
+        clr_transform_point(
+            c & 8 ? &s->shapes[k].object_to_world_end : &s->shapes[k].object_to_world, q, w);
+        grow_bounds(s, lo, hi, w);
+      }
+      continue;
+    }
     if (!s->shapes[k].in_object) {
       grow_bounds(s, lo, hi, a);
       grow_bounds(s, lo, hi, b);
@@ -745,15 +793,26 @@ static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const cl
   clr_transform_vector(o2w, v, dpdv);
 }
 
+/* A moving mesh's object-to-world at the hit's time, as Embree placed it; 0 on failure. */
+static int moving_transform(const clr_render_scene *s, const clr_hit *hit, clr_transform *out) {
+  float m16[16], m[4][4];
+  if (clr_tracer_instance_transform(s->tracer, hit->inst_id, hit->time, m16) != CLR_SUCCESS)
+    return 0;
+  memcpy(m, m16, sizeof m);
+  return clr_transform_from_matrix(m, out);
+}
+
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
   const clr_transform *inst = NULL;
+  clr_transform moved;
   uint32_t inst_user = CLR_TRACER_INVALID_ID;
   if (hit->inst_id != CLR_TRACER_INVALID_ID &&
       clr_tracer_instance_info(s->tracer, hit->inst_id, NULL, &inst_user) == CLR_SUCCESS &&
       inst_user < (uint32_t)s->instance_count)
     inst = &s->instances[inst_user];
+  if (sh->moving && moving_transform(s, hit, &moved)) inst = &moved;
   float p[3], n[3], ns[3], uv[2], dpdu[3];
   int has_ns = 0;
   if (sh->type == RS_SHAPE_MESH) {
@@ -843,6 +902,7 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     rs_colour_eval(&s->textures, &sh->kd, &tc, out->kd);
   else
     out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
+  out->time = ray->time;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;
   if (sh->first_light >= 0) {

@@ -1005,17 +1005,27 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
     area_light = -1;
   }
   resolve_textures(p, &params);
-  if (memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0 && !p->warned_moving_shape) {
+  bool moving = memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0;
+  bool mesh = strcmp(type, "trianglemesh") == 0 || strcmp(type, "plymesh") == 0 ||
+              strcmp(type, "loopsubdiv") == 0;
+  if (moving && (!mesh || area_light >= 0 || object)) {
+    moving = false;
+    if (!p->warned_moving_shape)
+      warnf(p,
+            "%s:%d: moving shapes (ActiveTransform) are supported only for triangle meshes "
+            "without area lights outside ObjectBegin: rendered at their start transform",
+            at.file, at.line);
     p->warned_moving_shape = true;
-    warnf(p,
-          "%s:%d: moving shapes (ActiveTransform) are not supported: rendered at their start "
-          "transform (only the camera moves)",
-          at.file, at.line);
   }
   int index = s->shape_count++;
-  s->shapes[index] = (clr_shape_desc){
-      type,       params,           p->gs.ctm, p->gs.reverse_orientation, shape_material(p, at),
-      area_light, p->current_object};
+  s->shapes[index] = (clr_shape_desc){type,
+                                      params,
+                                      p->gs.ctm,
+                                      moving ? p->gs.ctm_end : p->gs.ctm,
+                                      p->gs.reverse_orientation,
+                                      shape_material(p, at),
+                                      area_light,
+                                      p->current_object};
   if (object) object->shapes[object->shape_count++] = index;
   return CLR_SUCCESS;
 }
