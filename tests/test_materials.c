@@ -602,6 +602,48 @@ static void test_moving_shape_motion_blur(void **state) {
   clr_scene_desc_free(desc);
 }
 
+/* Spawned rays keep the camera ray's time (pbrt-v3): a white matte floor lit by a distant light
+ * straight above (radiance 1 / pi) under an invisible (material "none") quad at z = 1 that
+ * covers world x < 0 at the start and moves 0.5 along x. The camera ray passes through the quad
+ * and the shadow ray from the floor must meet it where it is at that ray's time: a pixel at
+ * camera x = c (world x = -c) is lit for a fraction clamp(-2 c, 0, 1) of the shutter (64 spp:
+ * within 0.03 after multiplying by pi); at the start time it would be 0 or 1. */
+static void test_moving_shadow_keeps_time(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 5  0 0 0  0 1 0\n"
+      "Camera \"orthographic\" \"float shutteropen\" [0] \"float shutterclose\" [1] "
+      "\"float screenwindow\" [-1 1 -0.25 0.25]\n"
+      "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [4]\n"
+      "Sampler \"halton\" \"integer pixelsamples\" [64] \"bool samplepixelcenter\" \"true\"\n"
+      "Integrator \"directlighting\"\nTransformTimes 0 1\nWorldBegin\n"
+      "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" [1 1 1]\n"
+      "Material \"matte\" \"rgb Kd\" [1 1 1]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 0  10 -10 0  "
+      "10 10 0  -10 10 0]\n"
+      "AttributeBegin\nActiveTransform EndTime\nTranslate 0.5 0 0\nActiveTransform All\n"
+      "Material \"none\"\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 1  0 -10 1  "
+      "0 10 1  -10 10 1]\nAttributeEnd\nWorldEnd\n";
+  clr_scene_desc *desc = parse(scene);
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.quiet = 1;
+  clr_render_image im;
+  memset(&im, 0, sizeof im);
+  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+  double worst = 0;
+  for (int px = 0; px < 16; ++px) {
+    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, -2 * c));
+    for (int py = 0; py < 4; ++py)
+      worst = fmax(worst, fabs(PI_D * im.rgb[3 * (py * 16 + px)] - expect));
+  }
+  fprintf(stderr, "moving shadow: worst pixel error %.4f\n", worst);
+  assert_true(worst <= 0.03);
+  free(im.rgb);
+  clr_scene_desc_free(desc);
+}
+
 /* Projection and goniometric lights (I = 2) at the origin with a 1x1 PNG map (byte 128: pbrt-v3
  * reads 128 / 255 as linear) over a white matte plane at z = 1: radiance 2 v / (pi d^3) at
  * distance d; the projection (fov 60) lights only |x|, |y| < tan 30 degrees. */
@@ -658,6 +700,7 @@ int main(void) {
       cmocka_unit_test(test_progress_eta),
       cmocka_unit_test(test_camera_motion_blur),
       cmocka_unit_test(test_moving_shape_motion_blur),
+      cmocka_unit_test(test_moving_shadow_keeps_time),
       cmocka_unit_test(test_pattern_lights),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -165,7 +165,8 @@ static clr_result mesh_from_params(const clr_param_list *p, const char *what, cl
                               (size_t)nn * 3, uv, uv_count, m);
 }
 
-static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn warn, void *wu) {
+static clr_result build_mesh(const clr_shape_desc *sd, int moving, clr_mesh *m, clr_warn_fn warn,
+                             void *wu) {
   const clr_param_list *p = &sd->params;
   char what[1200];
   snprintf(what, sizeof what, "%s:%d: Shape \"%s\"", p->file ? p->file : "?", p->line, sd->type);
@@ -192,8 +193,7 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
   (void)warn;
   (void)wu;
   if (r != CLR_SUCCESS) return r;
-  if (memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m, sizeof sd->object_to_world.m))
-    return CLR_SUCCESS; /* moving: placed by its instance */
+  if (moving) return CLR_SUCCESS; /* placed by its instance */
   float xf[16];
   rs_xform_m16(&sd->object_to_world, xf);
   r = clr_mesh_transform(m, xf);
@@ -300,26 +300,43 @@ static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) 
 /* Instance user ids of moving meshes: the shape index with this bit (not an instance desc). */
 #define RS_MOVING_INSTANCE 0x80000000u
 
+/* pbrt-v3's decomposition of a shape's start and end transforms; 0 when its scale part is not
+ * diagonal (a shear), which Embree's quaternion instances cannot interpolate alike. */
+static int shape_motion(const clr_scene_desc *d, const clr_shape_desc *sd, rs_animated_transform *a,
+                        float scale[2][3]) {
+  rs_animated_transform_init(a, &sd->object_to_world, &sd->object_to_world_end,
+                             d->transform_start_time, d->transform_end_time);
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 3; ++i) {
+      scale[k][i] = a->s[k][i][i];
+      for (int j = 0; j < 3; ++j)
+        if (i != j && !(fabsf(a->s[k][i][j]) <= 1e-5f * fabsf(a->s[k][i][i]))) return 0;
+    }
+  return 1;
+}
+
+/* 1 when mesh shape `sd` moves and can (a shear is warned about and left at its start). */
+static int mesh_can_move(const clr_scene_desc *d, const clr_shape_desc *sd, clr_warn_fn warn,
+                         void *wu) {
+  if (!memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m, sizeof sd->object_to_world.m))
+    return 0;
+  rs_animated_transform a;
+  float scale[2][3];
+  if (shape_motion(d, sd, &a, scale)) return 1;
+  warn_fmt(warn, wu,
+           "%s:%d: moving Shape \"%s\": its transform shears (the scale part is not diagonal), "
+           "which moving instances cannot interpolate: rendered at its start transform",
+           sd->params.file ? sd->params.file : "?", sd->params.line, sd->type);
+  return 0;
+}
+
 /* A moving mesh (object space) in its own group, placed by a two-step Embree instance built from
- * pbrt-v3's decomposition of its start and end transforms (scale must be diagonal). */
+ * pbrt-v3's decomposition of its start and end transforms. */
 static clr_result add_moving_mesh(clr_render_scene *s, const clr_scene_desc *d,
                                   const clr_shape_desc *sd, const rs_shape *sh, uint32_t index) {
   rs_animated_transform a;
-  rs_animated_transform_init(&a, &sd->object_to_world, &sd->object_to_world_end,
-                             d->transform_start_time, d->transform_end_time);
   float scale[2][3];
-  for (int k = 0; k < 2; ++k)
-    for (int i = 0; i < 3; ++i) {
-      scale[k][i] = a.s[k][i][i];
-      for (int j = 0; j < 3; ++j)
-        if (i != j && fabsf(a.s[k][i][j]) > 1e-5f * fabsf(a.s[k][i][i]))
-          return clr_set_last_error(CLR_ERROR_SCENE,
-                                    "%s:%d: moving Shape \"%s\": its transform's scale is not "
-                                    "axis-aligned (sheared), which moving instances cannot "
-                                    "interpolate",
-                                    sd->params.file ? sd->params.file : "?", sd->params.line,
-                                    sd->type);
-    }
+  shape_motion(d, sd, &a, scale);
   int32_t group;
   CLR_CHECK(clr_tracer_new_group(s->tracer, &group));
   CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, index, NULL));
@@ -384,7 +401,8 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
-      CLR_CHECK(build_mesh(sd, &sh->mesh, warn, wu));
+      sh->moving = mesh_can_move(d, sd, warn, wu);
+      CLR_CHECK(build_mesh(sd, sh->moving, &sh->mesh, warn, wu));
     } else {
       warn_fmt(warn, wu, "%s:%d: shape \"%s\" not supported: ignored", p->file, p->line, sd->type);
       clr_params_mark_used(p); /* one warning for the skipped shape, not one per parameter */
@@ -442,9 +460,6 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       group = object_group[sd->object];
     }
     int index = s->shape_count - 1;
-    sh->moving =
-        sh->type == RS_SHAPE_MESH && memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m,
-                                            sizeof sd->object_to_world.m) != 0;
     if (sh->moving) {
       CLR_CHECK(add_moving_mesh(s, d, sd, sh, (uint32_t)index));
     } else if (sh->type == RS_SHAPE_MESH) {

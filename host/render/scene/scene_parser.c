@@ -1083,6 +1083,11 @@ static clr_result d_object_instance(parser *p, const directive *d, location at) 
   if (clr_grow_array((void **)&s->instances, &s->instance_capacity, s->instance_count + 1,
                      sizeof *s->instances) != CLR_SUCCESS)
     return out_of_memory(at);
+  if (memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0)
+    warnf(p,
+          "%s:%d: moving ObjectInstance (ActiveTransform) is not supported: placed at its "
+          "start transform",
+          at.file, at.line);
   s->instances[s->instance_count++] = (clr_instance_desc){object, p->gs.ctm};
   return CLR_SUCCESS;
 }

@@ -759,6 +759,12 @@ clr_result clr_tracer_add_motion_instance(clr_tracer t, int32_t g, const float t
                               "%s: group %ld out of range [1, %ld): only "
                               "object-definition groups can be instanced",
                               fn, (long)g, (long)t->group_count);
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 4; ++i)
+      if (!isfinite(rotation[k][i]) || (i < 3 && (!isfinite(translation[k][i]) ||
+                                                  !isfinite(scale[k][i]) || scale[k][i] == 0.0f)))
+        return clr_set_last_error(CLR_ERROR_SCENE,
+                                  "%s: time step %d has a non-finite value or a zero scale", fn, k);
   struct RTCQuaternionDecomposition qd[2];
   for (int k = 0; k < 2; ++k) {
     rtcInitQuaternionDecomposition(&qd[k]);
