@@ -18,6 +18,7 @@
 #include "clrender/image.h"
 #include "microfacet.h"
 #include "procedural_textures.h"
+#include "render_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "textures.h"
@@ -644,6 +645,43 @@ static void test_moving_shadow_keeps_time(void **state) {
   clr_scene_desc_free(desc);
 }
 
+static void keep_warning(void *user, const char *message) {
+  char *last = user;
+  snprintf(last, 512, "%s", message);
+}
+
+/* A moving mesh whose transform shears or mirrors cannot be interpolated by Embree's quaternion
+ * instances as pbrt-v3's AnimatedTransform: one warning naming the shape, start transform. A
+ * translating, turning and growing mesh is accepted silently. */
+static void test_moving_shape_limits(void **state) {
+  (void)state;
+  static const char *const motions[] = {"Translate 1 0 0  Rotate 30 0 1 0  Scale 2 2 2",
+                                        "Rotate 30 0 0 1  Scale 2 1 1  Rotate -30 0 0 1",
+                                        "Scale -1 1 1"};
+  static const char *const want[] = {NULL, "shears", "mirrors"};
+  for (int k = 0; k < 3; ++k) {
+    char scene[1024];
+    snprintf(scene, sizeof scene,
+             "TransformTimes 0 1\nCamera \"orthographic\"\nWorldBegin\n"
+             "ActiveTransform EndTime\n%s\nActiveTransform All\n"
+             "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [0 0 0 1 0 0 0 1 0]\n"
+             "WorldEnd\n",
+             motions[k]);
+    clr_scene_desc *desc = parse(scene);
+    char last[512] = "";
+    clr_render_scene *rs = NULL;
+    assert_int_equal(clr_render_scene_build(desc, keep_warning, last, &rs), CLR_SUCCESS);
+    if (want[k]) {
+      assert_non_null(strstr(last, want[k]));
+      assert_non_null(strstr(last, "materials.pbrt:7: moving Shape \"trianglemesh\""));
+    } else {
+      assert_string_equal(last, "");
+    }
+    clr_render_scene_free(rs);
+    clr_scene_desc_free(desc);
+  }
+}
+
 /* Projection and goniometric lights (I = 2) at the origin with a 1x1 PNG map (byte 128: pbrt-v3
  * reads 128 / 255 as linear) over a white matte plane at z = 1: radiance 2 v / (pi d^3) at
  * distance d; the projection (fov 60) lights only |x|, |y| < tan 30 degrees. */
@@ -701,6 +739,7 @@ int main(void) {
       cmocka_unit_test(test_camera_motion_blur),
       cmocka_unit_test(test_moving_shape_motion_blur),
       cmocka_unit_test(test_moving_shadow_keeps_time),
+      cmocka_unit_test(test_moving_shape_limits),
       cmocka_unit_test(test_pattern_lights),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

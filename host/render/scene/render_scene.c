@@ -301,11 +301,15 @@ static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) 
 #define RS_MOVING_INSTANCE 0x80000000u
 
 /* pbrt-v3's decomposition of a shape's start and end transforms; 0 when its scale part is not
- * diagonal (a shear), which Embree's quaternion instances cannot interpolate alike. */
+ * diagonal (a shear) or a transform mirrors (no rotation quaternion), which Embree's quaternion
+ * instances cannot interpolate alike. */
 static int shape_motion(const clr_scene_desc *d, const clr_shape_desc *sd, rs_animated_transform *a,
                         float scale[2][3]) {
   rs_animated_transform_init(a, &sd->object_to_world, &sd->object_to_world_end,
                              d->transform_start_time, d->transform_end_time);
+  if (clr_transform_swaps_handedness(&sd->object_to_world) ||
+      clr_transform_swaps_handedness(&sd->object_to_world_end))
+    return 0;
   for (int k = 0; k < 2; ++k)
     for (int i = 0; i < 3; ++i) {
       scale[k][i] = a->s[k][i][i];
@@ -324,8 +328,9 @@ static int mesh_can_move(const clr_scene_desc *d, const clr_shape_desc *sd, clr_
   float scale[2][3];
   if (shape_motion(d, sd, &a, scale)) return 1;
   warn_fmt(warn, wu,
-           "%s:%d: moving Shape \"%s\": its transform shears (the scale part is not diagonal), "
-           "which moving instances cannot interpolate: rendered at its start transform",
+           "%s:%d: moving Shape \"%s\": its transform shears (the scale part is not diagonal) "
+           "or mirrors, which moving instances cannot interpolate: rendered at its start "
+           "transform",
            sd->params.file ? sd->params.file : "?", sd->params.line, sd->type);
   return 0;
 }
