@@ -1006,14 +1006,18 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
   }
   resolve_textures(p, &params);
   bool moving = memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0;
-  bool mesh = strcmp(type, "trianglemesh") == 0 || strcmp(type, "plymesh") == 0 ||
-              strcmp(type, "loopsubdiv") == 0;
-  if (moving && (!mesh || area_light >= 0 || object)) {
+  static const char *const movable[] = {"trianglemesh", "plymesh",    "loopsubdiv",
+                                        "sphere",       "disk",       "cylinder",
+                                        "cone",         "paraboloid", "hyperboloid"};
+  bool known = false;
+  for (size_t k = 0; k < sizeof movable / sizeof movable[0]; ++k)
+    known |= strcmp(type, movable[k]) == 0;
+  if (moving && (!known || area_light >= 0 || object)) {
     moving = false;
     if (!p->warned_moving_shape)
       warnf(p,
-            "%s:%d: moving shapes (ActiveTransform) are supported only for triangle meshes "
-            "without area lights outside ObjectBegin: rendered at their start transform",
+            "%s:%d: moving shapes (ActiveTransform) with an area light or inside ObjectBegin are "
+            "not supported: rendered at their start transform",
             at.file, at.line);
     p->warned_moving_shape = true;
   }
