@@ -16,8 +16,8 @@ static double rnd(void) { /* 53-bit uniform in [0,1) from a 64-bit LCG */
 }
 
 static clr_ray ray(double ox, double oy, double oz, double dx, double dy, double dz) {
-  return (clr_ray){(float)ox, (float)oy, (float)oz, 0.0f,
-                   (float)dx, (float)dy, (float)dz, INFINITY};
+  return (clr_ray){(float)ox, (float)oy, (float)oz, 0.0f, (float)dx,
+                   (float)dy, (float)dz, INFINITY,  0.0f};
 }
 
 static int build_grid(clr_tracer *t) {

@@ -488,6 +488,38 @@ static void test_include_relative_paths(void **state) {
   clr_scene_desc_free(d);
 }
 
+/* Moving shapes: a triangle mesh or a sphere given two transforms keeps its end transform
+ * (rendered with motion blur); a disk with an area light and a moving ObjectInstance are warned
+ * about and keep their start transform only. */
+static void test_moving_shapes(void **state) {
+  (void)state;
+  warnings w;
+  clr_scene_desc *d = parse_ok(
+      "TransformTimes 0 1\nWorldBegin\n"
+      "ObjectBegin \"o\"\nShape \"sphere\"\nObjectEnd\n"
+      "ActiveTransform EndTime\nTranslate 1 2 3\nActiveTransform All\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [0 0 0 1 0 0 0 1 0]\n"
+      "Shape \"sphere\"\n"
+      "ObjectInstance \"o\"\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\"\n"
+      "Shape \"disk\"\n"
+      "AttributeEnd\nWorldEnd\n",
+      &w);
+  assert_int_equal(warnings_containing(&w, "scenes/test.pbrt:11:", "moving ObjectInstance"), 1);
+  assert_int_equal(warnings_containing(&w, "scenes/test.pbrt:14:", "moving shapes"), 1);
+  assert_int_equal(w.count, 2);
+  assert_int_equal(d->shape_count, 4);
+  for (int k = 1; k < 3; ++k) {
+    assert_true(clr_transform_is_identity(&d->shapes[k].object_to_world));
+    assert_true(d->shapes[k].object_to_world_end.m[0][3] == 1.0f &&
+                d->shapes[k].object_to_world_end.m[1][3] == 2.0f &&
+                d->shapes[k].object_to_world_end.m[2][3] == 3.0f);
+  }
+  assert_true(clr_transform_is_identity(&d->shapes[3].object_to_world_end));
+  assert_true(clr_transform_is_identity(&d->instances[0].instance_to_world));
+  clr_scene_desc_free(d);
+}
+
 static void test_warnings(void **state) {
   (void)state;
   warnings w;
@@ -762,6 +794,7 @@ int main(void) {
       cmocka_unit_test(test_defaults),
       cmocka_unit_test(test_attribute_stack),
       cmocka_unit_test(test_include_relative_paths),
+      cmocka_unit_test(test_moving_shapes),
       cmocka_unit_test(test_warnings),
       cmocka_unit_test(test_syntax_errors),
       cmocka_unit_test(test_file_errors),

@@ -570,6 +570,7 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
         if (!ls.is_delta) w = power_heuristic(ls.pdf, bsdf_pdf(sf, wo, ls.wi));
         for (int k = 0; k < 3; ++k) jb->shadow_contrib[k] = f3[k] * ls.li[k] * w / ls.pdf;
         jb->shadow_index = nshadow;
+        ls.shadow.time = sf->time; /* pbrt-v3: spawned rays keep the camera ray's time */
         s->rays[nshadow++] = ls.shadow;
       }
     }
@@ -696,6 +697,7 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
       r->dy = wi[1];
       r->dz = wi[2];
       r->tfar = INFINITY;
+      r->time = sf->time;
     }
   }
   occlude(sc, s->rays, s->occluded, q, c);

@@ -132,5 +132,10 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
   ray->dz = dw[2];
   ray->tnear = 0.0f;
   ray->tfar = INFINITY;
+  /* moving shapes: the shutter time mapped onto TransformTimes, clamped (Embree's [0, 1]) */
+  float shutter_t = (1.0f - time) * cam->shutter_open + time * cam->shutter_close;
+  float span = cam->motion.end_time - cam->motion.start_time;
+  ray->time =
+      span > 0.0f ? fminf(fmaxf((shutter_t - cam->motion.start_time) / span, 0.0f), 1.0f) : 0.0f;
   return 1.0f;
 }

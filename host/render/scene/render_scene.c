@@ -98,6 +98,7 @@ void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray 
   ray->dz = d[2];
   ray->tnear = 0.0f;
   ray->tfar = INFINITY;
+  ray->time = s->time;
 }
 
 void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settings *st) {
@@ -164,7 +165,8 @@ static clr_result mesh_from_params(const clr_param_list *p, const char *what, cl
                               (size_t)nn * 3, uv, uv_count, m);
 }
 
-static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn warn, void *wu) {
+static clr_result build_mesh(const clr_shape_desc *sd, int moving, clr_mesh *m, clr_warn_fn warn,
+                             void *wu) {
   const clr_param_list *p = &sd->params;
   char what[1200];
   snprintf(what, sizeof what, "%s:%d: Shape \"%s\"", p->file ? p->file : "?", p->line, sd->type);
@@ -191,6 +193,7 @@ static clr_result build_mesh(const clr_shape_desc *sd, clr_mesh *m, clr_warn_fn 
   (void)warn;
   (void)wu;
   if (r != CLR_SUCCESS) return r;
+  if (moving) return CLR_SUCCESS; /* placed by its instance */
   float xf[16];
   rs_xform_m16(&sd->object_to_world, xf);
   r = clr_mesh_transform(m, xf);
@@ -210,6 +213,13 @@ static void grow_bounds(clr_render_scene *s, float lo[3], float hi[3], const flo
 }
 
 /* Object-space bounds of a shape (mesh vertices or sphere box). */
+/* A shape's object-to-world, or identity for a moving shape (its instance places it). */
+static const clr_transform *own_transform(const rs_shape *sh) {
+  static const clr_transform identity = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}},
+                                         {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+  return sh->moving ? &identity : &sh->object_to_world;
+}
+
 static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   for (int i = 0; i < 3; ++i) {
     lo[i] = INFINITY;
@@ -224,7 +234,7 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
     return;
   }
   if (sh->type == RS_SHAPE_QUADRIC) {
-    rs_quadric_bounds(&sh->quadric, &sh->object_to_world, lo, hi);
+    rs_quadric_bounds(&sh->quadric, own_transform(sh), lo, hi);
     return;
   }
   for (int c = 0; c < 8; ++c) {
@@ -232,7 +242,7 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
                   (c & 4) ? sh->radius : -sh->radius},
           w[3];
     if (sh->type == RS_SHAPE_DISK) q[2] = sh->height;
-    clr_transform_point(&sh->object_to_world, q, w);
+    clr_transform_point(own_transform(sh), q, w);
     for (int i = 0; i < 3; ++i) {
       lo[i] = fminf(lo[i], w[i]);
       hi[i] = fmaxf(hi[i], w[i]);
@@ -294,6 +304,55 @@ static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) 
   return CLR_SUCCESS;
 }
 
+/* Instance user ids of moving shapes: the shape index with this bit (not an instance desc). */
+#define RS_MOVING_INSTANCE 0x80000000u
+
+/* pbrt-v3's decomposition of a shape's start and end transforms; 0 when its scale part is not
+ * diagonal (a shear) or a transform mirrors (no rotation quaternion), which Embree's quaternion
+ * instances cannot interpolate alike. */
+static int shape_motion(const clr_scene_desc *d, const clr_shape_desc *sd, rs_animated_transform *a,
+                        float scale[2][3]) {
+  rs_animated_transform_init(a, &sd->object_to_world, &sd->object_to_world_end,
+                             d->transform_start_time, d->transform_end_time);
+  if (clr_transform_swaps_handedness(&sd->object_to_world) ||
+      clr_transform_swaps_handedness(&sd->object_to_world_end))
+    return 0;
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 3; ++i) {
+      scale[k][i] = a->s[k][i][i];
+      for (int j = 0; j < 3; ++j)
+        if (i != j && !(fabsf(a->s[k][i][j]) <= 1e-5f * fabsf(a->s[k][i][i]))) return 0;
+    }
+  return 1;
+}
+
+/* 1 when shape `sd` moves and can (a shear is warned about and left at its start). */
+static int shape_can_move(const clr_scene_desc *d, const clr_shape_desc *sd, clr_warn_fn warn,
+                          void *wu) {
+  if (!memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m, sizeof sd->object_to_world.m))
+    return 0;
+  rs_animated_transform a;
+  float scale[2][3];
+  if (shape_motion(d, sd, &a, scale)) return 1;
+  warn_fmt(warn, wu,
+           "%s:%d: moving Shape \"%s\": its transform shears (the scale part is not diagonal) "
+           "or mirrors, which moving instances cannot interpolate: rendered at its start "
+           "transform",
+           sd->params.file ? sd->params.file : "?", sd->params.line, sd->type);
+  return 0;
+}
+
+/* Places group `group` (a moving shape in object space) by a two-step Embree instance built
+ * from pbrt-v3's decomposition of the shape's start and end transforms. */
+static clr_result add_motion(clr_render_scene *s, const clr_scene_desc *d, const clr_shape_desc *sd,
+                             int32_t group, uint32_t index) {
+  rs_animated_transform a;
+  float scale[2][3];
+  shape_motion(d, sd, &a, scale);
+  return clr_tracer_add_motion_instance(s->tracer, group, a.t, a.q, scale,
+                                        RS_MOVING_INSTANCE | index);
+}
+
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
                                void *wu, int32_t *object_group) {
   char warned[32][64];
@@ -307,6 +366,8 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     sh->first_light = -1;
     sh->in_object = sd->object >= 0;
     sh->object_to_world = sd->object_to_world;
+    sh->object_to_world_end = sd->object_to_world_end;
+    sh->moving = shape_can_move(d, sd, warn, wu);
     sh->flip_normal =
         sd->reverse_orientation != clr_transform_swaps_handedness(&sd->object_to_world);
     if (strcmp(sd->type, "sphere") == 0) {
@@ -350,7 +411,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     } else if (strcmp(sd->type, "trianglemesh") == 0 || strcmp(sd->type, "plymesh") == 0 ||
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
-      CLR_CHECK(build_mesh(sd, &sh->mesh, warn, wu));
+      CLR_CHECK(build_mesh(sd, sh->moving, &sh->mesh, warn, wu));
     } else {
       warn_fmt(warn, wu, "%s:%d: shape \"%s\" not supported: ignored", p->file, p->line, sd->type);
       clr_params_mark_used(p); /* one warning for the skipped shape, not one per parameter */
@@ -408,20 +469,22 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       group = object_group[sd->object];
     }
     int index = s->shape_count - 1;
+    const clr_transform *place = own_transform(sh); /* object to group */
+    if (sh->moving) CLR_CHECK(clr_tracer_new_group(s->tracer, &group));
     if (sh->type == RS_SHAPE_MESH) {
       CLR_CHECK(clr_tracer_add_mesh(s->tracer, group, &sh->mesh, (uint32_t)index, NULL));
     } else if (sh->type == RS_SHAPE_QUADRIC) {
       float xf[16];
-      rs_xform_m16(&sh->object_to_world, xf);
+      rs_xform_m16(place, xf);
       CLR_CHECK(clr_tracer_add_quadric(s->tracer, group, xf, &sh->quadric, (uint32_t)index, NULL));
     } else if (sh->type == RS_SHAPE_DISK) {
       float xf[16];
-      rs_xform_m16(&sh->object_to_world, xf);
+      rs_xform_m16(place, xf);
       CLR_CHECK(clr_tracer_add_disk(s->tracer, group, xf, sh->height, sh->radius, sh->inner_radius,
                                     sh->phimax * 180.0f / RS_PI, (uint32_t)index, NULL));
     } else {
       float xf[16];
-      rs_xform_m16(&sh->object_to_world, xf);
+      rs_xform_m16(place, xf);
       if (sh->partial)
         CLR_CHECK(clr_tracer_add_partial_sphere(s->tracer, group, xf, sh->radius, sh->zmin,
                                                 sh->zmax, sh->phimax * 180.0f / RS_PI,
@@ -429,6 +492,7 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       else
         CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
     }
+    if (sh->moving) CLR_CHECK(add_motion(s, d, sd, group, (uint32_t)index));
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
       if (sh->type == RS_SHAPE_QUADRIC && sh->quadric.type != CLR_QUADRIC_CYLINDER) {
@@ -471,6 +535,15 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     float a[3], b[3];
     shape_bounds(&s->shapes[k], a, b);
     if (!(a[0] <= b[0])) continue;
+    if (s->shapes[k].moving) { /* start and end placements (a turn may sweep past them) */
+      for (int c = 0; c < 16; ++c) {
+        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
+        clr_transform_point(
+            c & 8 ? &s->shapes[k].object_to_world_end : &s->shapes[k].object_to_world, q, w);
+        grow_bounds(s, lo, hi, w);
+      }
+      continue;
+    }
     if (!s->shapes[k].in_object) {
       grow_bounds(s, lo, hi, a);
       grow_bounds(s, lo, hi, b);
@@ -745,15 +818,26 @@ static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const cl
   clr_transform_vector(o2w, v, dpdv);
 }
 
+/* A moving shape's object-to-world at the hit's time, as Embree placed it; 0 on failure. */
+static int moving_transform(const clr_render_scene *s, const clr_hit *hit, clr_transform *out) {
+  float m16[16], m[4][4];
+  if (clr_tracer_instance_transform(s->tracer, hit->inst_id, hit->time, m16) != CLR_SUCCESS)
+    return 0;
+  memcpy(m, m16, sizeof m);
+  return clr_transform_from_matrix(m, out);
+}
+
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
   const clr_transform *inst = NULL;
+  clr_transform moved;
   uint32_t inst_user = CLR_TRACER_INVALID_ID;
   if (hit->inst_id != CLR_TRACER_INVALID_ID &&
       clr_tracer_instance_info(s->tracer, hit->inst_id, NULL, &inst_user) == CLR_SUCCESS &&
       inst_user < (uint32_t)s->instance_count)
     inst = &s->instances[inst_user];
+  if (sh->moving && moving_transform(s, hit, &moved)) inst = &moved;
   float p[3], n[3], ns[3], uv[2], dpdu[3];
   int has_ns = 0;
   if (sh->type == RS_SHAPE_MESH) {
@@ -773,23 +857,20 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
       }
     }
   } else if (sh->type == RS_SHAPE_DISK) {
-    clr_transform o2w =
-        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    clr_transform o2w = inst ? clr_transform_compose(inst, own_transform(sh)) : *own_transform(sh);
     disk_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   } else if (sh->type == RS_SHAPE_QUADRIC) {
-    clr_transform o2w =
-        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    clr_transform o2w = inst ? clr_transform_compose(inst, own_transform(sh)) : *own_transform(sh);
     float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
                    ray->oz + hit->t * ray->dz};
     rs_quadric_surface(&sh->quadric, &o2w, pw, p, n, uv, dpdu);
     if (sh->flip_normal) negate(n);
   } else {
-    clr_transform o2w =
-        inst ? clr_transform_compose(inst, &sh->object_to_world) : sh->object_to_world;
+    clr_transform o2w = inst ? clr_transform_compose(inst, own_transform(sh)) : *own_transform(sh);
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   }
   if (sh->has_material && sh->bump.texture >= 0) { /* pbrt-v3 Material::Bump */
-    clr_transform o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : sh->object_to_world;
+    clr_transform o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : *own_transform(sh);
     if (inst) o2w = clr_transform_compose(inst, &o2w);
     float nsh[3], dpdv[3], dndu[3], dndv[3];
     memcpy(nsh, has_ns ? ns : n, sizeof nsh);
@@ -843,6 +924,7 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     rs_colour_eval(&s->textures, &sh->kd, &tc, out->kd);
   else
     out->kd[0] = out->kd[1] = out->kd[2] = 0.0f;
+  out->time = ray->time;
   out->area_light = -1;
   out->le[0] = out->le[1] = out->le[2] = 0.0f;
   if (sh->first_light >= 0) {

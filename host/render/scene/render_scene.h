@@ -69,6 +69,7 @@ typedef struct clr_surface {
   int32_t area_light;   /* index of the area light (into the light list) or -1 */
   int32_t general;      /* 1: the material is the lobe list `bsdf` (uber, substrate, mix, ...) */
   clr_bsdf bsdf;
+  float time; /* the hitting ray's motion time, given to the rays spawned here */
 } clr_surface;
 
 /* Fills `s` for a hit of `ray`. */

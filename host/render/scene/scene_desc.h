@@ -63,7 +63,8 @@ typedef struct clr_area_light_desc {
 typedef struct clr_shape_desc {
   char *type;
   clr_param_list params;
-  clr_transform object_to_world; /* for shapes in an object: object-to-instance */
+  clr_transform object_to_world;     /* for shapes in an object: object-to-instance */
+  clr_transform object_to_world_end; /* at TransformTimes' end: differs for moving shapes */
   bool reverse_orientation;
   int material;   /* index into materials (resolved NamedMaterial or current Material) */
   int area_light; /* index into area_lights, -1 when none (always -1 inside objects) */

@@ -1005,17 +1005,31 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
     area_light = -1;
   }
   resolve_textures(p, &params);
-  if (memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0 && !p->warned_moving_shape) {
+  bool moving = memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0;
+  static const char *const movable[] = {"trianglemesh", "plymesh",    "loopsubdiv",
+                                        "sphere",       "disk",       "cylinder",
+                                        "cone",         "paraboloid", "hyperboloid"};
+  bool known = false;
+  for (size_t k = 0; k < sizeof movable / sizeof movable[0]; ++k)
+    known |= strcmp(type, movable[k]) == 0;
+  if (moving && (!known || area_light >= 0 || object)) {
+    moving = false;
+    if (!p->warned_moving_shape)
+      warnf(p,
+            "%s:%d: moving shapes (ActiveTransform) with an area light or inside ObjectBegin are "
+            "not supported: rendered at their start transform",
+            at.file, at.line);
     p->warned_moving_shape = true;
-    warnf(p,
-          "%s:%d: moving shapes (ActiveTransform) are not supported: rendered at their start "
-          "transform (only the camera moves)",
-          at.file, at.line);
   }
   int index = s->shape_count++;
-  s->shapes[index] = (clr_shape_desc){
-      type,       params,           p->gs.ctm, p->gs.reverse_orientation, shape_material(p, at),
-      area_light, p->current_object};
+  s->shapes[index] = (clr_shape_desc){type,
+                                      params,
+                                      p->gs.ctm,
+                                      moving ? p->gs.ctm_end : p->gs.ctm,
+                                      p->gs.reverse_orientation,
+                                      shape_material(p, at),
+                                      area_light,
+                                      p->current_object};
   if (object) object->shapes[object->shape_count++] = index;
   return CLR_SUCCESS;
 }
@@ -1073,6 +1087,11 @@ static clr_result d_object_instance(parser *p, const directive *d, location at) 
   if (clr_grow_array((void **)&s->instances, &s->instance_capacity, s->instance_count + 1,
                      sizeof *s->instances) != CLR_SUCCESS)
     return out_of_memory(at);
+  if (memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0)
+    warnf(p,
+          "%s:%d: moving ObjectInstance (ActiveTransform) is not supported: placed at its "
+          "start transform",
+          at.file, at.line);
   s->instances[s->instance_count++] = (clr_instance_desc){object, p->gs.ctm};
   return CLR_SUCCESS;
 }

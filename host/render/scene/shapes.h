@@ -39,6 +39,8 @@ typedef struct rs_shape {
   rs_material gmat;
   int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;
+  clr_transform object_to_world_end; /* moving shapes: for the world bounds */
+  int moving; /* kept in object space in a moving instance (ActiveTransform EndTime) */
 } rs_shape;
 
 #endif

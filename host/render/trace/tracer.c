@@ -46,12 +46,13 @@ typedef enum geom_kind { GEOM_MESH, GEOM_SPHERE, GEOM_INSTANCE, GEOM_DISK, GEOM_
 typedef struct geom_record { /* indexed by Embree geometry id within its group */
   geom_kind kind;
   uint32_t user_id;
-  tracer_mesh mesh;        /* GEOM_MESH */
-  sphere_shape *sphere;    /* GEOM_SPHERE */
-  disk_shape *disk;        /* GEOM_DISK */
-  quadric_shape *quadric;  /* GEOM_QUADRIC */
-  int32_t instanced_group; /* GEOM_INSTANCE */
-  affine instance_to_world;
+  tracer_mesh mesh;         /* GEOM_MESH */
+  sphere_shape *sphere;     /* GEOM_SPHERE */
+  disk_shape *disk;         /* GEOM_DISK */
+  quadric_shape *quadric;   /* GEOM_QUADRIC */
+  int32_t instanced_group;  /* GEOM_INSTANCE */
+  affine instance_to_world; /* at time 0 when moving */
+  int moving;               /* GEOM_INSTANCE with two time steps */
 } geom_record;
 
 typedef struct group {
@@ -745,6 +746,86 @@ clr_result clr_tracer_add_instance(clr_tracer t, int32_t g, const float instance
   return attach(t, 0, geom, &record, NULL);
 }
 
+clr_result clr_tracer_add_motion_instance(clr_tracer t, int32_t g, const float translation[2][3],
+                                          const float rotation[2][4], const float scale[2][3],
+                                          uint32_t user_id) {
+  static const char fn[] = "clr_tracer_add_motion_instance";
+  CLR_CHECK(check_building(t, 0, translation, "translation", fn));
+  if (!rotation || !scale)
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn,
+                              rotation ? "scale" : "rotation");
+  if (g < 1 || g >= t->group_count)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "%s: group %ld out of range [1, %ld): only "
+                              "object-definition groups can be instanced",
+                              fn, (long)g, (long)t->group_count);
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 4; ++i)
+      if (!isfinite(rotation[k][i]) || (i < 3 && (!isfinite(translation[k][i]) ||
+                                                  !isfinite(scale[k][i]) || scale[k][i] == 0.0f)))
+        return clr_set_last_error(CLR_ERROR_SCENE,
+                                  "%s: time step %d has a non-finite value or a zero scale", fn, k);
+  struct RTCQuaternionDecomposition qd[2];
+  for (int k = 0; k < 2; ++k) {
+    rtcInitQuaternionDecomposition(&qd[k]);
+    rtcQuaternionDecompositionSetScale(&qd[k], scale[k][0], scale[k][1], scale[k][2]);
+    rtcQuaternionDecompositionSetQuaternion(&qd[k], rotation[k][3], rotation[k][0], rotation[k][1],
+                                            rotation[k][2]);
+    qd[k].translation_x = translation[k][0];
+    qd[k].translation_y = translation[k][1];
+    qd[k].translation_z = translation[k][2];
+  }
+  RTCGeometry geom = rtcNewGeometry(t->device, RTC_GEOMETRY_TYPE_INSTANCE);
+  EMBREE_CHECK(t, "rtcNewGeometry(RTC_GEOMETRY_TYPE_INSTANCE)");
+  rtcSetGeometryInstancedScene(geom, t->groups[g].scene);
+  rtcSetGeometryTimeStepCount(geom, 2);
+  rtcSetGeometryTransformQuaternion(geom, 0, &qd[0]);
+  rtcSetGeometryTransformQuaternion(geom, 1, &qd[1]);
+  clr_result r = embree_check(t, "rtcSetGeometryTransformQuaternion");
+  float m[16] = {0};
+  m[15] = 1.0f;
+  if (r == CLR_SUCCESS) rtcGetGeometryTransform(geom, 0.0f, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, m);
+  geom_record record = {
+      .kind = GEOM_INSTANCE, .user_id = user_id, .instanced_group = g, .moving = 1};
+  if (r == CLR_SUCCESS && !affine_from_matrix(m, &record.instance_to_world))
+    r = clr_set_last_error(CLR_ERROR_SCENE, "%s: the start transform is not invertible", fn);
+  if (r != CLR_SUCCESS) {
+    rtcReleaseGeometry(geom);
+    return r;
+  }
+  return attach(t, 0, geom, &record, NULL);
+}
+
+/* Instance-to-world of world record `inst` at `time` (interpolated by Embree when moving). */
+static void instance_affine(const struct clr_tracer_t *t, uint32_t inst, float time, affine *out) {
+  const geom_record *rec = &t->groups[0].records[inst];
+  *out = rec->instance_to_world;
+  if (!rec->moving) return;
+  float m[16] = {0};
+  m[15] = 1.0f;
+  rtcGetGeometryTransform(rtcGetGeometry(t->groups[0].scene, inst), time,
+                          RTC_FORMAT_FLOAT3X4_ROW_MAJOR, m);
+  affine a;
+  if (affine_from_matrix(m, &a)) *out = a;
+}
+
+clr_result clr_tracer_instance_transform(clr_tracer t, uint32_t inst_id, float time,
+                                         float out[16]) {
+  static const char fn[] = "clr_tracer_instance_transform";
+  if (!t || !out)
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "%s: %s is NULL", fn, t ? "out" : "tracer");
+  if (!t->committed || inst_id >= t->groups[0].count ||
+      t->groups[0].records[inst_id].kind != GEOM_INSTANCE)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT, "%s: %lu is not an instance id", fn,
+                              (unsigned long)inst_id);
+  affine a;
+  instance_affine(t, inst_id, time, &a);
+  for (int i = 0; i < 12; ++i) out[i] = (float)a.m[i];
+  out[12] = out[13] = out[14] = 0.0f;
+  out[15] = 1.0f;
+  return CLR_SUCCESS;
+}
+
 clr_result clr_tracer_instance_info(clr_tracer t, uint32_t inst_id, int32_t *group,
                                     uint32_t *user_id) {
   if (!t)
@@ -821,13 +902,15 @@ static clr_result check_rays(const clr_ray *rays, int32_t count, const char *fn)
 
 /* Turns an Embree hit into a clr_hit with a world-space normal and the user id. */
 static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[3], float u,
-                       float v, uint32_t prim, uint32_t geom, uint32_t inst, clr_hit *out) {
+                       float v, uint32_t prim, uint32_t geom, uint32_t inst, float time,
+                       clr_hit *out) {
   if (geom == RTC_INVALID_GEOMETRY_ID) {
     *out = (clr_hit){.t = INFINITY,
                      .prim_id = CLR_TRACER_INVALID_ID,
                      .geom_id = CLR_TRACER_INVALID_ID,
                      .inst_id = CLR_TRACER_INVALID_ID,
-                     .user_id = CLR_TRACER_INVALID_ID};
+                     .user_id = CLR_TRACER_INVALID_ID,
+                     .time = time};
     return;
   }
   const group *gr = &t->groups[0];
@@ -835,7 +918,9 @@ static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[
   if (inst != RTC_INVALID_GEOMETRY_ID) {
     const geom_record *instance = &gr->records[inst];
     double n[3] = {ng[0], ng[1], ng[2]}, w[3];
-    map_normal(&instance->instance_to_world, n, w);
+    affine a;
+    instance_affine(t, inst, time, &a);
+    map_normal(&a, n, w);
     out->ng[0] = (float)w[0], out->ng[1] = (float)w[1], out->ng[2] = (float)w[2];
     gr = &t->groups[instance->instanced_group];
   }
@@ -846,17 +931,18 @@ static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[
   out->geom_id = geom;
   out->inst_id = inst;
   out->user_id = gr->records[geom].user_id;
+  out->time = time;
 }
 
 /* Loads rays [base, base + lanes) into a 16-wide packet; unused lanes are masked off. */
 static void load_packet(const clr_ray *rays, int32_t lanes, struct RTCRay16 *ray, int *valid) {
   for (int32_t i = 0; i < 16; ++i) {
-    static const clr_ray unused = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+    static const clr_ray unused = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
     const clr_ray *r = i < lanes ? &rays[i] : &unused;
     valid[i] = i < lanes ? -1 : 0;
     ray->org_x[i] = r->ox, ray->org_y[i] = r->oy, ray->org_z[i] = r->oz, ray->tnear[i] = r->tnear;
     ray->dir_x[i] = r->dx, ray->dir_y[i] = r->dy, ray->dir_z[i] = r->dz, ray->tfar[i] = r->tfar;
-    ray->time[i] = 0.0f;
+    ray->time[i] = r->time;
     ray->mask[i] = 0xffffffffu;
     ray->id[i] = (unsigned)i;
     ray->flags[i] = 0;
@@ -887,7 +973,7 @@ static void trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int
     for (int32_t i = 0; i < lanes; ++i) {
       float ng[3] = {rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]};
       finish_hit(t, rh.ray.tfar[i], ng, rh.hit.u[i], rh.hit.v[i], rh.hit.primID[i],
-                 rh.hit.geomID[i], rh.hit.instID[0][i], &hits[base + i]);
+                 rh.hit.geomID[i], rh.hit.instID[0][i], rays[base + i].time, &hits[base + i]);
     }
   }
 }
@@ -914,6 +1000,7 @@ clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hi
                 .dir_y = r->dy,
                 .dir_z = r->dz,
                 .tfar = r->tfar,
+                .time = r->time,
                 .mask = 0xffffffffu},
         .hit = {.geomID = RTC_INVALID_GEOMETRY_ID, .instID = {RTC_INVALID_GEOMETRY_ID}}};
     struct RTCIntersectContext context;
@@ -921,7 +1008,7 @@ clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hi
     rtcIntersect1(t->groups[0].scene, &context, &rh);
     float ng[3] = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
     finish_hit(t, rh.ray.tfar, ng, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.geomID,
-               rh.hit.instID[0], &hits[i]);
+               rh.hit.instID[0], r->time, &hits[i]);
   }
   return embree_check(t, "rtcIntersect1");
 }
@@ -1041,8 +1128,10 @@ clr_result clr_tracer_mesh_interpolate(clr_tracer t, const clr_hit *hit, float p
   }
   if (instance) {
     double pw[3], nw[3];
-    map_point(instance->instance_to_world.m, p, pw);
-    map_normal(&instance->instance_to_world, n, nw);
+    affine a;
+    instance_affine(t, hit->inst_id, hit->time, &a);
+    map_point(a.m, p, pw);
+    map_normal(&a, n, nw);
     memcpy(p, pw, sizeof p);
     memcpy(n, nw, sizeof n);
   }

@@ -21,6 +21,7 @@ typedef struct clr_tracer_t *clr_tracer;
  * tnear finite and >= 0, tfar not NaN (may be +INFINITY; tfar < tnear simply misses). */
 typedef struct clr_ray {
   float ox, oy, oz, tnear, dx, dy, dz, tfar;
+  float time; /* motion time in [0, 1] (0: start transform); only moving instances use it */
 } clr_ray;
 
 /* The closest hit of a ray. On a miss geom_id, prim_id, inst_id and user_id are
@@ -35,6 +36,7 @@ typedef struct clr_hit {
   uint32_t geom_id; /* id returned by clr_tracer_add_mesh/add_sphere, within its group */
   uint32_t inst_id; /* world id of the instance the hit lies in, CLR_TRACER_INVALID_ID if none */
   uint32_t user_id; /* user_id given when the hit mesh or sphere was added */
+  float time;       /* the ray's time (a moving instance's hit is placed at it) */
 } clr_hit;
 
 /* Creates an empty tracer (an Embree device and the world group). Embree errors are recorded by
@@ -86,6 +88,18 @@ clr_result clr_tracer_add_quadric(clr_tracer tracer, int32_t group, const float 
  * added to group 0 gets id n (from 0); hits inside this instance report that id as inst_id. */
 clr_result clr_tracer_add_instance(clr_tracer tracer, int32_t group,
                                    const float instance_to_world[16], uint32_t user_id);
+
+/* Places group `group` (>= 1) into the world moving over the ray time [0, 1]: at time k
+ * (0 or 1) its instance-to-world is T(translation[k]) R(rotation[k], a unit quaternion x y z w)
+ * S(scale[k], diagonal); in between Embree lerps T and S and slerps R (pbrt-v3's
+ * AnimatedTransform for a diagonal S). Ids as clr_tracer_add_instance. */
+clr_result clr_tracer_add_motion_instance(clr_tracer tracer, int32_t group,
+                                          const float translation[2][3], const float rotation[2][4],
+                                          const float scale[2][3], uint32_t user_id);
+
+/* Instance-to-world (row-major 4x4) of the instance with world id inst_id at ray time `time`. */
+clr_result clr_tracer_instance_transform(clr_tracer tracer, uint32_t inst_id, float time,
+                                         float out[16]);
 
 /* Group and user_id of the instance with world id inst_id (either output may be NULL). */
 clr_result clr_tracer_instance_info(clr_tracer tracer, uint32_t inst_id, int32_t *group,
