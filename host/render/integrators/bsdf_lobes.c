@@ -51,35 +51,6 @@ static float tr_g1(const float w[3], float ax, float ay) {
   return 1.0f / (1.0f + tr_lambda(w, ax, ay));
 }
 
-static void tr_sample11(float cos_theta, float u1, float u2, float *sx, float *sy) {
-  if (cos_theta > 0.9999f) {
-    float r = sqrtf(u1 / (1.0f - u1)), phi = 6.28318530718f * u2;
-    *sx = r * cosf(phi);
-    *sy = r * sinf(phi);
-    return;
-  }
-  float sin_theta = sqrtf(fmaxf(0.0f, 1.0f - cos_theta * cos_theta));
-  float tan_theta = sin_theta / cos_theta, a = 1.0f / tan_theta;
-  float g1 = 2.0f / (1.0f + sqrtf(1.0f + 1.0f / (a * a)));
-  float A = 2.0f * u1 / g1 - 1.0f, tmp = 1.0f / (A * A - 1.0f);
-  if (tmp > 1e10f) tmp = 1e10f;
-  float B = tan_theta;
-  float D = sqrtf(fmaxf(B * B * tmp * tmp - (A * A - B * B) * tmp, 0.0f));
-  float x1 = B * tmp - D, x2 = B * tmp + D;
-  *sx = (A < 0.0f || x2 > 1.0f / tan_theta) ? x1 : x2;
-  float S;
-  if (u2 > 0.5f) {
-    S = 1.0f;
-    u2 = 2.0f * (u2 - 0.5f);
-  } else {
-    S = -1.0f;
-    u2 = 2.0f * (0.5f - u2);
-  }
-  float z = (u2 * (u2 * (u2 * 0.27385f - 0.73369f) + 0.46341f)) /
-            (u2 * (u2 * (u2 * 0.093073f + 0.309420f) - 1.000000f) + 0.597999f);
-  *sy = S * z * sqrtf(1.0f + *sx * *sx);
-}
-
 void clr_tr_sample_wh(const float wo_in[3], const float u[2], float ax, float ay, float wh[3]) {
   int flip = wo_in[2] < 0.0f;
   float wi[3] = {flip ? -wo_in[0] : wo_in[0], flip ? -wo_in[1] : wo_in[1],
@@ -87,7 +58,7 @@ void clr_tr_sample_wh(const float wo_in[3], const float u[2], float ax, float ay
   float st[3] = {ax * wi[0], ay * wi[1], wi[2]};
   normalize3(st);
   float sx, sy;
-  tr_sample11(st[2], u[0], u[1], &sx, &sy);
+  clr_tr_sample11(st[2], u[0], u[1], &sx, &sy);
   float cp = cos_phi(st), sp = sin_phi(st);
   float tmp = cp * sx - sp * sy;
   sy = sp * sx + cp * sy;

@@ -59,7 +59,7 @@ static float tr_pdf_wh(const float wo[3], const float wh[3], float alpha) {
   return tr_d(wh, alpha) * tr_g1(wo, alpha) * fabsf(dot3(wo, wh)) / fabsf(wo[2]);
 }
 
-static void tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
+void clr_tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
   if (cos_t > 0.9999f) {
     float r = sqrtf(u1 / (1.0f - u1)), phi = 6.28318530718f * u2;
     *sx = r * cosf(phi);
@@ -94,7 +94,7 @@ static void tr_sample_wh(const float wo_in[3], float alpha, const float u[2], fl
   float l = sqrtf(dot3(ws, ws));
   for (int i = 0; i < 3; ++i) ws[i] /= l;
   float sx, sy;
-  tr_sample11(ws[2], u[0], u[1], &sx, &sy);
+  clr_tr_sample11(ws[2], u[0], u[1], &sx, &sy);
   float st = sqrtf(fmaxf(0.0f, 1.0f - ws[2] * ws[2]));
   float cphi = st == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, ws[0] / st));
   float sphi = st == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, ws[1] / st));

@@ -6,6 +6,8 @@
 
 /* TrowbridgeReitzDistribution::RoughnessToAlpha (remaproughness true). */
 float clr_tr_roughness_to_alpha(float roughness);
+/* TrowbridgeReitzSample11: the slopes of a visible normal for alpha 1, incident cos_t. */
+void clr_tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy);
 /* pbrt-v3 FrDielectric(cos_i, eta_i, eta_t). */
 float clr_fr_dielectric(float cos_i, float eta_i, float eta_t);
 /* pbrt-v3 FrConductor(|cos_i|, 1, eta, k) for one channel. */
