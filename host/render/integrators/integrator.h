@@ -25,7 +25,7 @@ typedef struct clr_integrator {
   int *light_samples;                           /* directlighting "all": pbrt nsamples per light */
   int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
   int camera_offset;  /* the camera's film offset: 0, or 1 after pbrt-v4's wavelength Get1D */
-  int value_offset;   /* first integrator value (after the camera's 5) */
+  int value_offset;   /* first integrator value (after the camera's 5 or 6) */
   int path_bounces_in_layout;
   clr_sample_request requests[CLR_MAX_REQUESTS];
   int32_t request_count;
