@@ -76,9 +76,22 @@ static void test_layout_requests(void **state) {
   parsed_free(&p);
 }
 
+static clr_camera_layout layout_for(clr_sampler_type sampler, clr_seeding seeding,
+                                    clr_filter_type filter, float radius) {
+  clr_sampler_desc sd;
+  clr_sampler_desc_init(&sd, sampler);
+  sd.seeding = seeding;
+  clr_filter_desc fd;
+  clr_filter_desc_init(&fd, filter);
+  if (radius > 0.0f) fd.radius[0] = fd.radius[1] = radius;
+  clr_camera_layout l;
+  clr_camera_layout_init(&l, &sd, &fd);
+  return l;
+}
+
 /* pbrt-v4's GetCameraSample with its default box filter (radius 0.5): pPixel + Lerp(u, -0.5,
  * 0.5) + 0.5 in float, which differs from pbrt-v3's pPixel + u for small offsets. */
-static void test_film_position_formula(void **state) {
+static void test_film_position_box(void **state) {
   (void)state;
   static const struct {
     int px;
@@ -87,16 +100,60 @@ static void test_film_position_formula(void **state) {
                {4, 0x1.3ca186p-13f, 0x1.000278p+2f, 0x1.00027ap+2f},
                {-2, 0x1.0f88fap-24f, -0x1p+1f, -0x1.fffffep+0f},
                {3, 0x1.645d9ap-9f, 0x1.805918p+1f, 0x1.805918p+1f}};
+  clr_camera_layout v4 = layout_for(CLR_SAMPLER_ZSOBOL, CLR_SEEDING_PIXEL, CLR_FILTER_BOX, 0.0f);
+  clr_camera_layout v3 = layout_for(CLR_SAMPLER_HALTON, CLR_SEEDING_PIXEL, CLR_FILTER_BOX, 0.0f);
+  assert_true(v4.pbrt_v4 && v4.filter_sampled);
+  assert_true(!v3.pbrt_v4 && !v3.filter_sampled);
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
     float v[5] = {cases[i].u, 0.25f, 0.125f, 0.5f, 0.75f};
     clr_camera_sample a, b;
-    clr_camera_sample_from_values(v, 1, cases[i].px, 7, &a);
-    clr_camera_sample_from_values(v, 0, cases[i].px, 7, &b);
+    clr_camera_sample_from_values(&v4, v, cases[i].px, 7, &a);
+    clr_camera_sample_from_values(&v3, v, cases[i].px, 7, &b);
     assert_true(a.film_x == cases[i].v4);
     assert_true(b.film_x == cases[i].v3);
     assert_true(a.film_y == 7.25f && b.film_y == 7.25f);
+    assert_true(a.pixel_x == (float)cases[i].px + 0.5f && a.pixel_y == 7.5f); /* own pixel */
+    assert_true(b.pixel_x == b.film_x && b.pixel_y == b.film_y);              /* splatted */
     assert_true(a.time == 0.125f && a.lens_u == 0.5f && a.lens_v == 0.75f);
   }
+}
+
+/* pbrt-v4's TriangleFilter::Sample (SampleTent) and a box of radius 1.5; values printed by
+ * pbrt-v4's own SampleTent. Filters pbrt-v4 has no exact Sample for keep the box of radius 0.5
+ * and the film's filtering. */
+static void test_film_position_filters(void **state) {
+  (void)state;
+  static const struct {
+    float u, r, tent;
+  } tents[] = {{0x1.333334p-2f, 2.0f, -0x1.cda04p-2f},
+               {0x1.666666p-1f, 2.0f, 0x1.cda04p-2f},
+               {0.5f, 2.0f, 0.0f},
+               {0.0f, 2.0f, -2.0f},
+               {0x1.fffffep-1f, 2.0f, 0x1.ffd2cp+0f},
+               {0.25f, 1.5f, -0x1.c1e25p-2f},
+               {0x1.ddc79p-18f, 2.0f, -0x1.fe1168p+0f}};
+  for (size_t i = 0; i < sizeof tents / sizeof tents[0]; ++i) {
+    clr_camera_layout l =
+        layout_for(CLR_SAMPLER_INDEPENDENT, CLR_SEEDING_PIXEL, CLR_FILTER_TRIANGLE, tents[i].r);
+    assert_true(l.filter_sampled);
+    float v[5] = {tents[i].u, tents[i].u, 0, 0, 0};
+    clr_camera_sample cs;
+    clr_camera_sample_from_values(&l, v, 10, -3, &cs);
+    assert_true(cs.film_x == (10.0f + tents[i].tent) + 0.5f);
+    assert_true(cs.film_y == (-3.0f + tents[i].tent) + 0.5f);
+    assert_true(cs.pixel_x == 10.5f && cs.pixel_y == -2.5f);
+  }
+  clr_camera_layout box = layout_for(CLR_SAMPLER_PMJ02BN, CLR_SEEDING_PIXEL, CLR_FILTER_BOX, 1.5f);
+  float v[5] = {0.25f, 1.0f, 0, 0, 0};
+  clr_camera_sample cs;
+  clr_camera_sample_from_values(&box, v, 2, 2, &cs);
+  assert_true(cs.film_x == (2.0f + (0.75f * -1.5f + 0.25f * 1.5f)) + 0.5f);
+  assert_true(cs.film_y == 4.0f && cs.pixel_y == 2.5f);
+  clr_camera_layout gauss =
+      layout_for(CLR_SAMPLER_ZSOBOL, CLR_SEEDING_PIXEL, CLR_FILTER_GAUSSIAN, 0.0f);
+  assert_true(gauss.pbrt_v4 && !gauss.filter_sampled);
+  clr_camera_sample_from_values(&gauss, v, 2, 2, &cs);
+  assert_true(cs.film_x == 2.25f && cs.pixel_x == 2.25f && cs.film_y == 3.0f);
 }
 
 /* pbrt-v4's values for layout Get1D (wavelength), GetPixel2D, Get1D (time), Get2D (lens), Get1D
@@ -214,7 +271,8 @@ static void test_vectors_match_pbrt_v4(void **state) {
           assert_true(v[j] == pin->v[k][j]);
         }
         clr_camera_sample cs;
-        clr_camera_sample_from_values(v + it.camera_offset, 1, at[k][0], at[k][1], &cs);
+        clr_camera_layout l = layout_for(pin->type, CLR_SEEDING_PBRT_V4, CLR_FILTER_BOX, 0.0f);
+        clr_camera_sample_from_values(&l, v + it.camera_offset, at[k][0], at[k][1], &cs);
         float lx = (1.0f - v[1]) * -0.5f + v[1] * 0.5f, ly = (1.0f - v[2]) * -0.5f + v[2] * 0.5f;
         assert_true(cs.film_x == ((float)at[k][0] + lx) + 0.5f);
         assert_true(cs.film_y == ((float)at[k][1] + ly) + 0.5f);
@@ -233,7 +291,8 @@ static void test_vectors_match_pbrt_v4(void **state) {
 }
 
 static clr_render_image render(const char *text, const char *sampler, clr_seeding seeding,
-                               int nthreads, int tile_size, int host_samples) {
+                               int nthreads, int tile_size, int host_samples, const char *filter,
+                               uint64_t *samples) {
   clr_scene_desc *desc = NULL;
   clr_parse_options po;
   clr_parse_options_init(&po);
@@ -247,13 +306,17 @@ static clr_render_image render(const char *text, const char *sampler, clr_seedin
   o.nthreads = nthreads;
   o.tile_size = tile_size;
   o.reference_samples = host_samples;
+  o.filter = filter;
   o.xresolution = 24;
   o.yresolution = 20;
   clr_render_image im;
   memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
+  clr_render_stats st;
+  clr_render_stats_init(&st);
+  clr_result r = clr_render_desc(desc, &o, &st, 0, &im);
   if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
   assert_int_equal(r, CLR_SUCCESS);
+  if (samples) *samples = st.samples;
   clr_scene_desc_free(desc);
   return im;
 }
@@ -266,14 +329,19 @@ static void test_render_deterministic(void **state) {
   static const struct {
     const char *sampler;
     clr_seeding seeding;
-  } cases[] = {{"halton", CLR_SEEDING_PBRT_V4},
-               {"zsobol", CLR_SEEDING_PIXEL},
-               {"pmj02bn", CLR_SEEDING_PIXEL}};
+    const char *filter;
+  } cases[] = {{"halton", CLR_SEEDING_PBRT_V4, "box"},
+               {"zsobol", CLR_SEEDING_PIXEL, "triangle"},
+               {"pmj02bn", CLR_SEEDING_PIXEL, "gaussian"}};
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-    clr_render_image a = render(path_scene, cases[c].sampler, cases[c].seeding, 1, 16, 0);
-    clr_render_image b = render(path_scene, cases[c].sampler, cases[c].seeding, 3, 16, 0);
-    clr_render_image h = render(path_scene, cases[c].sampler, cases[c].seeding, 2, 16, 1);
-    clr_render_image t = render(path_scene, cases[c].sampler, cases[c].seeding, 3, 5, 0);
+    clr_render_image a =
+        render(path_scene, cases[c].sampler, cases[c].seeding, 1, 16, 0, cases[c].filter, NULL);
+    clr_render_image b =
+        render(path_scene, cases[c].sampler, cases[c].seeding, 3, 16, 0, cases[c].filter, NULL);
+    clr_render_image h =
+        render(path_scene, cases[c].sampler, cases[c].seeding, 2, 16, 1, cases[c].filter, NULL);
+    clr_render_image t =
+        render(path_scene, cases[c].sampler, cases[c].seeding, 3, 5, 0, cases[c].filter, NULL);
     size_t n = (size_t)a.width * (size_t)a.height * 3;
     assert_int_equal(a.width, 24);
     assert_int_equal(b.width, 24);
@@ -294,12 +362,34 @@ static void test_render_deterministic(void **state) {
   }
 }
 
+/* pbrt-v4 samples the pixel bounds only and gives each sample to its own pixel when it samples
+ * the filter (box, triangle): 24 x 20 pixels x 8 samples reach the film. pbrt-v3's layout and
+ * filters pbrt-v4 cannot sample exactly splat over the bounds grown by the radius (2: 28 x 24). */
+static void test_filter_sampled_film(void **state) {
+  (void)state;
+  static const struct {
+    const char *sampler;
+    clr_seeding seeding;
+    const char *filter;
+    uint64_t samples;
+  } cases[] = {{"zsobol", CLR_SEEDING_PIXEL, "triangle", 24 * 20 * 8},
+               {"halton", CLR_SEEDING_PBRT_V4, "triangle", 24 * 20 * 8},
+               {"halton", CLR_SEEDING_PIXEL, "triangle", 28 * 24 * 8},
+               {"zsobol", CLR_SEEDING_PIXEL, "gaussian", 28 * 24 * 8}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    uint64_t samples = 0;
+    clr_render_image im =
+        render(path_scene, cases[c].sampler, cases[c].seeding, 2, 16, 0, cases[c].filter, &samples);
+    assert_int_equal(samples, cases[c].samples);
+    free(im.rgb);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_layout_requests),
-      cmocka_unit_test(test_film_position_formula),
-      cmocka_unit_test(test_vectors_match_pbrt_v4),
-      cmocka_unit_test(test_render_deterministic),
+      cmocka_unit_test(test_layout_requests),       cmocka_unit_test(test_film_position_box),
+      cmocka_unit_test(test_film_position_filters), cmocka_unit_test(test_vectors_match_pbrt_v4),
+      cmocka_unit_test(test_render_deterministic),  cmocka_unit_test(test_filter_sampled_film),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

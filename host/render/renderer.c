@@ -307,11 +307,11 @@ typedef struct render_job {
   const clr_render_scene *scene;
   const clr_integrator *integrator;
   clr_film film;
-  int spp;          /* samples per pixel of this pass */
-  int first_sample; /* the pass's first sample index */
-  int host_samples; /* options->reference_samples: host reference generator (comparison) */
-  int pbrt_v4;      /* pbrt-v4 samplers: pbrt-v4's camera sample (camera_sample.h) */
-  int cancelled;    /* the progress callback asked to stop */
+  int spp;                  /* samples per pixel of this pass */
+  int first_sample;         /* the pass's first sample index */
+  int host_samples;         /* options->reference_samples: host reference generator (comparison) */
+  clr_camera_layout camera; /* pbrt-v3's or pbrt-v4's camera sample (camera_sample.h) */
+  int cancelled;            /* the progress callback asked to stop */
   uint32_t seed;
   clr_bounds2i region;          /* the sample pixels rendered (render_region) */
   clr_dist *dist;               /* MPI ranks sharing the frame, or NULL */
@@ -356,9 +356,9 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
   for (int k = 0, px = px0, s = s0; k < n; ++k) {
     const float *v = values + (size_t)k * (size_t)it->values_per_sample;
     clr_camera_sample cs;
-    clr_camera_sample_from_values(v + it->camera_offset, job->pbrt_v4, px, py, &cs);
-    fs[k].x = cs.film_x;
-    fs[k].y = cs.film_y;
+    clr_camera_sample_from_values(&job->camera, v + it->camera_offset, px, py, &cs);
+    fs[k].x = cs.pixel_x;
+    fs[k].y = cs.pixel_y;
     b->weights[k] = clr_render_scene_camera_ray(job->scene, cs.film_x, cs.film_y, cs.time,
                                                 cs.lens_u, cs.lens_v, &b->rays[k]);
     b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
@@ -1044,13 +1044,19 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
   sdesc.film.filter_radius[0] = fdesc.radius[0];
   sdesc.film.filter_radius[1] = fdesc.radius[1];
+  clr_camera_layout camera;
+  clr_camera_layout_init(&camera, &sdesc, &fdesc);
+  if (camera.filter_sampled) { /* pbrt-v4: each sample to its own pixel, the pixel bounds sampled */
+    clr_filter_desc_init(&fd.filter, CLR_FILTER_BOX);
+    sdesc.film.filter_radius[0] = sdesc.film.filter_radius[1] = fd.filter.radius[0];
+  }
   scene_build_job build;
   memset(&build, 0, sizeof build);
   build.d = d;
   build.warn = warn;
   build.wu = wu;
   build.sampler_type = sdesc.type;
-  build.pbrt_v4 = clr_camera_sample_is_pbrt_v4(&sdesc);
+  build.pbrt_v4 = camera.pbrt_v4;
   clr_device_setup device;
   double t0 = now_seconds();
   r = clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene, &build);
@@ -1084,7 +1090,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0;
-    job.pbrt_v4 = build.pbrt_v4;
+    job.camera = camera;
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
     st->spp = st->spp_target = job.spp;
