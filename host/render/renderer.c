@@ -1076,7 +1076,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.film = film;
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
-    job.host_samples = o->reference_samples != 0;
+    job.host_samples = o->reference_samples != 0 || !ctx; /* --device host */
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
     st->spp = st->spp_target = job.spp;
