@@ -12,11 +12,9 @@
 extern "C" {
 #endif
 
-/* Called before the first tile and after each merged tile (possibly more often, with the same
- * counts): return non-zero to stop after the tiles in flight; the image is then written and marked
- * partial. Must be cheap. Calls come from one thread at a time, the thread running
- * clr_render_file, except in a one-pass render on an OpenCL device, whose first tiles may be
- * rendered and reported by a helper thread while the device is being set up. */
+/* Called on the thread running clr_render_file before the first tile and after each merged tile
+ * (possibly more often, with the same counts): return non-zero to stop after the tiles in
+ * flight; the image is then written and marked partial. Must be cheap. */
 typedef int (*clr_render_progress_fn)(void *user, int32_t tiles_done, int32_t tiles_total);
 
 typedef struct clr_render_options {

@@ -4,7 +4,6 @@
  * bit-identical whatever the thread count and scheduling. */
 #include <math.h>
 #include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -310,7 +309,6 @@ typedef struct render_job {
   int spp;          /* samples per pixel of this pass */
   int first_sample; /* the pass's first sample index */
   int host_samples; /* options->reference_samples: host reference generator (comparison) */
-  int early_host;   /* the bands made before the device is ready come from the host reference */
   int cancelled;    /* the progress callback asked to stop */
   uint32_t seed;
   clr_bounds2i region;          /* the sample pixels rendered (render_region) */
@@ -510,8 +508,8 @@ static clr_result generate_rect(render_job *job, clr_sampler sampler, clr_sample
   clr_sample_output_init(&out);
   out.host_values = values;
   batch->pixels = px;
-  return job->host_samples || job->early_host ? clr_sampler_generate_reference(sampler, batch, &out)
-                                              : clr_sampler_generate(sampler, batch, &out);
+  return job->host_samples ? clr_sampler_generate_reference(sampler, batch, &out)
+                           : clr_sampler_generate(sampler, batch, &out);
 }
 
 /* The band's sample values (row-major over px): all of them, or with adaptive sampling only the
@@ -591,43 +589,19 @@ static clr_result commit_tile(render_job *job, tile_info *m) {
   return film_merge_tile(job->film, m->film_tile);
 }
 
-static void cond_wait_ms(pthread_cond_t *cond, pthread_mutex_t *mutex, long ms) {
-  struct timespec until;
-  clock_gettime(CLOCK_REALTIME, &until);
-  until.tv_nsec += ms * 1000000L;
-  if (until.tv_nsec >= 1000000000L) {
-    until.tv_sec += 1;
-    until.tv_nsec -= 1000000000L;
-  }
-  pthread_cond_timedwait(cond, mutex, &until);
-}
-
-/* Where a frame's pipeline stands: it may pass from one thread to another (early_render). */
-typedef struct pipeline_state {
-  int next_gen, next_merge, claims_done;
-  double t_start, t_first;
-} pipeline_state;
-
-/* Generates bands ahead of the workers and merges finished tiles in claim order (tile order
- * when alone). With `handover`, returns as soon as it is set, before claiming another band, with
- * the workers still running and the state in *ps for the next call to continue. */
+/* Main thread: generates bands ahead of the workers and merges finished tiles in claim order
+ * (tile order when alone). */
 static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_grid *g,
-                               const clr_render_options *o, clr_render_stats *st,
-                               pipeline_state *ps, atomic_int *handover) {
+                               const clr_render_options *o, clr_render_stats *st) {
   clr_sample_batch batch;
   clr_sample_batch_init(&batch);
   batch.requests = job->integrator->requests;
   batch.request_count = job->integrator->request_count;
-  int next_gen = ps->next_gen, next_merge = ps->next_merge, claims_done = ps->claims_done;
+  int next_gen = 0, next_merge = 0, claims_done = 0;
   clr_result r = CLR_SUCCESS;
-  double t_start = ps->t_start, t_first = ps->t_first;
+  double t_start = now_seconds(), t_first = 0.0;
   pthread_mutex_lock(&job->mutex);
   while (r == CLR_SUCCESS && next_merge < g->ntiles) {
-    if (handover && atomic_load(handover)) {
-      pthread_mutex_unlock(&job->mutex);
-      *ps = (pipeline_state){next_gen, next_merge, claims_done, t_start, t_first};
-      return CLR_SUCCESS;
-    }
     if (!job->cancelled && o->progress_callback)
       job->cancelled = o->progress_callback(o->progress_user, next_merge, g->ntiles) != 0;
     int cancelled = job->cancelled;
@@ -658,10 +632,7 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
     tile_info *m = &job->tiles[next_merge];
     if (next_merge >= next_gen || m->state != TILE_DONE) {
       if (next_merge >= next_gen) break; /* cancelled or every claim made, nothing in flight */
-      if (handover)                      /* looks at the flag again within a millisecond */
-        cond_wait_ms(&job->cond, &job->mutex, 1);
-      else
-        pthread_cond_wait(&job->cond, &job->mutex);
+      pthread_cond_wait(&job->cond, &job->mutex);
       continue;
     }
     pthread_mutex_unlock(&job->mutex);
@@ -680,7 +651,6 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
     if (next_merge == 1) t_first = now_seconds() - t_start;
     if (o->progress) progress_bar(next_merge, g->ntiles, now_seconds() - t_start, t_first);
   }
-  *ps = (pipeline_state){next_gen, next_merge, claims_done, t_start, t_first};
   /* stop the workers; wait for tiles in flight when failing */
   job->ready_end = job->next_take;
   while (job->busy) pthread_cond_wait(&job->cond, &job->mutex);
@@ -709,21 +679,11 @@ static clr_result finish_distributed_frame(render_job *job, clr_result r, double
   return r;
 }
 
-/* A frame's tile loop between tiles_begin and tiles_end: the grid, the workers and the
- * pipeline's state. */
-typedef struct tile_run {
+/* Runs the tile pipeline; *partial set when cancelled. */
+static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
+                               int nthreads, clr_render_stats *st) {
   tile_grid g;
-  pthread_t *threads;
-  int started;
-  double t_loop;
-  pipeline_state ps;
-} tile_run;
-
-/* Lays out the grid and bands, starts the workers. */
-static clr_result tiles_begin(render_job *job, const clr_render_options *o, int nthreads,
-                              clr_render_stats *st, tile_run *t) {
-  tile_grid g;
-  memset(t, 0, sizeof *t);
+  (void)sampler;
   job->next_take = job->ready_end = job->busy = job->stop = job->next_band = 0;
   st->tiles_done = 0;
   g.bounds = job->region;
@@ -756,56 +716,28 @@ static clr_result tiles_begin(render_job *job, const clr_render_options *o, int 
       return rb;
     }
   }
-  t->g = g;
-  t->threads = threads;
-  t->t_loop = now_seconds();
-  t->ps.t_start = t->t_loop;
+  double t_loop = now_seconds();
   pthread_mutex_init(&job->mutex, NULL);
   pthread_cond_init(&job->cond, NULL);
-  for (; t->started < nthreads; ++t->started)
-    if (pthread_create(&threads[t->started], NULL, worker_main, job) != 0) break;
-  return CLR_SUCCESS;
-}
-
-/* The pipeline from where it stands (tiles_begin, or an earlier call's handover). */
-static clr_result tiles_run(render_job *job, clr_sampler sampler, const clr_render_options *o,
-                            clr_render_stats *st, tile_run *t, atomic_int *handover) {
-  if (!t->started) return clr_set_last_error(CLR_ERROR_INTERNAL, "pthread_create failed");
-  return run_pipeline(job, sampler, &t->g, o, st, &t->ps, handover);
-}
-
-/* Stops and joins the workers, frees the loop; returns r or the distributed frame's result. */
-static clr_result tiles_end(render_job *job, clr_result r, const clr_render_options *o,
-                            clr_render_stats *st, tile_run *t) {
-  const tile_grid *g = &t->g;
-  pthread_mutex_lock(&job->mutex); /* a failed or never-run pipeline left them waiting */
-  job->ready_end = job->next_take;
-  while (job->busy) pthread_cond_wait(&job->cond, &job->mutex);
-  job->stop = 1;
-  pthread_cond_broadcast(&job->cond);
-  pthread_mutex_unlock(&job->mutex);
-  for (int i = 0; i < t->started; ++i) pthread_join(t->threads[i], NULL);
-  for (int i = 0; i < g->ntiles; ++i)
+  int started = 0;
+  for (; started < nthreads; ++started)
+    if (pthread_create(&threads[started], NULL, worker_main, job) != 0) break;
+  clr_result r = started ? run_pipeline(job, sampler, &g, o, st)
+                         : clr_set_last_error(CLR_ERROR_INTERNAL, "pthread_create failed");
+  if (!started) job->stop = 1;
+  for (int i = 0; i < started; ++i) pthread_join(threads[i], NULL);
+  for (int i = 0; i < g.ntiles; ++i)
     if (job->tiles[i].film_tile) film_tile_release(job->tiles[i].film_tile);
-  st->partial = st->tiles_done < g->ntiles;
-  if (job->dist) r = finish_distributed_frame(job, r, now_seconds() - t->t_loop, st);
+  st->partial = st->tiles_done < g.ntiles;
+  if (job->dist) r = finish_distributed_frame(job, r, now_seconds() - t_loop, st);
   for (int i = 0; i < job->nbands; ++i) free(job->bands[i].values);
-  if (o->progress && st->tiles_done < g->ntiles) fputc('\n', stderr);
+  if (o->progress && st->tiles_done < g.ntiles) fputc('\n', stderr);
   pthread_cond_destroy(&job->cond);
   pthread_mutex_destroy(&job->mutex);
   free(job->tiles);
   free(job->bands);
-  free(t->threads);
+  free(threads);
   return r;
-}
-
-/* Runs the tile pipeline; *partial set when cancelled. */
-static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
-                               int nthreads, clr_render_stats *st) {
-  tile_run t;
-  CLR_CHECK(tiles_begin(job, o, nthreads, st, &t));
-  clr_result r = tiles_run(job, sampler, o, st, &t, NULL);
-  return tiles_end(job, r, o, st, &t);
 }
 
 /* ---------- passes, output ---------- */
@@ -1047,74 +979,6 @@ static clr_result build_scene(void *user) {
   return CLR_SUCCESS;
 }
 
-/* The frame's job: scene, film, samples per pixel, region; the stats it starts. */
-static void prepare_job(render_job *job, const clr_render_scene *scene, const clr_integrator *integ,
-                        clr_film film, clr_sampler sampler, const clr_sampler_desc *sdesc,
-                        const clr_render_options *o, int host, int nthreads, clr_render_stats *st) {
-  memset(job, 0, sizeof *job);
-  job->scene = scene;
-  job->integrator = integ;
-  job->film = film;
-  job->spp = clr_sampler_spp(sampler);
-  job->seed = o->seed;
-  job->host_samples = o->reference_samples != 0 || host;
-  job->region = render_region(sampler, sdesc);
-  job->dist = clr_dist_world();
-  st->spp = st->spp_target = job->spp;
-  st->passes = 1;
-  st->threads = nthreads;
-}
-
-/* A one-pass render that starts before the device is ready: the helper thread builds the scene,
- * makes a host film and a host sampler and runs the tile pipeline with the host reference
- * generator (the device's bits) until the main thread, done with the OpenCL setup, sets
- * device_ready; the main thread then continues the same pipeline with the device's sampler. */
-typedef struct early_render {
-  scene_build_job build;
-  const clr_render_options *o;
-  const clr_film_desc *fd;
-  const clr_sampler_desc *sdesc;
-  int32_t width, height; /* the full film, for the camera */
-  int nthreads;
-  render_job *job;
-  clr_render_stats *st;
-  clr_film film;
-  clr_sampler host_sampler;
-  tile_run run;
-  int begun; /* workers started: tiles_end is owed */
-  atomic_int device_ready;
-} early_render;
-
-static int early_render_fits(const clr_render_options *o) {
-  return !pass_mode(o) && !clr_dist_world() && !o->reference_samples &&
-         !clr_device_is_host(o->device);
-}
-
-static clr_result early_work(void *user) {
-  early_render *e = user;
-  CLR_CHECK(build_scene(&e->build));
-  clr_result r = film_create(NULL, e->fd, &e->film);
-  if (r == CLR_SUCCESS) r = clr_sampler_create(NULL, e->sdesc, &e->host_sampler);
-  if (r == CLR_SUCCESS) r = clr_render_scene_set_film(e->build.scene, e->width, e->height);
-  if (r != CLR_SUCCESS) return r;
-  prepare_job(e->job, e->build.scene, &e->build.integ, e->film, e->host_sampler, e->sdesc, e->o, 0,
-              e->nthreads, e->st);
-  CLR_CHECK(tiles_begin(e->job, e->o, e->nthreads, e->st, &e->run));
-  e->begun = 1;
-  e->job->early_host = 1;
-  r = tiles_run(e->job, e->host_sampler, e->o, e->st, &e->run, &e->device_ready);
-  e->job->early_host = 0;
-  return r;
-}
-
-/* Frees what early_work made (after a failure, or once the render is done). */
-static void early_render_free(early_render *e) {
-  if (e->host_sampler) clr_sampler_release(e->host_sampler);
-  if (e->film) film_release(e->film);
-  e->host_sampler = NULL;
-  e->film = NULL;
-}
-
 clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *opts,
                            clr_render_stats *stats, int write_files, clr_render_image *image) {
   clr_render_options defaults;
@@ -1174,60 +1038,50 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
   sdesc.film.filter_radius[0] = fdesc.radius[0];
   sdesc.film.filter_radius[1] = fdesc.radius[1];
-  int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
-  render_job job;
-  memset(&job, 0, sizeof job);
-  early_render early;
-  memset(&early, 0, sizeof early);
-  scene_build_job *build = &early.build;
-  build->d = d;
-  build->warn = warn;
-  build->wu = wu;
-  build->sampler_type = sdesc.type;
-  int start_early = early_render_fits(o);
-  early.o = o;
-  early.fd = &fd;
-  early.sdesc = &sdesc;
-  early.width = settings.x_resolution;
-  early.height = settings.y_resolution;
-  early.nthreads = nthreads;
-  early.job = &job;
-  early.st = st;
-  atomic_init(&early.device_ready, 0);
+  scene_build_job build;
+  memset(&build, 0, sizeof build);
+  build.d = d;
+  build.warn = warn;
+  build.wu = wu;
+  build.sampler_type = sdesc.type;
   clr_device_setup device;
   double t0 = now_seconds();
-  r = start_early ? clr_device_setup_run(&device, &cdesc, o->kernels, NULL, &sdesc, early_work,
-                                         &early, &early.device_ready)
-                  : clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene,
-                                         build, NULL);
+  r = clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene, &build);
   if (r != CLR_SUCCESS) {
-    if (early.begun) tiles_end(&job, r, o, st, &early.run);
-    early_render_free(&early);
-    if (build->scene) { /* the scene was built; the device failed */
-      clr_integrator_free(&build->integ);
-      clr_render_scene_free(build->scene);
+    if (build.scene) { /* the scene was built; the device failed */
+      clr_integrator_free(&build.integ);
+      clr_render_scene_free(build.scene);
     }
     return r;
   }
-  clr_render_scene *scene = build->scene;
-  clr_integrator integ = build->integ; /* the early job points at build->integ: same tables */
+  clr_render_scene *scene = build.scene;
+  clr_integrator integ = build.integ;
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
-  st->seconds_build = build->seconds;
-  st->seconds_device_wait = now_seconds() - t0 - build->seconds;
+  st->seconds_build = build.seconds;
+  st->seconds_device_wait = now_seconds() - t0 - build.seconds;
   clr_context ctx = device.ctx;
   clr_sampler sampler = device.sampler;
-  clr_film film = start_early ? early.film : device.film;
-  early.film = NULL; /* now the render's */
+  clr_film film = device.film;
   if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
-  if (r == CLR_SUCCESS && !start_early)
+  if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
+  int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
   output_info oi;
   memset(&oi, 0, sizeof oi);
-  if (r != CLR_SUCCESS && early.begun) tiles_end(&job, r, o, st, &early.run);
   if (r == CLR_SUCCESS) {
-    if (!start_early)
-      prepare_job(&job, scene, &integ, film, sampler, &sdesc, o, !ctx /* --device host */, nthreads,
-                  st);
+    render_job job;
+    memset(&job, 0, sizeof job);
+    job.scene = scene;
+    job.integrator = &integ;
+    job.film = film;
+    job.spp = clr_sampler_spp(sampler);
+    job.seed = o->seed;
+    job.host_samples = o->reference_samples != 0 || !ctx; /* --device host */
+    job.region = render_region(sampler, &sdesc);
+    job.dist = clr_dist_world();
+    st->spp = st->spp_target = job.spp;
+    st->passes = 1;
+    st->threads = nthreads;
     snprintf(st->sampler, sizeof st->sampler, "%s", clr_sampler_type_name(sdesc.type));
     snprintf(st->integrator, sizeof st->integrator, "%s",
              integ.type == CLR_INTEGRATOR_AO       ? "ambientocclusion"
@@ -1246,12 +1100,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     oi.id.spp_target = job.spp;
     oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL ||
                            sdesc.type == CLR_SAMPLER_INDEPENDENT; /* spp-independent samples */
-    double tr = early.begun ? early.run.t_loop : now_seconds();
-    if (early.begun) {
-      r = tiles_run(&job, sampler, o, st, &early.run, NULL);
-      r = tiles_end(&job, r, o, st, &early.run);
-      oi.whole_passes = !st->partial;
-    } else if (!pass_mode(o)) {
+    double tr = now_seconds();
+    if (!pass_mode(o)) {
       r = render_tiles(&job, sampler, o, nthreads, st);
       oi.whole_passes = !st->partial;
     } else {
@@ -1303,7 +1153,6 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     free(im.rgb);
   if (sampler) clr_sampler_release(sampler);
   if (film) film_release(film);
-  early_render_free(&early);
   if (ctx) clr_context_release(ctx);
   clr_integrator_free(&integ);
   clr_render_scene_free(scene);
