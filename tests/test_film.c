@@ -205,7 +205,6 @@ static void test_bad_inputs(void **state) {
   assert_true(isinf(d.max_sample_luminance));
   assert_int_equal(d.accumulation_tile_size, 16);
   clr_film film = NULL;
-  assert_int_equal(film_create(NULL, &d, &film), CLR_ERROR_NULL_POINTER);
   assert_int_equal(film_create(ctx, NULL, &film), CLR_ERROR_NULL_POINTER);
   assert_int_equal(film_create(ctx, &d, NULL), CLR_ERROR_NULL_POINTER);
 
@@ -881,8 +880,53 @@ static void test_canonical_order(void **state) {
   }
 }
 
+/* film_create(NULL, ...): a host film gives the device film's bits for samples and tiles and
+ * refuses device buffers. */
+static void test_host_film(void **state) {
+  (void)state;
+  film_setup s = basic(37, 23, CLR_FILTER_TYPE_MITCHELL, 2.0f);
+  clr_film_desc d;
+  clr_film_desc_init(&d);
+  d.x_resolution = s.xres;
+  d.y_resolution = s.yres;
+  clr_filter_desc_init(&d.filter, CLR_FILTER_TYPE_MITCHELL);
+  d.filter.radius[0] = d.filter.radius[1] = 2.0f;
+  clr_film host = NULL, dev = NULL;
+  assert_int_equal(film_create(NULL, &d, &host), CLR_SUCCESS);
+  assert_int_equal(film_create(ctx, &d, &dev), CLR_SUCCESS);
+  clr_film_sample *samples = random_samples(host, 20000, 1.5f, 77);
+  assert_int_equal(film_add_samples(host, samples, 20000), CLR_SUCCESS);
+  assert_int_equal(film_add_samples(dev, samples, 20000), CLR_SUCCESS);
+  clr_bounds2i region = {3, 2, 19, 14};
+  clr_film_tile th = NULL, td = NULL;
+  assert_int_equal(film_get_tile(host, region, &th), CLR_SUCCESS);
+  assert_int_equal(film_get_tile(dev, region, &td), CLR_SUCCESS);
+  assert_int_equal(film_tile_add_samples(th, samples, 5000), CLR_SUCCESS);
+  assert_int_equal(film_tile_add_samples(td, samples, 5000), CLR_SUCCESS);
+  assert_int_equal(film_merge_tile(host, th), CLR_SUCCESS);
+  assert_int_equal(film_merge_tile(dev, td), CLR_SUCCESS);
+  sums a = get_sums(host), b = get_sums(dev);
+  assert_sums_identical(&a, &b);
+  assert_int_equal(film_dropped_samples(host), film_dropped_samples(dev));
+  cl_int err = CL_SUCCESS;
+  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_WRITE,
+                              16 * sizeof(clr_film_sample), NULL, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  assert_int_equal(film_add_samples_buffer(host, buf, 16), CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(clr_last_error_message(), "no OpenCL context"));
+  clReleaseMemObject(buf);
+  free_sums(&a);
+  free_sums(&b);
+  free(samples);
+  film_tile_release(th);
+  film_tile_release(td);
+  film_release(host);
+  film_release(dev);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_host_film),
       cmocka_unit_test(test_every_filter_invariance),
       cmocka_unit_test(test_film_memory_until_splat),
       cmocka_unit_test(test_constant_radiance_every_filter),

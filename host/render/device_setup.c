@@ -26,9 +26,21 @@ static clr_result warm_sampler(clr_sampler sampler, int reference) {
                    : clr_sampler_generate(sampler, &batch, &out);
 }
 
+int clr_device_is_host(const char *device) { return device && strcmp(device, "host") == 0; }
+
+/* The host reference: no context, a host film and sampler (nothing loads OpenCL). */
+static clr_result setup_host(clr_device_setup *s, const clr_film_desc *film_desc,
+                             const clr_sampler_desc *sampler_desc) {
+  clr_result r = film_create(NULL, film_desc, &s->film);
+  if (r == CLR_SUCCESS) r = clr_sampler_create(NULL, sampler_desc, &s->sampler);
+  if (r == CLR_SUCCESS) r = warm_sampler(s->sampler, 1);
+  return r;
+}
+
 static clr_result setup(clr_device_setup *s, const clr_context_desc *context_desc,
                         const char *kernels, const clr_film_desc *film_desc,
                         const clr_sampler_desc *sampler_desc) {
+  if (clr_device_is_host(context_desc->device)) return setup_host(s, film_desc, sampler_desc);
   clr_result r = clr_context_create(context_desc, &s->ctx);
   if (r == CLR_SUCCESS && kernels) {
     clr_kernel_shape shape;
@@ -79,7 +91,7 @@ clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *con
   /* Halton's tables take a fifth of the setup's time (profile 2026-11-30); a host-only sampler
    * builds them beside it (the host reference of any global sampler would build them). */
   tables.tables_of = sampler_desc;
-  if (sampler_desc->type == CLR_SAMPLER_HALTON)
+  if (sampler_desc->type == CLR_SAMPLER_HALTON && !clr_device_is_host(context_desc->device))
     tables.started = pthread_create(&tables.thread, NULL, helper_main, &tables) == 0;
   job.started = pthread_create(&job.thread, NULL, helper_main, &job) == 0;
   clr_result r = setup(s, context_desc, kernels, film_desc, sampler_desc);

@@ -25,6 +25,10 @@ clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *con
                                 const char *kernels, const clr_film_desc *film_desc,
                                 const clr_sampler_desc *sampler_desc, clr_setup_work_fn work,
                                 void *user);
+/* Whether `device` (a --device value) names the host reference ("host"): then the setup makes
+ * no context (ctx stays NULL), a host film and a host sampler, and the render draws its samples
+ * from the host reference generator (the device's bits) without loading OpenCL. */
+int clr_device_is_host(const char *device);
 /* Releases the sampler, film and context (any of them may be NULL). */
 void clr_device_setup_release(clr_device_setup *s);
 

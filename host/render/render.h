@@ -32,7 +32,8 @@ typedef struct clr_render_options {
   int32_t xresolution, yresolution; /* overrides when > 0 */
   const char *outfile; /* output by extension: .exr or .pfm (PNG preview beside it), .png;
                               overrides the Film's "filename" */
-  const char *device;  /* OpenCL device selector (see clr_context_desc) or NULL */
+  const char *device;  /* OpenCL device selector (see clr_context_desc) or NULL; "host": the
+                          host reference build of the kernels, OpenCL never loaded */
   int32_t quiet;       /* 1: no warnings on stderr */
   int32_t progress;    /* 1: progress bar on stderr */
   clr_render_progress_fn progress_callback; /* optional: progress and cancellation */

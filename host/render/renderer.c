@@ -1089,7 +1089,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.film = film;
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
-    job.host_samples = o->reference_samples != 0;
+    job.host_samples = o->reference_samples != 0 || !ctx; /* --device host */
     job.camera = camera;
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();

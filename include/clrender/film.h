@@ -87,6 +87,9 @@ CLR_API void clr_film_desc_init(clr_film_desc *desc);
  * CLR_ERROR_INVALID_RESOLUTION; crop values NaN or outside [0,1], or an empty cropped image ->
  * CLR_ERROR_INVALID_CROP_WINDOW; radius not in (0, CLR_FILM_MAX_FILTER_RADIUS] ->
  * CLR_ERROR_INVALID_RADIUS; filter errors from clr_filter_params_make. */
+/* ctx NULL makes a host film, which never needs an OpenCL implementation: film_add_samples runs
+ * the host reference of the kernels (the same bits), film_add_samples_buffer is refused
+ * (CLR_ERROR_INVALID_ARGUMENT); tiles, merges and output work as with a context. */
 CLR_API clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out);
 CLR_API void film_retain(clr_film film);
 CLR_API void film_release(clr_film film);

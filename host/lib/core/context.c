@@ -9,6 +9,7 @@
 #include <string.h>
 #include "clr_internal.h"
 #include "embedded_kernels.h"
+#include "program_cache.h"
 #include "clrender/kernels.h"
 
 #define MAX_PROGRAMS 64
@@ -432,10 +433,14 @@ static clr_result build_program(clr_context ctx, const clr_embedded_kernel *src,
   cl_int err = CL_SUCCESS;
   const char *text = src->source;
   size_t length = src->length;
-  cl_program program = clCreateProgramWithSource(ctx->cl, 1, &text, &length, &err);
-  CLR_CL_CHECK_ERR(ctx, err, "clCreateProgramWithSource");
   char options[1024];
   make_build_options(ctx, defines, options, sizeof options);
+  clr_program_key key;
+  clr_program_key_make(&key, ctx->platform, ctx->device, src->name, text, length, options);
+  *out = clr_program_cache_load(&key, ctx->cl, ctx->device, options);
+  if (*out) return CLR_SUCCESS;
+  cl_program program = clCreateProgramWithSource(ctx->cl, 1, &text, &length, &err);
+  CLR_CL_CHECK_ERR(ctx, err, "clCreateProgramWithSource");
   err = clBuildProgram(program, 1, &ctx->device, options, NULL, NULL);
   if (err != CL_SUCCESS) {
     size_t log_size = 0;
@@ -457,6 +462,7 @@ static clr_result build_program(clr_context ctx, const clr_embedded_kernel *src,
     clReleaseProgram(program);
     return r;
   }
+  clr_program_cache_store(&key, program);
   *out = program;
   return CLR_SUCCESS;
 }

@@ -75,11 +75,8 @@ static clr_result make_params(clr_context ctx, const clr_film_desc *d, const clr
 
 clr_result film_create(clr_context ctx, const clr_film_desc *desc, clr_film *out) {
   clr_clear_error();
-  if (!ctx || !desc || !out)
-    return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "film_create: %s is NULL",
-                    !ctx    ? "ctx"
-                    : !desc ? "desc"
-                            : "out");
+  if (!desc || !out)
+    return clr_fail(ctx, CLR_ERROR_NULL_POINTER, "film_create: %s is NULL", !desc ? "desc" : "out");
   *out = NULL;
   clr_film_desc full;
   clr_film_desc_init(&full);

@@ -482,8 +482,8 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
 clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                                      int reference, clr_film_chunk_sums *out) {
   memset(out, 0, sizeof *out);
-  return reference ? reference_chunk(film, samples, count, out)
-                   : device_chunk(film, samples, count, out);
+  return reference || !film->ctx ? reference_chunk(film, samples, count, out)
+                                 : device_chunk(film, samples, count, out);
 }
 
 clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums) {

@@ -53,6 +53,9 @@ clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samp
 clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count) {
   clr_clear_error();
   CLR_CHECK(check_add_args(film, samples, count, "film_add_samples_buffer"));
+  if (!film->ctx)
+    return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_add_samples_buffer: the film has no OpenCL context (film_create(NULL))");
   size_t size = 0;
   CLR_CL_CHECK(film->ctx, clGetMemObjectInfo(samples, CL_MEM_SIZE, sizeof size, &size, NULL));
   if (size / sizeof(clr_film_sample) < count)

@@ -2,9 +2,11 @@
 #include "exr_io.h"
 
 #include <openexr.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
 #include "clrender/film.h"
@@ -212,25 +214,116 @@ static int define_header(exr_job *job, exr_context_t ctxt, int32_t display_width
   return EXR_TRY(job, exr_write_header, ctxt);
 }
 
+/* Encodes one chunk with pipeline `enc` (initialised on first use, *started); the pipeline's
+ * write_fn decides where the packed bytes go. */
+static int encode_chunk(exr_job *job, exr_context_t ctxt, const exr_planes *planes,
+                        exr_chunk_info_t *cinfo, exr_encode_pipeline_t *enc, int *started,
+                        exr_result_t (*write_fn)(exr_encode_pipeline_t *), void *user) {
+  int ok = *started ? EXR_TRY(job, exr_encoding_update, ctxt, 0, cinfo, enc)
+                    : (*started = EXR_TRY(job, exr_encoding_initialize, ctxt, 0, cinfo, enc));
+  ok = ok && point_encoder_at_chunk(job, enc, planes);
+  if (ok && !enc->convert_and_pack_fn)
+    ok = EXR_TRY(job, exr_encoding_choose_default_routines, ctxt, 0, enc);
+  if (ok && write_fn) { /* kept for an in-order write later: no waiting for earlier chunks */
+    enc->write_fn = write_fn;
+    enc->yield_until_ready_fn = NULL;
+  }
+  enc->encoding_user_data = user;
+  return ok && EXR_TRY(job, exr_encoding_run, ctxt, 0, enc);
+}
+
+/* A chunk compressed ahead by a helper thread, written in order by the caller. */
+typedef struct exr_chunk_out {
+  exr_chunk_info_t info;
+  void *data;
+  uint64_t size;
+  int ready; /* 0: the caller encodes it itself (and reports any error) */
+} exr_chunk_out;
+
+typedef struct exr_encoders {
+  exr_context_t ctxt;
+  const exr_planes *planes;
+  exr_chunk_out *chunks;
+  int count, first, step;
+  const char *path;
+} exr_encoders;
+
+static exr_result_t keep_chunk(exr_encode_pipeline_t *enc) {
+  exr_chunk_out *out = enc->encoding_user_data;
+  out->data = malloc(enc->compressed_bytes ? enc->compressed_bytes : 1);
+  if (!out->data) return EXR_ERR_OUT_OF_MEMORY;
+  memcpy(out->data, enc->compressed_buffer, enc->compressed_bytes);
+  out->size = enc->compressed_bytes;
+  out->ready = 1;
+  return EXR_ERR_SUCCESS;
+}
+
+/* A helper thread: compresses chunks first, first + step, ...; failures are left to the
+ * caller, which encodes those chunks again and reports the error on its own thread. */
+static void *encode_chunks_main(void *arg) {
+  exr_encoders *e = arg;
+  exr_job job = {e->path, 0, CLR_SUCCESS, 0};
+  exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+  int started = 0;
+  for (int i = e->first; i < e->count; i += e->step)
+    if (!encode_chunk(&job, e->ctxt, e->planes, &e->chunks[i].info, &enc, &started, keep_chunk,
+                      &e->chunks[i]))
+      break;
+  if (started) exr_encoding_destroy(e->ctxt, &enc);
+  clr_clear_error();
+  return NULL;
+}
+
+/* Threads compressing an image's chunks besides the caller: zlib is most of the output's time. */
+#define CLR_EXR_ENCODE_THREADS 4
+
+static int encode_helpers(int chunks) {
+  long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+  int n = cpus > 1 ? (int)cpus - 1 : 0;
+  if (n > CLR_EXR_ENCODE_THREADS - 1) n = CLR_EXR_ENCODE_THREADS - 1;
+  if (n > chunks / 4) n = chunks / 4; /* small images: not worth a thread */
+  return n;
+}
+
+/* Writes the chunks in file order; chunks first, first + step, ... of the helpers' share were
+ * compressed by them, the rest (and any they failed) are encoded here. */
 static int write_chunks(exr_job *job, exr_context_t ctxt, const exr_planes *planes, int32_t y1) {
   int32_t lines = 0;
   if (!EXR_TRY(job, exr_get_scanlines_per_chunk, ctxt, 0, &lines)) return 0;
   if (lines <= 0) return job_fail(job, CLR_ERROR_OPENEXR, "bad scanlines per chunk");
+  int count = (int)(((int64_t)y1 - planes->y0 + lines - 1) / lines), ok = 1;
+  exr_chunk_out *chunks = calloc((size_t)count, sizeof *chunks);
+  if (!chunks) return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "no memory for the chunk table");
+  for (int i = 0; ok && i < count; ++i)
+    ok = EXR_TRY(job, exr_write_scanline_chunk_info, ctxt, 0, planes->y0 + i * lines,
+                 &chunks[i].info);
+  int helpers = ok ? encode_helpers(count) : 0, running = 0;
+  pthread_t threads[CLR_EXR_ENCODE_THREADS];
+  exr_encoders work[CLR_EXR_ENCODE_THREADS];
+  for (int t = 0; t < helpers; ++t) {
+    work[t] = (exr_encoders){ctxt, planes, chunks, count, t + 1, helpers + 1, job->path};
+    if (pthread_create(&threads[running], NULL, encode_chunks_main, &work[t]) != 0) break;
+    ++running;
+  }
+  if (running < helpers) { /* a thread failed to start: its chunks are encoded below */
+    for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
+    running = 0;
+  }
   exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-  int started = 0, ok = 1;
-  for (int32_t y = planes->y0; ok && y < y1; y += lines) {
-    exr_chunk_info_t cinfo;
-    ok = EXR_TRY(job, exr_write_scanline_chunk_info, ctxt, 0, y, &cinfo);
-    if (ok && !started)
-      ok = started = EXR_TRY(job, exr_encoding_initialize, ctxt, 0, &cinfo, &enc);
-    else if (ok)
-      ok = EXR_TRY(job, exr_encoding_update, ctxt, 0, &cinfo, &enc);
-    ok = ok && point_encoder_at_chunk(job, &enc, planes);
-    if (ok && y == planes->y0)
-      ok = EXR_TRY(job, exr_encoding_choose_default_routines, ctxt, 0, &enc);
-    ok = ok && EXR_TRY(job, exr_encoding_run, ctxt, 0, &enc);
+  int started = 0;
+  for (int i = 0; ok && running && i < count; i += running + 1) /* the caller's share */
+    ok = encode_chunk(job, ctxt, planes, &chunks[i].info, &enc, &started, keep_chunk, &chunks[i]);
+  for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
+  for (int i = 0; ok && i < count; ++i) {
+    if (chunks[i].ready)
+      ok = EXR_TRY(job, exr_write_scanline_chunk, ctxt, 0, chunks[i].info.start_y, chunks[i].data,
+                   chunks[i].size);
+    else
+      ok = encode_chunk(job, ctxt, planes, &chunks[i].info, &enc, &started, NULL, NULL);
   }
   if (started && !EXR_TRY(job, exr_encoding_destroy, ctxt, &enc)) ok = 0;
+  for (int i = 0; i < count; ++i) free(chunks[i].data);
+  free(chunks);
   return ok;
 }
 
