@@ -1,4 +1,4 @@
-/* pbrt-v3's textures, float and spectrum (no ray differentials: unfiltered, bilinear images),
+/* pbrt-v3's textures, float and spectrum (images through pbrt-v3's MIP map by ray differentials),
  * their 2D and 3D mappings, and colour or float parameters that may name a texture. */
 #include <math.h>
 #include <stdio.h>
@@ -108,6 +108,53 @@ static void convert_texels(rs_texture *t, int png, int gamma, int is_float, int 
   }
 }
 
+/* pbrt-v4's "filtertype" when given (point/nearest and bilinear read the image unfiltered),
+ * else pbrt-v3's "trilinear" (false: EWA) with "maxanisotropy". */
+static clr_result image_filter(rs_texture *t, const clr_param_list *p, int *trilinear,
+                               float *max_aniso, clr_warn_fn warn, void *wu) {
+  const char *filter = clr_params_find_string(p, "filtertype", "");
+  *trilinear = clr_params_find_bool(p, "trilinear", false);
+  *max_aniso = clr_params_find_float(p, "maxanisotropy", 8.0f);
+  if (!(*max_aniso > 0.0f && *max_aniso <= 1024.0f))
+    return clr_set_last_error(CLR_ERROR_SCENE,
+                              "%s:%d: imagemap: \"maxanisotropy\" must be in (0, 1024], got %g",
+                              p->file ? p->file : "?", p->line, (double)*max_aniso);
+  t->filter = RS_FILTER_MIPMAP;
+  if (strcmp(filter, "nearest") == 0 || strcmp(filter, "point") == 0) {
+    t->filter = RS_FILTER_NEAREST;
+  } else if (strcmp(filter, "bilinear") == 0) {
+    t->filter = RS_FILTER_BILINEAR;
+  } else if (strcmp(filter, "trilinear") == 0 || strcmp(filter, "ewa") == 0) {
+    *trilinear = filter[0] == 't';
+  } else if (filter[0] && warn) {
+    char m[512];
+    snprintf(m, sizeof m, "%s:%d: imagemap filtertype \"%s\" unknown: using %s", p->file, p->line,
+             filter, *trilinear ? "trilinear" : "ewa");
+    warn(wu, m);
+  }
+  return CLR_SUCCESS;
+}
+
+/* pbrt-v3's MIP map of the converted texels, flipped so that t = 0 is the bottom row. */
+static clr_result build_mipmap(rs_texture *t, int trilinear, float max_aniso,
+                               const clr_param_list *p) {
+  size_t row = (size_t)t->width * 3;
+  float *flipped = malloc(row * (size_t)t->height * sizeof *flipped);
+  if (!flipped) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "imagemap: MIP map");
+  for (int32_t y = 0; y < t->height; ++y)
+    memcpy(flipped + row * (size_t)y, t->rgb + row * (size_t)(t->height - 1 - y),
+           row * sizeof *flipped);
+  clr_result r =
+      rs_mipmap_build(&t->mip, t->width, t->height, flipped, t->wrap, trilinear, max_aniso);
+  free(flipped);
+  if (r != CLR_SUCCESS)
+    return clr_set_last_error(r, "%s:%d: %s", p->file ? p->file : "?", p->line,
+                              clr_last_error_message());
+  free(t->rgb); /* only the pyramid is read */
+  t->rgb = NULL;
+  return CLR_SUCCESS;
+}
+
 static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn,
                               void *wu) {
   const clr_param_list *p = &td->params;
@@ -119,10 +166,9 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
   char path[4096];
   resolve_path(p->file, name, path, sizeof path);
   t->scale = clr_params_find_float(p, "scale", 1.0f);
-  const char *filter = clr_params_find_string(p, "filtertype", "bilinear");
-  t->nearest = strcmp(filter, "nearest") == 0;
-  clr_params_find_float(p, "maxanisotropy", 8.0f); /* no ray differentials: bilinear only */
-  clr_params_find_bool(p, "trilinear", false);
+  int trilinear;
+  float max_aniso;
+  CLR_CHECK(image_filter(t, p, &trilinear, &max_aniso, warn, wu));
   const char *wrap = clr_params_find_string(p, "wrap", "repeat");
   t->wrap = RS_WRAP_REPEAT;
   if (strcmp(wrap, "black") == 0)
@@ -147,6 +193,7 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
     return clr_set_last_error(r, "%s:%d: imagemap \"%s\": %s", p->file, p->line, path,
                               clr_last_error_message());
   convert_texels(t, png, gamma, td->kind == CLR_TEXTURE_FLOAT, invert);
+  if (t->filter == RS_FILTER_MIPMAP) CLR_CHECK(build_mipmap(t, trilinear, max_aniso, p));
   return CLR_SUCCESS;
 }
 
@@ -271,7 +318,10 @@ clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_w
 }
 
 void rs_textures_free(rs_texture_set *set) {
-  for (int i = 0; i < set->count; ++i) free(set->items[i].rgb);
+  for (int i = 0; i < set->count; ++i) {
+    free(set->items[i].rgb);
+    rs_mipmap_free(&set->items[i].mip);
+  }
   free(set->items);
   set->items = NULL;
   set->count = 0;
@@ -301,13 +351,14 @@ static void texel(const rs_texture *t, int x, int y, float out[3]) {
   out[2] = v[2];
 }
 
+/* The unfiltered image at st: nearest texel or bilinear. */
 static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[3]) {
   float x = st_s * (float)t->width - 0.5f, y = st_t * (float)t->height - 0.5f;
   if (!(fabsf(x) < 1e9f && fabsf(y) < 1e9f)) {
     out[0] = out[1] = out[2] = 0.0f;
     return;
   }
-  if (t->nearest) {
+  if (t->filter == RS_FILTER_NEAREST) {
     texel(t, (int)floorf(x + 0.5f), (int)floorf(y + 0.5f), out);
     return;
   }
@@ -322,33 +373,79 @@ static void image_lookup(const rs_texture *t, float st_s, float st_t, float out[
         (1 - dx) * (1 - dy) * a[k] + dx * (1 - dy) * b[k] + (1 - dx) * dy * c[k] + dx * dy * e[k];
 }
 
-/* pbrt-v3 TextureMapping2D::Map (without differentials). */
-static void map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2]) {
+static void sphere_st(const rs_texture *t, const float p[3], float st[2]) {
   const float inv_pi = 0.31830988618379067154f, inv_2pi = 0.15915494309189533577f;
   float q[3];
+  clr_transform_point(&t->world_to_texture, p, q);
+  float len = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+  if (len > 0.0f)
+    for (int k = 0; k < 3; ++k) q[k] /= len;
+  float phi = atan2f(q[1], q[0]);
+  st[0] = acosf(fminf(1.0f, fmaxf(-1.0f, q[2]))) * inv_pi;
+  st[1] = (phi < 0.0f ? phi + 2.0f * 3.14159265f : phi) * inv_2pi;
+}
+
+static void cylinder_st(const rs_texture *t, const float p[3], float st[2]) {
+  const float inv_2pi = 0.15915494309189533577f;
+  float q[3];
+  clr_transform_point(&t->world_to_texture, p, q);
+  st[0] = (3.14159265f + atan2f(q[1], q[0])) * inv_2pi;
+  st[1] = q[2];
+}
+
+/* pbrt-v3's spherical/cylindrical differentials: a finite step `delta` along dpdx or dpdy, with
+ * the seam of the second coordinate folded back. */
+static void st_step(const rs_texture *t, const float p[3], const float dp[3], float delta,
+                    const float st[2], float d[2]) {
+  float q[3] = {p[0] + delta * dp[0], p[1] + delta * dp[1], p[2] + delta * dp[2]}, sq[2];
+  if (t->mapping == RS_MAP_SPHERICAL)
+    sphere_st(t, q, sq);
+  else
+    cylinder_st(t, q, sq);
+  d[0] = (sq[0] - st[0]) / delta;
+  d[1] = (sq[1] - st[1]) / delta;
+  if (d[1] > 0.5f)
+    d[1] = 1.0f - d[1];
+  else if (d[1] < -0.5f)
+    d[1] = -(d[1] + 1.0f);
+}
+
+static float dot3(const float a[3], const float b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+void rs_texture_map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2], float dstdx[2],
+                       float dstdy[2]) {
   switch (t->mapping) {
-    case RS_MAP_SPHERICAL: {
-      clr_transform_point(&t->world_to_texture, ctx->p, q);
-      float len = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-      if (len > 0.0f)
-        for (int k = 0; k < 3; ++k) q[k] /= len;
-      float phi = atan2f(q[1], q[0]);
-      st[0] = acosf(fminf(1.0f, fmaxf(-1.0f, q[2]))) * inv_pi;
-      st[1] = (phi < 0.0f ? phi + 2.0f * 3.14159265f : phi) * inv_2pi;
+    case RS_MAP_SPHERICAL:
+    case RS_MAP_CYLINDRICAL: {
+      float delta = t->mapping == RS_MAP_SPHERICAL ? 0.1f : 0.01f;
+      if (t->mapping == RS_MAP_SPHERICAL)
+        sphere_st(t, ctx->p, st);
+      else
+        cylinder_st(t, ctx->p, st);
+      if (!dstdx) return;
+      st_step(t, ctx->p, ctx->dpdx, delta, st, dstdx);
+      st_step(t, ctx->p, ctx->dpdy, delta, st, dstdy);
       return;
     }
-    case RS_MAP_CYLINDRICAL:
-      clr_transform_point(&t->world_to_texture, ctx->p, q);
-      st[0] = (3.14159265f + atan2f(q[1], q[0])) * inv_2pi;
-      st[1] = q[2];
-      return;
     case RS_MAP_PLANAR:
-      st[0] = t->du + ctx->p[0] * t->v1[0] + ctx->p[1] * t->v1[1] + ctx->p[2] * t->v1[2];
-      st[1] = t->dv + ctx->p[0] * t->v2[0] + ctx->p[1] * t->v2[1] + ctx->p[2] * t->v2[2];
+      st[0] = t->du + dot3(ctx->p, t->v1);
+      st[1] = t->dv + dot3(ctx->p, t->v2);
+      if (!dstdx) return;
+      dstdx[0] = dot3(ctx->dpdx, t->v1);
+      dstdx[1] = dot3(ctx->dpdx, t->v2);
+      dstdy[0] = dot3(ctx->dpdy, t->v1);
+      dstdy[1] = dot3(ctx->dpdy, t->v2);
       return;
     default:
       st[0] = t->su * ctx->uv[0] + t->du;
       st[1] = t->sv * ctx->uv[1] + t->dv;
+      if (!dstdx) return;
+      dstdx[0] = t->su * ctx->dudx;
+      dstdx[1] = t->sv * ctx->dvdx;
+      dstdy[0] = t->su * ctx->dudy;
+      dstdy[1] = t->sv * ctx->dvdy;
   }
 }
 
@@ -362,9 +459,10 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
       return;
     }
     const rs_texture *t = &set->items[c->texture];
-    float st[2] = {0.0f, 0.0f}, q[3];
+    float st[2] = {0.0f, 0.0f}, q[3], dx[2], dy[2];
+    int mip = t->type == RS_TEX_IMAGE && t->filter == RS_FILTER_MIPMAP;
     if (is_2d(t->type))
-      map_2d(t, ctx, st);
+      rs_texture_map_2d(t, ctx, st, mip ? dx : NULL, mip ? dy : NULL);
     else if (t->type != RS_TEX_CONSTANT && t->type != RS_TEX_SCALE && t->type != RS_TEX_MIX)
       clr_transform_point(&t->world_to_texture, ctx->p, q); /* pbrt-v3 IdentityMapping3D */
     switch (t->type) {
@@ -382,7 +480,10 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
         c = rs_dots_inside(st[0], st[1]) ? &t->tex1 : &t->tex2;
         break;
       case RS_TEX_IMAGE:
-        image_lookup(t, st[0], st[1], out);
+        if (mip)
+          rs_mipmap_lookup(&t->mip, st, dx, dy, out);
+        else
+          image_lookup(t, st[0], st[1], out);
         return;
       case RS_TEX_UV:
         out[0] = st[0] - floorf(st[0]);
