@@ -17,6 +17,7 @@
 #include "clrender.h"
 #include "clrender/image.h"
 #include "mipmap.h"
+#include "procedural_textures.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "surface_differentials.h"
@@ -401,6 +402,33 @@ static void test_mapping_derivatives(void **state) {
   clr_scene_desc_free(d);
 }
 
+/* pbrt-v3's FBm and Turbulence drop octaves as the footprint grows: n = -1 - log2(|dpdx|), so
+ * |dpdx| = 1/8 keeps 2 whole octaves; 2^-3.5 adds half (SmoothStep(0.3, 0.7, 0.5)) of the
+ * third; |dpdx| >= 1/2 keeps none. Turbulence counts 0.2 for the partial octave's stead and for
+ * each dropped one (the first two with the same weight). Zero differentials: every octave. */
+static void test_noise_octaves(void **state) {
+  (void)state;
+  const float w = 0.6f, zero[3] = {0, 0, 0};
+  float p[3] = {0.37f, -1.21f, 2.45f}, p1[3], p2[3];
+  for (int k = 0; k < 3; ++k) {
+    p1[k] = 1.99f * p[k];
+    p2[k] = 1.99f * 1.99f * p[k];
+  }
+  float n0 = rs_noise(p[0], p[1], p[2]), n1 = rs_noise(p1[0], p1[1], p1[2]),
+        n2 = rs_noise(p2[0], p2[1], p2[2]);
+  float eighth[3] = {0.125f, 0, 0}, small[3] = {0, 0.015625f, 0}, half_oct[3] = {0, 0, 0};
+  half_oct[2] = powf(2.0f, -3.5f);
+  assert_true(fabsf(rs_fbm_d(p, eighth, small, w, 6) - (n0 + w * n1)) < 1e-6f);
+  assert_true(fabsf(rs_fbm_d(p, small, eighth, w, 6) - (n0 + w * n1)) < 1e-6f);
+  assert_true(fabsf(rs_fbm_d(p, half_oct, zero, w, 6) - (n0 + w * n1 + w * w * 0.5f * n2)) < 1e-5f);
+  float big[3] = {0.5f, 0, 0};
+  assert_true(rs_fbm_d(p, big, big, w, 6) == 0.0f);
+  assert_true(rs_fbm_d(p, zero, zero, w, 6) == rs_fbm(p, w, 6));
+  float turb = fabsf(n0) + w * fabsf(n1) + w * w * 0.2f + w * w * 0.2f + w * w * w * 0.2f;
+  assert_true(fabsf(rs_turbulence_d(p, eighth, zero, w, 4) - turb) < 1e-6f);
+  assert_true(rs_turbulence_d(p, zero, zero, w, 4) == rs_turbulence(p, w, 4));
+}
+
 static float *render(const char *scene, int *w, int *h) {
   clr_scene_desc *desc = parse(scene);
   clr_render_options o;
@@ -532,6 +560,7 @@ int main(void) {
       cmocka_unit_test(test_camera_differentials),
       cmocka_unit_test(test_differentials_degenerate),
       cmocka_unit_test(test_mapping_derivatives),
+      cmocka_unit_test(test_noise_octaves),
       cmocka_unit_test(test_filtered_render),
       cmocka_unit_test(test_bump_in_mix),
       cmocka_unit_test(test_bad_maxanisotropy),

@@ -275,17 +275,17 @@ static void bump_param(const clr_scene_desc *d, const clr_shape_desc *sd,
   if (md) rs_float_param(shape, &md->params, "bumpmap", 0.0f, out);
 }
 
-/* Which shapes compute ray differentials at their camera hits: with any MIP-mapped imagemap in
- * the scene every shape with a material does (cheaper than tracing textures through every
- * material parameter), and every bump-mapped one (pbrt-v3's bump step). */
+/* Which shapes compute ray differentials at their camera hits: with any texture they filter in
+ * the scene (MIP-mapped imagemaps, noise) every shape with a material does (cheaper than
+ * tracing textures through every material parameter), and every bump-mapped one (pbrt-v3's
+ * bump step). */
 static void mark_differentials(clr_render_scene *s) {
-  int mip = 0;
+  int filtered = 0;
   for (int i = 0; i < s->textures.count; ++i)
-    mip |= s->textures.items[i].type == RS_TEX_IMAGE &&
-           s->textures.items[i].filter == RS_FILTER_MIPMAP;
+    filtered |= rs_texture_uses_differentials(&s->textures.items[i]);
   for (int k = 0; k < s->shape_count; ++k) {
     rs_shape *sh = &s->shapes[k];
-    sh->needs_differentials = sh->has_material && (mip || sh->bump.texture >= 0);
+    sh->needs_differentials = sh->has_material && (filtered || sh->bump.texture >= 0);
     s->needs_differentials |= sh->needs_differentials;
   }
 }

@@ -239,6 +239,15 @@ static void build_mapping(rs_texture *t, const clr_texture_desc *td, clr_warn_fn
   t->dv = clr_params_find_float(p, "vdelta", 0.0f);
 }
 
+static int is_noise(rs_texture_type type) {
+  return type == RS_TEX_FBM || type == RS_TEX_WRINKLED || type == RS_TEX_WINDY ||
+         type == RS_TEX_MARBLE;
+}
+
+int rs_texture_uses_differentials(const rs_texture *t) {
+  return (t->type == RS_TEX_IMAGE && t->filter == RS_FILTER_MIPMAP) || is_noise(t->type);
+}
+
 static int is_2d(rs_texture_type type) {
   return type == RS_TEX_CHECKER || type == RS_TEX_IMAGE || type == RS_TEX_UV || type == RS_TEX_DOTS;
 }
@@ -465,6 +474,11 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
       rs_texture_map_2d(t, ctx, st, mip ? dx : NULL, mip ? dy : NULL);
     else if (t->type != RS_TEX_CONSTANT && t->type != RS_TEX_SCALE && t->type != RS_TEX_MIX)
       clr_transform_point(&t->world_to_texture, ctx->p, q); /* pbrt-v3 IdentityMapping3D */
+    float qx[3], qy[3];
+    if (is_noise(t->type)) {
+      clr_transform_vector(&t->world_to_texture, ctx->dpdx, qx);
+      clr_transform_vector(&t->world_to_texture, ctx->dpdy, qy);
+    }
     switch (t->type) {
       case RS_TEX_CONSTANT:
         c = &t->value;
@@ -491,17 +505,21 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
         out[2] = 0.0f;
         return;
       case RS_TEX_FBM:
-        fill(out, rs_fbm(q, t->omega, t->octaves));
+        fill(out, rs_fbm_d(q, qx, qy, t->omega, t->octaves));
         return;
       case RS_TEX_WRINKLED:
-        fill(out, rs_turbulence(q, t->omega, t->octaves));
+        fill(out, rs_turbulence_d(q, qx, qy, t->omega, t->octaves));
         return;
       case RS_TEX_WINDY:
-        fill(out, rs_windy(q));
+        fill(out, rs_windy_d(q, qx, qy));
         return;
       case RS_TEX_MARBLE:
-        for (int k = 0; k < 3; ++k) q[k] *= t->scale;
-        rs_marble(q, t->omega, t->octaves, t->variation, out);
+        for (int k = 0; k < 3; ++k) {
+          q[k] *= t->scale;
+          qx[k] *= t->scale;
+          qy[k] *= t->scale;
+        }
+        rs_marble_d(q, qx, qy, t->omega, t->octaves, t->variation, out);
         return;
       case RS_TEX_SCALE:
       case RS_TEX_MIX: {
