@@ -429,6 +429,40 @@ static void test_noise_octaves(void **state) {
   assert_true(rs_turbulence_d(p, zero, zero, w, 4) == rs_turbulence(p, w, 4));
 }
 
+static float checker_at(const rs_texture_set *set, int tex, float s, float t, float ds, float dt) {
+  float uv[2] = {s, t}, p[3] = {0, 0, 0}, out[3];
+  rs_tex_ctx tc = rs_tex_ctx_at(uv, p);
+  tc.dudx = ds;
+  tc.dvdy = -dt;
+  rs_colour c = {tex, {0, 0, 0}};
+  rs_colour_eval(set, &c, &tc, out);
+  return out[0];
+}
+
+/* pbrt-v3's closed-form box filter of the 2D checkerboard (tex1 0, tex2 1: the value is tex2's
+ * share of the footprint [s - ds, s + ds] x [t - dt, t + dt]): inside one check a point sample,
+ * 0.25 of an odd s check on an even t check, 0.75 on an odd one, 0.5 for a whole period and
+ * past a check's width; "aamode" "none" point-samples. */
+static void test_checker_closed_form(void **state) {
+  (void)state;
+  clr_scene_desc *d = parse(
+      "WorldBegin\nTexture \"ck\" \"float\" \"checkerboard\" \"float tex1\" [0] \"float "
+      "tex2\" [1]\nTexture \"pt\" \"float\" \"checkerboard\" \"float tex1\" [0] \"float "
+      "tex2\" [1] \"string aamode\" \"none\"\nWorldEnd\n");
+  rs_texture_set set;
+  assert_int_equal(rs_textures_build(&set, d, NULL, NULL), CLR_SUCCESS);
+  assert_true(checker_at(&set, 0, 0.5f, 0.5f, 0.1f, 0.1f) == 0.0f);
+  assert_true(checker_at(&set, 0, 1.5f, 0.5f, 0.1f, 0.1f) == 1.0f);
+  assert_true(fabsf(checker_at(&set, 0, 0.9f, 0.25f, 0.2f, 0.1f) - 0.25f) < 1e-5f);
+  assert_true(fabsf(checker_at(&set, 0, 0.9f, 1.25f, 0.2f, 0.1f) - 0.75f) < 1e-5f);
+  assert_true(fabsf(checker_at(&set, 0, 0.5f, 0.25f, 1.0f, 0.1f) - 0.5f) < 1e-6f);
+  assert_true(checker_at(&set, 0, 0.3f, 0.25f, 3.0f, 0.1f) == 0.5f);
+  assert_true(fabsf(checker_at(&set, 0, 1.0f, 0.25f, 0.5f, 0.0f) - 0.5f) < 1e-6f);
+  assert_true(checker_at(&set, 1, 0.9f, 0.25f, 0.2f, 0.1f) == 0.0f);
+  rs_textures_free(&set);
+  clr_scene_desc_free(d);
+}
+
 static float *render(const char *scene, int *w, int *h) {
   clr_scene_desc *desc = parse(scene);
   clr_render_options o;
@@ -561,6 +595,7 @@ int main(void) {
       cmocka_unit_test(test_differentials_degenerate),
       cmocka_unit_test(test_mapping_derivatives),
       cmocka_unit_test(test_noise_octaves),
+      cmocka_unit_test(test_checker_closed_form),
       cmocka_unit_test(test_filtered_render),
       cmocka_unit_test(test_bump_in_mix),
       cmocka_unit_test(test_bad_maxanisotropy),

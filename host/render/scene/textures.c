@@ -245,15 +245,29 @@ static int is_noise(rs_texture_type type) {
 }
 
 int rs_texture_uses_differentials(const rs_texture *t) {
-  return (t->type == RS_TEX_IMAGE && t->filter == RS_FILTER_MIPMAP) || is_noise(t->type);
+  return (t->type == RS_TEX_IMAGE && t->filter == RS_FILTER_MIPMAP) || is_noise(t->type) ||
+         (t->type == RS_TEX_CHECKER && t->checker_aa);
 }
 
 static int is_2d(rs_texture_type type) {
   return type == RS_TEX_CHECKER || type == RS_TEX_IMAGE || type == RS_TEX_UV || type == RS_TEX_DOTS;
 }
 
+/* pbrt-v3's 2D checkerboard "aamode": 1 for "closedform" (the default, and an unknown value,
+ * with a warning as pbrt-v3 gives), 0 for "none". */
+static int checker_aa_mode(const clr_param_list *p, clr_warn_fn warn, void *wu) {
+  const char *aa = clr_params_find_string(p, "aamode", "closedform");
+  if (strcmp(aa, "none") != 0 && strcmp(aa, "closedform") != 0 && warn) {
+    char m[512];
+    snprintf(m, sizeof m, "%s:%d: checkerboard aamode \"%s\" unknown: using closedform",
+             p->file ? p->file : "?", p->line, aa);
+    warn(wu, m);
+  }
+  return strcmp(aa, "none") != 0;
+}
+
 /* Type and parameters of one texture; 0 when the type is unknown. */
-static int build_type(rs_texture *t, const clr_texture_desc *td) {
+static int build_type(rs_texture *t, const clr_texture_desc *td, clr_warn_fn warn, void *wu) {
   const clr_param_list *p = &td->params;
   const char *type = td->type;
   if (strcmp(type, "constant") == 0) {
@@ -263,8 +277,8 @@ static int build_type(rs_texture *t, const clr_texture_desc *td) {
     t->type = dim == 3 ? RS_TEX_CHECKER3D : RS_TEX_CHECKER;
     kind_param(td, "tex1", 1.0f, &t->tex1);
     kind_param(td, "tex2", 0.0f, &t->tex2);
-    clr_params_find_string(p, "aamode", "closedform"); /* no ray differentials: unfiltered */
-  } else if (strcmp(type, "scale") == 0) {             /* pbrt-v3 ScaleTexture: tex1 * tex2 */
+    if (dim != 3) t->checker_aa = checker_aa_mode(p, warn, wu);
+  } else if (strcmp(type, "scale") == 0) { /* pbrt-v3 ScaleTexture: tex1 * tex2 */
     t->type = RS_TEX_SCALE;
     kind_param(td, "tex1", 1.0f, &t->tex1);
     kind_param(td, "tex2", 1.0f, &t->tex2);
@@ -313,7 +327,7 @@ clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_w
     t->value.texture = -1;
     t->value.rgb[0] = t->value.rgb[1] = t->value.rgb[2] = 0.5f;
     t->world_to_texture = clr_transform_inverse(&td->texture_to_world);
-    if (!build_type(t, td)) {
+    if (!build_type(t, td, warn, wu)) {
       warn_at(warn, wu, p,
               td->kind == CLR_TEXTURE_FLOAT ? "float texture (using 0.5)" : "texture (using 0.5)",
               td->type);
@@ -458,6 +472,29 @@ void rs_texture_map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2], 
   }
 }
 
+/* pbrt-v3's integral of the 0/1 "odd check" indicator over [0, x]. */
+static float bump_int(float x) {
+  float h = floorf(x / 2);
+  return h + 2 * fmaxf(x / 2 - h - 0.5f, 0.0f);
+}
+
+/* The odd checks' share of a box of half-widths ds, dt around st along one axis. */
+static float odd_share(float x, float d) {
+  if (d > 0.0f) return (bump_int(x + d) - bump_int(x - d)) / (2 * d);
+  return (float)((((int)floorf(x)) % 2 + 2) % 2); /* a zero width: the indicator itself */
+}
+
+/* pbrt-v3 Checkerboard2DTexture's closed-form box filter: tex2's weight over the footprint of
+ * dstdx, dstdy (0.5 past a check's width), or -1 when it lies inside one check (point sample). */
+static float checker_box(const float st[2], const float dx[2], const float dy[2]) {
+  float ds = fmaxf(fabsf(dx[0]), fabsf(dy[0])), dt = fmaxf(fabsf(dx[1]), fabsf(dy[1]));
+  if (floorf(st[0] - ds) == floorf(st[0] + ds) && floorf(st[1] - dt) == floorf(st[1] + dt))
+    return -1.0f;
+  if (!(ds <= 1.0f && dt <= 1.0f)) return 0.5f; /* NaN widths too */
+  float si = odd_share(st[0], ds), ti = odd_share(st[1], dt);
+  return si + ti - 2 * si * ti;
+}
+
 static void fill(float out[3], float v) { out[0] = out[1] = out[2] = v; }
 
 static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx,
@@ -470,8 +507,9 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
     const rs_texture *t = &set->items[c->texture];
     float st[2] = {0.0f, 0.0f}, q[3], dx[2], dy[2];
     int mip = t->type == RS_TEX_IMAGE && t->filter == RS_FILTER_MIPMAP;
+    int filtered = mip || (t->type == RS_TEX_CHECKER && t->checker_aa);
     if (is_2d(t->type))
-      rs_texture_map_2d(t, ctx, st, mip ? dx : NULL, mip ? dy : NULL);
+      rs_texture_map_2d(t, ctx, st, filtered ? dx : NULL, filtered ? dy : NULL);
     else if (t->type != RS_TEX_CONSTANT && t->type != RS_TEX_SCALE && t->type != RS_TEX_MIX)
       clr_transform_point(&t->world_to_texture, ctx->p, q); /* pbrt-v3 IdentityMapping3D */
     float qx[3], qy[3];
@@ -483,10 +521,19 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
       case RS_TEX_CONSTANT:
         c = &t->value;
         break;
-      case RS_TEX_CHECKER:
+      case RS_TEX_CHECKER: {
         if (!(fabsf(st[0]) < 1e9f && fabsf(st[1]) < 1e9f)) st[0] = st[1] = 0.0f;
-        c = (((int)floorf(st[0]) + (int)floorf(st[1])) % 2 == 0) ? &t->tex1 : &t->tex2;
-        break;
+        float area2 = filtered ? checker_box(st, dx, dy) : -1.0f;
+        if (area2 < 0.0f) {
+          c = (((int)floorf(st[0]) + (int)floorf(st[1])) % 2 == 0) ? &t->tex1 : &t->tex2;
+          break;
+        }
+        float a[3], b[3];
+        colour_eval(set, &t->tex1, ctx, a, depth + 1);
+        colour_eval(set, &t->tex2, ctx, b, depth + 1);
+        for (int k = 0; k < 3; ++k) out[k] = (1 - area2) * a[k] + area2 * b[k];
+        return;
+      }
       case RS_TEX_CHECKER3D:
         c = rs_checker3d_first(q) ? &t->tex1 : &t->tex2;
         break;

@@ -49,6 +49,7 @@ typedef struct rs_texture {
   rs_mipmap mip; /* RS_FILTER_MIPMAP: pbrt-v3's pyramid of the same texels */
   float scale;
   rs_image_filter filter;
+  int checker_aa; /* 2D checkerboard: pbrt-v3's closed-form box filter ("aamode") */
   rs_wrap wrap;
   int octaves;
   float omega, variation; /* fbm/wrinkled/marble "roughness"; marble "variation" */
@@ -88,8 +89,9 @@ void rs_float_param(const clr_param_list *first, const clr_param_list *second, c
 void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx,
                     float out[3]);
 float rs_float_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx);
-/* 1 for the textures that ray differentials filter: MIP-mapped imagemaps, and fbm, wrinkled,
- * windy and marble (octaves dropped as pbrt-v3's FBm and Turbulence do). */
+/* 1 for the textures that ray differentials filter: MIP-mapped imagemaps, the 2D checkerboard
+ * (closed form), and fbm, wrinkled, windy and marble (octaves dropped as pbrt-v3's FBm and
+ * Turbulence do). */
 int rs_texture_uses_differentials(const rs_texture *t);
 /* pbrt-v3 TextureMapping2D::Map of a 2D texture: st and its derivatives dstdx, dstdy. */
 void rs_texture_map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2], float dstdx[2],
