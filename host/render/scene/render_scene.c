@@ -275,19 +275,31 @@ static void bump_param(const clr_scene_desc *d, const clr_shape_desc *sd,
   if (md) rs_float_param(shape, &md->params, "bumpmap", 0.0f, out);
 }
 
-/* Which shapes compute ray differentials at their camera hits: with any texture they filter in
- * the scene (MIP-mapped imagemaps, noise) every shape with a material does (cheaper than
- * tracing textures through every material parameter), and every bump-mapped one (pbrt-v3's
- * bump step). */
-static void mark_differentials(clr_render_scene *s) {
-  int filtered = 0;
-  for (int i = 0; i < s->textures.count; ++i)
-    filtered |= rs_texture_uses_differentials(&s->textures.items[i]);
-  for (int k = 0; k < s->shape_count; ++k) {
-    rs_shape *sh = &s->shapes[k];
-    sh->needs_differentials = sh->has_material && (filtered || sh->bump.texture >= 0);
-    s->needs_differentials |= sh->needs_differentials;
+/* 1 when a texture parameter of `list` names a texture that ray differentials filter. */
+static int params_use_differentials(const rs_texture_set *tex, const clr_param_list *list) {
+  for (int i = 0; list && i < list->count; ++i) {
+    const clr_param *p = &list->items[i];
+    if (p->type == CLR_PARAM_TEXTURE &&
+        (rs_texture_tree_uses_differentials(tex, p->float_texture) ||
+         rs_texture_tree_uses_differentials(tex, p->spectrum_texture)))
+      return 1;
   }
+  return 0;
+}
+
+/* The same for a material and, for a mix, its named materials. */
+static int material_uses_differentials(const clr_scene_desc *d, const rs_texture_set *tex,
+                                       const clr_material_desc *md, int depth) {
+  if (!md || depth > 8) return 0;
+  if (params_use_differentials(tex, &md->params)) return 1;
+  if (!md->type || strcmp(md->type, "mix") != 0) return 0;
+  const char *names[2] = {"namedmaterial1", "namedmaterial2"};
+  for (int k = 0; k < 2; ++k) {
+    int i =
+        clr_scene_desc_find_named_material(d, clr_params_find_string(&md->params, names[k], ""));
+    if (i >= 0 && material_uses_differentials(d, tex, &d->materials[i], depth + 1)) return 1;
+  }
+  return 0;
 }
 
 static int material_is_supported(const clr_scene_desc *d, const clr_material_desc *md) {
@@ -488,6 +500,12 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     oren_nayar_params(sd, md, mtype, sh);
     sh->bump = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
     if (sh->has_material) bump_param(d, sd, md, &sh->bump);
+    /* ray differentials at camera hits: filtered textures, and pbrt-v3's bump step */
+    sh->needs_differentials =
+        sh->has_material &&
+        (sh->bump.texture >= 0 || params_use_differentials(&s->textures, &sd->params) ||
+         material_uses_differentials(d, &s->textures, md, 0));
+    s->needs_differentials |= sh->needs_differentials;
     if (sh->has_material) {
       sh->general = 0;
       if (rs_material_build(d, md, &sd->params, &sh->gmat) && rs_material_needs_lobes(&sh->gmat))
@@ -627,7 +645,6 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   if (r == CLR_SUCCESS) r = build_materials(s, d);
   if (r == CLR_SUCCESS) r = build_shapes(s, d, warn, wu, object_group);
   if (r == CLR_SUCCESS) r = build_instances(s, d, object_group);
-  if (r == CLR_SUCCESS) mark_differentials(s);
   if (r == CLR_SUCCESS) {
     world_bounds(s, d);
     /* lights after the bounds (distant and infinite lights use the world radius) */
@@ -806,9 +823,11 @@ static void sphere_dpdv(const rs_shape *sh, const float po[3], float v[3]) {
 static void geometric_dpdv(const rs_shape *sh, const clr_transform *o2w, const clr_hit *hit,
                            const float pw[3], const float n[3], const float dpdu[3],
                            float dpdv[3]) {
-  float po[3], v[3] = {0, 0, 0};
-  clr_transform w2o = clr_transform_inverse(o2w);
-  clr_transform_point(&w2o, pw, po);
+  float po[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+  if (sh->type != RS_SHAPE_MESH) {
+    clr_transform w2o = clr_transform_inverse(o2w);
+    clr_transform_point(&w2o, pw, po);
+  }
   if (sh->type == RS_SHAPE_MESH) {
     const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
     const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1],

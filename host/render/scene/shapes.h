@@ -36,7 +36,7 @@ typedef struct rs_shape {
   float alpha;
   rs_colour bump;          /* material "bumpmap" (float texture; texture -1: none); a mix: its first
                    * material's, as pbrt-v3's MixMaterial keeps that one's shading frame */
-  int needs_differentials; /* a texture filtered by differentials in the scene, or a bump map */
+  int needs_differentials; /* its material reads a texture differentials filter, or a bump map */
   int general;             /* material built as lobes at each hit (materials.h) */
   rs_material gmat;
   int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */

@@ -593,3 +593,29 @@ float rs_float_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_
   colour_eval(set, c, ctx, v, 0);
   return v[0];
 }
+
+static int tree_uses_differentials(const rs_texture_set *set, const rs_colour *c, int depth) {
+  if (c->texture < 0 || c->texture >= set->count || depth > 16) return 0;
+  const rs_texture *t = &set->items[c->texture];
+  if (rs_texture_uses_differentials(t)) return 1;
+  switch (t->type) {
+    case RS_TEX_CONSTANT:
+      return tree_uses_differentials(set, &t->value, depth + 1);
+    case RS_TEX_MIX:
+      if (tree_uses_differentials(set, &t->amount, depth + 1)) return 1;
+      /* fall through */
+    case RS_TEX_SCALE:
+    case RS_TEX_CHECKER:
+    case RS_TEX_CHECKER3D:
+    case RS_TEX_DOTS:
+      return tree_uses_differentials(set, &t->tex1, depth + 1) ||
+             tree_uses_differentials(set, &t->tex2, depth + 1);
+    default:
+      return 0;
+  }
+}
+
+int rs_texture_tree_uses_differentials(const rs_texture_set *set, int index) {
+  rs_colour c = {index, {0, 0, 0}};
+  return tree_uses_differentials(set, &c, 0);
+}

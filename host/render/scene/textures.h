@@ -93,6 +93,8 @@ float rs_float_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_
  * (closed form), and fbm, wrinkled, windy and marble (octaves dropped as pbrt-v3's FBm and
  * Turbulence do). */
 int rs_texture_uses_differentials(const rs_texture *t);
+/* 1 when texture `index` (-1: none) or one it reads is such a texture. */
+int rs_texture_tree_uses_differentials(const rs_texture_set *set, int index);
 /* pbrt-v3 TextureMapping2D::Map of a 2D texture: st and its derivatives dstdx, dstdy. */
 void rs_texture_map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2], float dstdx[2],
                        float dstdy[2]);
