@@ -233,7 +233,7 @@ void rs_mipmap_trilinear(const rs_mipmap *m, const float st[2], float width, flo
 }
 
 static float ewa_weight(const rs_mipmap *m, float r2) {
-  int i = (int)(r2 * RS_EWA_LUT_SIZE);
+  int i = r2 > 0.0f ? (int)(r2 * RS_EWA_LUT_SIZE) : 0; /* r2 < 1; never below 0 by rounding */
   return m->ewa_lut[i < RS_EWA_LUT_SIZE - 1 ? i : RS_EWA_LUT_SIZE - 1];
 }
 
