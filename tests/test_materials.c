@@ -86,7 +86,8 @@ static int texture_index(const clr_scene_desc *d, const char *name) {
 static float eval_at(const rs_texture_set *set, int t, float u, float v, float x, float y, float z,
                      int channel) {
   rs_colour c = {t, {0, 0, 0}};
-  rs_tex_ctx ctx = {{u, v}, {x, y, z}};
+  float uv[2] = {u, v}, p[3] = {x, y, z};
+  rs_tex_ctx ctx = rs_tex_ctx_at(uv, p);
   float out[3];
   rs_colour_eval(set, &c, &ctx, out);
   return out[channel];
@@ -430,8 +431,10 @@ static void test_rough_glass_limit(void **state) {
     }
 }
 
-/* pbrt-v3 Material::Bump on a plane: a float imagemap (2x1 PNG, 0 and 1, gamma off, bilinear,
- * scale 0.5) is linear in u with slope 1 between its texel centres, so the displaced plane tilts
+/* pbrt-v3 Material::Bump on a plane: a float imagemap (2x1 PNG, 0 and 1, gamma off, bilinear
+ * unfiltered: a MIP map's EWA would blur the two texels, scale 0.5) is linear in u with slope 1
+ * between its texel centres (the bump step, from the ray differentials, stays between them,
+ * 0.025 in u here), so the displaced plane tilts
  * by 45 degrees: under a distant light along the plane's normal (L = pi, matte Kd 1) the radiance
  * is cos 45 = 0.70711 there. Both integrators. */
 static void test_bump_plane(void **state) {
@@ -449,7 +452,8 @@ static void test_bump_plane(void **state) {
              "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" "
              "[3.14159265 3.14159265 3.14159265]\n"
              "Texture \"ramp\" \"float\" \"imagemap\" \"string filename\" \"materials_ramp.png\" "
-             "\"bool gamma\" \"false\" \"float scale\" [0.5] \"string wrap\" \"clamp\"\n"
+             "\"bool gamma\" \"false\" \"float scale\" [0.5] \"string wrap\" \"clamp\" "
+             "\"string filtertype\" \"bilinear\"\n"
              "Material \"matte\" \"rgb Kd\" [1 1 1] \"texture bumpmap\" \"ramp\"\n"
              "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [0 0 0  1 0 0  "
              "1 1 0  0 1 0] \"float uv\" [0 0 1 0 1 1 0 1]\nWorldEnd\n",

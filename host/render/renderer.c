@@ -336,6 +336,7 @@ typedef struct worker_buffers {
   clr_film_sample *fs;
   size_t fs_cap;
   clr_ray rays[CHUNK_SAMPLES];
+  clr_ray_differential diffs[CHUNK_SAMPLES];
   uint64_t keys[CHUNK_SAMPLES];
   float L[3 * CHUNK_SAMPLES], weights[CHUNK_SAMPLES];
 } worker_buffers;
@@ -360,15 +361,15 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     fs[k].x = cs.pixel_x;
     fs[k].y = cs.pixel_y;
     b->weights[k] = clr_render_scene_camera_ray(job->scene, cs.film_x, cs.film_y, cs.time,
-                                                cs.lens_u, cs.lens_v, &b->rays[k]);
+                                                cs.lens_u, cs.lens_v, &b->rays[k], &b->diffs[k]);
     b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
     if (++s == spp) {
       s = 0;
       ++px;
     }
   }
-  CLR_CHECK(
-      clr_integrator_li(it, job->scene, scratch, b->rays, values, b->keys, n, b->L, counters));
+  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, b->diffs, values, b->keys, n, b->L,
+                              counters));
   for (int k = 0; k < n; ++k) {
     fs[k].r = b->L[3 * k];
     fs[k].g = b->L[3 * k + 1];
@@ -1078,6 +1079,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
   if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
+  if (r == CLR_SUCCESS) clr_render_scene_set_samples_per_pixel(scene, clr_sampler_spp(sampler));
   int nthreads = o->nthreads > 0 ? o->nthreads : default_threads();
   output_info oi;
   memset(&oi, 0, sizeof oi);

@@ -186,6 +186,7 @@ typedef struct direct_job {
 
 struct clr_integrator_scratch {
   clr_ray *rays, *rays2;
+  const clr_ray_differential *diffs; /* the camera rays' differentials (or NULL), during a call */
   clr_hit *hits;
   uint8_t *occluded;
   clr_surface *surfaces;
@@ -529,9 +530,10 @@ static int is_black(const float c[3]) { return c[0] == 0.0f && c[1] == 0.0f && c
 
 /* ---------- primary hits (material "none" surfaces are skipped) ---------- */
 
-/* Intersects rays[0..count) (in scratch->rays2) and fills surfaces; hit[i].geom_id says miss. */
+/* Intersects rays[0..count) (in scratch->rays2) and fills surfaces; hit[i].geom_id says miss.
+ * diffs (or NULL): the rays' differentials, lost past a material "none" as in pbrt-v3. */
 static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch *s, int count,
-                              clr_integrator_counters *c) {
+                              const clr_ray_differential *diffs, clr_integrator_counters *c) {
   int pending = count;
   for (int i = 0; i < count; ++i) s->owner[i] = i;
   for (int round = 0; pending > 0 && round < MAX_NULL_SURFACES; ++round) {
@@ -543,7 +545,8 @@ static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch
       int i = s->owner[k];
       s->surfaces[i].has_material = -1; /* miss marker */
       if (h[k].geom_id == CLR_TRACER_INVALID_ID) continue;
-      clr_render_scene_surface(sc, &s->rays[k], &h[k], &s->surfaces[i]);
+      clr_render_scene_surface_differential(sc, &s->rays[k], round == 0 && diffs ? &diffs[i] : NULL,
+                                            &h[k], &s->surfaces[i]);
       if (!s->surfaces[i].has_material) {
         float d[3] = {s->rays[k].dx, s->rays[k].dy, s->rays[k].dz};
         clr_render_scene_spawn_ray(&s->surfaces[i], d, &s->rays2[i]);
@@ -658,7 +661,7 @@ static int choose_light(const clr_integrator *it, const float p[3], float u, flo
 static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
                         clr_integrator_scratch *s, const float *values, int count, float *L,
                         clr_integrator_counters *c) {
-  intersect_visible(sc, s, count, c);
+  intersect_visible(sc, s, count, NULL, c);
   int n = it->ao_samples;
   CLR_CHECK(reserve_rays(s, (size_t)count * (size_t)n));
   /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query */
@@ -904,7 +907,7 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     if (r == CLR_SUCCESS) r = reserve_rays(s, (size_t)n);
     if (r == CLR_SUCCESS) r = reserve_jobs(s, (size_t)n * per + 1);
     if (r != CLR_SUCCESS) break;
-    intersect_visible(sc, s, n, c);
+    intersect_visible(sc, s, n, depth == 0 ? s->diffs : NULL, c);
     r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, factor, c);
     if (r != CLR_SUCCESS) break;
     int m = 0;
@@ -1022,7 +1025,8 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         continue;
       }
       clr_surface *sf = &s->surfaces[i];
-      clr_render_scene_surface(sc, ray, h, sf);
+      clr_render_scene_surface_differential(sc, ray, wave == 0 && s->diffs ? &s->diffs[i] : NULL, h,
+                                            sf);
       if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
         if (seen)
           for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
@@ -1135,12 +1139,14 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
 }
 
 clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *sc,
-                             clr_integrator_scratch *s, const clr_ray *rays, const float *values,
+                             clr_integrator_scratch *s, const clr_ray *rays,
+                             const clr_ray_differential *diffs, const float *values,
                              const uint64_t *keys, int count, float *L,
                              clr_integrator_counters *c) {
   CLR_CHECK(reserve_samples(s, (size_t)count));
   CLR_CHECK(reserve_rays(s, (size_t)count));
   memcpy(s->rays2, rays, (size_t)count * sizeof *rays);
+  s->diffs = diffs;
   clr_result r;
   switch (it->type) {
     case CLR_INTEGRATOR_AO:
@@ -1153,5 +1159,6 @@ clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *s
       r = li_path(it, sc, s, values, keys, count, L, c);
       break;
   }
+  s->diffs = NULL;
   return r != CLR_SUCCESS ? r : c->error;
 }

@@ -58,11 +58,13 @@ typedef struct clr_integrator_scratch clr_integrator_scratch;
 clr_integrator_scratch *clr_integrator_scratch_create(void);
 void clr_integrator_scratch_free(clr_integrator_scratch *scratch);
 
-/* Radiance of `count` camera rays. values: count sample vectors of values_per_sample floats;
- * keys: per-sample hash keys for dimensions past the layout; L: 3 floats per sample. */
+/* Radiance of `count` camera rays. diffs: their differentials (may be NULL), used at their
+ * first hits as pbrt-v3 does; values: count sample vectors of values_per_sample floats; keys:
+ * per-sample hash keys for dimensions past the layout; L: 3 floats per sample. */
 clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *scene,
                              clr_integrator_scratch *scratch, const clr_ray *rays,
-                             const float *values, const uint64_t *keys, int count, float *L,
+                             const clr_ray_differential *diffs, const float *values,
+                             const uint64_t *keys, int count, float *L,
                              clr_integrator_counters *counters);
 
 #endif

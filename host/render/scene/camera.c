@@ -17,6 +17,7 @@ clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn 
     return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: unsupported camera \"%s\"",
                               p->file ? p->file : "?", p->line, type);
   }
+  cam->differential_scale = 1.0f;
   cam->lens_radius = clr_params_find_float(p, "lensradius", 0.0f);
   cam->focal_distance = clr_params_find_float(p, "focaldistance", 1e6f);
   cam->frame_aspect = clr_params_find_float(p, "frameaspectratio", -1.0f);
@@ -83,28 +84,31 @@ clr_result rs_camera_set_film(rs_camera *cam, int32_t xres, int32_t yres) {
   clr_transform raster_to_screen = clr_transform_inverse(&screen_to_raster);
   clr_transform screen_to_camera = clr_transform_inverse(&camera_to_screen);
   cam->raster_to_camera = clr_transform_compose(&screen_to_camera, &raster_to_screen);
+  float p0[3] = {0, 0, 0}, px[3] = {1, 0, 0}, py[3] = {0, 1, 0}, c0[3], cx[3], cy[3];
+  clr_transform_point(&cam->raster_to_camera, p0, c0);
+  clr_transform_point(&cam->raster_to_camera, px, cx);
+  clr_transform_point(&cam->raster_to_camera, py, cy);
+  for (int i = 0; i < 3; ++i) {
+    cam->dx_camera[i] = cx[i] - c0[i];
+    cam->dy_camera[i] = cy[i] - c0[i];
+  }
   return CLR_SUCCESS;
 }
 
-float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
-                    float lens_v, clr_ray *ray) {
-  float pf[3] = {film_x, film_y, 0.0f}, pc[3];
-  clr_transform_point(&cam->raster_to_camera, pf, pc);
-  float o[3], d[3];
+/* The camera-space ray through camera point pc (on the near plane or the ortho plane) for lens
+ * point (lx, ly) (both 0 without a lens). */
+static void camera_space_ray(const rs_camera *cam, const float pc[3], float lx, float ly,
+                             float o[3], float d[3]) {
   if (cam->type == RS_CAMERA_PERSPECTIVE) {
     o[0] = o[1] = o[2] = 0.0f;
-    memcpy(d, pc, sizeof d);
+    memcpy(d, pc, 3 * sizeof(float));
     rs_normalize(d);
   } else {
-    memcpy(o, pc, sizeof o);
+    memcpy(o, pc, 3 * sizeof(float));
     d[0] = d[1] = 0.0f;
     d[2] = 1.0f;
   }
   if (cam->lens_radius > 0.0f) {
-    float lx, ly;
-    rs_concentric_disk(lens_u, lens_v, &lx, &ly);
-    lx *= cam->lens_radius;
-    ly *= cam->lens_radius;
     float ft = cam->focal_distance / d[2];
     float focus[3] = {o[0] + ft * d[0], o[1] + ft * d[1], o[2] + ft * d[2]};
     o[0] += lx;
@@ -113,6 +117,41 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
     for (int i = 0; i < 3; ++i) d[i] = focus[i] - o[i];
     rs_normalize(d);
   }
+}
+
+/* pbrt-v3 GenerateRayDifferential's offset rays (camera space) moved to world space by c2w and
+ * scaled toward the main world ray (ow, dw) by the camera's differential scale. */
+static void differential(const rs_camera *cam, const float pc[3], float lx, float ly,
+                         const clr_transform *c2w, const float ow[3], const float dw[3],
+                         clr_ray_differential *rd) {
+  const float *step[2] = {cam->dx_camera, cam->dy_camera};
+  float *outo[2] = {rd->rx_o, rd->ry_o}, *outd[2] = {rd->rx_d, rd->ry_d};
+  float sc = cam->differential_scale;
+  for (int k = 0; k < 2; ++k) {
+    float q[3] = {pc[0] + step[k][0], pc[1] + step[k][1], pc[2] + step[k][2]}, o[3], d[3];
+    camera_space_ray(cam, q, lx, ly, o, d);
+    clr_transform_point(c2w, o, outo[k]);
+    clr_transform_vector(c2w, d, outd[k]);
+    rs_normalize(outd[k]);
+    for (int i = 0; i < 3; ++i) {
+      outo[k][i] = ow[i] + (outo[k][i] - ow[i]) * sc;
+      outd[k][i] = dw[i] + (outd[k][i] - dw[i]) * sc;
+    }
+  }
+  rd->has = 1;
+}
+
+float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
+                    float lens_v, clr_ray *ray, clr_ray_differential *rd) {
+  float pf[3] = {film_x, film_y, 0.0f}, pc[3];
+  clr_transform_point(&cam->raster_to_camera, pf, pc);
+  float o[3], d[3], lx = 0.0f, ly = 0.0f;
+  if (cam->lens_radius > 0.0f) {
+    rs_concentric_disk(lens_u, lens_v, &lx, &ly);
+    lx *= cam->lens_radius;
+    ly *= cam->lens_radius;
+  }
+  camera_space_ray(cam, pc, lx, ly, o, d);
   float ow[3], dw[3];
   const clr_transform *c2w = &cam->camera_to_world;
   clr_transform moved;
@@ -124,6 +163,7 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
   clr_transform_point(c2w, o, ow);
   clr_transform_vector(c2w, d, dw);
   rs_normalize(dw);
+  if (rd) differential(cam, pc, lx, ly, c2w, ow, dw, rd);
   ray->ox = ow[0];
   ray->oy = ow[1];
   ray->oz = ow[2];

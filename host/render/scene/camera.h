@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include "clrender/result.h"
 #include "animated_transform.h"
+#include "ray_differential.h"
 #include "scene_desc.h"
 #include "tracer.h"
 
@@ -19,6 +20,8 @@ typedef struct rs_camera {
   clr_transform camera_to_world;
   rs_animated_transform motion; /* ActiveTransform EndTime moved the camera: used per ray time */
   clr_transform raster_to_camera;
+  float dx_camera[3], dy_camera[3]; /* pbrt-v3 dxCamera, dyCamera: one pixel in camera space */
+  float differential_scale;         /* pbrt-v3 ScaleDifferentials: 1 / sqrt(spp) */
 } rs_camera;
 
 /* The Camera directive's parameters. */
@@ -26,8 +29,9 @@ clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn 
 /* Raster-to-camera for the final film resolution (call before rs_camera_ray). */
 clr_result rs_camera_set_film(rs_camera *cam, int32_t x_resolution, int32_t y_resolution);
 /* pbrt-v3 GenerateRay for raster position (film_x, film_y), lens sample (lens_u, lens_v);
- * returns the ray weight. */
+ * returns the ray weight. With rd: GenerateRayDifferential, the offset rays scaled by
+ * differential_scale (the orthographic thin lens focuses them as its main ray). */
 float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
-                    float lens_v, clr_ray *ray);
+                    float lens_v, clr_ray *ray, clr_ray_differential *rd);
 
 #endif

@@ -70,38 +70,81 @@ static float noise_at(const float p[3], float lambda) {
   return rs_noise(lambda * p[0], lambda * p[1], lambda * p[2]);
 }
 
-float rs_fbm(const float p[3], float omega, int octaves) {
+/* pbrt-v3's octave count for a footprint: -1 - log2(the longer differential) / 2, clamped to
+ * [0, max_octaves] (max_octaves when the differentials are zero). */
+static float octave_count(const float dpdx[3], const float dpdy[3], int max_octaves) {
+  float lx = dpdx[0] * dpdx[0] + dpdx[1] * dpdx[1] + dpdx[2] * dpdx[2];
+  float ly = dpdy[0] * dpdy[0] + dpdy[1] * dpdy[1] + dpdy[2] * dpdy[2];
+  float n = -1.0f - 0.5f * (logf(fmaxf(lx, ly)) * 1.442695040888963387004650940071f);
+  if (!(n > 0.0f)) return 0.0f; /* NaN differentials too */
+  return n < (float)max_octaves ? n : (float)max_octaves;
+}
+
+/* pbrt-v3 SmoothStep(0.3, 0.7, x). */
+static float smooth_step(float x) {
+  float t = fminf(1.0f, fmaxf(0.0f, (x - 0.3f) / (0.7f - 0.3f)));
+  return t * t * (3.0f - 2.0f * t);
+}
+
+float rs_fbm_d(const float p[3], const float dpdx[3], const float dpdy[3], float omega,
+               int octaves) {
+  float n = octave_count(dpdx, dpdy, octaves);
+  int whole = (int)floorf(n);
   float sum = 0.0f, lambda = 1.0f, o = 1.0f;
-  for (int i = 0; i < octaves; ++i) {
+  for (int i = 0; i < whole; ++i) {
     sum += o * noise_at(p, lambda);
     lambda *= 1.99f;
     o *= omega;
   }
-  return sum; /* the partial octave's SmoothStep(.3, .7, 0) is 0 */
+  float f = smooth_step(n - (float)whole); /* the partial octave, faded in */
+  return f > 0.0f ? sum + o * f * noise_at(p, lambda) : sum;
 }
 
-float rs_turbulence(const float p[3], float omega, int octaves) {
+float rs_turbulence_d(const float p[3], const float dpdx[3], const float dpdy[3], float omega,
+                      int octaves) {
+  float n = octave_count(dpdx, dpdy, octaves);
+  int whole = (int)floorf(n);
   float sum = 0.0f, lambda = 1.0f, o = 1.0f;
-  for (int i = 0; i < octaves; ++i) {
+  for (int i = 0; i < whole; ++i) {
     sum += o * fabsf(noise_at(p, lambda));
     lambda *= 1.99f;
     o *= omega;
   }
-  /* pbrt-v3: the partial octave is Lerp(SmoothStep(.3, .7, 0) = 0, 0.2, ...) = 0.2 */
-  return sum + o * 0.2f;
+  float f = smooth_step(n - (float)whole); /* the partial octave, then 0.2 for each clamped one */
+  sum += o * (f > 0.0f ? (1.0f - f) * 0.2f + f * fabsf(noise_at(p, lambda)) : 0.2f);
+  for (int i = whole; i < octaves; ++i) { /* pbrt-v3 keeps o for the first of them */
+    sum += o * 0.2f;
+    o *= omega;
+  }
+  return sum;
 }
 
-float rs_windy(const float p[3]) {
+static const float zero3[3] = {0.0f, 0.0f, 0.0f};
+
+float rs_fbm(const float p[3], float omega, int octaves) {
+  return rs_fbm_d(p, zero3, zero3, omega, octaves);
+}
+
+float rs_turbulence(const float p[3], float omega, int octaves) {
+  return rs_turbulence_d(p, zero3, zero3, omega, octaves);
+}
+
+float rs_windy_d(const float p[3], const float dpdx[3], const float dpdy[3]) {
   float q[3] = {0.1f * p[0], 0.1f * p[1], 0.1f * p[2]};
-  return fabsf(rs_fbm(q, 0.5f, 3)) * rs_fbm(p, 0.5f, 6);
+  float qx[3] = {0.1f * dpdx[0], 0.1f * dpdx[1], 0.1f * dpdx[2]};
+  float qy[3] = {0.1f * dpdy[0], 0.1f * dpdy[1], 0.1f * dpdy[2]};
+  return fabsf(rs_fbm_d(q, qx, qy, 0.5f, 3)) * rs_fbm_d(p, dpdx, dpdy, 0.5f, 6);
 }
 
-void rs_marble(const float p[3], float omega, int octaves, float variation, float out[3]) {
+float rs_windy(const float p[3]) { return rs_windy_d(p, zero3, zero3); }
+
+void rs_marble_d(const float p[3], const float dpdx[3], const float dpdy[3], float omega,
+                 int octaves, float variation, float out[3]) {
   static const float c[9][3] = {{.58f, .58f, .6f}, {.58f, .58f, .6f}, {.58f, .58f, .6f},
                                 {.5f, .5f, .5f},   {.6f, .59f, .58f}, {.58f, .58f, .6f},
                                 {.58f, .58f, .6f}, {.2f, .2f, .33f},  {.58f, .58f, .6f}};
   const int nseg = 9 - 3;
-  float marble = p[1] + variation * rs_fbm(p, omega, octaves);
+  float marble = p[1] + variation * rs_fbm_d(p, dpdx, dpdy, omega, octaves);
   float t = 0.5f + 0.5f * sinf(marble);
   if (!(t >= 0.0f && t <= 1.0f)) t = 0.5f; /* a NaN point */
   int first = (int)floorf(t * (float)nseg);
@@ -114,6 +157,10 @@ void rs_marble(const float p[3], float omega, int octaves, float variation, floa
     s1 = lerp(t, s1, s2);
     out[k] = 1.5f * lerp(t, s0, s1);
   }
+}
+
+void rs_marble(const float p[3], float omega, int octaves, float variation, float out[3]) {
+  rs_marble_d(p, zero3, zero3, omega, octaves, variation, out);
 }
 
 int rs_dots_inside(float s, float t) {

@@ -12,6 +12,7 @@
 #include "camera.h"
 #include "lights.h"
 #include "bump.h"
+#include "surface_differentials.h"
 #include "quadric_shapes.h"
 #include "render_scene.h"
 #include "shapes.h"
@@ -31,6 +32,7 @@ struct clr_render_scene {
   rs_light_set lights;
   float world_center[3];
   float world_lo[3], world_hi[3]; /* pbrt-v3 Scene::WorldBound */
+  int needs_differentials;        /* some shape's surface uses ray differentials */
 };
 
 static void rs_xform_m16(const clr_transform *t, float out[16]) {
@@ -83,9 +85,16 @@ clr_result clr_render_scene_set_film(clr_render_scene *scene, int32_t x_resoluti
   return rs_camera_set_film(&scene->camera, x_resolution, y_resolution);
 }
 
+void clr_render_scene_set_samples_per_pixel(clr_render_scene *scene, int32_t spp) {
+  scene->camera.differential_scale = 1.0f / sqrtf((float)(spp > 0 ? spp : 1));
+}
+
 float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
-                                  float time, float lens_u, float lens_v, clr_ray *ray) {
-  return rs_camera_ray(&scene->camera, film_x, film_y, time, lens_u, lens_v, ray);
+                                  float time, float lens_u, float lens_v, clr_ray *ray,
+                                  clr_ray_differential *rd) {
+  if (rd) rd->has = 0;
+  return rs_camera_ray(&scene->camera, film_x, film_y, time, lens_u, lens_v, ray,
+                       scene->needs_differentials ? rd : NULL);
 }
 
 void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray *ray) {
@@ -248,6 +257,49 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
       hi[i] = fmaxf(hi[i], w[i]);
     }
   }
+}
+
+/* pbrt-v3 reads "bumpmap" of the material, the shape's parameters first. A mix has none of its
+ * own: its first material's (a named one, so without shape parameters) applies, since pbrt-v3's
+ * MixMaterial keeps that material's bumped shading frame for both materials' lobes. */
+static void bump_param(const clr_scene_desc *d, const clr_shape_desc *sd,
+                       const clr_material_desc *md, rs_colour *out) {
+  const clr_param_list *shape = &sd->params;
+  for (int depth = 0; md && md->type && strcmp(md->type, "mix") == 0; ++depth) {
+    int i = depth < 8 ? clr_scene_desc_find_named_material(
+                            d, clr_params_find_string(&md->params, "namedmaterial1", ""))
+                      : -1;
+    md = i >= 0 ? &d->materials[i] : NULL;
+    shape = NULL;
+  }
+  if (md) rs_float_param(shape, &md->params, "bumpmap", 0.0f, out);
+}
+
+/* 1 when a texture parameter of `list` names a texture that ray differentials filter. */
+static int params_use_differentials(const rs_texture_set *tex, const clr_param_list *list) {
+  for (int i = 0; list && i < list->count; ++i) {
+    const clr_param *p = &list->items[i];
+    if (p->type == CLR_PARAM_TEXTURE &&
+        (rs_texture_tree_uses_differentials(tex, p->float_texture) ||
+         rs_texture_tree_uses_differentials(tex, p->spectrum_texture)))
+      return 1;
+  }
+  return 0;
+}
+
+/* The same for a material and, for a mix, its named materials. */
+static int material_uses_differentials(const clr_scene_desc *d, const rs_texture_set *tex,
+                                       const clr_material_desc *md, int depth) {
+  if (!md || depth > 8) return 0;
+  if (params_use_differentials(tex, &md->params)) return 1;
+  if (!md->type || strcmp(md->type, "mix") != 0) return 0;
+  const char *names[2] = {"namedmaterial1", "namedmaterial2"};
+  for (int k = 0; k < 2; ++k) {
+    int i =
+        clr_scene_desc_find_named_material(d, clr_params_find_string(&md->params, names[k], ""));
+    if (i >= 0 && material_uses_differentials(d, tex, &d->materials[i], depth + 1)) return 1;
+  }
+  return 0;
 }
 
 static int material_is_supported(const clr_scene_desc *d, const clr_material_desc *md) {
@@ -447,7 +499,13 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     }
     oren_nayar_params(sd, md, mtype, sh);
     sh->bump = (rs_colour){-1, {0.0f, 0.0f, 0.0f}};
-    if (sh->has_material) rs_float_param(&sd->params, &md->params, "bumpmap", 0.0f, &sh->bump);
+    if (sh->has_material) bump_param(d, sd, md, &sh->bump);
+    /* ray differentials at camera hits: filtered textures, and pbrt-v3's bump step */
+    sh->needs_differentials =
+        sh->has_material &&
+        (sh->bump.texture >= 0 || params_use_differentials(&s->textures, &sd->params) ||
+         material_uses_differentials(d, &s->textures, md, 0));
+    s->needs_differentials |= sh->needs_differentials;
     if (sh->has_material) {
       sh->general = 0;
       if (rs_material_build(d, md, &sd->params, &sh->gmat) && rs_material_needs_lobes(&sh->gmat))
@@ -748,30 +806,29 @@ static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr
   if (sh->flip_normal) negate(n);
 }
 
-/* pbrt-v3's shading dpdv (and dndu, dndv for spheres; 0 for the other shapes) at a hit, for
- * Material::Bump; dpdu becomes the unit shading tangent for meshes with normals, as pbrt-v3's
- * Triangle sets it. o2w: object (or mesh) to world. */
-static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const clr_hit *hit,
-                          const float pw[3], const float ns[3], int has_ns, float dpdu[3],
-                          float dpdv[3], float dndu[3], float dndv[3]) {
-  float zero[3] = {0, 0, 0}, po[3], v[3] = {0, 0, 0};
-  memcpy(dndu, zero, sizeof zero);
-  memcpy(dndv, zero, sizeof zero);
-  clr_transform w2o = clr_transform_inverse(o2w);
-  clr_transform_point(&w2o, pw, po);
+/* pbrt-v3 Sphere's object-space dpdv at object point po. */
+static void sphere_dpdv(const rs_shape *sh, const float po[3], float v[3]) {
+  float r = sh->radius, zr = sqrtf(po[0] * po[0] + po[1] * po[1]);
+  float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / r)), st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+  float t0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmin / r : -1.0f)));
+  float t1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmax / r : 1.0f)));
+  float cp = zr > 0.0f ? po[0] / zr : 1.0f, sp = zr > 0.0f ? po[1] / zr : 0.0f;
+  v[0] = (t1 - t0) * po[2] * cp;
+  v[1] = (t1 - t0) * po[2] * sp;
+  v[2] = -(t1 - t0) * r * st;
+}
+
+/* pbrt-v3's geometric dpdv at a hit (world point pw; n: the normal for a mesh whose (u, v) are
+ * degenerate, where dpdv = n x dpdu). o2w: object (or mesh) to world. */
+static void geometric_dpdv(const rs_shape *sh, const clr_transform *o2w, const clr_hit *hit,
+                           const float pw[3], const float n[3], const float dpdu[3],
+                           float dpdv[3]) {
+  float po[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+  if (sh->type != RS_SHAPE_MESH) {
+    clr_transform w2o = clr_transform_inverse(o2w);
+    clr_transform_point(&w2o, pw, po);
+  }
   if (sh->type == RS_SHAPE_MESH) {
-    if (has_ns) {
-      float ss[3] = {dpdu[0], dpdu[1], dpdu[2]}, ts[3];
-      rs_normalize(ss);
-      rs_cross(ss, ns, ts);
-      if (rs_dot(ts, ts) > 0.0f) {
-        rs_normalize(ts);
-        rs_cross(ts, ns, ss);
-      }
-      memcpy(dpdu, ss, sizeof ss);
-      memcpy(dpdv, ts, sizeof ts);
-      return;
-    }
     const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
     const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1],
                 *p2 = sh->mesh.p + 3 * ix[2];
@@ -784,27 +841,12 @@ static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const cl
     float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
           dv12 = uv1[1] - uv2[1], det = du02 * dv12 - dv02 * du12;
     if (fabsf(det) < 1e-8f) {
-      rs_cross(ns, dpdu, dpdv);
+      rs_cross(n, dpdu, dpdv);
       return;
     }
     for (int i = 0; i < 3; ++i) v[i] = (-du12 * (p0[i] - p2[i]) + du02 * (p1[i] - p2[i])) / det;
   } else if (sh->type == RS_SHAPE_SPHERE) {
-    float r = sh->radius, zr = sqrtf(po[0] * po[0] + po[1] * po[1]);
-    float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / r)), st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
-    float t0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmin / r : -1.0f)));
-    float t1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmax / r : 1.0f)));
-    float cp = zr > 0.0f ? po[0] / zr : 1.0f, sp = zr > 0.0f ? po[1] / zr : 0.0f;
-    float du_o[3] = {-(sh->partial ? sh->phimax : 2.0f * RS_PI) * po[1],
-                     (sh->partial ? sh->phimax : 2.0f * RS_PI) * po[0], 0.0f};
-    float dv_o[3] = {(t1 - t0) * po[2] * cp, (t1 - t0) * po[2] * sp, -(t1 - t0) * r * st}, w[3];
-    memcpy(v, dv_o, sizeof v);
-    for (int i = 0; i < 3; ++i) { /* n = p / r on a sphere */
-      du_o[i] /= r;
-      dv_o[i] /= r;
-    }
-    clr_transform_normal(o2w, du_o, dndu);
-    clr_transform_normal(o2w, dv_o, w);
-    memcpy(dndv, w, sizeof w);
+    sphere_dpdv(sh, po, v);
   } else if (sh->type == RS_SHAPE_DISK) {
     float r = sqrtf(po[0] * po[0] + po[1] * po[1]),
           k = r > 0.0f ? (sh->inner_radius - sh->radius) / r : 0.0f;
@@ -818,6 +860,44 @@ static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const cl
   clr_transform_vector(o2w, v, dpdv);
 }
 
+/* A sphere's dndu, dndv (n = p / r): its object-space dpdu, dpdv over r, as normals. */
+static void sphere_normal_partials(const rs_shape *sh, const clr_transform *o2w, const float pw[3],
+                                   float dndu[3], float dndv[3]) {
+  float po[3], dv_o[3];
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  sphere_dpdv(sh, po, dv_o);
+  float phimax = sh->partial ? sh->phimax : 2.0f * RS_PI, r = sh->radius;
+  float du_o[3] = {-phimax * po[1] / r, phimax * po[0] / r, 0.0f};
+  for (int i = 0; i < 3; ++i) dv_o[i] /= r;
+  clr_transform_normal(o2w, du_o, dndu);
+  clr_transform_normal(o2w, dv_o, dndv);
+}
+
+/* pbrt-v3's shading dpdv (and dndu, dndv for spheres; 0 for the other shapes) at a hit, for
+ * Material::Bump; dpdu becomes the unit shading tangent for meshes with normals, as pbrt-v3's
+ * Triangle sets it. geo_dpdv: the geometric dpdv. */
+static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const float pw[3],
+                          const float ns[3], int has_ns, const float geo_dpdv[3], float dpdu[3],
+                          float dpdv[3], float dndu[3], float dndv[3]) {
+  memset(dndu, 0, 3 * sizeof(float));
+  memset(dndv, 0, 3 * sizeof(float));
+  if (sh->type == RS_SHAPE_MESH && has_ns) {
+    float ss[3] = {dpdu[0], dpdu[1], dpdu[2]}, ts[3];
+    rs_normalize(ss);
+    rs_cross(ss, ns, ts);
+    if (rs_dot(ts, ts) > 0.0f) {
+      rs_normalize(ts);
+      rs_cross(ts, ns, ss);
+    }
+    memcpy(dpdu, ss, sizeof ss);
+    memcpy(dpdv, ts, sizeof ts);
+    return;
+  }
+  memcpy(dpdv, geo_dpdv, 3 * sizeof(float));
+  if (sh->type == RS_SHAPE_SPHERE) sphere_normal_partials(sh, o2w, pw, dndu, dndv);
+}
+
 /* A moving shape's object-to-world at the hit's time, as Embree placed it; 0 on failure. */
 static int moving_transform(const clr_render_scene *s, const clr_hit *hit, clr_transform *out) {
   float m16[16], m[4][4];
@@ -829,6 +909,12 @@ static int moving_transform(const clr_render_scene *s, const clr_hit *hit, clr_t
 
 void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *out) {
+  clr_render_scene_surface_differential(s, ray, NULL, hit, out);
+}
+
+void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_ray *ray,
+                                           const clr_ray_differential *rd, const clr_hit *hit,
+                                           clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
   const clr_transform *inst = NULL;
   clr_transform moved;
@@ -869,15 +955,23 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     clr_transform o2w = inst ? clr_transform_compose(inst, own_transform(sh)) : *own_transform(sh);
     sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
   }
-  if (sh->has_material && sh->bump.texture >= 0) { /* pbrt-v3 Material::Bump */
-    clr_transform o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : *own_transform(sh);
+  rs_tex_ctx tc = rs_tex_ctx_at(uv, p);
+  int bump = sh->has_material && sh->bump.texture >= 0;
+  float geo_dpdv[3];
+  clr_transform o2w;
+  if (bump || (sh->needs_differentials && rd && rd->has)) {
+    o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : *own_transform(sh);
     if (inst) o2w = clr_transform_compose(inst, &o2w);
+    geometric_dpdv(sh, &o2w, hit, p, n, dpdu, geo_dpdv);
+    if (sh->needs_differentials) rs_compute_differentials(rd, p, n, dpdu, geo_dpdv, &tc);
+  }
+  if (bump) { /* pbrt-v3 Material::Bump */
     float nsh[3], dpdv[3], dndu[3], dndv[3];
     memcpy(nsh, has_ns ? ns : n, sizeof nsh);
     rs_normalize(nsh);
     if (rs_dot(nsh, n) < 0.0f) negate(nsh);
-    bump_partials(sh, &o2w, hit, p, nsh, has_ns, dpdu, dpdv, dndu, dndv);
-    rs_bump(&s->textures, &sh->bump, p, uv, n, dpdu, dpdv, dndu, dndv, nsh);
+    bump_partials(sh, &o2w, p, nsh, has_ns, geo_dpdv, dpdu, dpdv, dndu, dndv);
+    rs_bump(&s->textures, &sh->bump, &tc, n, dpdu, dpdv, dndu, dndv, nsh);
     memcpy(ns, nsh, sizeof ns);
     has_ns = 1;
   }
@@ -896,7 +990,6 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
     memcpy(out->ns, out->ng, sizeof n);
   }
   out->has_material = sh->has_material;
-  rs_tex_ctx tc = {{uv[0], uv[1]}, {p[0], p[1], p[2]}};
   out->general = sh->has_material && sh->general;
   if (out->general) {
     rs_material_bsdf(&sh->gmat, s->materials, s->material_count, &s->textures, &tc, &out->bsdf);

@@ -9,6 +9,7 @@
 #include "clrender/result.h"
 #include "bsdf_lobes.h"
 #include "lights.h"
+#include "ray_differential.h"
 #include "scene_desc.h"
 #include "tracer.h"
 
@@ -41,10 +42,15 @@ void clr_render_scene_world_bounds(const clr_render_scene *scene, float lo[3], f
 /* Must be called once the final film resolution / crop is known (before generating rays). */
 clr_result clr_render_scene_set_film(clr_render_scene *scene, int32_t x_resolution,
                                      int32_t y_resolution);
+/* pbrt-v3's ScaleDifferentials(1 / sqrt(spp)) of every camera ray (SamplerIntegrator::Render). */
+void clr_render_scene_set_samples_per_pixel(clr_render_scene *scene, int32_t spp);
 /* pbrt-v3 camera sample: pFilm in raster space (pixel + film offset), time in [0,1) mapped to
- * [shutteropen, shutterclose], lens in [0,1)^2. Returns the ray weight (1 or 0 if none). */
+ * [shutteropen, shutterclose], lens in [0,1)^2. Returns the ray weight (1 or 0 if none). rd
+ * (may be NULL) gets the ray's differentials when the scene has a surface that uses them (an
+ * imagemap through its MIP map, a bump map), else rd->has = 0. */
 float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
-                                  float time, float lens_u, float lens_v, clr_ray *ray);
+                                  float time, float lens_u, float lens_v, clr_ray *ray,
+                                  clr_ray_differential *rd);
 
 /* --- surfaces --- */
 typedef struct clr_surface {
@@ -75,6 +81,11 @@ typedef struct clr_surface {
 /* Fills `s` for a hit of `ray`. */
 void clr_render_scene_surface(const clr_render_scene *scene, const clr_ray *ray, const clr_hit *hit,
                               clr_surface *s);
+/* The same for a ray with differentials rd (NULL or rd->has 0: none): pbrt-v3's
+ * SurfaceInteraction::ComputeDifferentials filters the hit's textures and sets its bump step. */
+void clr_render_scene_surface_differential(const clr_render_scene *scene, const clr_ray *ray,
+                                           const clr_ray_differential *rd, const clr_hit *hit,
+                                           clr_surface *s);
 
 /* --- lights --- */
 int32_t clr_render_scene_light_count(const clr_render_scene *scene);

@@ -34,8 +34,10 @@ typedef struct rs_shape {
   float eta;
   rs_colour ks;
   float alpha;
-  rs_colour bump; /* material "bumpmap" (float texture; texture -1: none) */
-  int general;    /* material built as lobes at each hit (materials.h) */
+  rs_colour bump;          /* material "bumpmap" (float texture; texture -1: none); a mix: its first
+                   * material's, as pbrt-v3's MixMaterial keeps that one's shading frame */
+  int needs_differentials; /* its material reads a texture differentials filter, or a bump map */
+  int general;             /* material built as lobes at each hit (materials.h) */
   rs_material gmat;
   int first_light; /* light index of triangle 0 / the sphere, -1 when not emitting */
   int in_object;

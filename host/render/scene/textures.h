@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 #include "clrender/result.h"
+#include "mipmap.h"
 #include "scene_desc.h"
 #include "transform.h"
 
@@ -32,7 +33,9 @@ typedef enum {
 } rs_texture_type;
 
 typedef enum { RS_MAP_UV, RS_MAP_SPHERICAL, RS_MAP_CYLINDRICAL, RS_MAP_PLANAR } rs_mapping;
-typedef enum { RS_WRAP_REPEAT, RS_WRAP_BLACK, RS_WRAP_CLAMP } rs_wrap;
+/* How an imagemap is looked up: pbrt-v3's MIP map (trilinear or EWA by the ray differentials,
+ * the default), or the unfiltered image (pbrt-v4's "point" and "bilinear"). */
+typedef enum { RS_FILTER_MIPMAP, RS_FILTER_NEAREST, RS_FILTER_BILINEAR } rs_image_filter;
 
 typedef struct rs_texture {
   rs_texture_type type;
@@ -42,9 +45,11 @@ typedef struct rs_texture {
   clr_transform world_to_texture; /* 3D textures and the spherical/cylindrical mappings */
   rs_colour value, tex1, tex2, amount;
   int32_t width, height;
-  float *rgb; /* image texels, row 0 = top of the file, scale and gamma applied */
+  float *rgb;    /* unfiltered lookups: texels, row 0 = top of the file, scale and gamma applied */
+  rs_mipmap mip; /* RS_FILTER_MIPMAP: pbrt-v3's pyramid of the same texels */
   float scale;
-  int nearest; /* 1: nearest texel, 0: bilinear */
+  rs_image_filter filter;
+  int checker_aa; /* 2D checkerboard: pbrt-v3's closed-form box filter ("aamode") */
   rs_wrap wrap;
   int octaves;
   float omega, variation; /* fbm/wrinkled/marble "roughness"; marble "variation" */
@@ -56,11 +61,21 @@ typedef struct rs_texture_set {
   int count;
 } rs_texture_set;
 
-/* Where a texture is looked up: the surface's (u, v) and world point. */
+/* Where a texture is looked up: the surface's (u, v) and world point, and their screen-space
+ * derivatives from ray differentials (pbrt-v3 SurfaceInteraction dudx ... dpdy; all 0 without
+ * differentials, which gives the unfiltered level-0 lookup). */
 typedef struct rs_tex_ctx {
   float uv[2];
   float p[3];
+  float dudx, dvdx, dudy, dvdy;
+  float dpdx[3], dpdy[3];
 } rs_tex_ctx;
+
+/* A lookup at (uv, p) without differentials. */
+static inline rs_tex_ctx rs_tex_ctx_at(const float uv[2], const float p[3]) {
+  rs_tex_ctx c = {{uv[0], uv[1]}, {p[0], p[1], p[2]}, 0, 0, 0, 0, {0, 0, 0}, {0, 0, 0}};
+  return c;
+}
 
 clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_warn_fn warn,
                              void *wu);
@@ -74,5 +89,14 @@ void rs_float_param(const clr_param_list *first, const clr_param_list *second, c
 void rs_colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx,
                     float out[3]);
 float rs_float_eval(const rs_texture_set *set, const rs_colour *c, const rs_tex_ctx *ctx);
+/* 1 for the textures that ray differentials filter: MIP-mapped imagemaps, the 2D checkerboard
+ * (closed form), and fbm, wrinkled, windy and marble (octaves dropped as pbrt-v3's FBm and
+ * Turbulence do). */
+int rs_texture_uses_differentials(const rs_texture *t);
+/* 1 when texture `index` (-1: none) or one it reads is such a texture. */
+int rs_texture_tree_uses_differentials(const rs_texture_set *set, int index);
+/* pbrt-v3 TextureMapping2D::Map of a 2D texture: st and its derivatives dstdx, dstdy. */
+void rs_texture_map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2], float dstdx[2],
+                       float dstdy[2]);
 
 #endif
