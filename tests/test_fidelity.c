@@ -489,7 +489,7 @@ static double ref_fr(double ci, double ei, double et) {
 static double ref_microfacet_f(const double wo[3], const double wi[3], double alpha) {
   double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
   double l = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
-  for (int i = 0; i < 3; ++i) h[i] /= l;
+  for (int i = 0; i < 3; ++i) h[i] /= l * (h[2] < 0 ? -1 : 1); /* Faceforward(wh, (0, 0, 1)) */
   double c2 = h[2] * h[2], t2 = (1 - c2) / c2, e = t2 / (alpha * alpha);
   double D = 1 / (PI_D * alpha * alpha * c2 * c2 * (1 + e) * (1 + e));
   double to2 = (1 - wo[2] * wo[2]) / (wo[2] * wo[2]), ti2 = (1 - wi[2] * wi[2]) / (wi[2] * wi[2]);
@@ -562,13 +562,18 @@ static void test_plastic_lobe(void **state) {
 }
 
 /* A plastic plane (Kd, Ks, roughness 0.1 remapped) under a distant light seen by an orthographic
- * camera: every pixel is (Kd/pi + Ks f_microfacet(wo, wi)) L cos(theta_i). */
+ * camera: every pixel is (Kd/pi + Ks f_microfacet(wo, wi)) L cos(theta_i), in pbrt-v3's frame
+ * whose z is the shape's normal: a plane whose normal faces away from the camera (wound the other
+ * way) sees wo and wi below its z, so FresnelDielectric(1.5, 1) swaps its etas (no total internal
+ * reflection past 41.8 degrees); the faces of a box wound inwards differed by up to 17 % before.
+ * Both the plastic fast path and the lobe list (a textured roughness). */
 static void test_plastic_plane(void **state) {
   (void)state;
   const double deg = PI_D / 180.0;
-  const double cases[][3] = {{30, 0, 30}, {40, 20, 35}, {60, 180, 20}, {10, 90, 50}};
-  for (int c = 0; c < 4; ++c) {
-    double ti = cases[c][0] * deg, phi = cases[c][1] * deg, to = cases[c][2] * deg;
+  const double cases[][3] = {{30, 0, 30}, {40, 20, 35}, {60, 180, 20}, {10, 90, 50}, {70, 180, 60}};
+  for (int c = 0; c < 20; ++c) {
+    int flipped = (c / 5) & 1, lobes = c / 10;
+    double ti = cases[c % 5][0] * deg, phi = cases[c % 5][1] * deg, to = cases[c % 5][2] * deg;
     char scene[2048];
     snprintf(
         scene, sizeof scene,
@@ -578,20 +583,24 @@ static void test_plastic_plane(void **state) {
         "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
         "Integrator \"directlighting\"\nWorldBegin\n"
         "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
-        "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] \"float "
-        "roughness\" [0.1]\n"
-        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+        "Texture \"r\" \"float\" \"constant\" \"float value\" [0.1]\n"
+        "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] %s\n"
+        "Shape \"trianglemesh\" \"integer indices\" [%s]\n"
         "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
-        10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti));
+        10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti),
+        lobes ? "\"texture roughness\" \"r\"" : "\"float roughness\" [0.1]",
+        flipped ? "0 2 1 0 3 2" : "0 1 2 0 2 3");
     clr_render_image im = render_opts(scene, NULL, NULL);
     double wo[3], wi[3];
     dir_from(to, 0.0, wo);
     dir_from(ti, phi, wi);
+    if (flipped) wo[2] = -wo[2], wi[2] = -wi[2];
     double alpha = clr_tr_roughness_to_alpha(0.1f);
     double expect = (0.3 / PI_D + 0.6 * ref_microfacet_f(wo, wi, alpha)) * 2.0 * cos(ti);
     for (int i = 0; i < im.width * im.height * 3; ++i) {
       if (fabs(im.rgb[i] - expect) > 2e-4 * expect)
-        fprintf(stderr, "case %d: got %g expect %g\n", c, (double)im.rgb[i], expect);
+        fprintf(stderr, "case %d (flipped %d, lobes %d): got %g expect %g\n", c % 5, flipped, lobes,
+                (double)im.rgb[i], expect);
       assert_true(fabs(im.rgb[i] - expect) <= 2e-4 * expect);
     }
     free(im.rgb);

@@ -401,6 +401,17 @@ static void to_local(const float ss[3], const float ts[3], const float ns[3], co
   l[2] = rs_dot(w, ns);
 }
 
+/* pbrt-v3's BSDF frame: the shading normal oriented as the shape's (isect.shading.n), not
+ * toward wo; plastic's FresnelDielectric(1.5, 1) depends on the side (cos < 0 swaps the etas). */
+static void shape_frame(const clr_surface *s, float ss[3], float ts[3], float n[3]) {
+  shading_frame(s, ss, ts);
+  int flip = rs_dot(s->ns, s->n_geom) < 0.0f;
+  for (int i = 0; i < 3; ++i) {
+    n[i] = flip ? -s->ns[i] : s->ns[i];
+    ts[i] = flip ? -ts[i] : ts[i];
+  }
+}
+
 static int plastic_components(const clr_surface *s, int *diffuse, int *glossy) {
   *diffuse = !is_black_c(s->kd);
   *glossy = !is_black_c(s->ks);
@@ -437,10 +448,10 @@ static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3],
   }
   f[0] = f[1] = f[2] = 0.0f;
   if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
-  float ss[3], ts[3], lo[3], li[3];
-  shading_frame(s, ss, ts);
-  to_local(ss, ts, s->ns, wo, lo);
-  to_local(ss, ts, s->ns, wi, li);
+  float ss[3], ts[3], n[3], lo[3], li[3];
+  shape_frame(s, ss, ts, n);
+  to_local(ss, ts, n, wo, lo);
+  to_local(ss, ts, n, wi, li);
   if (lo[2] == 0.0f) return 0;
   float g = clr_microfacet_f(lo, li, s->alpha) * fabsf(li[2]);
   for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc + s->ks[k] * g;
@@ -459,10 +470,10 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
   if (!s->plastic) return lambert_pdf(s, wo, wi);
   int d, g, n = plastic_components(s, &d, &g);
   if (!n) return 0.0f;
-  float ss[3], ts[3], lo[3], li[3];
-  shading_frame(s, ss, ts);
-  to_local(ss, ts, s->ns, wo, lo);
-  to_local(ss, ts, s->ns, wi, li);
+  float ss[3], ts[3], nf[3], lo[3], li[3];
+  shape_frame(s, ss, ts, nf);
+  to_local(ss, ts, nf, wo, lo);
+  to_local(ss, ts, nf, wi, li);
   if (lo[2] == 0.0f) return 0.0f;
   float pdf =
       (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
@@ -495,14 +506,14 @@ static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in
   int comp = (int)fminf(floorf(u_in[0] * (float)n), (float)(n - 1));
   float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
   int glossy = g && (comp == 1 || !d);
-  float ss[3], ts[3], lo[3];
-  shading_frame(s, ss, ts);
-  to_local(ss, ts, s->ns, wo, lo);
+  float ss[3], ts[3], nf[3], lo[3];
+  shape_frame(s, ss, ts, nf);
+  to_local(ss, ts, nf, wo, lo);
   if (lo[2] == 0.0f) return 0;
   if (glossy) {
     float li[3], p;
     if (!(clr_microfacet_sample(lo, u, s->alpha, li, &p) > 0.0f) || !(p > 0.0f)) return 0;
-    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + nf[i] * li[2];
   } else {
     float p;
     lambert_sample(s, wo, u, wi, &p);
