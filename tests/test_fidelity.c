@@ -561,6 +561,45 @@ static void test_plastic_lobe(void **state) {
   }
 }
 
+/* pbrt-v3's anisotropic TrowbridgeReitz D and G in double. */
+static double ref_aniso_lambda(const double w[3], double ax, double ay) {
+  double s2 = 1 - w[2] * w[2], c2p = s2 > 0 ? w[0] * w[0] / s2 : 1,
+         s2p = s2 > 0 ? w[1] * w[1] / s2 : 0;
+  return ref_lambda(s2 / (w[2] * w[2]), sqrt(c2p * ax * ax + s2p * ay * ay));
+}
+static double ref_aniso_d(const double h[3], double ax, double ay) {
+  double s2 = 1 - h[2] * h[2], c2 = h[2] * h[2];
+  double e = s2 > 0 ? (h[0] * h[0] / s2 / (ax * ax) + h[1] * h[1] / s2 / (ay * ay)) * s2 / c2 : 0;
+  return 1 / (PI_D * ax * ay * c2 * c2 * (1 + e) * (1 + e));
+}
+
+/* The one TrowbridgeReitz (microfacet.c) for the plastic/metal fast path and the lobe lists: D
+ * and G against pbrt-v3's anisotropic formulas in double, isotropic (its shorter expression) and
+ * anisotropic, and continuous across ax == ay. */
+static void test_trowbridge_reitz(void **state) {
+  (void)state;
+  const float alphas[][2] = {{0.1f, 0.1f}, {0.3f, 0.3f}, {0.1f, 0.4f}, {0.5f, 0.2f}};
+  for (int a = 0; a < 4; ++a)
+    for (int t = 0; t < 6; ++t) {
+      double dh[3], dwo[3], dwi[3];
+      dir_from((5.0 + 12.0 * t) * PI_D / 180.0, 0.4 + t, dh);
+      dir_from((15.0 + 10.0 * t) * PI_D / 180.0, 2.0 - t, dwo);
+      dir_from((60.0 - 8.0 * t) * PI_D / 180.0, 1.0 + 2.0 * t, dwi);
+      float h[3], wo[3], wi[3], ax = alphas[a][0], ay = alphas[a][1];
+      for (int k = 0; k < 3; ++k) h[k] = (float)dh[k], wo[k] = (float)dwo[k], wi[k] = (float)dwi[k];
+      double d = ref_aniso_d(dh, ax, ay);
+      double g = 1 / (1 + ref_aniso_lambda(dwo, ax, ay) + ref_aniso_lambda(dwi, ax, ay));
+      assert_true(fabs(clr_tr_d(h, ax, ay) - d) <= 1e-5 * d);
+      assert_true(fabs(clr_tr_g(wo, wi, ax, ay) - g) <= 1e-5 * g);
+      float ay1 = nextafterf(ax, 1.0f); /* the anisotropic expression next to the isotropic one */
+      if (ax == ay) {
+        assert_true(fabsf(clr_tr_d(h, ax, ay1) - clr_tr_d(h, ax, ax)) <= 1e-5f * (float)d);
+        assert_true(fabsf(clr_tr_g(wo, wi, ax, ay1) - clr_tr_g(wo, wi, ax, ax)) <=
+                    1e-5f * (float)g);
+      }
+    }
+}
+
 /* A plastic plane (Kd, Ks, roughness 0.1 remapped) under a distant light seen by an orthographic
  * camera: every pixel is (Kd/pi + Ks f_microfacet(wo, wi)) L cos(theta_i), in pbrt-v3's frame
  * whose z is the shape's normal: a plane whose normal faces away from the camera (wound the other
@@ -1182,6 +1221,7 @@ int main(void) {
       cmocka_unit_test(test_mirror_reflects_lit_plane),
       cmocka_unit_test(test_mirror_path_sees_emitter),
       cmocka_unit_test(test_plastic_lobe),
+      cmocka_unit_test(test_trowbridge_reitz),
       cmocka_unit_test(test_plastic_plane),
       cmocka_unit_test(test_plastic_sky_albedo),
       cmocka_unit_test(test_disk_shape),
