@@ -568,8 +568,8 @@ static void test_camera_motion_blur(void **state) {
 
 /* Moving shape motion blur: a black shape covering world x < 0 at the start (a quad; a sphere
  * and a disk of radius 100 centred at x = -100, whose edges are within 3e-4 of x = 0 on the
- * film) is translated 0.5 along x at the end (ActiveTransform EndTime, TransformTimes 0 1,
- * shutter 0 1) in front of a constant sky (L = 1). A pixel at camera x = c (world x = -c) sees
+ * film; the quad as an ObjectInstance) is translated 0.5 along x at the end (ActiveTransform
+ * EndTime, TransformTimes 0 1, shutter 0 1) in front of a constant sky (L = 1). A pixel at camera x = c (world x = -c) sees
  * the sky while -c > 0.5 t: for a fraction clamp(-2 c, 0, 1) of the shutter (Halton time
  * samples, 64 spp: within 0.03), as pbrt-v3's TransformedPrimitive with an AnimatedTransform. */
 static void test_moving_shape_motion_blur(void **state) {
@@ -578,8 +578,8 @@ static void test_moving_shape_motion_blur(void **state) {
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 0  0 -10 0  "
       "0 10 0  -10 10 0]",
       "Translate -100 0 -200\nShape \"sphere\" \"float radius\" [100]",
-      "Translate -100 0 0\nShape \"disk\" \"float radius\" [100]"};
-  for (int k = 0; k < 3; ++k) {
+      "Translate -100 0 0\nShape \"disk\" \"float radius\" [100]", "ObjectInstance \"quad\""};
+  for (int k = 0; k < 4; ++k) {
     char scene[2048];
     snprintf(scene, sizeof scene,
              "LookAt 0 0 5  0 0 0  0 1 0\n"
@@ -590,9 +590,10 @@ static void test_moving_shape_motion_blur(void **state) {
              "\"true\"\n"
              "Integrator \"directlighting\"\nTransformTimes 0 1\nWorldBegin\n"
              "LightSource \"infinite\" \"rgb L\" [1 1 1]\n"
+             "ObjectBegin \"quad\"\nMaterial \"matte\" \"rgb Kd\" [0 0 0]\n%s\nObjectEnd\n"
              "AttributeBegin\nActiveTransform EndTime\nTranslate 0.5 0 0\nActiveTransform All\n"
              "Material \"matte\" \"rgb Kd\" [0 0 0]\n%s\nAttributeEnd\nWorldEnd\n",
-             shapes[k]);
+             shapes[0], shapes[k]);
     clr_scene_desc *desc = parse(scene);
     clr_render_options o;
     clr_render_options_init(&o);
@@ -659,32 +660,39 @@ static void keep_warning(void *user, const char *message) {
   snprintf(last, 512, "%s", message);
 }
 
-/* A moving mesh whose transform shears or mirrors cannot be interpolated by Embree's quaternion
- * instances as pbrt-v3's AnimatedTransform: one warning naming the shape, start transform. A
- * translating, turning and growing mesh is accepted silently. */
+/* A moving mesh or ObjectInstance whose transform shears or mirrors cannot be interpolated by
+ * Embree's quaternion instances as pbrt-v3's AnimatedTransform: an error naming file:line, the
+ * shape or instance and the shear or mirror. A translating, turning and growing mesh or instance
+ * is accepted silently. */
 static void test_moving_shape_limits(void **state) {
   (void)state;
   static const char *const motions[] = {"Translate 1 0 0  Rotate 30 0 1 0  Scale 2 2 2",
                                         "Rotate 30 0 0 1  Scale 2 1 1  Rotate -30 0 0 1",
                                         "Scale -1 1 1"};
-  static const char *const want[] = {NULL, "shears", "mirrors"};
-  for (int k = 0; k < 3; ++k) {
+  static const char *const mesh =
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [0 0 0 1 0 0 0 1 0]";
+  for (int k = 0; k < 6; ++k) {
+    int instance = k >= 3;
     char scene[1024];
     snprintf(scene, sizeof scene,
              "TransformTimes 0 1\nCamera \"orthographic\"\nWorldBegin\n"
-             "ActiveTransform EndTime\n%s\nActiveTransform All\n"
-             "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [0 0 0 1 0 0 0 1 0]\n"
-             "WorldEnd\n",
-             motions[k]);
+             "ObjectBegin \"o\"\n%s\nObjectEnd\n"
+             "ActiveTransform EndTime\n%s\nActiveTransform All\n%s\nWorldEnd\n",
+             mesh, motions[k % 3], instance ? "ObjectInstance \"o\"" : mesh);
     clr_scene_desc *desc = parse(scene);
     char last[512] = "";
     clr_render_scene *rs = NULL;
-    assert_int_equal(clr_render_scene_build(desc, keep_warning, last, &rs), CLR_SUCCESS);
-    if (want[k]) {
-      assert_non_null(strstr(last, want[k]));
-      assert_non_null(strstr(last, "materials.pbrt:7: moving Shape \"trianglemesh\""));
+    clr_result r = clr_render_scene_build(desc, keep_warning, last, &rs);
+    assert_string_equal(last, "");
+    if (k % 3) {
+      assert_int_equal(r, CLR_ERROR_SCENE);
+      const char *m = clr_last_error_message();
+      assert_non_null(strstr(m, "shears (the scale part is not diagonal) or mirrors"));
+      assert_non_null(strstr(m, instance ? "materials.pbrt:10: moving ObjectInstance"
+                                         : "materials.pbrt:10: moving Shape \"trianglemesh\""));
+      assert_null(rs);
     } else {
-      assert_string_equal(last, "");
+      assert_int_equal(r, CLR_SUCCESS);
     }
     clr_render_scene_free(rs);
     clr_scene_desc_free(desc);
