@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 #include "clrender.h"
+#include "integrator.h"
 #include "microfacet.h"
 #include "renderer.h"
 #include "scene_parser.h"
@@ -598,6 +599,38 @@ static void test_trowbridge_reitz(void **state) {
                     1e-5f * (float)g);
       }
     }
+}
+
+/* The path tracer takes pbrt-v3's PathIntegrator dimensions: after the camera's 5, a light
+ * choice, light 2D, scattering 2D and BSDF 2D at every bounce and Russian roulette's 1D only past
+ * bounce 3, so that a Halton render follows pbrt-v3's paths sample for sample (v3_shapes at 1 spp:
+ * 10 of 6144 pixels differ, against 2548 with a roulette value at every bounce). */
+static void test_path_sample_layout(void **state) {
+  (void)state;
+  const int depths[] = {0, 3, 4, 5, 8};
+  for (int k = 0; k < 5; ++k) {
+    char scene[512];
+    snprintf(scene, sizeof scene,
+             "Camera \"perspective\"\nIntegrator \"path\" \"integer maxdepth\" [%d]\n"
+             "WorldBegin\nLightSource \"point\"\nShape \"sphere\"\nWorldEnd\n",
+             depths[k]);
+    clr_scene_desc *desc = NULL;
+    clr_parse_options po;
+    clr_parse_options_init(&po);
+    assert_int_equal(clr_scene_parse_string(scene, "layout.pbrt", &po, &desc), CLR_SUCCESS);
+    clr_render_scene *rs = NULL;
+    assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &rs), CLR_SUCCESS);
+    clr_integrator it;
+    assert_int_equal(clr_integrator_create(desc, rs, NULL, NULL, &it), CLR_SUCCESS);
+    int d = depths[k], expect = 5; /* bounces 0..maxdepth are laid out */
+    for (int b = 0; b <= d; ++b) expect += b > 3 ? 8 : 7;
+    assert_int_equal(it.value_offset, 5);
+    assert_int_equal(it.values_per_sample, expect);
+    assert_int_equal(it.path_bounces_in_layout, d + 1);
+    clr_integrator_free(&it);
+    clr_render_scene_free(rs);
+    clr_scene_desc_free(desc);
+  }
 }
 
 /* A plastic plane (Kd, Ks, roughness 0.1 remapped) under a distant light seen by an orthographic
@@ -1222,6 +1255,7 @@ int main(void) {
       cmocka_unit_test(test_mirror_path_sees_emitter),
       cmocka_unit_test(test_plastic_lobe),
       cmocka_unit_test(test_trowbridge_reitz),
+      cmocka_unit_test(test_path_sample_layout),
       cmocka_unit_test(test_plastic_plane),
       cmocka_unit_test(test_plastic_sky_albedo),
       cmocka_unit_test(test_disk_shape),

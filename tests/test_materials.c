@@ -364,7 +364,7 @@ static double render_mean(const char *scene) {
  * scatters all the energy: translucent (Lambertian reflection 0.5 + transmission 0.5), uber
  * with opacity 0.5 (a straight-through specular transmission + Lambertian 0.5), a mix of the
  * two with a float texture amount, and a mix with a white matte. Path tracer, both integrators'
- * specular paths. */
+ * specular paths; 256 spp (at 32 spp the mix's mean moved by 1.2 % with the sample layout). */
 static void test_material_furnaces(void **state) {
   (void)state;
   const char *materials[] = {
@@ -389,7 +389,7 @@ static void test_material_furnaces(void **state) {
     snprintf(scene, sizeof scene,
              "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [-0.7 0.7 "
              "-0.7 0.7]\nFilm \"image\" \"integer xresolution\" [8] \"integer yresolution\" [8]\n"
-             "Sampler \"halton\" \"integer pixelsamples\" [32]\n"
+             "Sampler \"halton\" \"integer pixelsamples\" [256]\n"
              "Integrator \"path\" \"integer maxdepth\" [100]\nWorldBegin\n"
              "LightSource \"infinite\" \"rgb L\" [1 1 1]\n%s\n"
              "Shape \"sphere\" \"float radius\" [1]\nWorldEnd\n",

@@ -138,7 +138,7 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
     int before = it->request_count;
     int32_t values = it->values_per_sample;
     if (add_request(it, 1, 0) < 0 || add_request(it, 2, 0) < 0 || add_request(it, 2, 0) < 0 ||
-        add_request(it, 2, 0) < 0 || add_request(it, 1, 0) < 0) {
+        add_request(it, 2, 0) < 0 || (b > 3 && add_request(it, 1, 0) < 0)) {
       it->request_count = before;
       it->values_per_sample = values;
       break;
@@ -336,6 +336,17 @@ static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
   rs_cross(s->ns, ss, ts);
 }
 
+/* pbrt-v3's BSDF frame: the shading normal oriented as the shape's (isect.shading.n), not
+ * toward wo; plastic's FresnelDielectric(1.5, 1) depends on the side (cos < 0 swaps the etas). */
+static void shape_frame(const clr_surface *s, float ss[3], float ts[3], float n[3]) {
+  shading_frame(s, ss, ts);
+  int flip = rs_dot(s->ns, s->n_geom) < 0.0f;
+  for (int i = 0; i < 3; ++i) {
+    n[i] = flip ? -s->ns[i] : s->ns[i];
+    ts[i] = flip ? -ts[i] : ts[i];
+  }
+}
+
 /* pbrt-v3 OrenNayar::f / R * pi: A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta), in the
  * shading frame (1 for a Lambertian surface). */
 static float oren_nayar_factor(const clr_surface *s, const float wo[3], const float wi[3]) {
@@ -382,10 +393,11 @@ static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi
 static float lambert_sample(const clr_surface *s, const float wo[3], const float u_in[2],
                             float wi[3], float *pdf) {
   float u[2] = {fminf(u_in[0], ONE_MINUS_EPSILON), u_in[1]}, l[3], ss[3], ts[3];
+  float n[3];
   cosine_hemisphere(u, l);
-  if (rs_dot(wo, s->ns) < 0.0f) l[2] = -l[2];
-  shading_frame(s, ss, ts);
-  for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + s->ns[i] * l[2];
+  shape_frame(s, ss, ts, n); /* pbrt-v3's frame: the same directions for the same samples */
+  if (rs_dot(wo, n) < 0.0f) l[2] = -l[2];
+  for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + n[i] * l[2];
   *pdf = fabsf(l[2]) * RS_INV_PI;
   return lambert_cos(s, wo, wi);
 }
@@ -399,17 +411,6 @@ static void to_local(const float ss[3], const float ts[3], const float ns[3], co
   l[0] = rs_dot(w, ss);
   l[1] = rs_dot(w, ts);
   l[2] = rs_dot(w, ns);
-}
-
-/* pbrt-v3's BSDF frame: the shading normal oriented as the shape's (isect.shading.n), not
- * toward wo; plastic's FresnelDielectric(1.5, 1) depends on the side (cos < 0 swaps the etas). */
-static void shape_frame(const clr_surface *s, float ss[3], float ts[3], float n[3]) {
-  shading_frame(s, ss, ts);
-  int flip = rs_dot(s->ns, s->n_geom) < 0.0f;
-  for (int i = 0; i < 3; ++i) {
-    n[i] = flip ? -s->ns[i] : s->ns[i];
-    ts[i] = flip ? -ts[i] : ts[i];
-  }
 }
 
 static int plastic_components(const clr_surface *s, int *diffuse, int *glossy) {
@@ -487,12 +488,12 @@ static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in
   if (s->general)
     return clr_bsdf_sample(&s->bsdf, wo, u_in, CLR_BXDF_NON_SPECULAR, wi, pdf, f, &flags);
   if (s->metal) {
-    float ss[3], ts[3], lo[3], li[3];
+    float ss[3], ts[3], n[3], lo[3], li[3];
     *pdf = 0.0f;
-    shading_frame(s, ss, ts);
-    to_local(ss, ts, s->ns, wo, lo);
+    shape_frame(s, ss, ts, n);
+    to_local(ss, ts, n, wo, lo);
     if (!clr_microfacet_sample_wi(lo, u_in, s->alpha, li, pdf)) return 0;
-    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + n[i] * li[2];
     return bsdf_eval(s, wo, wi, f) && *pdf > 0.0f;
   }
   if (!s->plastic) {
@@ -956,9 +957,12 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
   return r;
 }
 
+/* Value k of a bounce: light choice, light 2D, scattering 2D, BSDF 2D, then Russian roulette's,
+ * which pbrt-v3's PathIntegrator draws only past bounce 3 (7 values a bounce until then). */
 static float path_value(const clr_integrator *it, const float *v, uint64_t key, int bounce, int k) {
   if (bounce < it->path_bounces_in_layout)
-    return v[it->value_offset + bounce * CLR_PATH_VALUES_PER_BOUNCE + k];
+    return v[it->value_offset + bounce * (CLR_PATH_VALUES_PER_BOUNCE - 1) +
+             (bounce > 4 ? bounce - 4 : 0) + k];
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
 }
 
