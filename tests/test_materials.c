@@ -699,6 +699,37 @@ static void test_moving_shape_limits(void **state) {
   }
 }
 
+/* The world bounds (infinite and distant lights' radius, the spatial light grid) cover the whole
+ * motion as pbrt-v3's MotionBounds: a sphere of radius 0.1 (object box +-0.1) at x = 1 turning
+ * 180 degrees about z moves its centre along x (pbrt-v3 lerps the translation) while its box
+ * turns, so at 45 degrees a corner reaches y = 0.1 sqrt 2, past the start and end boxes' 0.1;
+ * as a shape and as an ObjectInstance. */
+static void test_moving_world_bounds(void **state) {
+  (void)state;
+  for (int k = 0; k < 2; ++k) {
+    char scene[1024];
+    snprintf(scene, sizeof scene,
+             "TransformTimes 0 1\nCamera \"orthographic\"\nWorldBegin\n"
+             "ObjectBegin \"o\"\nShape \"sphere\" \"float radius\" [0.1]\nObjectEnd\n"
+             "ActiveTransform EndTime\nRotate 180 0 0 1\nActiveTransform All\nTranslate 1 0 0\n"
+             "%s\nWorldEnd\n",
+             k ? "ObjectInstance \"o\"" : "Shape \"sphere\" \"float radius\" [0.1]");
+    clr_scene_desc *desc = parse(scene);
+    clr_render_scene *rs = NULL;
+    assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &rs), CLR_SUCCESS);
+    float lo[3], hi[3];
+    clr_render_scene_world_bounds(rs, lo, hi);
+    fprintf(stderr, "moving bounds %d: x %g..%g, y %g..%g\n", k, (double)lo[0], (double)hi[0],
+            (double)lo[1], (double)hi[1]);
+    assert_float_equal(hi[1], 0.1 * sqrt(2.0), 1e-5);
+    assert_float_equal(lo[1], -0.1 * sqrt(2.0), 1e-5);
+    assert_float_equal(hi[0], 1.1, 1e-5);
+    assert_float_equal(lo[0], -1.1, 1e-5);
+    clr_render_scene_free(rs);
+    clr_scene_desc_free(desc);
+  }
+}
+
 /* Projection and goniometric lights (I = 2) at the origin with a 1x1 PNG map (byte 128: pbrt-v3
  * reads 128 / 255 as linear) over a white matte plane at z = 1: radiance 2 v / (pi d^3) at
  * distance d; the projection (fov 60) lights only |x|, |y| < tan 30 degrees. */
@@ -757,6 +788,7 @@ int main(void) {
       cmocka_unit_test(test_moving_shape_motion_blur),
       cmocka_unit_test(test_moving_shadow_keeps_time),
       cmocka_unit_test(test_moving_shape_limits),
+      cmocka_unit_test(test_moving_world_bounds),
       cmocka_unit_test(test_pattern_lights),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -545,19 +545,41 @@ static clr_result build_instances(clr_render_scene *s, const clr_scene_desc *d,
   return CLR_SUCCESS;
 }
 
+#define MOTION_BOUND_STEPS 64
+
+/* Grows lo..hi by box a..b moving from `start` to `end` over TransformTimes: its corners at 65
+ * times of pbrt-v3's interpolation (pbrt-v3's MotionBounds solves for each corner's extremes;
+ * a turn of angle A misses at most 1 - cos(A / 128) of its radius). */
+static void grow_motion_bounds(clr_render_scene *s, const clr_scene_desc *d,
+                               const clr_transform *start, const clr_transform *end,
+                               const float a[3], const float b[3], float lo[3], float hi[3]) {
+  rs_animated_transform at;
+  int steps = memcmp(&start->m, &end->m, sizeof start->m) ? MOTION_BOUND_STEPS : 0;
+  if (steps)
+    rs_animated_transform_init(&at, start, end, d->transform_start_time, d->transform_end_time);
+  for (int k = 0; k <= steps; ++k) {
+    float f = steps ? (float)k / (float)steps : 0.0f, m[3], w[3];
+    clr_transform x = *start;
+    if (steps) rs_animated_transform_at(&at, (1.0f - f) * at.start_time + f * at.end_time, &x);
+    for (int c = 0; c < 8; ++c) {
+      m[0] = (c & 1) ? b[0] : a[0];
+      m[1] = (c & 2) ? b[1] : a[1];
+      m[2] = (c & 4) ? b[2] : a[2];
+      clr_transform_point(&x, m, w);
+      grow_bounds(s, lo, hi, w);
+    }
+  }
+}
+
 static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
   float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int k = 0; k < s->shape_count; ++k) {
     float a[3], b[3];
     shape_bounds(&s->shapes[k], a, b);
     if (!(a[0] <= b[0])) continue;
-    if (s->shapes[k].moving) { /* start and end placements (a turn may sweep past them) */
-      for (int c = 0; c < 16; ++c) {
-        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
-        clr_transform_point(
-            c & 8 ? &s->shapes[k].object_to_world_end : &s->shapes[k].object_to_world, q, w);
-        grow_bounds(s, lo, hi, w);
-      }
+    if (s->shapes[k].moving) {
+      grow_motion_bounds(s, d, &s->shapes[k].object_to_world, &s->shapes[k].object_to_world_end, a,
+                         b, lo, hi);
       continue;
     }
     if (!s->shapes[k].in_object) {
@@ -566,11 +588,7 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
       continue;
     }
     for (int i = 0; i < d->instance_count; ++i)
-      for (int c = 0; c < (s->instances[i].moving ? 16 : 8); ++c) {
-        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
-        clr_transform_point(c & 8 ? &s->instances[i].end : &s->instances[i].start, q, w);
-        grow_bounds(s, lo, hi, w);
-      }
+      grow_motion_bounds(s, d, &s->instances[i].start, &s->instances[i].end, a, b, lo, hi);
   }
   if (!(lo[0] <= hi[0])) {
     lo[0] = lo[1] = lo[2] = 0;
