@@ -14,6 +14,7 @@
 #include "clrender/film.h"
 #include "clrender/kernels.h"
 #include "adaptive.h"
+#include "camera_sample.h"
 #include "distributed.h"
 #include "integrator.h"
 #include "pfm_output.h"
@@ -306,10 +307,11 @@ typedef struct render_job {
   const clr_render_scene *scene;
   const clr_integrator *integrator;
   clr_film film;
-  int spp;          /* samples per pixel of this pass */
-  int first_sample; /* the pass's first sample index */
-  int host_samples; /* options->reference_samples: host reference generator (comparison) */
-  int cancelled;    /* the progress callback asked to stop */
+  int spp;                  /* samples per pixel of this pass */
+  int first_sample;         /* the pass's first sample index */
+  int host_samples;         /* options->reference_samples: host reference generator (comparison) */
+  clr_camera_layout camera; /* pbrt-v3's or pbrt-v4's camera sample (camera_sample.h) */
+  int cancelled;            /* the progress callback asked to stop */
   uint32_t seed;
   clr_bounds2i region;          /* the sample pixels rendered (render_region) */
   clr_dist *dist;               /* MPI ranks sharing the frame, or NULL */
@@ -353,10 +355,12 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
   int spp = job->spp;
   for (int k = 0, px = px0, s = s0; k < n; ++k) {
     const float *v = values + (size_t)k * (size_t)it->values_per_sample;
-    fs[k].x = (float)px + v[0];
-    fs[k].y = (float)py + v[1];
-    b->weights[k] =
-        clr_render_scene_camera_ray(job->scene, fs[k].x, fs[k].y, v[2], v[3], v[4], &b->rays[k]);
+    clr_camera_sample cs;
+    clr_camera_sample_from_values(&job->camera, v + it->camera_offset, px, py, &cs);
+    fs[k].x = cs.pixel_x;
+    fs[k].y = cs.pixel_y;
+    b->weights[k] = clr_render_scene_camera_ray(job->scene, cs.film_x, cs.film_y, cs.time,
+                                                cs.lens_u, cs.lens_v, &b->rays[k]);
     b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
     if (++s == spp) {
       s = 0;
@@ -959,6 +963,7 @@ typedef struct scene_build_job {
   clr_warn_fn warn;
   void *wu;
   clr_sampler_type sampler_type;
+  int pbrt_v4;             /* pbrt-v4's camera layout (clr_integrator_create_layout) */
   clr_render_scene *scene; /* NULL unless both were made */
   clr_integrator integ;
   double seconds;
@@ -969,7 +974,8 @@ static clr_result build_scene(void *user) {
   double t0 = now_seconds();
   clr_render_scene *scene = NULL;
   CLR_CHECK(clr_render_scene_build(b->d, b->warn, b->wu, &scene));
-  clr_result r = clr_integrator_create_for(b->d, scene, b->sampler_type, b->warn, b->wu, &b->integ);
+  clr_result r = clr_integrator_create_layout(b->d, scene, b->sampler_type, b->pbrt_v4, b->warn,
+                                              b->wu, &b->integ);
   if (r != CLR_SUCCESS) {
     clr_render_scene_free(scene);
     return r;
@@ -1038,12 +1044,19 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   memcpy(sdesc.film.crop_window, settings.crop_window, sizeof sdesc.film.crop_window);
   sdesc.film.filter_radius[0] = fdesc.radius[0];
   sdesc.film.filter_radius[1] = fdesc.radius[1];
+  clr_camera_layout camera;
+  clr_camera_layout_init(&camera, &sdesc, &fdesc);
+  if (camera.filter_sampled) { /* pbrt-v4: each sample to its own pixel, the pixel bounds sampled */
+    clr_filter_desc_init(&fd.filter, CLR_FILTER_BOX);
+    sdesc.film.filter_radius[0] = sdesc.film.filter_radius[1] = fd.filter.radius[0];
+  }
   scene_build_job build;
   memset(&build, 0, sizeof build);
   build.d = d;
   build.warn = warn;
   build.wu = wu;
   build.sampler_type = sdesc.type;
+  build.pbrt_v4 = camera.pbrt_v4;
   clr_device_setup device;
   double t0 = now_seconds();
   r = clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene, &build);
@@ -1077,6 +1090,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.spp = clr_sampler_spp(sampler);
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0;
+    job.camera = camera;
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
     st->spp = st->spp_target = job.spp;

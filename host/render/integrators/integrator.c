@@ -69,9 +69,17 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
 clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_render_scene *scene,
                                      clr_sampler_type sampler, clr_warn_fn warn, void *wu,
                                      clr_integrator *it) {
+  return clr_integrator_create_layout(desc, scene, sampler, 0, warn, wu, it);
+}
+
+clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_render_scene *scene,
+                                        clr_sampler_type sampler, int pbrt_v4_camera,
+                                        clr_warn_fn warn, void *wu, clr_integrator *it) {
   memset(it, 0, sizeof *it);
   const clr_param_list *p = &desc->integrator.params;
   const char *type = desc->integrator.type ? desc->integrator.type : "path";
+  if (pbrt_v4_camera) add_request(it, 1, 0); /* pbrt-v4's wavelength sample */
+  it->camera_offset = it->values_per_sample;
   /* camera: film offset, time, lens */
   add_request(it, 2, 0);
   add_request(it, 1, 0);
@@ -91,10 +99,10 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
       warn(wu, m);
     }
     it->ao_samples = rounded;
-    if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2)
+    if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - it->value_offset) / 2)
       return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d",
                                 p->file, p->line, it->ao_samples,
-                                (CLR_MAX_VALUES_PER_SAMPLE - 5) / 2);
+                                (CLR_MAX_VALUES_PER_SAMPLE - it->value_offset) / 2);
     add_request(it, 2, it->ao_samples);
     return CLR_SUCCESS;
   }

@@ -25,7 +25,8 @@ typedef struct clr_integrator {
   struct clr_light_distribution *light_spatial; /* "spatial" (pbrt-v3's default), or NULL */
   int *light_samples;                           /* directlighting "all": pbrt nsamples per light */
   int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
-  int value_offset;   /* first integrator value (after the camera's 5) */
+  int camera_offset;  /* the camera's film offset: 0, or 1 after pbrt-v4's wavelength Get1D */
+  int value_offset;   /* first integrator value (after the camera's 5 or 6) */
   int path_bounces_in_layout;
   clr_sample_request requests[CLR_MAX_REQUESTS];
   int32_t request_count;
@@ -41,6 +42,11 @@ clr_result clr_integrator_create(const clr_scene_desc *desc, const clr_render_sc
 clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_render_scene *scene,
                                      clr_sampler_type sampler, clr_warn_fn warn, void *warn_user,
                                      clr_integrator *out);
+/* The same with pbrt-v4's camera layout when pbrt_v4_camera: a 1D value (pbrt-v4's wavelength
+ * sample, unused by these RGB integrators) before the film offset, time and lens. */
+clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_render_scene *scene,
+                                        clr_sampler_type sampler, int pbrt_v4_camera,
+                                        clr_warn_fn warn, void *warn_user, clr_integrator *out);
 void clr_integrator_free(clr_integrator *integrator);
 
 typedef struct clr_integrator_counters {

@@ -1,0 +1,54 @@
+#include "camera_sample.h"
+#include <math.h>
+
+#define ONE_MINUS_EPSILON 0x1.fffffep-1f
+
+int clr_camera_sample_is_pbrt_v4(const clr_sampler_desc *sd) {
+  return sd->seeding == CLR_SEEDING_PBRT_V4 || sd->type >= CLR_SAMPLER_INDEPENDENT;
+}
+
+void clr_camera_layout_init(clr_camera_layout *l, const clr_sampler_desc *sd,
+                            const clr_filter_desc *fd) {
+  l->pbrt_v4 = clr_camera_sample_is_pbrt_v4(sd);
+  l->filter_sampled = l->pbrt_v4 && (fd->type == CLR_FILTER_BOX || fd->type == CLR_FILTER_TRIANGLE);
+  l->filter = l->filter_sampled ? fd->type : CLR_FILTER_BOX;
+  l->radius[0] = l->filter_sampled ? fd->radius[0] : 0.5f;
+  l->radius[1] = l->filter_sampled ? fd->radius[1] : 0.5f;
+}
+
+/* pbrt-v4's Lerp, (1 - t) a + t b (the build never contracts it into an FMA) */
+static float lerp_v4(float t, float a, float b) { return (1.0f - t) * a + t * b; }
+
+/* pbrt-v4's SampleLinear(u, a, b) for (0, 1) and (1, 0) */
+static float sample_linear(float u, float a, float b) {
+  if (u == 0.0f && a == 0.0f) return 0.0f;
+  float x = u * (a + b) / (a + sqrtf(lerp_v4(u, a * a, b * b)));
+  return fminf(x, ONE_MINUS_EPSILON);
+}
+
+/* pbrt-v4's SampleTent: SampleDiscrete({0.5, 0.5}) picks a side and remaps u */
+static float sample_tent(float u, float r) {
+  float up = u == 1.0f ? ONE_MINUS_EPSILON : u; /* u * (0.5 + 0.5), NextFloatDown at the sum */
+  if (!(up >= 0.5f)) return -r + r * sample_linear(fminf(up / 0.5f, ONE_MINUS_EPSILON), 0, 1);
+  return r * sample_linear(fminf((up - 0.5f) / 0.5f, ONE_MINUS_EPSILON), 1, 0);
+}
+
+static float filter_offset(const clr_camera_layout *l, float u, float r) {
+  return l->filter == CLR_FILTER_TRIANGLE ? sample_tent(u, r) : lerp_v4(u, -r, r);
+}
+
+void clr_camera_sample_from_values(const clr_camera_layout *l, const float *v, int px, int py,
+                                   clr_camera_sample *cs) {
+  if (l->pbrt_v4) { /* pPixel + fs.p + Vector2f(0.5f, 0.5f) */
+    cs->film_x = ((float)px + filter_offset(l, v[0], l->radius[0])) + 0.5f;
+    cs->film_y = ((float)py + filter_offset(l, v[1], l->radius[1])) + 0.5f;
+  } else {
+    cs->film_x = (float)px + v[0];
+    cs->film_y = (float)py + v[1];
+  }
+  cs->pixel_x = l->filter_sampled ? (float)px + 0.5f : cs->film_x;
+  cs->pixel_y = l->filter_sampled ? (float)py + 0.5f : cs->film_y;
+  cs->time = v[2];
+  cs->lens_u = v[3];
+  cs->lens_v = v[4];
+}
