@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 #include "clrender.h"
+#include "integrator.h"
 #include "microfacet.h"
 #include "renderer.h"
 #include "scene_parser.h"
@@ -489,7 +490,7 @@ static double ref_fr(double ci, double ei, double et) {
 static double ref_microfacet_f(const double wo[3], const double wi[3], double alpha) {
   double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
   double l = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
-  for (int i = 0; i < 3; ++i) h[i] /= l;
+  for (int i = 0; i < 3; ++i) h[i] /= l * (h[2] < 0 ? -1 : 1); /* Faceforward(wh, (0, 0, 1)) */
   double c2 = h[2] * h[2], t2 = (1 - c2) / c2, e = t2 / (alpha * alpha);
   double D = 1 / (PI_D * alpha * alpha * c2 * c2 * (1 + e) * (1 + e));
   double to2 = (1 - wo[2] * wo[2]) / (wo[2] * wo[2]), ti2 = (1 - wi[2] * wi[2]) / (wi[2] * wi[2]);
@@ -561,14 +562,90 @@ static void test_plastic_lobe(void **state) {
   }
 }
 
+/* pbrt-v3's anisotropic TrowbridgeReitz D and G in double. */
+static double ref_aniso_lambda(const double w[3], double ax, double ay) {
+  double s2 = 1 - w[2] * w[2], c2p = s2 > 0 ? w[0] * w[0] / s2 : 1,
+         s2p = s2 > 0 ? w[1] * w[1] / s2 : 0;
+  return ref_lambda(s2 / (w[2] * w[2]), sqrt(c2p * ax * ax + s2p * ay * ay));
+}
+static double ref_aniso_d(const double h[3], double ax, double ay) {
+  double s2 = 1 - h[2] * h[2], c2 = h[2] * h[2];
+  double e = s2 > 0 ? (h[0] * h[0] / s2 / (ax * ax) + h[1] * h[1] / s2 / (ay * ay)) * s2 / c2 : 0;
+  return 1 / (PI_D * ax * ay * c2 * c2 * (1 + e) * (1 + e));
+}
+
+/* The one TrowbridgeReitz (microfacet.c) for the plastic/metal fast path and the lobe lists: D
+ * and G against pbrt-v3's anisotropic formulas in double, isotropic (its shorter expression) and
+ * anisotropic, and continuous across ax == ay. */
+static void test_trowbridge_reitz(void **state) {
+  (void)state;
+  const float alphas[][2] = {{0.1f, 0.1f}, {0.3f, 0.3f}, {0.1f, 0.4f}, {0.5f, 0.2f}};
+  for (int a = 0; a < 4; ++a)
+    for (int t = 0; t < 6; ++t) {
+      double dh[3], dwo[3], dwi[3];
+      dir_from((5.0 + 12.0 * t) * PI_D / 180.0, 0.4 + t, dh);
+      dir_from((15.0 + 10.0 * t) * PI_D / 180.0, 2.0 - t, dwo);
+      dir_from((60.0 - 8.0 * t) * PI_D / 180.0, 1.0 + 2.0 * t, dwi);
+      float h[3], wo[3], wi[3], ax = alphas[a][0], ay = alphas[a][1];
+      for (int k = 0; k < 3; ++k) h[k] = (float)dh[k], wo[k] = (float)dwo[k], wi[k] = (float)dwi[k];
+      double d = ref_aniso_d(dh, ax, ay);
+      double g = 1 / (1 + ref_aniso_lambda(dwo, ax, ay) + ref_aniso_lambda(dwi, ax, ay));
+      assert_true(fabs(clr_tr_d(h, ax, ay) - d) <= 1e-5 * d);
+      assert_true(fabs(clr_tr_g(wo, wi, ax, ay) - g) <= 1e-5 * g);
+      float ay1 = nextafterf(ax, 1.0f); /* the anisotropic expression next to the isotropic one */
+      if (ax == ay) {
+        assert_true(fabsf(clr_tr_d(h, ax, ay1) - clr_tr_d(h, ax, ax)) <= 1e-5f * (float)d);
+        assert_true(fabsf(clr_tr_g(wo, wi, ax, ay1) - clr_tr_g(wo, wi, ax, ax)) <=
+                    1e-5f * (float)g);
+      }
+    }
+}
+
+/* The path tracer takes pbrt-v3's PathIntegrator dimensions: after the camera's 5, a light
+ * choice, light 2D, scattering 2D and BSDF 2D at every bounce and Russian roulette's 1D only past
+ * bounce 3, so that a Halton render follows pbrt-v3's paths sample for sample (v3_shapes at 1 spp:
+ * 10 of 6144 pixels differ, against 2548 with a roulette value at every bounce). */
+static void test_path_sample_layout(void **state) {
+  (void)state;
+  const int depths[] = {0, 3, 4, 5, 8};
+  for (int k = 0; k < 5; ++k) {
+    char scene[512];
+    snprintf(scene, sizeof scene,
+             "Camera \"perspective\"\nIntegrator \"path\" \"integer maxdepth\" [%d]\n"
+             "WorldBegin\nLightSource \"point\"\nShape \"sphere\"\nWorldEnd\n",
+             depths[k]);
+    clr_scene_desc *desc = NULL;
+    clr_parse_options po;
+    clr_parse_options_init(&po);
+    assert_int_equal(clr_scene_parse_string(scene, "layout.pbrt", &po, &desc), CLR_SUCCESS);
+    clr_render_scene *rs = NULL;
+    assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &rs), CLR_SUCCESS);
+    clr_integrator it;
+    assert_int_equal(clr_integrator_create(desc, rs, NULL, NULL, &it), CLR_SUCCESS);
+    int d = depths[k], expect = 5; /* bounces 0..maxdepth are laid out */
+    for (int b = 0; b <= d; ++b) expect += b > 3 ? 8 : 7;
+    assert_int_equal(it.value_offset, 5);
+    assert_int_equal(it.values_per_sample, expect);
+    assert_int_equal(it.path_bounces_in_layout, d + 1);
+    clr_integrator_free(&it);
+    clr_render_scene_free(rs);
+    clr_scene_desc_free(desc);
+  }
+}
+
 /* A plastic plane (Kd, Ks, roughness 0.1 remapped) under a distant light seen by an orthographic
- * camera: every pixel is (Kd/pi + Ks f_microfacet(wo, wi)) L cos(theta_i). */
+ * camera: every pixel is (Kd/pi + Ks f_microfacet(wo, wi)) L cos(theta_i), in pbrt-v3's frame
+ * whose z is the shape's normal: a plane whose normal faces away from the camera (wound the other
+ * way) sees wo and wi below its z, so FresnelDielectric(1.5, 1) swaps its etas (no total internal
+ * reflection past 41.8 degrees); the faces of a box wound inwards differed by up to 17 % before.
+ * Both the plastic fast path and the lobe list (a textured roughness). */
 static void test_plastic_plane(void **state) {
   (void)state;
   const double deg = PI_D / 180.0;
-  const double cases[][3] = {{30, 0, 30}, {40, 20, 35}, {60, 180, 20}, {10, 90, 50}};
-  for (int c = 0; c < 4; ++c) {
-    double ti = cases[c][0] * deg, phi = cases[c][1] * deg, to = cases[c][2] * deg;
+  const double cases[][3] = {{30, 0, 30}, {40, 20, 35}, {60, 180, 20}, {10, 90, 50}, {70, 180, 60}};
+  for (int c = 0; c < 20; ++c) {
+    int flipped = (c / 5) & 1, lobes = c / 10;
+    double ti = cases[c % 5][0] * deg, phi = cases[c % 5][1] * deg, to = cases[c % 5][2] * deg;
     char scene[2048];
     snprintf(
         scene, sizeof scene,
@@ -578,20 +655,24 @@ static void test_plastic_plane(void **state) {
         "Sampler \"halton\" \"integer pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\n"
         "Integrator \"directlighting\"\nWorldBegin\n"
         "LightSource \"distant\" \"point from\" [%g %g %g] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
-        "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] \"float "
-        "roughness\" [0.1]\n"
-        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+        "Texture \"r\" \"float\" \"constant\" \"float value\" [0.1]\n"
+        "Material \"plastic\" \"rgb Kd\" [0.3 0.3 0.3] \"rgb Ks\" [0.6 0.6 0.6] %s\n"
+        "Shape \"trianglemesh\" \"integer indices\" [%s]\n"
         "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
-        10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti));
+        10 * sin(to), 10 * cos(to), sin(ti) * cos(phi), sin(ti) * sin(phi), cos(ti),
+        lobes ? "\"texture roughness\" \"r\"" : "\"float roughness\" [0.1]",
+        flipped ? "0 2 1 0 3 2" : "0 1 2 0 2 3");
     clr_render_image im = render_opts(scene, NULL, NULL);
     double wo[3], wi[3];
     dir_from(to, 0.0, wo);
     dir_from(ti, phi, wi);
+    if (flipped) wo[2] = -wo[2], wi[2] = -wi[2];
     double alpha = clr_tr_roughness_to_alpha(0.1f);
     double expect = (0.3 / PI_D + 0.6 * ref_microfacet_f(wo, wi, alpha)) * 2.0 * cos(ti);
     for (int i = 0; i < im.width * im.height * 3; ++i) {
       if (fabs(im.rgb[i] - expect) > 2e-4 * expect)
-        fprintf(stderr, "case %d: got %g expect %g\n", c, (double)im.rgb[i], expect);
+        fprintf(stderr, "case %d (flipped %d, lobes %d): got %g expect %g\n", c % 5, flipped, lobes,
+                (double)im.rgb[i], expect);
       assert_true(fabs(im.rgb[i] - expect) <= 2e-4 * expect);
     }
     free(im.rgb);
@@ -1173,6 +1254,8 @@ int main(void) {
       cmocka_unit_test(test_mirror_reflects_lit_plane),
       cmocka_unit_test(test_mirror_path_sees_emitter),
       cmocka_unit_test(test_plastic_lobe),
+      cmocka_unit_test(test_trowbridge_reitz),
+      cmocka_unit_test(test_path_sample_layout),
       cmocka_unit_test(test_plastic_plane),
       cmocka_unit_test(test_plastic_sky_albedo),
       cmocka_unit_test(test_disk_shape),

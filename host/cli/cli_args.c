@@ -44,6 +44,13 @@ int cli_parse_ints(const char *s, int n, int32_t *out) {
   return 1;
 }
 
+int cli_device_list_ok(const char *s) {
+  if (!s || !*s || *s == ',') return 0;
+  for (const char *p = s; *p; ++p)
+    if (*p == ',' && (p[1] == ',' || p[1] == 0)) return 0;
+  return 1;
+}
+
 int cli_parse_resolution(const char *s, int32_t *w, int32_t *h) {
   if (!s) return 0;
   const char *x = strchr(s, 'x');

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "cli.h"
+#include "cli_args.h"
 #include "clrender.h"
 #include "distributed.h"
 #include "render.h"
@@ -146,6 +147,12 @@ static int render_command(int argc, char **argv, clr_dist *dist) {
     } else if (strcmp(a, "--device") == 0) {
       NEED(1);
       o.device = argv[++i];
+      if (!cli_device_list_ok(o.device)) {
+        fprintf(stderr, "clrender render: \"--device\" \"%s\": empty entry in the device list\n",
+                o.device);
+        usage(stderr);
+        return 2;
+      }
     } else if (strcmp(a, "--kernels") == 0) {
       NEED(1);
       o.kernels = argv[++i];

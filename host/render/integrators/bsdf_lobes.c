@@ -12,7 +12,6 @@
 
 static float cos2_theta(const float w[3]) { return w[2] * w[2]; }
 static float sin2_theta(const float w[3]) { return fmaxf(0.0f, 1.0f - cos2_theta(w)); }
-static float tan2_theta(const float w[3]) { return sin2_theta(w) / cos2_theta(w); }
 static float cos_phi(const float w[3]) {
   float s = sqrtf(sin2_theta(w));
   return s == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, w[0] / s));
@@ -23,57 +22,6 @@ static float sin_phi(const float w[3]) {
 }
 static int same_hemisphere(const float a[3], const float b[3]) { return a[2] * b[2] > 0.0f; }
 static void normalize3(float v[3]) { rs_normalize(v); }
-
-/* ---------- TrowbridgeReitz ---------- */
-
-float clr_tr_d(const float wh[3], float ax, float ay) {
-  float t2 = tan2_theta(wh);
-  if (isinf(t2) || isnan(t2)) return 0.0f;
-  float c4 = cos2_theta(wh) * cos2_theta(wh), cp = cos_phi(wh), sp = sin_phi(wh);
-  float e = (cp * cp / (ax * ax) + sp * sp / (ay * ay)) * t2;
-  return 1.0f / (RS_PI * ax * ay * c4 * (1.0f + e) * (1.0f + e));
-}
-
-static float tr_lambda(const float w[3], float ax, float ay) {
-  float abs_tan = fabsf(sqrtf(sin2_theta(w)) / w[2]);
-  if (isinf(abs_tan) || isnan(abs_tan)) return 0.0f;
-  float cp = cos_phi(w), sp = sin_phi(w);
-  float alpha = sqrtf(cp * cp * ax * ax + sp * sp * ay * ay);
-  float a2t2 = (alpha * abs_tan) * (alpha * abs_tan);
-  return (-1.0f + sqrtf(1.0f + a2t2)) / 2.0f;
-}
-
-float clr_tr_g(const float wo[3], const float wi[3], float ax, float ay) {
-  return 1.0f / (1.0f + tr_lambda(wo, ax, ay) + tr_lambda(wi, ax, ay));
-}
-
-static float tr_g1(const float w[3], float ax, float ay) {
-  return 1.0f / (1.0f + tr_lambda(w, ax, ay));
-}
-
-void clr_tr_sample_wh(const float wo_in[3], const float u[2], float ax, float ay, float wh[3]) {
-  int flip = wo_in[2] < 0.0f;
-  float wi[3] = {flip ? -wo_in[0] : wo_in[0], flip ? -wo_in[1] : wo_in[1],
-                 flip ? -wo_in[2] : wo_in[2]};
-  float st[3] = {ax * wi[0], ay * wi[1], wi[2]};
-  normalize3(st);
-  float sx, sy;
-  clr_tr_sample11(st[2], u[0], u[1], &sx, &sy);
-  float cp = cos_phi(st), sp = sin_phi(st);
-  float tmp = cp * sx - sp * sy;
-  sy = sp * sx + cp * sy;
-  sx = tmp;
-  wh[0] = -ax * sx;
-  wh[1] = -ay * sy;
-  wh[2] = 1.0f;
-  normalize3(wh);
-  if (flip)
-    for (int k = 0; k < 3; ++k) wh[k] = -wh[k];
-}
-
-float clr_tr_pdf_wh(const float wo[3], const float wh[3], float ax, float ay) {
-  return clr_tr_d(wh, ax, ay) * tr_g1(wo, ax, ay) * fabsf(rs_dot(wo, wh)) / fabsf(wo[2]);
-}
 
 /* ---------- Fresnel ---------- */
 

@@ -75,10 +75,4 @@ float clr_bsdf_pdf(const clr_bsdf *b, const float wo[3], const float wi[3], int 
 int clr_bsdf_sample(const clr_bsdf *b, const float wo[3], const float u[2], int mask, float wi[3],
                     float *pdf, float f[3], int *flags);
 
-/* TrowbridgeReitz pieces (pbrt-v3 microfacet.cpp, anisotropic), exposed for the tests. */
-float clr_tr_d(const float wh[3], float ax, float ay);
-float clr_tr_g(const float wo[3], const float wi[3], float ax, float ay);
-void clr_tr_sample_wh(const float wo[3], const float u[2], float ax, float ay, float wh[3]);
-float clr_tr_pdf_wh(const float wo[3], const float wh[3], float ax, float ay);
-
 #endif

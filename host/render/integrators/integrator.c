@@ -146,7 +146,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
     int before = it->request_count;
     int32_t values = it->values_per_sample;
     if (add_request(it, 1, 0) < 0 || add_request(it, 2, 0) < 0 || add_request(it, 2, 0) < 0 ||
-        add_request(it, 2, 0) < 0 || add_request(it, 1, 0) < 0) {
+        add_request(it, 2, 0) < 0 || (b > 3 && add_request(it, 1, 0) < 0)) {
       it->request_count = before;
       it->values_per_sample = values;
       break;
@@ -345,6 +345,17 @@ static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
   rs_cross(s->ns, ss, ts);
 }
 
+/* pbrt-v3's BSDF frame: the shading normal oriented as the shape's (isect.shading.n), not
+ * toward wo; plastic's FresnelDielectric(1.5, 1) depends on the side (cos < 0 swaps the etas). */
+static void shape_frame(const clr_surface *s, float ss[3], float ts[3], float n[3]) {
+  shading_frame(s, ss, ts);
+  int flip = rs_dot(s->ns, s->n_geom) < 0.0f;
+  for (int i = 0; i < 3; ++i) {
+    n[i] = flip ? -s->ns[i] : s->ns[i];
+    ts[i] = flip ? -ts[i] : ts[i];
+  }
+}
+
 /* pbrt-v3 OrenNayar::f / R * pi: A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta), in the
  * shading frame (1 for a Lambertian surface). */
 static float oren_nayar_factor(const clr_surface *s, const float wo[3], const float wi[3]) {
@@ -391,10 +402,11 @@ static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi
 static float lambert_sample(const clr_surface *s, const float wo[3], const float u_in[2],
                             float wi[3], float *pdf) {
   float u[2] = {fminf(u_in[0], ONE_MINUS_EPSILON), u_in[1]}, l[3], ss[3], ts[3];
+  float n[3];
   cosine_hemisphere(u, l);
-  if (rs_dot(wo, s->ns) < 0.0f) l[2] = -l[2];
-  shading_frame(s, ss, ts);
-  for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + s->ns[i] * l[2];
+  shape_frame(s, ss, ts, n); /* pbrt-v3's frame: the same directions for the same samples */
+  if (rs_dot(wo, n) < 0.0f) l[2] = -l[2];
+  for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + n[i] * l[2];
   *pdf = fabsf(l[2]) * RS_INV_PI;
   return lambert_cos(s, wo, wi);
 }
@@ -446,10 +458,10 @@ static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3],
   }
   f[0] = f[1] = f[2] = 0.0f;
   if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
-  float ss[3], ts[3], lo[3], li[3];
-  shading_frame(s, ss, ts);
-  to_local(ss, ts, s->ns, wo, lo);
-  to_local(ss, ts, s->ns, wi, li);
+  float ss[3], ts[3], n[3], lo[3], li[3];
+  shape_frame(s, ss, ts, n);
+  to_local(ss, ts, n, wo, lo);
+  to_local(ss, ts, n, wi, li);
   if (lo[2] == 0.0f) return 0;
   float g = clr_microfacet_f(lo, li, s->alpha) * fabsf(li[2]);
   for (int k = 0; k < 3; ++k) f[k] = s->kd[k] * fc + s->ks[k] * g;
@@ -468,10 +480,10 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
   if (!s->plastic) return lambert_pdf(s, wo, wi);
   int d, g, n = plastic_components(s, &d, &g);
   if (!n) return 0.0f;
-  float ss[3], ts[3], lo[3], li[3];
-  shading_frame(s, ss, ts);
-  to_local(ss, ts, s->ns, wo, lo);
-  to_local(ss, ts, s->ns, wi, li);
+  float ss[3], ts[3], nf[3], lo[3], li[3];
+  shape_frame(s, ss, ts, nf);
+  to_local(ss, ts, nf, wo, lo);
+  to_local(ss, ts, nf, wi, li);
   if (lo[2] == 0.0f) return 0.0f;
   float pdf =
       (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
@@ -485,12 +497,12 @@ static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in
   if (s->general)
     return clr_bsdf_sample(&s->bsdf, wo, u_in, CLR_BXDF_NON_SPECULAR, wi, pdf, f, &flags);
   if (s->metal) {
-    float ss[3], ts[3], lo[3], li[3];
+    float ss[3], ts[3], n[3], lo[3], li[3];
     *pdf = 0.0f;
-    shading_frame(s, ss, ts);
-    to_local(ss, ts, s->ns, wo, lo);
+    shape_frame(s, ss, ts, n);
+    to_local(ss, ts, n, wo, lo);
     if (!clr_microfacet_sample_wi(lo, u_in, s->alpha, li, pdf)) return 0;
-    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + n[i] * li[2];
     return bsdf_eval(s, wo, wi, f) && *pdf > 0.0f;
   }
   if (!s->plastic) {
@@ -504,14 +516,14 @@ static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in
   int comp = (int)fminf(floorf(u_in[0] * (float)n), (float)(n - 1));
   float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
   int glossy = g && (comp == 1 || !d);
-  float ss[3], ts[3], lo[3];
-  shading_frame(s, ss, ts);
-  to_local(ss, ts, s->ns, wo, lo);
+  float ss[3], ts[3], nf[3], lo[3];
+  shape_frame(s, ss, ts, nf);
+  to_local(ss, ts, nf, wo, lo);
   if (lo[2] == 0.0f) return 0;
   if (glossy) {
     float li[3], p;
     if (!(clr_microfacet_sample(lo, u, s->alpha, li, &p) > 0.0f) || !(p > 0.0f)) return 0;
-    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + s->ns[i] * li[2];
+    for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + nf[i] * li[2];
   } else {
     float p;
     lambert_sample(s, wo, u, wi, &p);
@@ -956,9 +968,12 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
   return r;
 }
 
+/* Value k of a bounce: light choice, light 2D, scattering 2D, BSDF 2D, then Russian roulette's,
+ * which pbrt-v3's PathIntegrator draws only past bounce 3 (7 values a bounce until then). */
 static float path_value(const clr_integrator *it, const float *v, uint64_t key, int bounce, int k) {
   if (bounce < it->path_bounces_in_layout)
-    return v[it->value_offset + bounce * CLR_PATH_VALUES_PER_BOUNCE + k];
+    return v[it->value_offset + bounce * (CLR_PATH_VALUES_PER_BOUNCE - 1) +
+             (bounce > 4 ? bounce - 4 : 0) + k];
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
 }
 

@@ -10,7 +10,8 @@
 typedef enum { CLR_INTEGRATOR_AO, CLR_INTEGRATOR_DIRECT, CLR_INTEGRATOR_PATH } clr_integrator_type;
 
 /* Values per path bounce in the layout: 1D light choice, 2D light, 2D scattering, 2D BSDF, 1D
- * Russian roulette (pbrt-v3 PathIntegrator::Li order). */
+ * Russian roulette (pbrt-v3 PathIntegrator::Li order); bounces 0 to 3 have no roulette value,
+ * as pbrt-v3 draws it only past bounce 3 (7 values each). */
 #define CLR_PATH_VALUES_PER_BOUNCE 8
 
 typedef struct clr_integrator {

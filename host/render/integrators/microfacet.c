@@ -1,4 +1,5 @@
-/* pbrt-v3 microfacet.cpp / reflection.cpp for the plastic material, transcribed in float. */
+/* pbrt-v3 microfacet.cpp / reflection.cpp: the TrowbridgeReitz distribution of every microfacet
+ * lobe, and the plastic and metal lobes of the fast path, transcribed in float. */
 #include <math.h>
 #include "microfacet.h"
 
@@ -30,33 +31,56 @@ float clr_fr_dielectric(float cos_i, float eta_i, float eta_t) {
   return (rparl * rparl + rperp * rperp) / 2.0f;
 }
 
-/* isotropic TrowbridgeReitz D(wh) */
-static float tr_d(const float wh[3], float alpha) {
-  float t2 = tan2_theta(wh);
-  if (isinf(t2) || isnan(t2)) return 0.0f;
-  float c4 = cos2_theta(wh) * cos2_theta(wh), e = t2 / (alpha * alpha);
-  return 1.0f / (MF_PI * alpha * alpha * c4 * (1.0f + e) * (1.0f + e));
+static float cos_phi(const float w[3]) {
+  float s = sqrtf(sin2_theta(w));
+  return s == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, w[0] / s));
 }
-
-static float tr_lambda(const float w[3], float alpha) {
-  float t2 = tan2_theta(w);
-  if (isinf(t2) || isnan(t2)) return 0.0f;
-  float a2t2 = alpha * alpha * t2;
-  return (-1.0f + sqrtf(1.0f + a2t2)) / 2.0f;
-}
-
-static float tr_g1(const float w[3], float alpha) { return 1.0f / (1.0f + tr_lambda(w, alpha)); }
-static float tr_g(const float wo[3], const float wi[3], float alpha) {
-  return 1.0f / (1.0f + tr_lambda(wo, alpha) + tr_lambda(wi, alpha));
+static float sin_phi(const float w[3]) {
+  float s = sqrtf(sin2_theta(w));
+  return s == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, w[1] / s));
 }
 
 static float dot3(const float a[3], const float b[3]) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* TrowbridgeReitz D(wh); ax == ay takes cos^2 phi + sin^2 phi as exactly 1. */
+float clr_tr_d(const float wh[3], float ax, float ay) {
+  float t2 = tan2_theta(wh);
+  if (isinf(t2) || isnan(t2)) return 0.0f;
+  float c4 = cos2_theta(wh) * cos2_theta(wh), e = t2 / (ax * ax);
+  if (ax != ay) {
+    float cp = cos_phi(wh), sp = sin_phi(wh);
+    e = (cp * cp / (ax * ax) + sp * sp / (ay * ay)) * t2;
+  }
+  return 1.0f / (MF_PI * ax * ay * c4 * (1.0f + e) * (1.0f + e));
+}
+
+static float tr_lambda(const float w[3], float ax, float ay) {
+  if (ax == ay) {
+    float t2 = tan2_theta(w);
+    if (isinf(t2) || isnan(t2)) return 0.0f;
+    return (-1.0f + sqrtf(1.0f + ax * ax * t2)) / 2.0f;
+  }
+  float abs_tan = fabsf(sqrtf(sin2_theta(w)) / w[2]);
+  if (isinf(abs_tan) || isnan(abs_tan)) return 0.0f;
+  float cp = cos_phi(w), sp = sin_phi(w);
+  float alpha = sqrtf(cp * cp * ax * ax + sp * sp * ay * ay);
+  float a2t2 = (alpha * abs_tan) * (alpha * abs_tan);
+  return (-1.0f + sqrtf(1.0f + a2t2)) / 2.0f;
+}
+
+static float tr_g1(const float w[3], float ax, float ay) {
+  return 1.0f / (1.0f + tr_lambda(w, ax, ay));
+}
+
+float clr_tr_g(const float wo[3], const float wi[3], float ax, float ay) {
+  return 1.0f / (1.0f + tr_lambda(wo, ax, ay) + tr_lambda(wi, ax, ay));
+}
+
 /* TrowbridgeReitzDistribution::Pdf with sampleVisibleArea */
-static float tr_pdf_wh(const float wo[3], const float wh[3], float alpha) {
-  return tr_d(wh, alpha) * tr_g1(wo, alpha) * fabsf(dot3(wo, wh)) / fabsf(wo[2]);
+float clr_tr_pdf_wh(const float wo[3], const float wh[3], float ax, float ay) {
+  return clr_tr_d(wh, ax, ay) * tr_g1(wo, ax, ay) * fabsf(dot3(wo, wh)) / fabsf(wo[2]);
 }
 
 void clr_tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
@@ -86,26 +110,30 @@ void clr_tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
   *sy = S * z * sqrtf(1.0f + *sx * *sx);
 }
 
-static void tr_sample_wh(const float wo_in[3], float alpha, const float u[2], float wh[3]) {
+static void normalize3(float v[3]) {
+  float l = sqrtf(dot3(v, v));
+  if (l > 0.0f)
+    for (int i = 0; i < 3; ++i) v[i] /= l;
+}
+
+void clr_tr_sample_wh(const float wo_in[3], const float u[2], float ax, float ay, float wh[3]) {
   int flip = wo_in[2] < 0.0f;
   float wo[3] = {flip ? -wo_in[0] : wo_in[0], flip ? -wo_in[1] : wo_in[1],
                  flip ? -wo_in[2] : wo_in[2]};
-  float ws[3] = {alpha * wo[0], alpha * wo[1], wo[2]};
-  float l = sqrtf(dot3(ws, ws));
-  for (int i = 0; i < 3; ++i) ws[i] /= l;
+  float st[3] = {ax * wo[0], ay * wo[1], wo[2]};
+  normalize3(st);
   float sx, sy;
-  clr_tr_sample11(ws[2], u[0], u[1], &sx, &sy);
-  float st = sqrtf(fmaxf(0.0f, 1.0f - ws[2] * ws[2]));
-  float cphi = st == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, ws[0] / st));
-  float sphi = st == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, ws[1] / st));
-  float tmp = cphi * sx - sphi * sy;
-  sy = sphi * sx + cphi * sy;
+  clr_tr_sample11(st[2], u[0], u[1], &sx, &sy);
+  float cp = cos_phi(st), sp = sin_phi(st);
+  float tmp = cp * sx - sp * sy;
+  sy = sp * sx + cp * sy;
   sx = tmp;
-  sx *= alpha;
-  sy *= alpha;
-  float h[3] = {-sx, -sy, 1.0f};
-  l = sqrtf(dot3(h, h));
-  for (int i = 0; i < 3; ++i) wh[i] = (flip ? -h[i] : h[i]) / l;
+  wh[0] = -ax * sx;
+  wh[1] = -ay * sy;
+  wh[2] = 1.0f;
+  normalize3(wh);
+  if (flip)
+    for (int k = 0; k < 3; ++k) wh[k] = -wh[k];
 }
 
 float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
@@ -119,7 +147,7 @@ float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
   if (ff[2] < 0.0f)
     for (int i = 0; i < 3; ++i) ff[i] = -ff[i]; /* Faceforward(wh, (0,0,1)) */
   float F = clr_fr_dielectric(dot3(wi, ff), 1.5f, 1.0f);
-  return tr_d(wh, alpha) * tr_g(wo, wi, alpha) * F / (4.0f * ci * co);
+  return clr_tr_d(wh, alpha, alpha) * clr_tr_g(wo, wi, alpha, alpha) * F / (4.0f * ci * co);
 }
 
 float clr_fr_conductor(float cos_i, float eta, float k) {
@@ -144,7 +172,7 @@ float clr_microfacet_dg(const float wo[3], const float wi[3], float alpha, float
   if (ff[2] < 0.0f)
     for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
   *cos_h = dot3(wi, ff);
-  return tr_d(wh, alpha) * tr_g(wo, wi, alpha) / (4.0f * ci * co);
+  return clr_tr_d(wh, alpha, alpha) * clr_tr_g(wo, wi, alpha, alpha) / (4.0f * ci * co);
 }
 
 int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, float wi[3],
@@ -152,12 +180,12 @@ int clr_microfacet_sample_wi(const float wo[3], const float u[2], float alpha, f
   *pdf = 0.0f;
   if (wo[2] == 0.0f) return 0;
   float wh[3];
-  tr_sample_wh(wo, alpha, u, wh);
+  clr_tr_sample_wh(wo, u, alpha, alpha, wh);
   float d = dot3(wo, wh);
   if (d < 0.0f) return 0;
   for (int i = 0; i < 3; ++i) wi[i] = -wo[i] + 2.0f * d * wh[i];
   if (!(wo[2] * wi[2] > 0.0f)) return 0;
-  *pdf = tr_pdf_wh(wo, wh, alpha) / (4.0f * d);
+  *pdf = clr_tr_pdf_wh(wo, wh, alpha, alpha) / (4.0f * d);
   return *pdf > 0.0f;
 }
 
@@ -167,7 +195,7 @@ float clr_microfacet_pdf(const float wo[3], const float wi[3], float alpha) {
   float l = sqrtf(dot3(wh, wh));
   if (!(l > 0.0f)) return 0.0f;
   for (int i = 0; i < 3; ++i) wh[i] /= l;
-  return tr_pdf_wh(wo, wh, alpha) / (4.0f * dot3(wo, wh));
+  return clr_tr_pdf_wh(wo, wh, alpha, alpha) / (4.0f * dot3(wo, wh));
 }
 
 float clr_microfacet_sample(const float wo[3], const float u[2], float alpha, float wi[3],

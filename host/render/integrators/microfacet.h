@@ -8,6 +8,12 @@
 float clr_tr_roughness_to_alpha(float roughness);
 /* TrowbridgeReitzSample11: the slopes of a visible normal for alpha 1, incident cos_t. */
 void clr_tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy);
+/* TrowbridgeReitzDistribution (pbrt-v3 microfacet.cpp, anisotropic alphas ax, ay; the one copy
+ * for every lobe): D(wh), G(wo, wi), Sample_wh with visible normals, Pdf(wo, wh). */
+float clr_tr_d(const float wh[3], float ax, float ay);
+float clr_tr_g(const float wo[3], const float wi[3], float ax, float ay);
+void clr_tr_sample_wh(const float wo[3], const float u[2], float ax, float ay, float wh[3]);
+float clr_tr_pdf_wh(const float wo[3], const float wh[3], float ax, float ay);
 /* pbrt-v3 FrDielectric(cos_i, eta_i, eta_t). */
 float clr_fr_dielectric(float cos_i, float eta_i, float eta_t);
 /* pbrt-v3 FrConductor(|cos_i|, 1, eta, k) for one channel. */

@@ -19,6 +19,12 @@
 #include "textures.h"
 #include "vec3.h"
 
+/* An ObjectInstance: instance to world at the start (and end, when it moves) of TransformTimes. */
+typedef struct rs_instance {
+  clr_transform start, end;
+  int moving;
+} rs_instance;
+
 struct clr_render_scene {
   clr_tracer tracer;
   rs_camera camera;
@@ -27,7 +33,7 @@ struct clr_render_scene {
   int material_count;
   rs_shape *shapes;
   int shape_count;
-  clr_transform *instances; /* instance to world */
+  rs_instance *instances;
   int instance_count;
   rs_light_set lights;
   float world_center[3];
@@ -359,16 +365,13 @@ static clr_result build_materials(clr_render_scene *s, const clr_scene_desc *d) 
 /* Instance user ids of moving shapes: the shape index with this bit (not an instance desc). */
 #define RS_MOVING_INSTANCE 0x80000000u
 
-/* pbrt-v3's decomposition of a shape's start and end transforms; 0 when its scale part is not
+/* pbrt-v3's decomposition of a start and an end transform; 0 when its scale part is not
  * diagonal (a shear) or a transform mirrors (no rotation quaternion), which Embree's quaternion
  * instances cannot interpolate alike. */
-static int shape_motion(const clr_scene_desc *d, const clr_shape_desc *sd, rs_animated_transform *a,
-                        float scale[2][3]) {
-  rs_animated_transform_init(a, &sd->object_to_world, &sd->object_to_world_end,
-                             d->transform_start_time, d->transform_end_time);
-  if (clr_transform_swaps_handedness(&sd->object_to_world) ||
-      clr_transform_swaps_handedness(&sd->object_to_world_end))
-    return 0;
+static int motion_of(const clr_scene_desc *d, const clr_transform *start, const clr_transform *end,
+                     rs_animated_transform *a, float scale[2][3]) {
+  rs_animated_transform_init(a, start, end, d->transform_start_time, d->transform_end_time);
+  if (clr_transform_swaps_handedness(start) || clr_transform_swaps_handedness(end)) return 0;
   for (int k = 0; k < 2; ++k)
     for (int i = 0; i < 3; ++i) {
       scale[k][i] = a->s[k][i][i];
@@ -378,31 +381,31 @@ static int shape_motion(const clr_scene_desc *d, const clr_shape_desc *sd, rs_an
   return 1;
 }
 
-/* 1 when shape `sd` moves and can (a shear is warned about and left at its start). */
-static int shape_can_move(const clr_scene_desc *d, const clr_shape_desc *sd, clr_warn_fn warn,
-                          void *wu) {
-  if (!memcmp(&sd->object_to_world.m, &sd->object_to_world_end.m, sizeof sd->object_to_world.m))
-    return 0;
+/* *moves: 1 when start and end differ; an error naming file:line and `what` when that motion
+ * shears or mirrors. */
+static clr_result check_motion(const clr_scene_desc *d, const clr_transform *start,
+                               const clr_transform *end, const char *file, int line,
+                               const char *what, int *moves) {
+  *moves = memcmp(&start->m, &end->m, sizeof start->m) != 0;
   rs_animated_transform a;
   float scale[2][3];
-  if (shape_motion(d, sd, &a, scale)) return 1;
-  warn_fmt(warn, wu,
-           "%s:%d: moving Shape \"%s\": its transform shears (the scale part is not diagonal) "
-           "or mirrors, which moving instances cannot interpolate: rendered at its start "
-           "transform",
-           sd->params.file ? sd->params.file : "?", sd->params.line, sd->type);
-  return 0;
+  if (!*moves || motion_of(d, start, end, &a, scale)) return CLR_SUCCESS;
+  return clr_set_last_error(CLR_ERROR_SCENE,
+                            "%s:%d: moving %s: its transform shears (the scale part is not "
+                            "diagonal) or mirrors, which clrender's moving instances cannot "
+                            "interpolate as pbrt-v3: not supported",
+                            file ? file : "?", line, what);
 }
 
-/* Places group `group` (a moving shape in object space) by a two-step Embree instance built
- * from pbrt-v3's decomposition of the shape's start and end transforms. */
-static clr_result add_motion(clr_render_scene *s, const clr_scene_desc *d, const clr_shape_desc *sd,
-                             int32_t group, uint32_t index) {
+/* Places group `group` (a moving shape in object space, or an object) by a two-step Embree
+ * instance built from pbrt-v3's decomposition of its start and end transforms. */
+static clr_result add_motion(clr_render_scene *s, const clr_scene_desc *d,
+                             const clr_transform *start, const clr_transform *end, int32_t group,
+                             uint32_t user_id) {
   rs_animated_transform a;
   float scale[2][3];
-  shape_motion(d, sd, &a, scale);
-  return clr_tracer_add_motion_instance(s->tracer, group, a.t, a.q, scale,
-                                        RS_MOVING_INSTANCE | index);
+  motion_of(d, start, end, &a, scale);
+  return clr_tracer_add_motion_instance(s->tracer, group, a.t, a.q, scale, user_id);
 }
 
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
@@ -419,7 +422,10 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
     sh->in_object = sd->object >= 0;
     sh->object_to_world = sd->object_to_world;
     sh->object_to_world_end = sd->object_to_world_end;
-    sh->moving = shape_can_move(d, sd, warn, wu);
+    char what[96];
+    snprintf(what, sizeof what, "Shape \"%.64s\"", sd->type);
+    CLR_CHECK(check_motion(d, &sd->object_to_world, &sd->object_to_world_end, p->file, p->line,
+                           what, &sh->moving));
     sh->flip_normal =
         sd->reverse_orientation != clr_transform_swaps_handedness(&sd->object_to_world);
     if (strcmp(sd->type, "sphere") == 0) {
@@ -550,7 +556,9 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       else
         CLR_CHECK(clr_tracer_add_sphere(s->tracer, group, xf, sh->radius, (uint32_t)index, NULL));
     }
-    if (sh->moving) CLR_CHECK(add_motion(s, d, sd, group, (uint32_t)index));
+    if (sh->moving)
+      CLR_CHECK(add_motion(s, d, &sd->object_to_world, &sd->object_to_world_end, group,
+                           RS_MOVING_INSTANCE | (uint32_t)index));
     if (sd->area_light >= 0) {
       const clr_area_light_desc *a = &d->area_lights[sd->area_light];
       if (sh->type == RS_SHAPE_QUADRIC && sh->quadric.type != CLR_QUADRIC_CYLINDER) {
@@ -577,14 +585,48 @@ static clr_result build_instances(clr_render_scene *s, const clr_scene_desc *d,
   if (!s->instances) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "instances");
   for (int i = 0; i < d->instance_count; ++i) {
     const clr_instance_desc *in = &d->instances[i];
-    s->instances[i] = in->instance_to_world;
+    rs_instance *si = &s->instances[i];
+    si->start = in->instance_to_world;
+    si->end = in->instance_to_world_end;
     s->instance_count = i + 1;
+    CLR_CHECK(
+        check_motion(d, &si->start, &si->end, in->file, in->line, "ObjectInstance", &si->moving));
     if (object_group[in->object] == 0) continue; /* empty object */
+    if (si->moving) {
+      CLR_CHECK(add_motion(s, d, &si->start, &si->end, object_group[in->object], (uint32_t)i));
+      continue;
+    }
     float xf[16];
-    rs_xform_m16(&in->instance_to_world, xf);
+    rs_xform_m16(&si->start, xf);
     CLR_CHECK(clr_tracer_add_instance(s->tracer, object_group[in->object], xf, (uint32_t)i));
   }
   return CLR_SUCCESS;
+}
+
+#define MOTION_BOUND_STEPS 64
+
+/* Grows lo..hi by box a..b moving from `start` to `end` over TransformTimes: its corners at 65
+ * times of pbrt-v3's interpolation (pbrt-v3's MotionBounds solves for each corner's extremes;
+ * a turn of angle A misses at most 1 - cos(A / 128) of its radius). */
+static void grow_motion_bounds(clr_render_scene *s, const clr_scene_desc *d,
+                               const clr_transform *start, const clr_transform *end,
+                               const float a[3], const float b[3], float lo[3], float hi[3]) {
+  rs_animated_transform at;
+  int steps = memcmp(&start->m, &end->m, sizeof start->m) ? MOTION_BOUND_STEPS : 0;
+  if (steps)
+    rs_animated_transform_init(&at, start, end, d->transform_start_time, d->transform_end_time);
+  for (int k = 0; k <= steps; ++k) {
+    float f = steps ? (float)k / (float)steps : 0.0f, m[3], w[3];
+    clr_transform x = *start;
+    if (steps) rs_animated_transform_at(&at, (1.0f - f) * at.start_time + f * at.end_time, &x);
+    for (int c = 0; c < 8; ++c) {
+      m[0] = (c & 1) ? b[0] : a[0];
+      m[1] = (c & 2) ? b[1] : a[1];
+      m[2] = (c & 4) ? b[2] : a[2];
+      clr_transform_point(&x, m, w);
+      grow_bounds(s, lo, hi, w);
+    }
+  }
 }
 
 static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
@@ -593,13 +635,9 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     float a[3], b[3];
     shape_bounds(&s->shapes[k], a, b);
     if (!(a[0] <= b[0])) continue;
-    if (s->shapes[k].moving) { /* start and end placements (a turn may sweep past them) */
-      for (int c = 0; c < 16; ++c) {
-        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
-        clr_transform_point(
-            c & 8 ? &s->shapes[k].object_to_world_end : &s->shapes[k].object_to_world, q, w);
-        grow_bounds(s, lo, hi, w);
-      }
+    if (s->shapes[k].moving) {
+      grow_motion_bounds(s, d, &s->shapes[k].object_to_world, &s->shapes[k].object_to_world_end, a,
+                         b, lo, hi);
       continue;
     }
     if (!s->shapes[k].in_object) {
@@ -608,11 +646,7 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
       continue;
     }
     for (int i = 0; i < d->instance_count; ++i)
-      for (int c = 0; c < 8; ++c) {
-        float q[3] = {(c & 1) ? b[0] : a[0], (c & 2) ? b[1] : a[1], (c & 4) ? b[2] : a[2]}, w[3];
-        clr_transform_point(&s->instances[i], q, w);
-        grow_bounds(s, lo, hi, w);
-      }
+      grow_motion_bounds(s, d, &s->instances[i].start, &s->instances[i].end, a, b, lo, hi);
   }
   if (!(lo[0] <= hi[0])) {
     lo[0] = lo[1] = lo[2] = 0;
@@ -922,8 +956,9 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
   if (hit->inst_id != CLR_TRACER_INVALID_ID &&
       clr_tracer_instance_info(s->tracer, hit->inst_id, NULL, &inst_user) == CLR_SUCCESS &&
       inst_user < (uint32_t)s->instance_count)
-    inst = &s->instances[inst_user];
-  if (sh->moving && moving_transform(s, hit, &moved)) inst = &moved;
+    inst = &s->instances[inst_user].start;
+  int moves = sh->moving || (inst && s->instances[inst_user].moving);
+  if (moves && moving_transform(s, hit, &moved)) inst = &moved;
   float p[3], n[3], ns[3], uv[2], dpdu[3];
   int has_ns = 0;
   if (sh->type == RS_SHAPE_MESH) {

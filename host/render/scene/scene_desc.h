@@ -82,6 +82,9 @@ typedef struct clr_object_desc {
 typedef struct clr_instance_desc {
   int object; /* index into objects */
   clr_transform instance_to_world;
+  clr_transform instance_to_world_end; /* at TransformTimes' end (ActiveTransform EndTime) */
+  const char *file;                    /* where the ObjectInstance is */
+  int line;
 } clr_instance_desc;
 
 typedef struct clr_scene_desc {

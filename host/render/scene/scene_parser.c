@@ -77,8 +77,7 @@ typedef struct parser {
   char **pool;
   int pool_count, pool_capacity;
   bool in_world;
-  bool warned_moving_shape; /* one warning for shapes given two transforms */
-  bool done;                /* after WorldEnd */
+  bool done; /* after WorldEnd */
   int current_object;
 } parser;
 
@@ -1012,14 +1011,23 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
   bool known = false;
   for (size_t k = 0; k < sizeof movable / sizeof movable[0]; ++k)
     known |= strcmp(type, movable[k]) == 0;
-  if (moving && (!known || area_light >= 0 || object)) {
-    moving = false;
-    if (!p->warned_moving_shape)
-      warnf(p,
-            "%s:%d: moving shapes (ActiveTransform) with an area light or inside ObjectBegin are "
-            "not supported: rendered at their start transform",
-            at.file, at.line);
-    p->warned_moving_shape = true;
+  moving = moving && known; /* the others are not rendered (warned about when built) */
+  if (moving && object) {
+    clr_result r = clr_set_last_error(
+        CLR_ERROR_PARSE,
+        "%s:%d:%d: moving Shape \"%s\" (ActiveTransform) inside ObjectBegin '%s' is not "
+        "supported: Embree's single instance level cannot move it within its instances",
+        at.file, at.line, at.col, type, object->name);
+    free(type);
+    clr_params_free(&params);
+    return r;
+  }
+  if (moving && area_light >= 0) { /* pbrt-v3's pbrtShape: "Ignoring currently set area light" */
+    warnf(p,
+          "%s:%d: moving Shape \"%s\" does not emit: the area light of a moving shape is "
+          "ignored, as pbrt-v3 does",
+          at.file, at.line, type);
+    area_light = -1;
   }
   int index = s->shape_count++;
   s->shapes[index] = (clr_shape_desc){type,
@@ -1087,12 +1095,8 @@ static clr_result d_object_instance(parser *p, const directive *d, location at) 
   if (clr_grow_array((void **)&s->instances, &s->instance_capacity, s->instance_count + 1,
                      sizeof *s->instances) != CLR_SUCCESS)
     return out_of_memory(at);
-  if (memcmp(&p->gs.ctm.m, &p->gs.ctm_end.m, sizeof p->gs.ctm.m) != 0)
-    warnf(p,
-          "%s:%d: moving ObjectInstance (ActiveTransform) is not supported: placed at its "
-          "start transform",
-          at.file, at.line);
-  s->instances[s->instance_count++] = (clr_instance_desc){object, p->gs.ctm};
+  s->instances[s->instance_count++] =
+      (clr_instance_desc){object, p->gs.ctm, p->gs.ctm_end, at.file, at.line};
   return CLR_SUCCESS;
 }
 
