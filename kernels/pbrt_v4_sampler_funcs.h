@@ -534,6 +534,7 @@ typedef struct clr_v4_pixel_dim {
 CLR_INLINE void clr_v4_pixel_dim_part(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
                                       clr_u64 morton, clr_i32 dimension, clr_i32 dims,
                                       clr_v4_pixel_dim *out) {
+  out->high = 0u;
   if (p->v4_sampler == CLR_V4_ZSOBOL) {
     out->high = clr_v4_zsobol_pixel_part(p, morton, clr_v4_zsobol_salt(dimension));
     out->hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (clr_i32)p->seed));
