@@ -49,14 +49,24 @@ CLR_INLINE void clr_v4_pixel_rng(clr_i32 px, clr_i32 py, clr_u32 seed, clr_i32 s
   *out = r;
 }
 
+/* SobolSample's unscrambled bits: the generator matrix of `dim` times index a (linear over GF(2):
+ * the bits of a ^ b are those of a xor those of b). */
+CLR_INLINE clr_u32 clr_v4_sobol_bits(clr_u64 a, clr_i32 dim, CLR_GLOBAL const clr_u32 *sobol32) {
+  CLR_GLOBAL const clr_u32 *cols = sobol32 + (clr_u32)dim * CLR_SOBOL_MATRIX_SIZE;
+  clr_u32 high = (clr_u32)(a >> 32) & ((1u << (CLR_SOBOL_INDEX_BITS - 32)) - 1u);
+  return clr_sobol_xor_columns32((clr_u32)a, cols) ^ clr_sobol_xor_columns32(high, cols + 32);
+}
+
+/* SobolSample's value from its unscrambled bits v. */
+CLR_INLINE float clr_v4_sobol_finish(clr_u32 v, clr_i32 randomization, clr_u32 hash) {
+  v = clr_v4_scramble(v, randomization, hash);
+  return clr_v4_below_one((float)v * 0x1p-32f);
+}
+
 /* SobolSample(a, dimension, randomizer). */
 CLR_INLINE float clr_v4_sobol_sample(clr_u64 a, clr_i32 dim, clr_i32 randomization, clr_u32 hash,
                                      CLR_GLOBAL const clr_u32 *sobol32) {
-  CLR_GLOBAL const clr_u32 *cols = sobol32 + (clr_u32)dim * CLR_SOBOL_MATRIX_SIZE;
-  clr_u32 high = (clr_u32)(a >> 32) & ((1u << (CLR_SOBOL_INDEX_BITS - 32)) - 1u);
-  clr_u32 v = clr_sobol_xor_columns32((clr_u32)a, cols) ^ clr_sobol_xor_columns32(high, cols + 32);
-  v = clr_v4_scramble(v, randomization, hash);
-  return clr_v4_below_one((float)v * 0x1p-32f);
+  return clr_v4_sobol_finish(clr_v4_sobol_bits(a, dim, sobol32), randomization, hash);
 }
 
 /* RadicalInverse(baseIndex, a). */
@@ -525,18 +535,20 @@ CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
 /* The part of a zsobol or pmj02bn value that depends only on (pixel, dimension), computed once
  * for every sample of the pixel (clr_v4_pixel_vectors). */
 typedef struct clr_v4_pixel_dim {
-  clr_u64 high;   /* zsobol: the permuted pixel digits of the index */
-  clr_u64 hash;   /* zsobol: the scrambler's hash; pmj02bn: Hash(pixel, dimension, seed) */
-  float noise[2]; /* pmj02bn: blue noise of dimension and dimension + 1 */
+  clr_u32 bits[2]; /* zsobol: Sobol' bits (dimensions 0, 1) of the permuted pixel digits */
+  clr_u64 hash;    /* zsobol: the scrambler's hash; pmj02bn: Hash(pixel, dimension, seed) */
+  float noise[2];  /* pmj02bn: blue noise of dimension and dimension + 1 */
 } clr_v4_pixel_dim;
 
 /* The (pixel, dimension) part of Get1D (dims 1) or Get2D (dims 2) at `dimension`. */
-CLR_INLINE void clr_v4_pixel_dim_part(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
-                                      clr_u64 morton, clr_i32 dimension, clr_i32 dims,
-                                      clr_v4_pixel_dim *out) {
-  out->high = 0u;
+CLR_INLINE void clr_v4_pixel_dim_part(const clr_sampler_params *p, const clr_v4_tables *t,
+                                      clr_i32 px, clr_i32 py, clr_u64 morton, clr_i32 dimension,
+                                      clr_i32 dims, clr_v4_pixel_dim *out) {
+  out->bits[0] = out->bits[1] = 0u;
   if (p->v4_sampler == CLR_V4_ZSOBOL) {
-    out->high = clr_v4_zsobol_pixel_part(p, morton, clr_v4_zsobol_salt(dimension));
+    clr_u64 high = clr_v4_zsobol_pixel_part(p, morton, clr_v4_zsobol_salt(dimension));
+    out->bits[0] = clr_v4_sobol_bits(high, 0, t->sobol32);
+    out->bits[1] = dims == 2 ? clr_v4_sobol_bits(high, 1, t->sobol32) : 0u;
     out->hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (clr_i32)p->seed));
     return;
   }
@@ -552,11 +564,13 @@ CLR_INLINE void clr_v4_pixel_dim_value(const clr_sampler_params *p, const clr_v4
                                        const clr_v4_pixel_dim *d, clr_u64 morton, clr_i32 dimension,
                                        clr_i32 dims, clr_i32 sample, float *u) {
   if (p->v4_sampler == CLR_V4_ZSOBOL) {
-    clr_u64 index = d->high | clr_v4_zsobol_sample_part(p, morton | (clr_u32)sample,
-                                                        clr_v4_zsobol_salt(dimension));
-    u[0] = clr_v4_sobol_sample(index, 0, p->randomization, (clr_u32)d->hash, t->sobol32);
+    clr_u64 low =
+        clr_v4_zsobol_sample_part(p, morton | (clr_u32)sample, clr_v4_zsobol_salt(dimension));
+    u[0] = clr_v4_sobol_finish(d->bits[0] ^ clr_v4_sobol_bits(low, 0, t->sobol32), p->randomization,
+                               (clr_u32)d->hash);
     if (dims == 2)
-      u[1] = clr_v4_sobol_sample(index, 1, p->randomization, (clr_u32)(d->hash >> 32u), t->sobol32);
+      u[1] = clr_v4_sobol_finish(d->bits[1] ^ clr_v4_sobol_bits(low, 1, t->sobol32),
+                                 p->randomization, (clr_u32)(d->hash >> 32u));
     return;
   }
   if (dims == 1) {
@@ -598,7 +612,7 @@ CLR_INLINE void clr_v4_pixel_vectors(const clr_sampler_params *p,
       }
       clr_i32 dims = r == p->film_request ? 2 : sl.dims;
       clr_v4_pixel_dim d;
-      clr_v4_pixel_dim_part(p, px, py, morton, dimension, dims, &d);
+      clr_v4_pixel_dim_part(p, t, px, py, morton, dimension, dims, &d);
       for (clr_i32 k = 0; k < p->sample_count; ++k) {
         clr_v4_pixel_dim_value(p, t, &d, morton, dimension, dims, p->first_sample + k, u);
         v[(size_t)k * (size_t)stride] = u[0];
