@@ -532,12 +532,14 @@ CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
   }
 }
 
-/* The part of a zsobol or pmj02bn value that depends only on (pixel, dimension), computed once
+/* The part of a zsobol, paddedsobol or pmj02bn value that depends only on (pixel, dimension),
+ * computed once
  * for every sample of the pixel (clr_v4_pixel_vectors). */
 typedef struct clr_v4_pixel_dim {
   clr_u32 bits[2]; /* zsobol: Sobol' bits (dimensions 0, 1) of the permuted pixel digits */
-  clr_u64 hash;    /* zsobol: the scrambler's hash; pmj02bn: Hash(pixel, dimension, seed) */
-  float noise[2];  /* pmj02bn: blue noise of dimension and dimension + 1 */
+  clr_u64
+      hash; /* zsobol: the scrambler's hash; paddedsobol, pmj02bn: Hash(pixel, dimension, seed) */
+  float noise[2]; /* pmj02bn: blue noise of dimension and dimension + 1 */
 } clr_v4_pixel_dim;
 
 /* The (pixel, dimension) part of Get1D (dims 1) or Get2D (dims 2) at `dimension`. */
@@ -552,6 +554,10 @@ CLR_INLINE void clr_v4_pixel_dim_part(const clr_sampler_params *p, const clr_v4_
     out->hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (clr_i32)p->seed));
     return;
   }
+  if (p->v4_sampler == CLR_V4_PADDEDSOBOL) {
+    out->hash = clr_v4_pixel_dim_hash(p, px, py, dimension);
+    return;
+  }
   out->hash = dims == 1 || dimension / 2 >= CLR_PMJ02_SETS
                   ? clr_v4_pixel_dim_hash(p, px, py, dimension)
                   : 0u;
@@ -559,7 +565,7 @@ CLR_INLINE void clr_v4_pixel_dim_part(const clr_sampler_params *p, const clr_v4_
   out->noise[1] = dims == 2 ? clr_v4_blue_noise_sample(px, py, dimension + 1) : 0.0f;
 }
 
-/* zsobol's or pmj02bn's Get1D (dims 1) or Get2D for `sample` of the pixel at `dimension`. */
+/* zsobol's, paddedsobol's or pmj02bn's Get1D (dims 1) or Get2D for `sample` of the pixel at `dimension`. */
 CLR_INLINE void clr_v4_pixel_dim_value(const clr_sampler_params *p, const clr_v4_tables *t,
                                        const clr_v4_pixel_dim *d, clr_u64 morton, clr_i32 dimension,
                                        clr_i32 dims, clr_i32 sample, float *u) {
@@ -573,6 +579,14 @@ CLR_INLINE void clr_v4_pixel_dim_value(const clr_sampler_params *p, const clr_v4
                                  p->randomization, (clr_u32)(d->hash >> 32u));
     return;
   }
+  if (p->v4_sampler == CLR_V4_PADDEDSOBOL) {
+    clr_u32 index = clr_v4_permutation_element((clr_u32)sample, (clr_u32)p->spp, (clr_u32)d->hash);
+    u[0] = clr_v4_sobol_sample(index, 0, p->randomization,
+                               (clr_u32)(dims == 1 ? d->hash >> 32u : d->hash), t->sobol32);
+    if (dims == 2)
+      u[1] = clr_v4_sobol_sample(index, 1, p->randomization, (clr_u32)(d->hash >> 32u), t->sobol32);
+    return;
+  }
   if (dims == 1) {
     u[0] = clr_v4_pmj02_value1d(p, sample, d->hash, d->noise[0]);
     return;
@@ -584,7 +598,7 @@ CLR_INLINE void clr_v4_pixel_dim_value(const clr_sampler_params *p, const clr_v4
                                d->noise[c]);
 }
 
-/* zsobol and pmj02bn: the sample vectors of every sample of batch pixel `pixel` (out: its first
+/* zsobol, paddedsobol and pmj02bn: the sample vectors of every sample of batch pixel `pixel` (out: its first
  * one), the same values as clr_v4_sample_vector: the layout is walked once, each Get1D/Get2D's
  * (pixel, dimension) part computed once and each sample's part per sample. */
 CLR_INLINE void clr_v4_pixel_vectors(const clr_sampler_params *p,
@@ -593,7 +607,7 @@ CLR_INLINE void clr_v4_pixel_vectors(const clr_sampler_params *p,
   clr_i32 row = pixel / p->batch_width;
   clr_i32 px = p->batch_x0 + pixel - row * p->batch_width, py = p->batch_y0 + row;
   clr_u64 morton = p->v4_sampler == CLR_V4_ZSOBOL ? clr_v4_zsobol_pixel_morton(p, px, py) : 0u;
-  clr_i32 dimension = p->v4_sampler == CLR_V4_ZSOBOL ? 0 : 2;
+  clr_i32 dimension = p->v4_sampler == CLR_V4_PMJ02BN ? 2 : 0;
   clr_i32 stride = p->values_per_sample;
   for (clr_i32 r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];

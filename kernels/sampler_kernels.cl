@@ -35,7 +35,7 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
   clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
 }
 
-/* zsobol and pmj02bn: one work-item per batch pixel, all of its samples (clr_v4_pixel_vectors:
+/* zsobol, paddedsobol and pmj02bn: one work-item per batch pixel, all of its samples (clr_v4_pixel_vectors:
  * each (pixel, dimension) part once). Same arguments as clr_v4_generate; pixel_count pixels. */
 __kernel void clr_v4_generate_pixels(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,

@@ -1,4 +1,4 @@
-/* The per-pixel walk of zsobol and pmj02bn (clr_v4_pixel_vectors, the device's
+/* The per-pixel walk of zsobol, paddedsobol and pmj02bn (clr_v4_pixel_vectors, the device's
  * clr_v4_generate_pixels) gives the per-item reference's values bit for bit (clr_v4_sample_vector)
  * for power-of-two and other spp, odd log2 spp, batches starting past sample 0, arrays and 1D
  * values before the film offset; and pmj02bn's point-set table holds clr_pmj02_point. */
@@ -81,8 +81,8 @@ static void batch(clr_sampler_params *p, int x0, int y0, int first, int count) {
   p->sample_count = count;
 }
 
-static void test_zsobol_pixel_walk(void **state) {
-  (void)state;
+/* zsobol (v4 CLR_V4_ZSOBOL) or paddedsobol: every spp, randomization and layout. */
+static void sobol_pixel_walk(int v4) {
   static const int spps[] = {1, 2, 4, 8, 16, 32};
   static const int randomizations[] = {CLR_RANDOMIZE_TYPE_NONE, CLR_RANDOMIZE_TYPE_PERMUTEDIGITS,
                                        CLR_RANDOMIZE_TYPE_FASTOWEN, CLR_RANDOMIZE_TYPE_OWEN};
@@ -92,8 +92,8 @@ static void test_zsobol_pixel_walk(void **state) {
       for (size_t l = 0; l < sizeof layouts / sizeof layouts[0]; ++l) {
         clr_sampler_params p;
         memset(&p, 0, sizeof p);
-        p.v4_sampler = CLR_V4_ZSOBOL;
-        p.spp = spps[s];
+        p.v4_sampler = v4;
+        p.spp = spps[s] + (v4 == CLR_V4_PADDEDSOBOL && spps[s] > 4 ? 3 : 0);
         p.seed = 7u * (uint32_t)r;
         p.randomization = randomizations[r];
         p.zsobol_log2_spp = log2_int(p.spp);
@@ -105,6 +105,16 @@ static void test_zsobol_pixel_walk(void **state) {
           compare(&p, &t, &layouts[l]);
         }
       }
+}
+
+static void test_zsobol_pixel_walk(void **state) {
+  (void)state;
+  sobol_pixel_walk(CLR_V4_ZSOBOL);
+}
+
+static void test_paddedsobol_pixel_walk(void **state) {
+  (void)state;
+  sobol_pixel_walk(CLR_V4_PADDEDSOBOL);
 }
 
 static void test_pmj02bn_pixel_walk(void **state) {
@@ -141,6 +151,7 @@ static void test_pmj02bn_pixel_walk(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_zsobol_pixel_walk),
+      cmocka_unit_test(test_paddedsobol_pixel_walk),
       cmocka_unit_test(test_pmj02bn_pixel_walk),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

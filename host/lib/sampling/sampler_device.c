@@ -498,8 +498,9 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                                                    2 * CLR_PMJ02_SETS * (size_t)p->spp)
                                 : 0;
   CLR_CHECK(upload(ctx, &d->pmj, pmj_pixels, pmj_bytes, "pmj02bn pixel and point-set tables"));
-  /* zsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts computed once. */
-  int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PMJ02BN;
+  /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once. */
+  int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
+                  p->v4_sampler == CLR_V4_PMJ02BN;
   const char *name = per_pixel ? "clr_v4_generate_pixels" : "clr_v4_generate";
   if (per_pixel) items = (size_t)p->batch_width * (size_t)p->batch_height;
   cl_kernel k;
