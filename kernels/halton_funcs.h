@@ -69,12 +69,14 @@ CLR_HALTON_INLINE clr_u32 clr_halton_div32(clr_u32 n, clr_u32 magic, clr_u32 shi
 }
 
 /* Bit i of the result is bit 31 - i of n. Written nibble by nibble through a table held in a
- * constant (rev4(x) = rev4(x & 7) | x >> 3, and rev4 of 0..7 are the nibbles of 0xE6A2C480):
+ * constant (the reversed nibbles of 0..15 are the nibbles of CLR_REV4_NIBBLES; the SIMD code uses
+ * rev4(x) = rev4(x & 7) | x >> 3, the reversals of 0..7 being the nibbles of 0xE6A2C480):
  * shift-and-mask code is the idiom compilers turn into the llvm.bitreverse intrinsic, which not
  * every OpenCL implementation can run (Oclgrind cannot), while variable shifts stay plain. */
 #define CLR_REV3_NIBBLES 0xE6A2C480u
+#define CLR_REV4_NIBBLES 0xF7B3D591E6A2C480UL
 CLR_HALTON_INLINE clr_u32 clr_reverse_nibble(clr_u32 x) {
-  return ((CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | ((x >> 3u) & 1u);
+  return (clr_u32)(CLR_REV4_NIBBLES >> (x * 4u)) & 15u;
 }
 
 /* One serial chain (r shifted each step): no OR-reduction tree for the SLP vectoriser to turn

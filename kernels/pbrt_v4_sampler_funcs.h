@@ -20,7 +20,13 @@ typedef struct clr_v4_tables {
   CLR_GLOBAL const clr_u64 *vdc, *vdc_inv;
   CLR_GLOBAL const clr_halton_prime *primes;
   CLR_GLOBAL const float *pmj_pixels; /* pmj02bn: (x, y) of GetPixel2D per tile pixel, sample */
+  CLR_GLOBAL const float *pmj_sets;   /* pmj02bn: (x, y) of point i < spp of each point set */
 } clr_v4_tables;
+
+/* Floats of pmj02bn's GetPixel2D table; its point-set table (clr_v4_pmj02_set_point) follows. */
+CLR_INLINE clr_u64 clr_v4_pmj02_pixel_floats(const clr_sampler_params *p) {
+  return 2u * (clr_u64)p->pmj_tile * (clr_u64)p->pmj_tile * (clr_u64)p->spp;
+}
 
 /* A sampler between StartPixelSample and the next one. */
 typedef struct clr_v4_state {
@@ -43,14 +49,24 @@ CLR_INLINE void clr_v4_pixel_rng(clr_i32 px, clr_i32 py, clr_u32 seed, clr_i32 s
   *out = r;
 }
 
+/* SobolSample's unscrambled bits: the generator matrix of `dim` times index a (linear over GF(2):
+ * the bits of a ^ b are those of a xor those of b). */
+CLR_INLINE clr_u32 clr_v4_sobol_bits(clr_u64 a, clr_i32 dim, CLR_GLOBAL const clr_u32 *sobol32) {
+  CLR_GLOBAL const clr_u32 *cols = sobol32 + (clr_u32)dim * CLR_SOBOL_MATRIX_SIZE;
+  clr_u32 high = (clr_u32)(a >> 32) & ((1u << (CLR_SOBOL_INDEX_BITS - 32)) - 1u);
+  return clr_sobol_xor_columns32((clr_u32)a, cols) ^ clr_sobol_xor_columns32(high, cols + 32);
+}
+
+/* SobolSample's value from its unscrambled bits v. */
+CLR_INLINE float clr_v4_sobol_finish(clr_u32 v, clr_i32 randomization, clr_u32 hash) {
+  v = clr_v4_scramble(v, randomization, hash);
+  return clr_v4_below_one((float)v * 0x1p-32f);
+}
+
 /* SobolSample(a, dimension, randomizer). */
 CLR_INLINE float clr_v4_sobol_sample(clr_u64 a, clr_i32 dim, clr_i32 randomization, clr_u32 hash,
                                      CLR_GLOBAL const clr_u32 *sobol32) {
-  CLR_GLOBAL const clr_u32 *cols = sobol32 + (clr_u32)dim * CLR_SOBOL_MATRIX_SIZE;
-  clr_u32 high = (clr_u32)(a >> 32) & ((1u << (CLR_SOBOL_INDEX_BITS - 32)) - 1u);
-  clr_u32 v = clr_sobol_xor_columns32((clr_u32)a, cols) ^ clr_sobol_xor_columns32(high, cols + 32);
-  v = clr_v4_scramble(v, randomization, hash);
-  return clr_v4_below_one((float)v * 0x1p-32f);
+  return clr_v4_sobol_finish(clr_v4_sobol_bits(a, dim, sobol32), randomization, hash);
 }
 
 /* RadicalInverse(baseIndex, a). */
@@ -190,21 +206,57 @@ CLR_INLINE clr_u64 clr_v4_left_shift2(clr_u64 x) {
   return x;
 }
 
-/* ZSobolSampler::GetSampleIndex: the Morton index with each base-4 digit permuted by a hash of
- * the digits above it and the dimension (and the last binary digit flipped when spp is 2^odd). */
-CLR_INLINE clr_u64 clr_v4_zsobol_index(const clr_sampler_params *p, clr_u64 morton,
-                                       clr_i32 dimension) {
-  clr_u64 salt = (clr_u64)(0x55555555u * (clr_u32)dimension);
-  clr_i32 odd = p->zsobol_log2_spp & 1;
+/* ZSobolSampler's Morton index of sample 0 of pixel (px, py). */
+CLR_INLINE clr_u64 clr_v4_zsobol_pixel_morton(const clr_sampler_params *p, clr_i32 px, clr_i32 py) {
+  return (clr_v4_left_shift2((clr_u32)py) << 1u | clr_v4_left_shift2((clr_u32)px))
+         << (clr_u32)p->zsobol_log2_spp;
+}
+
+/* ZSobolSampler::GetSampleIndex's permuted digits hi down to lo: each base-4 digit of the Morton
+ * index permuted by a hash of the digits above it and the dimension (salt). */
+CLR_INLINE clr_u64 clr_v4_zsobol_digits(clr_u64 morton, clr_u64 salt, clr_i32 odd, clr_i32 hi,
+                                        clr_i32 lo) {
   clr_u64 index = 0u;
-  for (clr_i32 i = p->zsobol_base4_digits - 1; i >= odd; --i) {
+  for (clr_i32 i = hi; i >= lo; --i) {
     clr_u32 shift = (clr_u32)(2 * i - odd);
     clr_u32 digit = (clr_u32)(morton >> shift) & 3u;
     clr_u32 perm = (clr_u32)((clr_v4_mix_bits((morton >> (shift + 2u)) ^ salt) >> 24u) % 24u);
     index |= (clr_u64)clr_v4_permute4(perm, digit) << shift;
   }
+  return index;
+}
+
+CLR_INLINE clr_u64 clr_v4_zsobol_salt(clr_i32 dimension) {
+  return (clr_u64)(0x55555555u * (clr_u32)dimension);
+}
+
+/* The lowest digit whose bits and hash hold no bit of the sample index (log2 spp low bits). */
+CLR_INLINE clr_i32 clr_v4_zsobol_pixel_digit(const clr_sampler_params *p) {
+  return (p->zsobol_log2_spp + 1) / 2;
+}
+
+/* The digits of the pixel's Morton index: the same for every sample of the pixel. */
+CLR_INLINE clr_u64 clr_v4_zsobol_pixel_part(const clr_sampler_params *p, clr_u64 morton,
+                                            clr_u64 salt) {
+  return clr_v4_zsobol_digits(morton, salt, p->zsobol_log2_spp & 1, p->zsobol_base4_digits - 1,
+                              clr_v4_zsobol_pixel_digit(p));
+}
+
+/* The digits that hold sample bits, and the last binary digit flipped when spp is 2^odd. */
+CLR_INLINE clr_u64 clr_v4_zsobol_sample_part(const clr_sampler_params *p, clr_u64 morton,
+                                             clr_u64 salt) {
+  clr_i32 odd = p->zsobol_log2_spp & 1;
+  clr_u64 index = clr_v4_zsobol_digits(morton, salt, odd, clr_v4_zsobol_pixel_digit(p) - 1, odd);
   if (odd) index |= (morton & 1u) ^ (clr_v4_mix_bits((morton >> 1u) ^ salt) & 1u);
   return index;
+}
+
+/* ZSobolSampler::GetSampleIndex: the Morton index with each base-4 digit permuted by a hash of
+ * the digits above it and the dimension (and the last binary digit flipped when spp is 2^odd). */
+CLR_INLINE clr_u64 clr_v4_zsobol_index(const clr_sampler_params *p, clr_u64 morton,
+                                       clr_i32 dimension) {
+  clr_u64 salt = clr_v4_zsobol_salt(dimension);
+  return clr_v4_zsobol_pixel_part(p, morton, salt) | clr_v4_zsobol_sample_part(p, morton, salt);
 }
 
 /* Point `index` of pmj02bn point set `set`: pbrt-v4's sets (pmj02bn, found by a randomized
@@ -234,36 +286,59 @@ CLR_INLINE float clr_v4_blue_noise_sample(clr_i32 px, clr_i32 py, clr_i32 instan
   return (float)clr_reverse_bits32(index) * 0x1p-32f;
 }
 
+/* Coordinate c of point `index` (< spp) of pmj02bn point set `set`: clr_pmj02_point as a float,
+ * read from the sampler's table (built once on the host, clr_pmj02_set_table). */
+CLR_INLINE float clr_v4_pmj02_set_point(const clr_sampler_params *p, const clr_v4_tables *t,
+                                        clr_i32 set, clr_u32 index, clr_i32 c) {
+  return t->pmj_sets[2u * ((clr_u32)set * (clr_u32)p->spp + index) + (clr_u32)c];
+}
+
+/* PMJ02BNSampler::Get2D's point: the sample index permuted past the sets by `hash`. */
+CLR_INLINE clr_u32 clr_v4_pmj02_index2d(const clr_sampler_params *p, clr_i32 sample, clr_i32 set,
+                                        clr_u64 hash) {
+  if (set < CLR_PMJ02_SETS) return (clr_u32)sample;
+  return clr_v4_permutation_element((clr_u32)sample, (clr_u32)p->spp, (clr_u32)hash);
+}
+
+/* Point value v (in [0, 1)) rotated toroidally by blue noise. */
+CLR_INLINE float clr_v4_pmj02_rotate(float v, float noise) {
+  v += noise;
+  if (v >= 1.0f) v -= 1.0f;
+  return clr_v4_below_one(v);
+}
+
+/* Hash(pixel, dimension, seed) of pmj02bn's Get1D and Get2D. */
+CLR_INLINE clr_u64 clr_v4_pixel_dim_hash(const clr_sampler_params *p, clr_i32 px, clr_i32 py,
+                                         clr_i32 dimension) {
+  return clr_v4_hash16(clr_v4_pack(px, py), clr_v4_pack(dimension, (clr_i32)p->seed));
+}
+
 /* PMJ02BNSampler::Get2D: set dimension / 2 (the sample index permuted past the sets), rotated
  * toroidally by the pixel's blue noise. */
 CLR_INLINE void clr_v4_pmj02_get2d(const clr_sampler_params *p, const clr_v4_tables *t,
                                    clr_v4_state *s, float *u) {
-  clr_u32 index = (clr_u32)s->sample;
   clr_i32 set = s->dimension / 2;
-  if (set >= CLR_PMJ02_SETS) {
-    clr_u64 hash =
-        clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
-    index = clr_v4_permutation_element(index, (clr_u32)p->spp, (clr_u32)hash);
-  }
-  for (clr_i32 c = 0; c < 2; ++c) {
-    float v =
-        (float)clr_pmj02_point(set % CLR_PMJ02_SETS, index % CLR_PMJ02_POINTS, c, t->sobol32) *
-        0x1p-32f;
-    v += clr_v4_blue_noise_sample(s->px, s->py, s->dimension + c);
-    if (v >= 1.0f) v -= 1.0f;
-    u[c] = clr_v4_below_one(v);
-  }
+  clr_u64 hash = set >= CLR_PMJ02_SETS ? clr_v4_pixel_dim_hash(p, s->px, s->py, s->dimension) : 0u;
+  clr_u32 index = clr_v4_pmj02_index2d(p, s->sample, set, hash);
+  for (clr_i32 c = 0; c < 2; ++c)
+    u[c] = clr_v4_pmj02_rotate(clr_v4_pmj02_set_point(p, t, set % CLR_PMJ02_SETS, index, c),
+                               clr_v4_blue_noise_sample(s->px, s->py, s->dimension + c));
   s->dimension += 2;
+}
+
+/* PMJ02BNSampler::Get1D's value: the permuted stratum plus blue noise delta, over spp. */
+CLR_INLINE float clr_v4_pmj02_value1d(const clr_sampler_params *p, clr_i32 sample, clr_u64 hash,
+                                      float delta) {
+  clr_u32 index = clr_v4_permutation_element((clr_u32)sample, (clr_u32)p->spp, (clr_u32)hash);
+  return clr_v4_below_one(clr_v4_div((float)index + delta, (clr_u32)p->spp));
 }
 
 /* PMJ02BNSampler::Get1D: the permuted stratum plus the pixel's blue noise. */
 CLR_INLINE float clr_v4_pmj02_get1d(const clr_sampler_params *p, clr_v4_state *s) {
-  clr_u64 hash =
-      clr_v4_hash16(clr_v4_pack(s->px, s->py), clr_v4_pack(s->dimension, (clr_i32)p->seed));
-  clr_u32 index = clr_v4_permutation_element((clr_u32)s->sample, (clr_u32)p->spp, (clr_u32)hash);
-  float delta = clr_v4_blue_noise_sample(s->px, s->py, s->dimension);
+  float v = clr_v4_pmj02_value1d(p, s->sample, clr_v4_pixel_dim_hash(p, s->px, s->py, s->dimension),
+                                 clr_v4_blue_noise_sample(s->px, s->py, s->dimension));
   ++s->dimension;
-  return clr_v4_below_one(clr_v4_div((float)index + delta, (clr_u32)p->spp));
+  return v;
 }
 
 /* Sampler::StartPixelSample(p, sampleIndex, 0) into *out (a struct returned by value is an sret
@@ -295,9 +370,7 @@ CLR_INLINE void clr_v4_start(const clr_sampler_params *p, const clr_v4_tables *t
       s.dimension = 2;
       break;
     case CLR_V4_ZSOBOL:
-      s.index = (clr_v4_left_shift2((clr_u32)py) << 1u | clr_v4_left_shift2((clr_u32)px))
-                    << (clr_u32)p->zsobol_log2_spp |
-                (clr_u64)(clr_u32)sample;
+      s.index = clr_v4_zsobol_pixel_morton(p, px, py) | (clr_u64)(clr_u32)sample;
       break;
     default:
       break;
@@ -455,6 +528,111 @@ CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
         v[2 * j] = u[0];
         v[2 * j + 1] = u[1];
       }
+    }
+  }
+}
+
+/* The part of a zsobol, paddedsobol or pmj02bn value that depends only on (pixel, dimension),
+ * computed once
+ * for every sample of the pixel (clr_v4_pixel_vectors). */
+typedef struct clr_v4_pixel_dim {
+  clr_u32 bits[2]; /* zsobol: Sobol' bits (dimensions 0, 1) of the permuted pixel digits */
+  clr_u64
+      hash; /* zsobol: the scrambler's hash; paddedsobol, pmj02bn: Hash(pixel, dimension, seed) */
+  float noise[2]; /* pmj02bn: blue noise of dimension and dimension + 1 */
+} clr_v4_pixel_dim;
+
+/* The (pixel, dimension) part of Get1D (dims 1) or Get2D (dims 2) at `dimension`. */
+CLR_INLINE void clr_v4_pixel_dim_part(const clr_sampler_params *p, const clr_v4_tables *t,
+                                      clr_i32 px, clr_i32 py, clr_u64 morton, clr_i32 dimension,
+                                      clr_i32 dims, clr_v4_pixel_dim *out) {
+  out->bits[0] = out->bits[1] = 0u;
+  if (p->v4_sampler == CLR_V4_ZSOBOL) {
+    clr_u64 high = clr_v4_zsobol_pixel_part(p, morton, clr_v4_zsobol_salt(dimension));
+    out->bits[0] = clr_v4_sobol_bits(high, 0, t->sobol32);
+    out->bits[1] = dims == 2 ? clr_v4_sobol_bits(high, 1, t->sobol32) : 0u;
+    out->hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (clr_i32)p->seed));
+    return;
+  }
+  if (p->v4_sampler == CLR_V4_PADDEDSOBOL) {
+    out->hash = clr_v4_pixel_dim_hash(p, px, py, dimension);
+    return;
+  }
+  out->hash = dims == 1 || dimension / 2 >= CLR_PMJ02_SETS
+                  ? clr_v4_pixel_dim_hash(p, px, py, dimension)
+                  : 0u;
+  out->noise[0] = clr_v4_blue_noise_sample(px, py, dimension);
+  out->noise[1] = dims == 2 ? clr_v4_blue_noise_sample(px, py, dimension + 1) : 0.0f;
+}
+
+/* zsobol's, paddedsobol's or pmj02bn's Get1D (dims 1) or Get2D for `sample` of the pixel at `dimension`. */
+CLR_INLINE void clr_v4_pixel_dim_value(const clr_sampler_params *p, const clr_v4_tables *t,
+                                       const clr_v4_pixel_dim *d, clr_u64 morton, clr_i32 dimension,
+                                       clr_i32 dims, clr_i32 sample, float *u) {
+  if (p->v4_sampler == CLR_V4_ZSOBOL) {
+    clr_u64 low =
+        clr_v4_zsobol_sample_part(p, morton | (clr_u32)sample, clr_v4_zsobol_salt(dimension));
+    u[0] = clr_v4_sobol_finish(d->bits[0] ^ clr_v4_sobol_bits(low, 0, t->sobol32), p->randomization,
+                               (clr_u32)d->hash);
+    if (dims == 2)
+      u[1] = clr_v4_sobol_finish(d->bits[1] ^ clr_v4_sobol_bits(low, 1, t->sobol32),
+                                 p->randomization, (clr_u32)(d->hash >> 32u));
+    return;
+  }
+  if (p->v4_sampler == CLR_V4_PADDEDSOBOL) {
+    clr_u32 index = clr_v4_permutation_element((clr_u32)sample, (clr_u32)p->spp, (clr_u32)d->hash);
+    u[0] = clr_v4_sobol_sample(index, 0, p->randomization,
+                               (clr_u32)(dims == 1 ? d->hash >> 32u : d->hash), t->sobol32);
+    if (dims == 2)
+      u[1] = clr_v4_sobol_sample(index, 1, p->randomization, (clr_u32)(d->hash >> 32u), t->sobol32);
+    return;
+  }
+  if (dims == 1) {
+    u[0] = clr_v4_pmj02_value1d(p, sample, d->hash, d->noise[0]);
+    return;
+  }
+  clr_i32 set = dimension / 2;
+  clr_u32 index = clr_v4_pmj02_index2d(p, sample, set, d->hash);
+  for (clr_i32 c = 0; c < 2; ++c)
+    u[c] = clr_v4_pmj02_rotate(clr_v4_pmj02_set_point(p, t, set % CLR_PMJ02_SETS, index, c),
+                               d->noise[c]);
+}
+
+/* zsobol, paddedsobol and pmj02bn: the sample vectors of every sample of batch pixel `pixel` (out: its first
+ * one), the same values as clr_v4_sample_vector: the layout is walked once, each Get1D/Get2D's
+ * (pixel, dimension) part computed once and each sample's part per sample. */
+CLR_INLINE void clr_v4_pixel_vectors(const clr_sampler_params *p,
+                                     CLR_GLOBAL const clr_request_slot *slots,
+                                     const clr_v4_tables *t, clr_i32 pixel, CLR_GLOBAL float *out) {
+  clr_i32 row = pixel / p->batch_width;
+  clr_i32 px = p->batch_x0 + pixel - row * p->batch_width, py = p->batch_y0 + row;
+  clr_u64 morton = p->v4_sampler == CLR_V4_ZSOBOL ? clr_v4_zsobol_pixel_morton(p, px, py) : 0u;
+  clr_i32 dimension = p->v4_sampler == CLR_V4_PMJ02BN ? 2 : 0;
+  clr_i32 stride = p->values_per_sample;
+  for (clr_i32 r = 0; r < p->request_count; ++r) {
+    clr_request_slot sl = slots[r];
+    clr_i32 elements = sl.array_size ? sl.array_size : 1;
+    for (clr_i32 j = 0; j < elements; ++j) {
+      CLR_GLOBAL float *v = out + sl.first_value + (sl.dims == 2 ? 2 * j : j);
+      float u[2];
+      if (r == p->film_request && p->v4_sampler == CLR_V4_PMJ02BN) {
+        clr_i32 x = clr_v4_mod(px, p->pmj_tile), y = clr_v4_mod(py, p->pmj_tile);
+        CLR_GLOBAL const float *xy = t->pmj_pixels + 2 * ((x + y * p->pmj_tile) * p->spp);
+        for (clr_i32 k = 0; k < p->sample_count; ++k) {
+          v[(size_t)k * (size_t)stride] = xy[2 * (p->first_sample + k)];
+          v[(size_t)k * (size_t)stride + 1u] = xy[2 * (p->first_sample + k) + 1];
+        }
+        continue;
+      }
+      clr_i32 dims = r == p->film_request ? 2 : sl.dims;
+      clr_v4_pixel_dim d;
+      clr_v4_pixel_dim_part(p, t, px, py, morton, dimension, dims, &d);
+      for (clr_i32 k = 0; k < p->sample_count; ++k) {
+        clr_v4_pixel_dim_value(p, t, &d, morton, dimension, dims, p->first_sample + k, u);
+        v[(size_t)k * (size_t)stride] = u[0];
+        if (dims == 2) v[(size_t)k * (size_t)stride + 1u] = u[1];
+      }
+      dimension += dims;
     }
   }
 }

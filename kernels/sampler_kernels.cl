@@ -31,7 +31,29 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
   t.vdc_inv = vdc_inv;
   t.primes = primes;
   t.pmj_pixels = pmj_pixels;
+  t.pmj_sets = pmj_pixels + clr_v4_pmj02_pixel_floats(&p);
   clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
+}
+
+/* zsobol, paddedsobol and pmj02bn: one work-item per batch pixel, all of its samples (clr_v4_pixel_vectors:
+ * each (pixel, dimension) part once). Same arguments as clr_v4_generate; pixel_count pixels. */
+__kernel void clr_v4_generate_pixels(
+    clr_sampler_params p, __global const clr_request_slot *restrict slots,
+    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
+    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
+    __global const float *restrict pmj_pixels, __global float *restrict values, int pixel_count) {
+  const int pixel = (int)get_global_id(0);
+  if (pixel >= pixel_count) return;
+  clr_v4_tables t;
+  t.sobol32 = sobol32;
+  t.vdc = vdc;
+  t.vdc_inv = vdc_inv;
+  t.primes = primes;
+  t.pmj_pixels = pmj_pixels;
+  t.pmj_sets = pmj_pixels + clr_v4_pmj02_pixel_floats(&p);
+  clr_v4_pixel_vectors(
+      &p, slots, &t, pixel,
+      values + (size_t)pixel * (size_t)p.sample_count * (size_t)p.values_per_sample);
 }
 #endif
 

@@ -17,7 +17,8 @@ int32_t clr_pmj02_tile_size(int32_t spp) {
 
 float *clr_pmj02_pixel_table(int32_t spp, int32_t tile) {
   int32_t pixels = tile * tile, bits = log4_int(tile * tile); /* tile = 2^bits */
-  float *table = malloc(sizeof(float) * 2 * (size_t)pixels * (size_t)spp);
+  size_t pixel_floats = 2 * (size_t)pixels * (size_t)spp;
+  float *table = malloc(sizeof(float) * (pixel_floats + 2 * CLR_PMJ02_SETS * (size_t)spp));
   int32_t *stored = calloc((size_t)pixels, sizeof(int32_t));
   if (!table || !stored) {
     free(table);
@@ -36,5 +37,11 @@ float *clr_pmj02_pixel_table(int32_t spp, int32_t tile) {
     xy[1] = (float)((double)(uint32_t)(y << bits) * 0x1p-32);
   }
   free(stored);
+  float *sets = table + pixel_floats;
+  for (int32_t set = 0; set < CLR_PMJ02_SETS; ++set)
+    for (uint32_t i = 0; i < (uint32_t)spp; ++i)
+      for (int32_t c = 0; c < 2; ++c)
+        sets[2 * ((size_t)set * (size_t)spp + i) + (size_t)c] =
+            (float)clr_pmj02_point(set, i, c, clr_sobol_matrices32) * 0x1p-32f;
   return table;
 }

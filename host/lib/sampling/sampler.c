@@ -614,8 +614,12 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
   if (!values) values = owned = malloc(items * (size_t)p.values_per_sample * sizeof(float));
   if (!values) return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "reference: out of memory");
   if (p.v4_sampler) {
-    clr_v4_tables t = {clr_sobol_matrices32, &clr_vdc_sobol_matrices[0][0],
-                       &clr_vdc_sobol_matrices_inv[0][0], clr_halton_primes(), s->pmj_pixels};
+    clr_v4_tables t = {clr_sobol_matrices32,
+                       &clr_vdc_sobol_matrices[0][0],
+                       &clr_vdc_sobol_matrices_inv[0][0],
+                       clr_halton_primes(),
+                       s->pmj_pixels,
+                       s->pmj_pixels ? s->pmj_pixels + clr_v4_pmj02_pixel_floats(&p) : NULL};
     for (size_t i = 0; i < items; ++i)
       clr_v4_sample_vector(&p, slots, &t, (clr_i32)i, values + i * (size_t)p.values_per_sample);
     if (out->host_indices)

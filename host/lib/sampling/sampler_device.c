@@ -9,6 +9,7 @@
 #include "global_sampler_funcs.h"
 #include "halton_tables.h"
 #include "pixel_sampler_funcs.h"
+#include "pbrt_v4_sampler_funcs.h"
 #include "sampler_device.h"
 #include "sobol_tables.h"
 
@@ -493,11 +494,15 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
   CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
                    sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
-  size_t pmj_bytes =
-      pmj_pixels ? sizeof(float) * 2 * (size_t)p->pmj_tile * (size_t)p->pmj_tile * (size_t)p->spp
-                 : 0;
-  CLR_CHECK(upload(ctx, &d->pmj, pmj_pixels, pmj_bytes, "pmj02bn pixel table"));
-  const char *name = "clr_v4_generate";
+  size_t pmj_bytes = pmj_pixels ? sizeof(float) * ((size_t)clr_v4_pmj02_pixel_floats(p) +
+                                                   2 * CLR_PMJ02_SETS * (size_t)p->spp)
+                                : 0;
+  CLR_CHECK(upload(ctx, &d->pmj, pmj_pixels, pmj_bytes, "pmj02bn pixel and point-set tables"));
+  /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once. */
+  int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
+                  p->v4_sampler == CLR_V4_PMJ02BN;
+  const char *name = per_pixel ? "clr_v4_generate_pixels" : "clr_v4_generate";
+  if (per_pixel) items = (size_t)p->batch_width * (size_t)p->batch_height;
   cl_kernel k;
   CLR_CHECK(get_kernel(d, name, "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4", &k));
   cl_int count = (cl_int)items;

@@ -14,7 +14,7 @@ void clr_sampler_device_release(clr_sampler_device *device);
 
 /* Generates the batch prepared in (p, slots) into out (device_values and/or host_values,
  * host_indices); returns once the values are in place. Calls on one cache are serialised. */
-/* pmj_pixels: pmj02bn's GetPixel2D table (2 * pmj_tile^2 * spp floats), NULL otherwise. */
+/* pmj_pixels: pmj02bn's GetPixel2D and point-set tables (clr_pmj02_pixel_table), NULL otherwise. */
 clr_result clr_sampler_device_generate(clr_sampler_device *device, const clr_sampler_params *p,
                                        const clr_request_slot *slots, const float *pmj_pixels,
                                        const clr_sample_output *out);
