@@ -69,6 +69,9 @@ void rs_lights_free(rs_light_set *set);
 int rs_light_is_delta(const rs_light *l);
 void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t light,
                       const float p[3], const float ng[3], const float u[2], clr_light_sample *ls);
+/* rs_lights_sample without the shadow ray (ls->shadow stays zero): the same wi, li and pdf. */
+void rs_lights_sample_li(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                         const float p[3], const float u[2], clr_light_sample *ls);
 /* Solid-angle pdf that light sampling from `p` would give direction wi that hits emitter light
  * `light` at distance t with the hit's geometric normal n_hit (unit). */
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,
