@@ -185,6 +185,7 @@ struct clr_integrator_scratch {
   int32_t *owner;
   float *beta;
   int32_t *bounces, *active;
+  const float **cdfs; /* each path vertex's light cdf (spatial light distribution) */
   float *ao_terms;
   size_t ao_cap;
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
@@ -207,6 +208,7 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s->beta);
   free(s->bounces);
   free(s->active);
+  free(s->cdfs);
   free(s);
 }
 
@@ -228,13 +230,14 @@ static clr_result reserve_rays(clr_integrator_scratch *s, size_t n) {
 
 static clr_result reserve_samples(clr_integrator_scratch *s, size_t n) {
   if (n <= s->sample_cap) return CLR_SUCCESS;
-  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1;
+  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1, c7 = c1;
   if (grow((void **)&s->surfaces, &c1, n, sizeof *s->surfaces) ||
       grow((void **)&s->beta, &c2, n, 3 * sizeof(float)) ||
       grow((void **)&s->bounces, &c3, n, sizeof(int32_t)) ||
       grow((void **)&s->active, &c4, n, sizeof(int32_t)) ||
       grow((void **)&s->owner, &c5, n, sizeof(int32_t)) ||
-      grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)))
+      grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)) ||
+      grow((void **)&s->cdfs, &c7, n, sizeof(const float *)))
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
   s->sample_cap = c1;
   s->ray2_cap = c6;
@@ -628,9 +631,8 @@ static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
   return CLR_SUCCESS;
 }
 
-/* pbrt Distribution1D::SampleDiscrete over the light cdf. */
-static int choose_light(const clr_integrator *it, const float p[3], float u, float *pdf) {
-  const float *cdf = it->light_spatial ? clr_light_distribution_lookup(it->light_spatial, p) : NULL;
+/* pbrt Distribution1D::SampleDiscrete over a light cdf (the integrator's when NULL). */
+static int choose_light(const clr_integrator *it, const float *cdf, float u, float *pdf) {
   if (!cdf) cdf = it->light_cdf;
   int lo = 0, hi = it->light_count - 1;
   while (lo < hi) {
@@ -965,6 +967,37 @@ static void path_roulette(const clr_integrator *it, const float *v, uint64_t key
   }
 }
 
+/* Whether the path tracer samples a light at this vertex (pbrt-v3: not past maxdepth, not at
+ * specular-only surfaces). */
+static int path_samples_light(const clr_integrator *it, const clr_surface *sf, int bounces) {
+  return it->light_count && sf->has_material && bounces < it->max_depth && !sf->glass &&
+         !sf->mirror && (!sf->general || clr_bsdf_count(&sf->bsdf, CLR_BXDF_NON_SPECULAR) > 0);
+}
+
+/* Surfaces of a wave's hits, then the light cdfs of the vertices that sample a light: the voxel
+ * grid and the cdfs miss the cache, so their loads are issued ahead of the shading loop. */
+static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
+                          clr_integrator_scratch *s, const int *idx, int n) {
+  clr_light_distribution *d = it->light_spatial;
+  for (int k = 0; k < n; ++k) {
+    int i = idx[k];
+    s->cdfs[i] = NULL;
+    if (s->hits[k].geom_id == CLR_TRACER_INVALID_ID) continue;
+    clr_render_scene_surface(sc, &s->rays[k], &s->hits[k], &s->surfaces[i]);
+    if (d && path_samples_light(it, &s->surfaces[i], s->bounces[i]))
+      clr_light_distribution_prefetch(d, s->surfaces[i].p);
+  }
+  if (!d) return;
+  for (int k = 0; k < n; ++k) {
+    int i = idx[k];
+    if (s->hits[k].geom_id == CLR_TRACER_INVALID_ID ||
+        !path_samples_light(it, &s->surfaces[i], s->bounces[i]))
+      continue;
+    s->cdfs[i] = clr_light_distribution_lookup(d, s->surfaces[i].p);
+    if (s->cdfs[i]) __builtin_prefetch(s->cdfs[i]);
+  }
+}
+
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const float *values, const uint64_t *keys,
                           int count, float *L, clr_integrator_counters *c) {
@@ -1000,6 +1033,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     if (r != CLR_SUCCESS) break;
     for (int k = 0; k < n; ++k) s->rays[k] = s->rays2[idx[k]];
     trace(sc, s->rays, s->hits, (size_t)n, c);
+    path_surfaces(it, sc, s, idx, n);
     int nj = 0;
     for (int k = 0; k < n; ++k) {
       int i = idx[k];
@@ -1014,7 +1048,6 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         continue;
       }
       clr_surface *sf = &s->surfaces[i];
-      clr_render_scene_surface(sc, ray, h, sf);
       if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
         if (seen)
           for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
@@ -1077,10 +1110,9 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         s->bounces[i] = bounces + 1;
         continue;
       }
-      if (it->light_count &&
-          (!sf->general || clr_bsdf_count(&sf->bsdf, CLR_BXDF_NON_SPECULAR) > 0)) {
+      if (path_samples_light(it, sf, bounces)) {
         float lpdf;
-        int light = choose_light(it, sf->p, path_value(it, v, keys[i], bounces, 0), &lpdf);
+        int light = choose_light(it, s->cdfs[i], path_value(it, v, keys[i], bounces, 0), &lpdf);
         if (lpdf > 0.0f) {
           direct_job *jb = &s->jobs[nj++];
           jb->sample = i;

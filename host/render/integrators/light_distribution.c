@@ -107,15 +107,25 @@ static float *compute(const clr_light_distribution *d, const int v[3]) {
   return cdf;
 }
 
-const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]) {
-  int v[3];
+/* The voxel v holding p and its index in d->voxels. */
+static size_t voxel_of(const clr_light_distribution *d, const float p[3], int v[3]) {
   for (int i = 0; i < 3; ++i) {
     float o = p[i] - d->lo[i];
     if (d->hi[i] > d->lo[i]) o /= d->hi[i] - d->lo[i];
     float f = o * (float)d->n[i];
     v[i] = !(f > 0.0f) ? 0 : f >= (float)(d->n[i] - 1) ? d->n[i] - 1 : (int)f;
   }
-  size_t index = ((size_t)v[2] * (size_t)d->n[1] + (size_t)v[1]) * (size_t)d->n[0] + (size_t)v[0];
+  return ((size_t)v[2] * (size_t)d->n[1] + (size_t)v[1]) * (size_t)d->n[0] + (size_t)v[0];
+}
+
+void clr_light_distribution_prefetch(const clr_light_distribution *d, const float p[3]) {
+  int v[3];
+  __builtin_prefetch(&d->voxels[voxel_of(d, p, v)]);
+}
+
+const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]) {
+  int v[3];
+  size_t index = voxel_of(d, p, v);
   float *cdf = atomic_load_explicit(&d->voxels[index], memory_order_acquire);
   if (cdf) return cdf;
   float *mine = compute(d, v);
