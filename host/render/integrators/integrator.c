@@ -186,6 +186,7 @@ struct clr_integrator_scratch {
   float *beta;
   int32_t *bounces, *active;
   const float **cdfs; /* each path vertex's light cdf (spatial light distribution) */
+  size_t *voxels;     /* and its voxel, SIZE_MAX when it samples no light */
   float *ao_terms;
   size_t ao_cap;
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
@@ -209,6 +210,7 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s->bounces);
   free(s->active);
   free(s->cdfs);
+  free(s->voxels);
   free(s);
 }
 
@@ -230,14 +232,15 @@ static clr_result reserve_rays(clr_integrator_scratch *s, size_t n) {
 
 static clr_result reserve_samples(clr_integrator_scratch *s, size_t n) {
   if (n <= s->sample_cap) return CLR_SUCCESS;
-  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1, c7 = c1;
+  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1, c7 = c1, c8 = c1;
   if (grow((void **)&s->surfaces, &c1, n, sizeof *s->surfaces) ||
       grow((void **)&s->beta, &c2, n, 3 * sizeof(float)) ||
       grow((void **)&s->bounces, &c3, n, sizeof(int32_t)) ||
       grow((void **)&s->active, &c4, n, sizeof(int32_t)) ||
       grow((void **)&s->owner, &c5, n, sizeof(int32_t)) ||
       grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)) ||
-      grow((void **)&s->cdfs, &c7, n, sizeof(const float *)))
+      grow((void **)&s->cdfs, &c7, n, sizeof(const float *)) ||
+      grow((void **)&s->voxels, &c8, n, sizeof(size_t)))
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
   s->sample_cap = c1;
   s->ray2_cap = c6;
@@ -982,18 +985,19 @@ static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
   for (int k = 0; k < n; ++k) {
     int i = idx[k];
     s->cdfs[i] = NULL;
+    s->voxels[i] = SIZE_MAX;
     if (s->hits[k].geom_id == CLR_TRACER_INVALID_ID) continue;
     clr_render_scene_surface(sc, &s->rays[k], &s->hits[k], &s->surfaces[i]);
-    if (d && path_samples_light(it, &s->surfaces[i], s->bounces[i]))
-      clr_light_distribution_prefetch(d, s->surfaces[i].p);
+    if (d && path_samples_light(it, &s->surfaces[i], s->bounces[i])) {
+      s->voxels[i] = clr_light_distribution_voxel(d, s->surfaces[i].p);
+      clr_light_distribution_prefetch(d, s->voxels[i]);
+    }
   }
   if (!d) return;
   for (int k = 0; k < n; ++k) {
     int i = idx[k];
-    if (s->hits[k].geom_id == CLR_TRACER_INVALID_ID ||
-        !path_samples_light(it, &s->surfaces[i], s->bounces[i]))
-      continue;
-    s->cdfs[i] = clr_light_distribution_lookup(d, s->surfaces[i].p);
+    if (s->voxels[i] == SIZE_MAX) continue;
+    s->cdfs[i] = clr_light_distribution_lookup_voxel(d, s->voxels[i]);
     if (s->cdfs[i]) __builtin_prefetch(s->cdfs[i]);
   }
 }

@@ -107,8 +107,9 @@ static float *compute(const clr_light_distribution *d, const int v[3]) {
   return cdf;
 }
 
-/* The voxel v holding p and its index in d->voxels. */
-static size_t voxel_of(const clr_light_distribution *d, const float p[3], int v[3]) {
+/* The index in d->voxels of the voxel holding p. */
+size_t clr_light_distribution_voxel(const clr_light_distribution *d, const float p[3]) {
+  int v[3];
   for (int i = 0; i < 3; ++i) {
     float o = p[i] - d->lo[i];
     if (d->hi[i] > d->lo[i]) o /= d->hi[i] - d->lo[i];
@@ -118,16 +119,19 @@ static size_t voxel_of(const clr_light_distribution *d, const float p[3], int v[
   return ((size_t)v[2] * (size_t)d->n[1] + (size_t)v[1]) * (size_t)d->n[0] + (size_t)v[0];
 }
 
-void clr_light_distribution_prefetch(const clr_light_distribution *d, const float p[3]) {
-  int v[3];
-  __builtin_prefetch(&d->voxels[voxel_of(d, p, v)]);
+void clr_light_distribution_prefetch(const clr_light_distribution *d, size_t index) {
+  __builtin_prefetch(&d->voxels[index]);
 }
 
 const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]) {
-  int v[3];
-  size_t index = voxel_of(d, p, v);
+  return clr_light_distribution_lookup_voxel(d, clr_light_distribution_voxel(d, p));
+}
+
+const float *clr_light_distribution_lookup_voxel(clr_light_distribution *d, size_t index) {
   float *cdf = atomic_load_explicit(&d->voxels[index], memory_order_acquire);
   if (cdf) return cdf;
+  size_t nx = (size_t)d->n[0], ny = (size_t)d->n[1];
+  int v[3] = {(int)(index % nx), (int)(index / nx % ny), (int)(index / nx / ny)};
   float *mine = compute(d, v);
   if (!mine) return NULL;
   float *expected = NULL;

@@ -278,6 +278,8 @@ clr_result rs_area_lights_add(rs_light_set *set, rs_shape *sh, int shape_index,
     rs_cross(e1, e2, c);
     l.prim = t;
     l.area = 0.5f * sqrtf(rs_dot(c, c));
+    memcpy(l.tri_n, c, sizeof c);
+    rs_normalize(l.tri_n);
     l.power = luminance(l.colour) * sides * RS_PI * l.area;
     CLR_CHECK(push_light(set, &l));
   }
@@ -329,10 +331,7 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     float su0 = sqrtf(u[0]);
     float b0 = 1.0f - su0, b1 = u[1] * su0, b2 = 1.0f - b0 - b1;
     for (int i = 0; i < 3; ++i) pt[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
-    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-    rs_cross(e1, e2, n);
-    rs_normalize(n);
+    memcpy(n, l->tri_n, sizeof l->tri_n);
     if (sh->mesh.n) {
       const uint32_t *ix = sh->mesh.indices + 3 * l->prim;
       float ns[3];

@@ -29,8 +29,9 @@ typedef struct rs_light {
   float light_to_world[3][3]; /* infinite */
   float cos_total, cos_falloff_start;
   int shape, prim, two_sided;
-  float area;   /* triangle area; disk, cylinder: pbrt-v3 Disk/Cylinder::Area (object space) */
-  float radius; /* sphere */
+  float area;     /* triangle area; disk, cylinder: pbrt-v3 Disk/Cylinder::Area (object space) */
+  float tri_n[3]; /* triangle: unit normal e1 x e2, before the shading normals' flip */
+  float radius;   /* sphere */
   int nsamples;
   float power;
   struct rs_envmap *envmap; /* infinite, goniometric, projection "mapname" (owned), or NULL */
