@@ -134,7 +134,8 @@ clr_result clr_integrator_create_for(const clr_scene_desc *desc, const clr_rende
   it->type = CLR_INTEGRATOR_PATH;
   it->rr_threshold = clr_params_find_float(p, "rrthreshold", 1.0f);
   const char *strategy = clr_params_find_string(p, "lightsamplestrategy", "spatial");
-  for (int b = 0; b < it->max_depth + 1; ++b) {
+  /* bounces 0 .. maxdepth - 1 sample (pbrt-v3 stops at maxdepth before drawing a value) */
+  for (int b = 0; b < it->max_depth; ++b) {
     int before = it->request_count;
     int32_t values = it->values_per_sample;
     if (add_request(it, 1, 0) < 0 || add_request(it, 2, 0) < 0 || add_request(it, 2, 0) < 0 ||
