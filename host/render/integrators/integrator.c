@@ -142,7 +142,8 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
   it->type = CLR_INTEGRATOR_PATH;
   it->rr_threshold = clr_params_find_float(p, "rrthreshold", 1.0f);
   const char *strategy = clr_params_find_string(p, "lightsamplestrategy", "spatial");
-  for (int b = 0; b < it->max_depth + 1; ++b) {
+  /* bounces 0 .. maxdepth - 1 sample (pbrt-v3 stops at maxdepth before drawing a value) */
+  for (int b = 0; b < it->max_depth; ++b) {
     int before = it->request_count;
     int32_t values = it->values_per_sample;
     if (add_request(it, 1, 0) < 0 || add_request(it, 2, 0) < 0 || add_request(it, 2, 0) < 0 ||
@@ -194,6 +195,8 @@ struct clr_integrator_scratch {
   int32_t *owner;
   float *beta;
   int32_t *bounces, *active;
+  const float **cdfs; /* each path vertex's light cdf (spatial light distribution) */
+  size_t *voxels;     /* and its voxel, SIZE_MAX when it samples no light */
   float *ao_terms;
   size_t ao_cap;
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
@@ -216,6 +219,8 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s->beta);
   free(s->bounces);
   free(s->active);
+  free(s->cdfs);
+  free(s->voxels);
   free(s);
 }
 
@@ -237,13 +242,15 @@ static clr_result reserve_rays(clr_integrator_scratch *s, size_t n) {
 
 static clr_result reserve_samples(clr_integrator_scratch *s, size_t n) {
   if (n <= s->sample_cap) return CLR_SUCCESS;
-  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1;
+  size_t c1 = s->sample_cap, c2 = c1, c3 = c1, c4 = c1, c5 = c1, c6 = c1, c7 = c1, c8 = c1;
   if (grow((void **)&s->surfaces, &c1, n, sizeof *s->surfaces) ||
       grow((void **)&s->beta, &c2, n, 3 * sizeof(float)) ||
       grow((void **)&s->bounces, &c3, n, sizeof(int32_t)) ||
       grow((void **)&s->active, &c4, n, sizeof(int32_t)) ||
       grow((void **)&s->owner, &c5, n, sizeof(int32_t)) ||
-      grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)))
+      grow((void **)&s->rays2, &c6, n, sizeof(clr_ray)) ||
+      grow((void **)&s->cdfs, &c7, n, sizeof(const float *)) ||
+      grow((void **)&s->voxels, &c8, n, sizeof(size_t)))
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
   s->sample_cap = c1;
   s->ray2_cap = c6;
@@ -651,9 +658,8 @@ static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
   return CLR_SUCCESS;
 }
 
-/* pbrt Distribution1D::SampleDiscrete over the light cdf. */
-static int choose_light(const clr_integrator *it, const float p[3], float u, float *pdf) {
-  const float *cdf = it->light_spatial ? clr_light_distribution_lookup(it->light_spatial, p) : NULL;
+/* pbrt Distribution1D::SampleDiscrete over a light cdf (the integrator's when NULL). */
+static int choose_light(const clr_integrator *it, const float *cdf, float u, float *pdf) {
   if (!cdf) cdf = it->light_cdf;
   int lo = 0, hi = it->light_count - 1;
   while (lo < hi) {
@@ -991,6 +997,39 @@ static void path_roulette(const clr_integrator *it, const float *v, uint64_t key
   }
 }
 
+/* Whether the path tracer samples a light at this vertex (pbrt-v3: not past maxdepth, not at
+ * specular-only surfaces). */
+static int path_samples_light(const clr_integrator *it, const clr_surface *sf, int bounces) {
+  return it->light_count && sf->has_material && bounces < it->max_depth && !sf->glass &&
+         !sf->mirror && (!sf->general || clr_bsdf_count(&sf->bsdf, CLR_BXDF_NON_SPECULAR) > 0);
+}
+
+/* Surfaces of a wave's hits, then the light cdfs of the vertices that sample a light: the voxel
+ * grid and the cdfs miss the cache, so their loads are issued ahead of the shading loop. */
+static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
+                          clr_integrator_scratch *s, const int *idx, int n, int wave) {
+  clr_light_distribution *d = it->light_spatial;
+  for (int k = 0; k < n; ++k) {
+    int i = idx[k];
+    s->cdfs[i] = NULL;
+    s->voxels[i] = SIZE_MAX;
+    if (s->hits[k].geom_id == CLR_TRACER_INVALID_ID) continue;
+    const clr_ray_differential *rd = wave == 0 && s->diffs ? &s->diffs[i] : NULL;
+    clr_render_scene_surface_differential(sc, &s->rays[k], rd, &s->hits[k], &s->surfaces[i]);
+    if (d && path_samples_light(it, &s->surfaces[i], s->bounces[i])) {
+      s->voxels[i] = clr_light_distribution_voxel(d, s->surfaces[i].p);
+      clr_light_distribution_prefetch(d, s->voxels[i]);
+    }
+  }
+  if (!d) return;
+  for (int k = 0; k < n; ++k) {
+    int i = idx[k];
+    if (s->voxels[i] == SIZE_MAX) continue;
+    s->cdfs[i] = clr_light_distribution_lookup_voxel(d, s->voxels[i]);
+    if (s->cdfs[i]) __builtin_prefetch(s->cdfs[i]);
+  }
+}
+
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const float *values, const uint64_t *keys,
                           int count, float *L, clr_integrator_counters *c) {
@@ -1026,6 +1065,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     if (r != CLR_SUCCESS) break;
     for (int k = 0; k < n; ++k) s->rays[k] = s->rays2[idx[k]];
     trace(sc, s->rays, s->hits, (size_t)n, c);
+    path_surfaces(it, sc, s, idx, n, wave);
     int nj = 0;
     for (int k = 0; k < n; ++k) {
       int i = idx[k];
@@ -1040,8 +1080,6 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         continue;
       }
       clr_surface *sf = &s->surfaces[i];
-      clr_render_scene_surface_differential(sc, ray, wave == 0 && s->diffs ? &s->diffs[i] : NULL, h,
-                                            sf);
       if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
         if (seen)
           for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
@@ -1104,10 +1142,9 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         s->bounces[i] = bounces + 1;
         continue;
       }
-      if (it->light_count &&
-          (!sf->general || clr_bsdf_count(&sf->bsdf, CLR_BXDF_NON_SPECULAR) > 0)) {
+      if (path_samples_light(it, sf, bounces)) {
         float lpdf;
-        int light = choose_light(it, sf->p, path_value(it, v, keys[i], bounces, 0), &lpdf);
+        int light = choose_light(it, s->cdfs[i], path_value(it, v, keys[i], bounces, 0), &lpdf);
         if (lpdf > 0.0f) {
           direct_job *jb = &s->jobs[nj++];
           jb->sample = i;

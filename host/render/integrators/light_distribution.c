@@ -10,8 +10,15 @@ struct clr_light_distribution {
   int nlights;
   int n[3];
   float lo[3], hi[3];
+  float halton[128][5]; /* the 128 Halton points (bases 2, 3, 5, 7, 11) every voxel uses */
   _Atomic(float *) *voxels;
 };
+
+static float radical_inverse(int base, unsigned i) {
+  double inv = 1.0 / base, f = inv, r = 0.0;
+  for (; i; i /= (unsigned)base, f *= inv) r += (double)(i % (unsigned)base) * f;
+  return (float)fmin(r, 0x1.fffffep-1);
+}
 
 clr_result clr_light_distribution_create(const clr_render_scene *scene,
                                          clr_light_distribution **out) {
@@ -38,6 +45,9 @@ clr_result clr_light_distribution_create(const clr_render_scene *scene,
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light distribution");
   }
   for (size_t i = 0; i < count; ++i) atomic_init(&d->voxels[i], NULL);
+  static const int bases[5] = {2, 3, 5, 7, 11};
+  for (unsigned s = 0; s < 128; ++s)
+    for (int b = 0; b < 5; ++b) d->halton[s][b] = radical_inverse(bases[b], s);
   *out = d;
   return CLR_SUCCESS;
 }
@@ -48,12 +58,6 @@ void clr_light_distribution_free(clr_light_distribution *d) {
   for (size_t i = 0; i < count; ++i) free(atomic_load(&d->voxels[i]));
   free(d->voxels);
   free(d);
-}
-
-static float radical_inverse(int base, unsigned i) {
-  double inv = 1.0 / base, f = inv, r = 0.0;
-  for (; i; i /= (unsigned)base, f *= inv) r += (double)(i % (unsigned)base) * f;
-  return (float)fmin(r, 0x1.fffffep-1);
 }
 
 /* pbrt-v3 SpatialLightDistribution::ComputeDistribution for the voxel at index v. */
@@ -72,17 +76,13 @@ static float *compute(const clr_light_distribution *d, const int v[3]) {
     p0[i] = (1.0f - t0) * d->lo[i] + t0 * d->hi[i];
     p1[i] = (1.0f - t1) * d->lo[i] + t1 * d->hi[i];
   }
-  static const int bases[5] = {2, 3, 5, 7, 11};
-  const float zero[3] = {0.0f, 0.0f, 0.0f};
   for (unsigned s = 0; s < 128; ++s) {
-    float po[3], u[2] = {radical_inverse(bases[3], s), radical_inverse(bases[4], s)};
-    for (int i = 0; i < 3; ++i) {
-      float t = radical_inverse(bases[i], s);
-      po[i] = (1.0f - t) * p0[i] + t * p1[i];
-    }
+    const float *h = d->halton[s];
+    float po[3], u[2] = {h[3], h[4]};
+    for (int i = 0; i < 3; ++i) po[i] = (1.0f - h[i]) * p0[i] + h[i] * p1[i];
     for (int j = 0; j < n; ++j) {
       clr_light_sample ls;
-      clr_render_scene_sample_light(d->scene, j, po, zero, u, &ls);
+      clr_render_scene_sample_light_li(d->scene, j, po, u, &ls);
       if (ls.pdf > 0.0f)
         contrib[j] += (0.212671 * ls.li[0] + 0.715160 * ls.li[1] + 0.072169 * ls.li[2]) / ls.pdf;
     }
@@ -107,7 +107,8 @@ static float *compute(const clr_light_distribution *d, const int v[3]) {
   return cdf;
 }
 
-const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]) {
+/* The index in d->voxels of the voxel holding p. */
+size_t clr_light_distribution_voxel(const clr_light_distribution *d, const float p[3]) {
   int v[3];
   for (int i = 0; i < 3; ++i) {
     float o = p[i] - d->lo[i];
@@ -115,9 +116,22 @@ const float *clr_light_distribution_lookup(clr_light_distribution *d, const floa
     float f = o * (float)d->n[i];
     v[i] = !(f > 0.0f) ? 0 : f >= (float)(d->n[i] - 1) ? d->n[i] - 1 : (int)f;
   }
-  size_t index = ((size_t)v[2] * (size_t)d->n[1] + (size_t)v[1]) * (size_t)d->n[0] + (size_t)v[0];
+  return ((size_t)v[2] * (size_t)d->n[1] + (size_t)v[1]) * (size_t)d->n[0] + (size_t)v[0];
+}
+
+void clr_light_distribution_prefetch(const clr_light_distribution *d, size_t index) {
+  __builtin_prefetch(&d->voxels[index]);
+}
+
+const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]) {
+  return clr_light_distribution_lookup_voxel(d, clr_light_distribution_voxel(d, p));
+}
+
+const float *clr_light_distribution_lookup_voxel(clr_light_distribution *d, size_t index) {
   float *cdf = atomic_load_explicit(&d->voxels[index], memory_order_acquire);
   if (cdf) return cdf;
+  size_t nx = (size_t)d->n[0], ny = (size_t)d->n[1];
+  int v[3] = {(int)(index % nx), (int)(index / nx % ny), (int)(index / nx / ny)};
   float *mine = compute(d, v);
   if (!mine) return NULL;
   float *expected = NULL;

@@ -16,5 +16,10 @@ void clr_light_distribution_free(clr_light_distribution *d);
 /* The cdf (light count + 1 values, 0 to 1) of the voxel holding p; NULL when out of memory
  * (the caller then uses its own). Safe to call from several threads. */
 const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]);
+/* The same by the voxel's index (clr_light_distribution_voxel of p). */
+const float *clr_light_distribution_lookup_voxel(clr_light_distribution *d, size_t index);
+size_t clr_light_distribution_voxel(const clr_light_distribution *d, const float p[3]);
+/* Asks the cache for a voxel's slot ahead of its lookup (the grid is too big to stay cached). */
+void clr_light_distribution_prefetch(const clr_light_distribution *d, size_t index);
 
 #endif

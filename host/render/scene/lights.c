@@ -278,6 +278,8 @@ clr_result rs_area_lights_add(rs_light_set *set, rs_shape *sh, int shape_index,
     rs_cross(e1, e2, c);
     l.prim = t;
     l.area = 0.5f * sqrtf(rs_dot(c, c));
+    memcpy(l.tri_n, c, sizeof c);
+    rs_normalize(l.tri_n);
     l.power = luminance(l.colour) * sides * RS_PI * l.area;
     CLR_CHECK(push_light(set, &l));
   }
@@ -329,10 +331,7 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     float su0 = sqrtf(u[0]);
     float b0 = 1.0f - su0, b1 = u[1] * su0, b2 = 1.0f - b0 - b1;
     for (int i = 0; i < 3; ++i) pt[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
-    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-    rs_cross(e1, e2, n);
-    rs_normalize(n);
+    memcpy(n, l->tri_n, sizeof l->tri_n);
     if (sh->mesh.n) {
       const uint32_t *ix = sh->mesh.indices + 3 * l->prim;
       float ns[3];
@@ -451,18 +450,19 @@ static void shadow_to(const float p[3], const float ng[3], const float target[3]
   r->tfar = dist * (1.0f - 1e-3f);
 }
 
-void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t light,
-                      const float p[3], const float ng[3], const float u[2], clr_light_sample *ls) {
+/* Sample_Li without the shadow ray: wi, li, pdf and is_delta; the point to aim a shadow ray at
+ * in target. 0 when the sample is unusable (ls is then all zero but is_delta). */
+static int sample_li(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                     const float p[3], const float u[2], clr_light_sample *ls, float target[3]) {
   const rs_light *l = &set->items[light];
   memset(ls, 0, sizeof *ls);
   ls->is_delta = rs_light_is_delta(l);
-  float target[3];
   switch (l->type) {
     case RS_LIGHT_POINT:
     case RS_LIGHT_SPOT: {
       float d[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
       float d2 = rs_dot(d, d);
-      if (!(d2 > 0.0f)) return;
+      if (!(d2 > 0.0f)) return 0;
       memcpy(ls->wi, d, sizeof d);
       rs_normalize(ls->wi);
       float f = 1.0f, pat[3] = {1.0f, 1.0f, 1.0f};
@@ -475,7 +475,7 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       }
       for (int i = 0; i < 3; ++i) ls->li[i] = l->colour[i] * pat[i] * f / d2;
       ls->pdf = 1.0f;
-      memcpy(target, l->pos, sizeof target);
+      memcpy(target, l->pos, 3 * sizeof(float));
       break;
     }
     case RS_LIGHT_DISTANT:
@@ -486,10 +486,10 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       break;
     case RS_LIGHT_INFINITE: {
       float uv[2] = {u[0], u[1]}, map_pdf = 1.0f;
-      if (l->envmap && !((map_pdf = rs_envmap_sample(l->envmap, u, uv)) > 0.0f)) return;
+      if (l->envmap && !((map_pdf = rs_envmap_sample(l->envmap, u, uv)) > 0.0f)) return 0;
       float theta = uv[1] * RS_PI, phi = uv[0] * 2.0f * RS_PI;
       float st = sinf(theta), ct = cosf(theta);
-      if (st == 0.0f) return;
+      if (st == 0.0f) return 0;
       float wl[3] = {st * cosf(phi), st * sinf(phi), ct};
       mat3_vec(l->light_to_world, wl, ls->wi);
       rs_normalize(ls->wi);
@@ -507,7 +507,7 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       sample_emitter(shapes, l, p, u, pt, n, &pdf, &solid);
       float d[3] = {pt[0] - p[0], pt[1] - p[1], pt[2] - p[2]};
       float d2 = rs_dot(d, d);
-      if (!(d2 > 0.0f)) return;
+      if (!(d2 > 0.0f)) return 0;
       float dist = sqrtf(d2);
       for (int i = 0; i < 3; ++i) ls->wi[i] = d[i] / dist;
       if (!solid) {
@@ -518,11 +518,23 @@ void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t l
       ls->pdf = pdf;
       float w[3] = {-ls->wi[0], -ls->wi[1], -ls->wi[2]};
       area_emit(l, n, w, ls->li);
-      memcpy(target, pt, sizeof target);
+      memcpy(target, pt, 3 * sizeof(float));
       break;
     }
   }
-  shadow_to(p, ng, target, &ls->shadow);
+  return 1;
+}
+
+void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                      const float p[3], const float ng[3], const float u[2], clr_light_sample *ls) {
+  float target[3];
+  if (sample_li(set, shapes, light, p, u, ls, target)) shadow_to(p, ng, target, &ls->shadow);
+}
+
+void rs_lights_sample_li(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                         const float p[3], const float u[2], clr_light_sample *ls) {
+  float target[3];
+  sample_li(set, shapes, light, p, u, ls, target);
 }
 
 /* pbrt-v3's lat-long coordinates of a light-space unit direction: (phi / 2 pi, theta / pi). */

@@ -29,8 +29,9 @@ typedef struct rs_light {
   float light_to_world[3][3]; /* infinite */
   float cos_total, cos_falloff_start;
   int shape, prim, two_sided;
-  float area;   /* triangle area; disk, cylinder: pbrt-v3 Disk/Cylinder::Area (object space) */
-  float radius; /* sphere */
+  float area;     /* triangle area; disk, cylinder: pbrt-v3 Disk/Cylinder::Area (object space) */
+  float tri_n[3]; /* triangle: unit normal e1 x e2, before the shading normals' flip */
+  float radius;   /* sphere */
   int nsamples;
   float power;
   struct rs_envmap *envmap; /* infinite, goniometric, projection "mapname" (owned), or NULL */
@@ -69,6 +70,9 @@ void rs_lights_free(rs_light_set *set);
 int rs_light_is_delta(const rs_light *l);
 void rs_lights_sample(const rs_light_set *set, const rs_shape *shapes, int32_t light,
                       const float p[3], const float ng[3], const float u[2], clr_light_sample *ls);
+/* rs_lights_sample without the shadow ray (ls->shadow stays zero): the same wi, li and pdf. */
+void rs_lights_sample_li(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                         const float p[3], const float u[2], clr_light_sample *ls);
 /* Solid-angle pdf that light sampling from `p` would give direction wi that hits emitter light
  * `light` at distance t with the hit's geometric normal n_hit (unit). */
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,

@@ -82,6 +82,11 @@ void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light,
   rs_lights_sample(&scene->lights, scene->shapes, light, p, ng, u, ls);
 }
 
+void clr_render_scene_sample_light_li(const clr_render_scene *scene, int32_t light,
+                                      const float p[3], const float u[2], clr_light_sample *ls) {
+  rs_lights_sample_li(&scene->lights, scene->shapes, light, p, u, ls);
+}
+
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]) {
   rs_lights_escaped(&scene->lights, ray, le);
 }

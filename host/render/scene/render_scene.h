@@ -113,6 +113,9 @@ void clr_render_scene_light_le(const clr_render_scene *scene, int32_t light, con
 /* One light sample (see clr_light_sample in lights.h). */
 void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light, const float p[3],
                                    const float ng[3], const float u[2], clr_light_sample *ls);
+/* The same sample's wi, li and pdf without its shadow ray. */
+void clr_render_scene_sample_light_li(const clr_render_scene *scene, int32_t light,
+                                      const float p[3], const float u[2], clr_light_sample *ls);
 /* Radiance arriving along a ray that escaped the scene (infinite lights), summed. */
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]);
 
