@@ -15,6 +15,8 @@
 #include <glob.h>
 #include "exr_io.h"
 #include "hardening_util.h"
+#include "resume.h"
+#include <string.h>
 
 #define SCENE CLR_SOURCE_DIR "/scenes/cornell-box.pbrt"
 
@@ -314,6 +316,41 @@ static void test_resume_refuses_other_renders(void **state) {
   assert_int_not_equal(stat(out, &st), 0);
 }
 
+/* An image whose sample vectors were laid out otherwise (another maxdepth, or written by a
+ * clrender whose integrator drew other dimensions) is refused, naming both layouts. */
+static void test_resume_refuses_another_sample_layout(void **state) {
+  (void)state;
+  char values[11][CLR_RESUME_VALUE];
+  memset(values, 0, sizeof values);
+  const char *recorded[] = {
+      "sobol", "path", "0123456789abcdef",   "0", "pixel", "default", "8", "16",
+      "0",     "1",    "camera 0, values 53"};
+  assert_int_equal(clr_resume_attribute_count, 11);
+  for (int k = 0; k < 11; ++k) snprintf(values[k], CLR_RESUME_VALUE, "%s", recorded[k]);
+  clr_resume_identity now = {.sampler = "sobol",
+                             .integrator = "path",
+                             .scene = "0123456789abcdef",
+                             .seeding = "pixel",
+                             .randomization = "default",
+                             .spp_target = 16,
+                             .global_sampler = 1};
+  snprintf(now.seed, sizeof now.seed, "0");
+  snprintf(now.layout, sizeof now.layout, "camera 0, values 53");
+  int32_t done = 0;
+  assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done), CLR_SUCCESS);
+  assert_int_equal(done, 8);
+  snprintf(now.layout, sizeof now.layout, "camera 0, values 45");
+  assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done),
+                   CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(
+      strstr(clr_last_error_message(),
+             "sample layout \"camera 0, values 53\", this render has \"camera 0, values 45\""));
+  values[10][0] = 0; /* an image from before the layout was recorded */
+  assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done),
+                   CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(clr_last_error_message(), "sample layout \"(not recorded)\""));
+}
+
 int main(void) {
   if (!mkdtemp(dir)) return 1;
   snprintf(log_path, sizeof log_path, "%s/log.txt", dir);
@@ -325,6 +362,7 @@ int main(void) {
       cmocka_unit_test(test_time_limit_zero_renders_one_resumable_pass),
       cmocka_unit_test(test_interrupted_checkpointed_render_resumes),
       cmocka_unit_test(test_resume_refuses_other_renders),
+      cmocka_unit_test(test_resume_refuses_another_sample_layout),
       cmocka_unit_test(test_adaptive_sampling_is_deterministic),
   };
   int failed = cmocka_run_group_tests(tests, NULL, NULL);

@@ -769,13 +769,13 @@ static clr_result write_image(clr_film film, const output_info *oi, const float 
   snprintf(target, sizeof target, "%d", (int)st->spp_target);
   snprintf(whole, sizeof whole, "%d", oi->whole_passes);
   const char *keys[16] = {
-      "integrator",          "clrender.seed",         "clrender.seeding",      "clrender.scene",
-      "clrender.spp_target", "clrender.whole_passes", "clrender.randomization"};
-  const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding,      oi->id.scene,
-                          target,         whole,       oi->id.randomization};
+      "integrator",          "clrender.seed",         "clrender.seeding",       "clrender.scene",
+      "clrender.spp_target", "clrender.whole_passes", "clrender.randomization", "clrender.layout"};
+  const char *vals[16] = {st->integrator, oi->id.seed, oi->id.seeding,       oi->id.scene,
+                          target,         whole,       oi->id.randomization, oi->id.layout};
   wo.metadata_keys = keys;
   wo.metadata_values = vals;
-  int n = 7;
+  int n = 8;
   char threshold[32];
   if (oi->o->noise_threshold > 0.0f) {
     snprintf(threshold, sizeof threshold, "%.9g", (double)oi->o->noise_threshold);
@@ -1114,6 +1114,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
                                                         : "pixel";
     oi.id.randomization = clr_randomization_name(sdesc.randomization);
     oi.id.spp_target = job.spp;
+    snprintf(oi.id.layout, sizeof oi.id.layout, "camera %d, values %d", (int)integ.camera_offset,
+             (int)integ.values_per_sample);
     oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL ||
                            sdesc.type == CLR_SAMPLER_INDEPENDENT; /* spp-independent samples */
     double tr = now_seconds();

@@ -4,11 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const clr_resume_attributes[] = {"clrender.sampler", "integrator",
-                                             "clrender.scene",   "clrender.seed",
-                                             "clrender.seeding", "clrender.randomization",
-                                             "clrender.spp",     "clrender.spp_target",
-                                             "clrender.partial", "clrender.whole_passes"};
+const char *const clr_resume_attributes[] = {
+    "clrender.sampler",      "integrator",          "clrender.scene",
+    "clrender.seed",         "clrender.seeding",    "clrender.randomization",
+    "clrender.spp",          "clrender.spp_target", "clrender.partial",
+    "clrender.whole_passes", "clrender.layout"};
 const int32_t clr_resume_attribute_count =
     (int32_t)(sizeof clr_resume_attributes / sizeof clr_resume_attributes[0]);
 
@@ -22,7 +22,8 @@ enum {
   A_SPP,
   A_TARGET,
   A_PARTIAL,
-  A_WHOLE
+  A_WHOLE,
+  A_LAYOUT
 };
 
 clr_result clr_scene_file_hash(const char *path, char out[17]) {
@@ -58,6 +59,8 @@ clr_result clr_resume_check(const char *path, const char *values, const clr_resu
   for (int k = 0; k < A_SPP; ++k)
     if (strcmp(value(values, k), mine[k]) != 0)
       return mismatch(path, names[k], value(values, k), mine[k]);
+  if (strcmp(value(values, A_LAYOUT), now->layout) != 0) /* e.g. written by an older clrender */
+    return mismatch(path, "sample layout", value(values, A_LAYOUT), now->layout);
   int spp = atoi(value(values, A_SPP)), target = atoi(value(values, A_TARGET));
   int partial = atoi(value(values, A_PARTIAL)), whole = atoi(value(values, A_WHOLE));
   if (!whole || spp <= 0)

@@ -18,6 +18,7 @@ typedef struct clr_resume_identity {
   const char *randomization; /* the sampler's randomization name ("default" unless given) */
   int32_t spp_target;        /* the sampler's total spp: pixel samplers' patterns depend on it */
   int32_t global_sampler;    /* 1: halton or sobol, whose samples do not depend on the total */
+  char layout[48];           /* the sample vector's layout: camera offset, values per sample */
 } clr_resume_identity;
 
 #define CLR_RESUME_VALUE 128
@@ -31,7 +32,7 @@ clr_result clr_scene_file_hash(const char *path, char out[17]);
 
 /* Checks the values of clr_resume_attributes read from `path` against this render; *spp_done:
  * the samples per pixel the image holds. Refuses (naming the attribute, both values and why) an
- * image of another scene, sampler, integrator, seed or seeding, a partial image that does not
+ * image of another scene, sampler, integrator, seed, seeding or sample layout, a partial image that does not
  * hold whole passes, one with as many or more spp than asked, and a pixel sampler resumed to
  * another total spp than it was started with. */
 clr_result clr_resume_check(const char *path, const char *values, const clr_resume_identity *now,
