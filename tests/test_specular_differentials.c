@@ -15,10 +15,12 @@
 #include "camera.h"
 #include "clrender.h"
 #include "clrender/image.h"
+#include "render_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
 #include "specular_differentials.h"
 #include "surface_differentials.h"
+#include "tracer.h"
 
 static clr_scene_desc *parse(const char *text) {
   clr_scene_desc *desc = NULL;
@@ -32,6 +34,10 @@ static clr_scene_desc *parse(const char *text) {
 
 static double dot3(const float a[3], const float b[3]) {
   return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+}
+
+static float dot3f(const float a[3], const float b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 /* A camera at (0, 1, -3) looking at the origin (fov 60, 64 x 64, offsets scaled by 1/2) and the
@@ -149,6 +155,85 @@ static void test_flat_refraction(void **state) {
   }
 }
 
+/* v reflected about unit n, normalised. */
+static void reflect_unit(const float v[3], const float n[3], double out[3]) {
+  double l = sqrt(dot3(v, v)), d = 2.0 * dot3(v, n) / l;
+  for (int i = 0; i < 3; ++i) out[i] = v[i] / l - d * n[i];
+}
+
+static double dist3(const double a[3], const float b[3], double scale) {
+  double s = 0.0;
+  for (int i = 0; i < 3; ++i) s += (a[i] - b[i] / scale) * (a[i] - b[i] / scale);
+  return sqrt(s);
+}
+
+/* A mirror sphere (radius 1, camera 5 away, 4 spp): the propagated offset rays (with the
+ * sphere's dndu, dndv) match the offset camera rays traced and reflected exactly, to first
+ * order: origin off below 3 % of |dpdx|, direction off below 5 % of the spread between offset
+ * and main reflected rays, where leaving out the curvature (dndx = 0) is off by more than 50 %. */
+static void test_curved_mirror(void **state) {
+  (void)state;
+  clr_scene_desc *d = parse(
+      "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [30]\nFilm \"image\" "
+      "\"integer xresolution\" [64] \"integer yresolution\" [64]\nWorldBegin\nAttributeBegin\n"
+      "Material \"mirror\"\nShape \"sphere\" \"float radius\" [1]\nAttributeEnd\nTexture \"ck\" "
+      "\"spectrum\" \"checkerboard\"\nMaterial \"matte\" \"texture Kd\" \"ck\"\nTranslate 0 0 50\n"
+      "Shape \"disk\" \"float radius\" [10]\nWorldEnd\n");
+  clr_render_scene *rs = NULL;
+  assert_int_equal(clr_render_scene_build(d, NULL, NULL, &rs), CLR_SUCCESS);
+  assert_int_equal(clr_render_scene_set_film(rs, 64, 64), CLR_SUCCESS);
+  clr_render_scene_set_samples_per_pixel(rs, 4);
+  const float pixels[2][2] = {{40.5f, 28.5f}, {20.5f, 45.5f}};
+  for (int k = 0; k < 2; ++k) {
+    clr_ray ray, off[2];
+    clr_ray_differential rd, out;
+    clr_hit hit, hoff[2];
+    clr_surface sf, soff;
+    clr_render_scene_camera_ray(rs, pixels[k][0], pixels[k][1], 0.0f, 0.5f, 0.5f, &ray, &rd);
+    assert_int_equal(rd.has, 1);
+    assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), &ray, &hit, 1), CLR_SUCCESS);
+    assert_true(hit.geom_id != CLR_TRACER_INVALID_ID);
+    clr_render_scene_surface_differential(rs, &ray, &rd, &hit, &sf);
+    assert_true(sf.mirror && sf.has_differentials);
+    float wo[3] = {-ray.dx, -ray.dy, -ray.dz}, wi[3], flat[3];
+    double wid[3];
+    reflect_unit((float[3]){ray.dx, ray.dy, ray.dz}, sf.ns, wid);
+    for (int i = 0; i < 3; ++i) wi[i] = (float)wid[i];
+    rs_reflect_differential(&sf, &rd, wo, wi, &out);
+    assert_int_equal(out.has, 1);
+    for (int axis = 0; axis < 2; ++axis) {
+      const float *o = axis ? rd.ry_o : rd.rx_o, *dd = axis ? rd.ry_d : rd.rx_d;
+      off[axis] = ray;
+      off[axis].ox = o[0], off[axis].oy = o[1], off[axis].oz = o[2];
+      off[axis].dx = dd[0], off[axis].dy = dd[1], off[axis].dz = dd[2];
+    }
+    assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), off, hoff, 2), CLR_SUCCESS);
+    for (int axis = 0; axis < 2; ++axis) {
+      assert_true(hoff[axis].geom_id != CLR_TRACER_INVALID_ID);
+      clr_render_scene_surface(rs, &off[axis], &hoff[axis], &soff);
+      double exact[3], p_exact[3] = {soff.p[0], soff.p[1], soff.p[2]};
+      reflect_unit((float[3]){off[axis].dx, off[axis].dy, off[axis].dz}, soff.ns, exact);
+      const float *od = axis ? out.ry_d : out.rx_d, *oo = axis ? out.ry_o : out.rx_o,
+                  *dp = axis ? sf.dpdy : sf.dpdx, *dn = axis ? sf.dndy : sf.dndx;
+      for (int i = 0; i < 3; ++i) /* the dndx terms taken out */
+        flat[i] = od[i] - 2.0f * (dot3f(wo, sf.ns) * dn[i] + dot3f(wo, dn) * sf.ns[i]);
+      double spread = dist3(exact, wi, 1.0), dir_off = dist3(exact, od, sqrt(dot3(od, od)));
+      double flat_off = dist3(exact, flat, sqrt(dot3(flat, flat)));
+      double org_off = dist3(p_exact, oo, 1.0), dpl = sqrt(dot3(dp, dp));
+      fprintf(stderr,
+              "sphere (%.1f, %.1f) %c: origin off %.3g of |dp| %.3g, direction off %.3g of spread "
+              "%.3g (flat %.3g)\n",
+              (double)pixels[k][0], (double)pixels[k][1], axis ? 'y' : 'x', org_off, dpl, dir_off,
+              spread, flat_off);
+      assert_true(org_off < 0.03 * dpl);
+      assert_true(dir_off < 0.05 * spread);
+      assert_true(flat_off > 0.5 * spread);
+    }
+  }
+  clr_render_scene_free(rs);
+  clr_scene_desc_free(d);
+}
+
 static float *render(const char *scene, int *w, int *h) {
   clr_scene_desc *desc = parse(scene);
   clr_render_options o;
@@ -221,6 +306,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_flat_mirror_is_mirrored_camera),
       cmocka_unit_test(test_flat_refraction),
+      cmocka_unit_test(test_curved_mirror),
       cmocka_unit_test(test_checker_in_mirror),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
