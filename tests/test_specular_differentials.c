@@ -234,6 +234,49 @@ static void test_curved_mirror(void **state) {
   clr_scene_desc_free(d);
 }
 
+/* A mirror triangle (uv = its barycentrics) with unit vertex normals (0, 0, 1), (0.6, 0, 0.8),
+ * (0, 0.6, 0.8): pbrt-v3 Triangle's dndu = n1 - n0 = (0.6, 0, -0.2), dndv = n2 - n0, and
+ * (u, v) = (x, y) on the plane, so dndx = dndu dpdx.x + dndv dpdx.y, dndy likewise (within 1e-4
+ * relative). */
+static void test_mesh_normal_differentials(void **state) {
+  (void)state;
+  clr_scene_desc *d = parse(
+      "LookAt 0.25 0.25 5  0.25 0.25 0  0 1 0\nCamera \"perspective\" \"float fov\" [20]\nFilm "
+      "\"image\" \"integer xresolution\" [64] \"integer yresolution\" [64]\nWorldBegin\n"
+      "AttributeBegin\nMaterial \"mirror\"\nShape \"trianglemesh\" \"integer indices\" [0 1 2] "
+      "\"point P\" [0 0 0  1 0 0  0 1 0] \"normal N\" [0 0 1  0.6 0 0.8  0 0.6 0.8] \"float uv\" "
+      "[0 0 "
+      "1 0 0 1]\nAttributeEnd\nTexture \"ck\" \"spectrum\" \"checkerboard\"\nMaterial \"matte\" "
+      "\"texture Kd\" \"ck\"\nTranslate 0 0 -50\nShape \"disk\" \"float radius\" [10]\nWorldEnd\n");
+  clr_render_scene *rs = NULL;
+  assert_int_equal(clr_render_scene_build(d, NULL, NULL, &rs), CLR_SUCCESS);
+  assert_int_equal(clr_render_scene_set_film(rs, 64, 64), CLR_SUCCESS);
+  clr_render_scene_set_samples_per_pixel(rs, 1);
+  clr_ray ray;
+  clr_ray_differential rd;
+  clr_hit hit;
+  clr_surface sf;
+  clr_render_scene_camera_ray(rs, 30.5f, 36.5f, 0.0f, 0.5f, 0.5f, &ray, &rd);
+  assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), &ray, &hit, 1), CLR_SUCCESS);
+  assert_true(hit.geom_id != CLR_TRACER_INVALID_ID);
+  clr_render_scene_surface_differential(rs, &ray, &rd, &hit, &sf);
+  assert_true(sf.mirror && sf.has_differentials);
+  const float dndu[3] = {0.6f, 0.0f, -0.2f}, dndv[3] = {0.0f, 0.6f, -0.2f};
+  double scale = fabs(sf.dpdx[0]) + fabs(sf.dpdy[1]);
+  assert_true(scale > 1e-4);
+  for (int i = 0; i < 3; ++i) {
+    double ex = dndu[i] * sf.dpdx[0] + dndv[i] * sf.dpdx[1],
+           ey = dndu[i] * sf.dpdy[0] + dndv[i] * sf.dpdy[1];
+    fprintf(stderr, "dndx[%d] %.6g (expected %.6g), dndy[%d] %.6g (%.6g)\n", i, (double)sf.dndx[i],
+            ex, i, (double)sf.dndy[i], ey);
+    assert_true(fabs(sf.dndx[i] - ex) < 1e-4 * scale);
+    assert_true(fabs(sf.dndy[i] - ey) < 1e-4 * scale);
+  }
+  assert_true(fabsf(sf.dndx[0]) > 0.1f * (float)scale && fabsf(sf.dndy[1]) > 0.1f * (float)scale);
+  clr_render_scene_free(rs);
+  clr_scene_desc_free(d);
+}
+
 static float *render(const char *scene, int *w, int *h) {
   clr_scene_desc *desc = parse(scene);
   clr_render_options o;
@@ -307,6 +350,7 @@ int main(void) {
       cmocka_unit_test(test_flat_mirror_is_mirrored_camera),
       cmocka_unit_test(test_flat_refraction),
       cmocka_unit_test(test_curved_mirror),
+      cmocka_unit_test(test_mesh_normal_differentials),
       cmocka_unit_test(test_checker_in_mirror),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
