@@ -12,6 +12,7 @@
 #include "microfacet.h"
 #include "pcg32.h"
 #include "render_scene.h"
+#include "specular_differentials.h"
 #include "vec3.h"
 
 #define ONE_MINUS_EPSILON 0x1.fffffep-1f
@@ -762,9 +763,11 @@ static void mirror_direction(const clr_surface *sf, const float wo[3], float wi[
 }
 
 /* pbrt-v3 SpecularReflect and SpecularTransmit for a lobe BSDF: each followed when it has such
- * a component, with f |cos| / pdf as the factor (sample values hashed). */
+ * a component, with f |cos| / pdf as the factor (sample values hashed); rd (or NULL): the
+ * incoming ray's differentials, propagated into nextd (reflection only). */
 static void general_specular(const clr_surface *sf, const float wo[3], uint64_t key, int depth,
-                             clr_ray next[2], float factor[6], int cont[2]) {
+                             const clr_ray_differential *rd, clr_ray next[2],
+                             clr_ray_differential *nextd, float factor[6], int cont[2]) {
   for (int q = 0; q < 2; ++q) {
     int mask = q ? CLR_BXDF_SPECULAR_TRANSMISSION : CLR_BXDF_SPECULAR_REFLECTION, flags;
     if (!clr_bsdf_count(&sf->bsdf, mask)) continue;
@@ -775,17 +778,23 @@ static void general_specular(const clr_surface *sf, const float wo[3], uint64_t 
     if (rs_dot(wi, sf->ns) == 0.0f) continue;
     for (int a = 0; a < 3; ++a) factor[3 * q + a] = f[a] / pdf;
     clr_render_scene_spawn_ray(sf, wi, &next[q]);
+    if (nextd) {
+      nextd[q].has = 0;
+      if (!q) rs_reflect_differential(sf, rd, wo, wi, &nextd[q]);
+    }
     cont[q] = 1;
   }
 }
 
 /* Direct lighting of the surfaces s->surfaces[0..n) hit by s->rays2[0..n) (n samples mapped to
  * the caller's samples by map) into Lk; mirror surfaces continue into next[] (pbrt-v3
- * SpecularReflect while depth + 1 < maxdepth). Light sample values: the layout's depth-0 arrays,
+ * SpecularReflect while depth + 1 < maxdepth) with their differentials in nextd when diffs (the
+ * rays2' differentials) is not NULL. Light sample values: the layout's depth-0 arrays,
  * hashed values deeper. */
 static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *sc,
                               clr_integrator_scratch *s, const float *values, const uint64_t *keys,
                               int n, const int *map, int depth, float *Lk, int *cont, clr_ray *next,
+                              const clr_ray_differential *diffs, clr_ray_differential *nextd,
                               float *factor, clr_integrator_counters *c) {
   float *wo = s->beta;
   int nj = 0;
@@ -794,6 +803,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
     int i = map[k];
     const float *v = values + (size_t)i * (size_t)it->values_per_sample;
     const float one[3] = {1, 1, 1};
+    const clr_ray_differential *rd = diffs ? &diffs[k] : NULL;
     Lk[3 * k] = Lk[3 * k + 1] = Lk[3 * k + 2] = 0.0f;
     cont[2 * k] = cont[2 * k + 1] = 0;
     if (sf->has_material < 0) {
@@ -815,6 +825,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       for (int a = 0; a < 3; ++a) factor[6 * k + a] = sf->kr[a] * F;
       if (!is_black(factor + 6 * k) && rs_dot(wi, sf->ns) != 0.0f) {
         clr_render_scene_spawn_ray(sf, wi, &next[2 * k]);
+        if (nextd) rs_reflect_differential(sf, rd, w, wi, &nextd[2 * k]);
         cont[2 * k] = 1;
       }
       float eta = entering ? 1.0f / sf->eta : sf->eta;
@@ -825,6 +836,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
         for (int a = 0; a < 3; ++a) factor[6 * k + 3 + a] = sf->kt[a] * (1.0f - F) * eta * eta;
         if (!is_black(factor + 6 * k + 3)) {
           clr_render_scene_spawn_ray(sf, wi, &next[2 * k + 1]);
+          if (nextd) rs_transmit_differential(sf, rd, w, wi, eta, &nextd[2 * k + 1]);
           cont[2 * k + 1] = 1;
         }
       }
@@ -836,6 +848,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
         mirror_direction(sf, wo + 3 * k, wi);
         if (rs_dot(wi, sf->ns) != 0.0f) {
           clr_render_scene_spawn_ray(sf, wi, &next[2 * k]);
+          if (nextd) rs_reflect_differential(sf, rd, wo + 3 * k, wi, &nextd[2 * k]);
           for (int a = 0; a < 3; ++a) factor[6 * k + a] = sf->kr[a]; /* f |cos| / pdf */
           cont[2 * k] = 1;
         }
@@ -843,7 +856,8 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       continue;
     }
     if (sf->general && depth + 1 < it->max_depth)
-      general_specular(sf, wo + 3 * k, keys[i], depth, next + 2 * k, factor + 6 * k, cont + 2 * k);
+      general_specular(sf, wo + 3 * k, keys[i], depth, rd, next + 2 * k,
+                       nextd ? nextd + 2 * k : NULL, factor + 6 * k, cont + 2 * k);
     if (!it->light_count) continue;
     if (it->direct_all) {
       int dim = 0;
@@ -893,6 +907,9 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
   float *Lk = NULL, *weight = NULL, *factor = NULL;
   int *map = NULL, *cont = NULL;
   clr_ray *next = NULL;
+  /* the entries' differentials and their continuations' (only when the camera rays have them) */
+  clr_ray_differential *diffs = NULL, *nextd = NULL;
+  const clr_ray_differential *cur = clr_render_scene_uses_differentials(sc) ? s->diffs : NULL;
   clr_result r = CLR_SUCCESS;
   int n = count;
   for (int depth = 0; r == CLR_SUCCESS && n > 0; ++depth) {
@@ -910,7 +927,9 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
       if (c1) cont = c1;
       clr_ray *nx = c1 ? realloc(next, cap * 2 * sizeof *nx) : NULL;
       if (nx) next = nx;
-      if (!nx) {
+      clr_ray_differential *nd = nx && cur ? realloc(nextd, cap * 2 * sizeof *nd) : NULL;
+      if (nd) nextd = nd;
+      if (!nx || (cur && !nd)) {
         r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
         break;
       }
@@ -925,8 +944,9 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     if (r == CLR_SUCCESS) r = reserve_rays(s, (size_t)n);
     if (r == CLR_SUCCESS) r = reserve_jobs(s, (size_t)n * per + 1);
     if (r != CLR_SUCCESS) break;
-    intersect_visible(sc, s, n, depth == 0 ? s->diffs : NULL, c);
-    r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, factor, c);
+    intersect_visible(sc, s, n, cur, c);
+    r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, cur, cur ? nextd : NULL,
+                    factor, c);
     if (r != CLR_SUCCESS) break;
     int m = 0;
     for (int k = 0; k < n; ++k)
@@ -936,8 +956,10 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     r = reserve_samples(s, (size_t)m);
     float *nw = r == CLR_SUCCESS ? malloc((size_t)m * 3 * sizeof *nw) : NULL;
     int *nm = nw ? malloc((size_t)m * sizeof *nm) : NULL;
-    if (!nm) {
+    clr_ray_differential *ndf = nm && cur ? malloc((size_t)m * sizeof *ndf) : NULL;
+    if (!nm || (cur && !ndf)) {
       free(nw);
+      free(nm);
       if (r == CLR_SUCCESS)
         r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "direct lighting integrator");
       break;
@@ -948,6 +970,7 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
         if (!cont[2 * k + q]) continue;
         const float *f = factor + 6 * k + 3 * q;
         s->rays2[at] = next[2 * k + q];
+        if (ndf) ndf[at] = nextd[2 * k + q];
         for (int a = 0; a < 3; ++a) nw[3 * at + a] = weight[3 * k + a] * f[a];
         nm[at++] = map[k];
       }
@@ -955,6 +978,9 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     free(map);
     weight = nw;
     map = nm;
+    free(diffs);
+    diffs = ndf;
+    cur = ndf;
     if ((size_t)m > cap) { /* the other per-entry arrays are grown at the top of the loop */
       float *a = realloc(Lk, (size_t)m * 3 * sizeof *a);
       if (!a) {
@@ -971,6 +997,8 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
   free(map);
   free(cont);
   free(next);
+  free(diffs);
+  free(nextd);
   return r;
 }
 

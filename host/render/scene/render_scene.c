@@ -108,6 +108,10 @@ float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, f
                        scene->needs_differentials ? rd : NULL);
 }
 
+int clr_render_scene_uses_differentials(const clr_render_scene *scene) {
+  return scene->needs_differentials;
+}
+
 void clr_render_scene_spawn_ray(const clr_surface *s, const float d[3], clr_ray *ray) {
   float e = rs_spawn_eps(s->p) * (rs_dot(s->ng, d) < 0.0f ? -1.0f : 1.0f);
   ray->ox = s->p[0] + s->ng[0] * e;
@@ -913,6 +917,58 @@ static void sphere_normal_partials(const rs_shape *sh, const clr_transform *o2w,
   clr_transform_normal(o2w, dv_o, dndv);
 }
 
+/* pbrt-v3 Triangle's dndu, dndv from the vertex normals (0 where the (u, v) are degenerate);
+ * raw: the interpolated normal they are the partials of. Mesh space. */
+static void mesh_normal_partials(const rs_shape *sh, const clr_hit *hit, float dndu[3],
+                                 float dndv[3], float raw[3]) {
+  const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
+  const float *n0 = sh->mesh.n + 3 * ix[0], *n1 = sh->mesh.n + 3 * ix[1],
+              *n2 = sh->mesh.n + 3 * ix[2];
+  float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
+  if (sh->mesh.uv) {
+    memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
+    memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
+    memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
+  }
+  float b1 = hit->u, b2 = hit->v, b0 = 1.0f - b1 - b2;
+  float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
+        dv12 = uv1[1] - uv2[1], det = du02 * dv12 - dv02 * du12;
+  for (int i = 0; i < 3; ++i) {
+    raw[i] = b0 * n0[i] + b1 * n1[i] + b2 * n2[i];
+    float dn02 = n0[i] - n2[i], dn12 = n1[i] - n2[i];
+    dndu[i] = fabsf(det) < 1e-8f ? 0.0f : (dv12 * dn02 - dv02 * dn12) / det;
+    dndv[i] = fabsf(det) < 1e-8f ? 0.0f : (du02 * dn12 - du12 * dn02) / det;
+  }
+}
+
+/* The shading normal's screen-space changes at a specular hit (pbrt-v3's shading.dndu dudx +
+ * shading.dndv dvdx), oriented as ns: spheres and meshes with normals; 0 for flat shapes and
+ * quadrics. o2w: the shape's object (or instance) to world. */
+static void shading_normal_differentials(const rs_shape *sh, const clr_transform *o2w,
+                                         const clr_hit *hit, const float pw[3],
+                                         const rs_tex_ctx *tc, const float ns[3], float dndx[3],
+                                         float dndy[3]) {
+  float dndu[3] = {0, 0, 0}, dndv[3] = {0, 0, 0}, raw[3] = {0, 0, 0};
+  if (sh->type == RS_SHAPE_SPHERE) {
+    float po[3];
+    clr_transform w2o = clr_transform_inverse(o2w);
+    clr_transform_point(&w2o, pw, po);
+    clr_transform_normal(o2w, po, raw);
+    sphere_normal_partials(sh, o2w, pw, dndu, dndv);
+  } else if (sh->type == RS_SHAPE_MESH && sh->mesh.n) {
+    float du[3], dv[3], r[3];
+    mesh_normal_partials(sh, hit, du, dv, r);
+    clr_transform_normal(o2w, du, dndu);
+    clr_transform_normal(o2w, dv, dndv);
+    clr_transform_normal(o2w, r, raw);
+  }
+  float sign = rs_dot(raw, ns) < 0.0f ? -1.0f : 1.0f;
+  for (int i = 0; i < 3; ++i) {
+    dndx[i] = sign * (dndu[i] * tc->dudx + dndv[i] * tc->dvdx);
+    dndy[i] = sign * (dndu[i] * tc->dudy + dndv[i] * tc->dvdy);
+  }
+}
+
 /* pbrt-v3's shading dpdv (and dndu, dndv for spheres; 0 for the other shapes) at a hit, for
  * Material::Bump; dpdu becomes the unit shading tangent for meshes with normals, as pbrt-v3's
  * Triangle sets it. geo_dpdv: the geometric dpdv. */
@@ -999,11 +1055,13 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
   int bump = sh->has_material && sh->bump.texture >= 0;
   float geo_dpdv[3];
   clr_transform o2w;
-  if (bump || (sh->needs_differentials && rd && rd->has)) {
+  int specular = sh->has_material && (sh->mirror || sh->glass || sh->general);
+  int diffs = rd && rd->has && (sh->needs_differentials || specular);
+  if (bump || diffs) {
     o2w = sh->type == RS_SHAPE_MESH ? clr_transform_identity() : *own_transform(sh);
     if (inst) o2w = clr_transform_compose(inst, &o2w);
     geometric_dpdv(sh, &o2w, hit, p, n, dpdu, geo_dpdv);
-    if (sh->needs_differentials) rs_compute_differentials(rd, p, n, dpdu, geo_dpdv, &tc);
+    if (diffs) rs_compute_differentials(rd, p, n, dpdu, geo_dpdv, &tc);
   }
   if (bump) { /* pbrt-v3 Material::Bump */
     float nsh[3], dpdv[3], dndu[3], dndv[3];
@@ -1028,6 +1086,12 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
     if (rs_dot(out->ns, out->ng) < 0.0f) negate(out->ns);
   } else {
     memcpy(out->ns, out->ng, sizeof n);
+  }
+  out->has_differentials = diffs && specular;
+  if (out->has_differentials) {
+    memcpy(out->dpdx, tc.dpdx, sizeof out->dpdx);
+    memcpy(out->dpdy, tc.dpdy, sizeof out->dpdy);
+    shading_normal_differentials(sh, &o2w, hit, p, &tc, out->ns, out->dndx, out->dndy);
   }
   out->has_material = sh->has_material;
   out->general = sh->has_material && sh->general;

@@ -76,7 +76,15 @@ typedef struct clr_surface {
   int32_t general;      /* 1: the material is the lobe list `bsdf` (uber, substrate, mix, ...) */
   clr_bsdf bsdf;
   float time; /* the hitting ray's motion time, given to the rays spawned here */
+  /* Set only at mirror, glass and lobe-BSDF hits of rays with differentials (pbrt-v3
+   * SpecularReflect / SpecularTransmit): the hit's screen-space dpdx, dpdy and the change of ns
+   * (as oriented here) dndx = dndu dudx + dndv dvdx, dndy. */
+  int32_t has_differentials;
+  float dpdx[3], dpdy[3], dndx[3], dndy[3];
 } clr_surface;
+
+/* Non-zero when some surface filters its textures (camera rays then carry differentials). */
+int clr_render_scene_uses_differentials(const clr_render_scene *scene);
 
 /* Fills `s` for a hit of `ray`. */
 void clr_render_scene_surface(const clr_render_scene *scene, const clr_ray *ray, const clr_hit *hit,
