@@ -21,6 +21,7 @@
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 #include "textures.h"
 
 #define PI_D 3.14159265358979323846
@@ -67,13 +68,7 @@ static void test_noise_values(void **state) {
 }
 
 static clr_scene_desc *parse(const char *text) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  clr_result r = clr_scene_parse_string(text, CLR_BINARY_DIR "/materials.pbrt", &po, &desc);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  return desc;
+  return stu_parse(text, CLR_BINARY_DIR "/materials.pbrt");
 }
 
 static int texture_index(const clr_scene_desc *d, const char *name) {
@@ -344,20 +339,12 @@ static void test_lobes_reciprocity(void **state) {
 }
 
 static double render_mean(const char *scene) {
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
+  int w = 0, h = 0;
+  float *rgb = stu_render(scene, CLR_BINARY_DIR "/materials.pbrt", &w, &h);
   double sum = 0;
-  size_t n = (size_t)im.width * im.height * 3;
-  for (size_t i = 0; i < n; ++i) sum += im.rgb[i];
-  free(im.rgb);
-  clr_scene_desc_free(desc);
+  size_t n = (size_t)w * h * 3;
+  for (size_t i = 0; i < n; ++i) sum += rgb[i];
+  free(rgb);
   return sum / (double)n;
 }
 

@@ -18,18 +18,13 @@
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 #include "specular_differentials.h"
 #include "surface_differentials.h"
 #include "tracer.h"
 
 static clr_scene_desc *parse(const char *text) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  clr_result r = clr_scene_parse_string(text, CLR_BINARY_DIR "/specdiff.pbrt", &po, &desc);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  return desc;
+  return stu_parse(text, CLR_BINARY_DIR "/specdiff.pbrt");
 }
 
 static double dot3(const float a[3], const float b[3]) {
@@ -278,19 +273,7 @@ static void test_mesh_normal_differentials(void **state) {
 }
 
 static float *render(const char *scene, int *w, int *h) {
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  *w = im.width;
-  *h = im.height;
-  return im.rgb;
+  return stu_render(scene, CLR_BINARY_DIR "/specdiff.pbrt", w, h);
 }
 
 /* The scene both renders share: a 1-texel 16x16 checker (0 and 1) tiled 3 x 3 times on the unit

@@ -20,6 +20,7 @@
 #include "procedural_textures.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 #include "surface_differentials.h"
 #include "textures.h"
 
@@ -254,13 +255,7 @@ static void test_mipmap_ewa_anisotropy(void **state) {
 }
 
 static clr_scene_desc *parse(const char *text) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  clr_result r = clr_scene_parse_string(text, CLR_BINARY_DIR "/texfilter.pbrt", &po, &desc);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  return desc;
+  return stu_parse(text, CLR_BINARY_DIR "/texfilter.pbrt");
 }
 
 /* The pinhole model for the camera below (at the origin looking down +z, fov 90, 100 x 100):
@@ -464,19 +459,7 @@ static void test_checker_closed_form(void **state) {
 }
 
 static float *render(const char *scene, int *w, int *h) {
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  *w = im.width;
-  *h = im.height;
-  return im.rgb;
+  return stu_render(scene, CLR_BINARY_DIR "/texfilter.pbrt", w, h);
 }
 
 /* A 1-texel checker (16x16 PNG, 0 and 1, gamma off) tiled 3 x 3 times over a plane seen

@@ -1,0 +1,39 @@
+/* The renderer tests' shared steps: parse a scene text as if it were the file `path` (relative
+ * file names resolve beside it) and render it with default options; both assert success and
+ * print the library's message first when they fail. Include after cmocka.h. */
+#ifndef CLR_SCENE_TEST_UTIL_H
+#define CLR_SCENE_TEST_UTIL_H
+
+#include <stdio.h>
+#include <string.h>
+#include "renderer.h"
+#include "scene_parser.h"
+
+static inline clr_scene_desc *stu_parse(const char *text, const char *path) {
+  clr_scene_desc *desc = NULL;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  clr_result r = clr_scene_parse_string(text, path, &po, &desc);
+  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
+  assert_int_equal(r, CLR_SUCCESS);
+  return desc;
+}
+
+/* The image's rgb (free it), its size in *w, *h. */
+static inline float *stu_render(const char *text, const char *path, int *w, int *h) {
+  clr_scene_desc *desc = stu_parse(text, path);
+  clr_render_options o;
+  clr_render_options_init(&o);
+  o.quiet = 1;
+  clr_render_image im;
+  memset(&im, 0, sizeof im);
+  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
+  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
+  assert_int_equal(r, CLR_SUCCESS);
+  clr_scene_desc_free(desc);
+  *w = im.width;
+  *h = im.height;
+  return im.rgb;
+}
+
+#endif
