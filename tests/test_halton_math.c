@@ -134,6 +134,52 @@ static void test_permutations(void **state) {
   assert_memory_equal(perms + pr[999].perm_offset, p7919, sizeof p7919);
 }
 
+/* Record `r` of set `t` holds the same values as record `r` of the full set `all`: the same
+ * permutation, chunk and tail tables (at the set's own offsets) and constants. */
+static void assert_same_record(const clr_halton_tables *t, const clr_halton_tables *all, int r) {
+  const clr_halton_prime *a = &t->primes[r], *b = &all->primes[r];
+  assert_int_equal(a->base, b->base);
+  assert_memory_equal(t->permutations + a->perm_offset, all->permutations + b->perm_offset,
+                      a->base * sizeof(clr_u16));
+  assert_true(a->scramble_tail == b->scramble_tail);
+  assert_memory_equal(a->inv_base_pow, b->inv_base_pow, sizeof a->inv_base_pow);
+  assert_int_equal(a->chunk_base, b->chunk_base);
+  assert_int_equal(a->div_magic, b->div_magic);
+  assert_int_equal(a->chunk_magic, b->chunk_magic);
+  assert_int_equal(a->tail_shift, b->tail_shift);
+  assert_memory_equal(t->permutations + a->chunk_offset, all->permutations + b->chunk_offset,
+                      a->chunk_base * sizeof(clr_u16));
+  assert_memory_equal(t->permutations + a->tail_offset, all->permutations + b->tail_offset,
+                      a->chunk_base * sizeof(clr_u16));
+}
+
+/* The smaller table sets (a render reads only its layout's dimensions) agree with the full one on
+ * every prime they cover and on the base-3 record, and leave the others empty. */
+static void test_table_sets(void **state) {
+  (void)state;
+  const clr_halton_tables *all = clr_halton_tables_covering(CLR_HALTON_PRIMES);
+  assert_int_equal(all->extent, CLR_HALTON_PRIMES);
+  assert_ptr_equal(all->primes, clr_halton_primes());
+  assert_ptr_equal(clr_halton_tables_covering(1001), all);
+  const int dims[] = {0, 64, 65, 256};
+  const int extents[] = {64, 64, 256, 256};
+  for (int k = 0; k < 4; ++k) {
+    const clr_halton_tables *t = clr_halton_tables_covering(dims[k]);
+    assert_int_equal(t->extent, extents[k]);
+    assert_int_equal(t->entries, all->entries - CLR_HALTON_PERMUTATION_COUNT +
+                                     all->primes[t->extent].perm_offset);
+    for (int r = 0; r < t->extent; ++r) assert_same_record(t, all, r);
+    assert_same_record(t, all, CLR_HALTON_BASE3_RECORD);
+    assert_int_equal(t->primes[t->extent].base, 0);
+    assert_int_equal(t->primes[CLR_HALTON_PRIMES - 1].base, 0);
+  }
+  clr_request_slot slots[3] = {{2, 0, 0, 0, 0, 0.0f, {0, 0}},
+                               {1, 0, 2, 2, 0, 0.0f, {0, 0}},
+                               {2, 4, 3, 70, 0, 0.25f, {0, 0}}};
+  assert_int_equal(clr_halton_layout_dimensions(slots, 2), 3);
+  assert_int_equal(clr_halton_layout_dimensions(slots, 3), 72);
+}
+
 static void test_division_magic(void **state) {
   (void)state;
   const clr_halton_prime *pr = clr_halton_primes();
@@ -633,6 +679,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_primes),
       cmocka_unit_test(test_permutations),
+      cmocka_unit_test(test_table_sets),
       cmocka_unit_test(test_division_magic),
       cmocka_unit_test(test_base2_exact),
       cmocka_unit_test(test_base2_matches_double),

@@ -8,10 +8,39 @@
 /* The 1000th prime is 7919. */
 #define CLR_HALTON_SIEVE_LIMIT 7920
 
-static clr_halton_prime halton_primes[CLR_HALTON_PRIME_RECORDS];
-/* Aligned so that devices sharing host memory can use it in place (clr_context_shared_buffer). */
-static _Alignas(4096) clr_u16 halton_permutations[CLR_HALTON_TABLE_ENTRIES];
-static pthread_once_t halton_once = PTHREAD_ONCE_INIT;
+/* A table set: records, then the u16 table (permutations of `extent` primes, the base-3 identity,
+ * the chunk tables), aligned so that devices sharing host memory can use it in place
+ * (clr_context_shared_buffer). */
+typedef struct halton_set {
+  clr_halton_prime *records;
+  clr_u16 *table;
+  clr_u32 permutation_entries; /* sum of the first `extent` primes */
+  clr_halton_tables tables;
+} halton_set;
+
+#define SET_ENTRIES(sum) ((sum) + CLR_HALTON_CHUNK_ENTRIES)
+static clr_halton_prime records64[CLR_HALTON_PRIME_RECORDS], records256[CLR_HALTON_PRIME_RECORDS],
+    records_all[CLR_HALTON_PRIME_RECORDS];
+static _Alignas(4096) clr_u16 table64[SET_ENTRIES(8893u)];
+static _Alignas(4096) clr_u16 table256[SET_ENTRIES(191755u)];
+static _Alignas(4096) clr_u16 table_all[CLR_HALTON_TABLE_ENTRIES];
+
+static halton_set sets[3] = {
+    {records64,
+     table64,
+     8893u,
+     {records64, table64, SET_ENTRIES(8893u), 64, "halton_primes_64", "halton_perms_64"}},
+    {records256,
+     table256,
+     191755u,
+     {records256, table256, SET_ENTRIES(191755u), 256, "halton_primes_256", "halton_perms_256"}},
+    {records_all,
+     table_all,
+     CLR_HALTON_PERMUTATION_COUNT,
+     {records_all, table_all, CLR_HALTON_TABLE_ENTRIES, CLR_HALTON_PRIMES, "halton_primes",
+      "halton_perms"}},
+};
+static pthread_once_t set_once[3] = {PTHREAD_ONCE_INIT, PTHREAD_ONCE_INIT, PTHREAD_ONCE_INIT};
 
 static void sieve_primes(clr_u32 *primes) {
   static unsigned char composite[CLR_HALTON_SIEVE_LIMIT];
@@ -59,9 +88,9 @@ static clr_u32 permuted_reversal(const clr_u16 *perm, clr_u32 base, clr_u32 x, i
 
 /* Fills the record of `base` whose pbrt-v3 permutation starts at perm_offset; appends its chunk
  * tables at *table_end when a chunk needs more than one digit. */
-static void fill_record(clr_halton_prime *pr, clr_u32 base, clr_u32 perm_offset,
-                        clr_u32 *table_end) {
-  const clr_u16 *perm = halton_permutations + perm_offset;
+static void fill_record(clr_u16 *table, clr_u32 entries, clr_halton_prime *pr, clr_u32 base,
+                        clr_u32 perm_offset, clr_u32 *table_end) {
+  const clr_u16 *perm = table + perm_offset;
   pr->base = base;
   pr->perm_offset = perm_offset;
   pr->inv_base = (float)1 / (float)base;
@@ -87,11 +116,11 @@ static void fill_record(clr_halton_prime *pr, clr_u32 base, clr_u32 perm_offset,
   }
   /* value and count - 1 must share 16 bits */
   if ((chunk_base - 1u) >> pr->tail_shift || (digits - 1u) >> (16u - pr->tail_shift)) abort();
-  if (*table_end + 2u * chunk_base > CLR_HALTON_TABLE_ENTRIES) abort(); /* constant out of date */
+  if (*table_end + 2u * chunk_base > entries) abort(); /* constant out of date */
   pr->chunk_offset = *table_end;
   pr->tail_offset = *table_end + chunk_base;
-  clr_u16 *chunk = halton_permutations + pr->chunk_offset;
-  clr_u16 *tail = halton_permutations + pr->tail_offset;
+  clr_u16 *chunk = table + pr->chunk_offset;
+  clr_u16 *tail = table + pr->tail_offset;
   for (clr_u32 d = 0; d < chunk_base; ++d) {
     clr_u32 count;
     chunk[d] = (clr_u16)permuted_reversal(perm, base, d, (int)digits, &count);
@@ -101,37 +130,57 @@ static void fill_record(clr_halton_prime *pr, clr_u32 base, clr_u32 perm_offset,
   *table_end += 2u * chunk_base;
 }
 
-static void build_tables(void) {
+static void build_set(halton_set *set) {
   clr_u32 primes[CLR_HALTON_PRIMES];
   sieve_primes(primes);
+  const int extent = set->tables.extent;
+  const clr_u32 entries = (clr_u32)set->tables.entries;
   clr_pcg32 rng = clr_pcg32_default();
   clr_u32 offset = 0;
-  for (int i = 0; i < CLR_HALTON_PRIMES; ++i) {
-    shuffled_permutation(halton_permutations + offset, primes[i], &rng);
+  for (int i = 0; i < extent; ++i) {
+    shuffled_permutation(set->table + offset, primes[i], &rng);
     offset += primes[i];
   }
+  if (offset != set->permutation_entries) abort(); /* the constant is out of date */
   /* The unscrambled base 3 of dimension 1: identity permutation (scramble_tail 0). */
   clr_u32 identity3 = offset;
-  for (clr_u16 d = 0; d < 3; ++d) halton_permutations[identity3 + d] = d;
-  clr_u32 table_end = identity3 + 3u;
-  for (int i = 0; i < CLR_HALTON_PRIMES; ++i)
-    fill_record(&halton_primes[i], primes[i],
-                i == 0 ? 0u : halton_primes[i - 1].perm_offset + primes[i - 1], &table_end);
-  fill_record(&halton_primes[CLR_HALTON_BASE3_RECORD], 3u, identity3, &table_end);
-  if (table_end != CLR_HALTON_TABLE_ENTRIES) abort(); /* the constant is out of date */
+  for (clr_u16 d = 0; d < 3; ++d) set->table[identity3 + d] = d;
+  clr_u32 table_end = identity3 + 3u, perm_offset = 0;
+  for (int i = 0; i < extent; ++i) {
+    fill_record(set->table, entries, &set->records[i], primes[i], perm_offset, &table_end);
+    perm_offset += primes[i];
+  }
+  fill_record(set->table, entries, &set->records[CLR_HALTON_BASE3_RECORD], 3u, identity3,
+              &table_end);
+  if (table_end != entries) abort(); /* the constant is out of date */
 }
 
-static void ensure_tables(void) { (void)pthread_once(&halton_once, build_tables); }
+static void build_set64(void) { build_set(&sets[0]); }
+static void build_set256(void) { build_set(&sets[1]); }
+static void build_set_all(void) { build_set(&sets[2]); }
+
+const clr_halton_tables *clr_halton_tables_covering(int dimensions) {
+  static void (*const build[3])(void) = {build_set64, build_set256, build_set_all};
+  int i = dimensions <= 64 ? 0 : dimensions <= 256 ? 1 : 2;
+  (void)pthread_once(&set_once[i], build[i]);
+  return &sets[i].tables;
+}
+
+int clr_halton_layout_dimensions(const clr_request_slot *slots, int count) {
+  int n = 0;
+  for (int i = 0; i < count; ++i)
+    if (slots[i].source + slots[i].dims > n) n = slots[i].source + slots[i].dims;
+  return n;
+}
 
 const clr_halton_prime *clr_halton_primes(void) {
-  ensure_tables();
-  return halton_primes;
+  return clr_halton_tables_covering(CLR_HALTON_PRIMES)->primes;
 }
 
 const clr_u16 *clr_halton_permutations(size_t *count) {
-  ensure_tables();
-  if (count) *count = CLR_HALTON_TABLE_ENTRIES;
-  return halton_permutations;
+  const clr_halton_tables *t = clr_halton_tables_covering(CLR_HALTON_PRIMES);
+  if (count) *count = t->entries;
+  return t->permutations;
 }
 
 /* x with a * x = 1 (mod n), in [0, n) (0 when n == 1); a and n coprime. Extended Euclid. */

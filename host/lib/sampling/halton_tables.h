@@ -16,12 +16,31 @@
  * the unscrambled base-3 record, then the chunk and tail tables of the bases below 128. */
 #define CLR_HALTON_TABLE_ENTRIES 3965994u
 
-/* The CLR_HALTON_PRIME_RECORDS records: primes 2, 3, 5, ..., 7919, then the unscrambled base-3
- * record. Built once (thread-safe), never freed. */
+/* The entries of every table set beyond its permutations: the identity permutation of the
+ * unscrambled base-3 record, then the chunk and tail tables of the bases below 128. */
+#define CLR_HALTON_CHUNK_ENTRIES (CLR_HALTON_TABLE_ENTRIES - CLR_HALTON_PERMUTATION_COUNT)
+
+/* A set of Halton tables covering the primes of dimensions [0, extent): their records, the
+ * unscrambled base-3 record (CLR_HALTON_BASE3_RECORD) and a u16 table their offsets point into,
+ * which starts with pbrt-v3's radicalInversePermutations of those primes (every permutation,
+ * concatenated in prime order, from a default-constructed RNG: the same values as pbrt-v3's first
+ * ones). Records of primes past the extent are zero. */
+typedef struct clr_halton_tables {
+  const clr_halton_prime *primes; /* CLR_HALTON_PRIME_RECORDS records */
+  const clr_u16 *permutations;
+  size_t entries;                            /* u16 entries of permutations */
+  int extent;                                /* primes covered: 64, 256 or CLR_HALTON_PRIMES */
+  const char *primes_key, *permutations_key; /* names of their shared device buffers */
+} clr_halton_tables;
+
+/* The smallest set covering dimensions [0, dimensions) (all CLR_HALTON_PRIMES past 256). Each set
+ * is built once, on first use (thread-safe), never freed or changed afterwards. */
+const clr_halton_tables *clr_halton_tables_covering(int dimensions);
+/* Dimensions [0, n) a pbrt-v3 Halton request layout reads: n = max(source + dims) over slots. */
+int clr_halton_layout_dimensions(const clr_request_slot *slots, int count);
+/* The records of the set covering every prime (clr_halton_tables_covering(CLR_HALTON_PRIMES)). */
 const clr_halton_prime *clr_halton_primes(void);
-/* The u16 table every record's offsets point into. It starts with pbrt-v3's
- * radicalInversePermutations (every prime's permutation, concatenated in prime order, from a
- * default-constructed RNG). *count (may be NULL) receives CLR_HALTON_TABLE_ENTRIES. */
+/* That set's u16 table; *count (may be NULL) receives CLR_HALTON_TABLE_ENTRIES. */
 const clr_u16 *clr_halton_permutations(size_t *count);
 
 /* Fills halton_scale, halton_exponent, halton_mult_inverse and halton_stride from the sample

@@ -625,9 +625,14 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
     if (out->host_indices)
       for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
   } else if (clr_sampler_has_global_index(s)) {
-    size_t nperm = 0;
-    const clr_u16 *perms = clr_halton_permutations(&nperm);
-    const clr_halton_prime *primes = clr_halton_primes();
+    const clr_halton_prime *primes = NULL;
+    const clr_u16 *perms = NULL;
+    if (p.type == CLR_SAMPLER_TYPE_HALTON) {
+      const clr_halton_tables *t =
+          clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p.request_count));
+      primes = t->primes;
+      perms = t->permutations;
+    }
     uint64_t dummy = 0;
     for (size_t i = 0; i < items; ++i)
       clr_global_sample_vector(&p, slots, clr_sobol_matrices32, &clr_vdc_sobol_matrices[0][0],

@@ -216,7 +216,10 @@ static int bits_for(uint64_t limit) { /* bits of the values below `limit` */
  * argument below `limit`, and (bit 8) whether base^(digits of limit - 1) <= 2^32, i.e. whether
  * the reversed digits fit 32 bits. */
 static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t limit) {
-  const clr_halton_prime *primes = clr_halton_primes();
+  int dims = 0;
+  for (int i = 0; i < value_count; ++i)
+    if (d->values[i].dim >= dims) dims = d->values[i].dim + 1;
+  const clr_halton_prime *primes = clr_halton_tables_covering(dims)->primes;
   for (int i = 0; i < value_count; ++i) {
     int dim = d->values[i].dim;
     if (dim < 1 || dim >= CLR_HALTON_PRIMES) continue;
@@ -299,13 +302,13 @@ static clr_result run_global_portable(clr_sampler_device *d, const clr_sampler_p
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
                                         sizeof clr_vdc_sobol_matrices_inv, &vdc_inv));
   } else {
-    size_t nperm = 0;
-    const clr_u16 *table = clr_halton_permutations(&nperm);
-    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+    const clr_halton_tables *t =
+        clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
+    CLR_CHECK(clr_context_shared_buffer(ctx, t->primes_key, t->primes,
                                         sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
                                         &primes));
-    CLR_CHECK(
-        clr_context_shared_buffer(ctx, "halton_perms", table, sizeof(clr_u16) * nperm, &perms));
+    CLR_CHECK(clr_context_shared_buffer(ctx, t->permutations_key, t->permutations,
+                                        sizeof(clr_u16) * t->entries, &perms));
   }
   memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
   CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
@@ -358,13 +361,13 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
     CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
                                         sizeof clr_vdc_sobol_matrices_inv, &tables[2]));
   } else {
-    size_t nperm = 0;
-    const clr_u16 *perms = clr_halton_permutations(&nperm);
-    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+    const clr_halton_tables *t =
+        clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
+    CLR_CHECK(clr_context_shared_buffer(ctx, t->primes_key, t->primes,
                                         sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
                                         &tables[0]));
-    CLR_CHECK(
-        clr_context_shared_buffer(ctx, "halton_perms", perms, sizeof(clr_u16) * nperm, &tables[1]));
+    CLR_CHECK(clr_context_shared_buffer(ctx, t->permutations_key, t->permutations,
+                                        sizeof(clr_u16) * t->entries, &tables[1]));
   }
   CLR_CHECK(upload(ctx, &d->plan, d->values, sizeof(clr_value_plan) * (size_t)p->values_per_sample,
                    "sample value plan"));
