@@ -134,6 +134,52 @@ const clr_u16 *clr_halton_permutations(size_t *count) {
   return halton_permutations;
 }
 
+static clr_u32 power_of(clr_u32 base, clr_u32 m) {
+  clr_u32 v = 1;
+  for (clr_u32 i = 0; i < m; ++i) v *= base;
+  return v;
+}
+
+static clr_u32 bits_of(clr_u32 n) { /* bits of the values below n */
+  clr_u32 b = 0;
+  while (((clr_u64)1 << b) < n) ++b;
+  return b;
+}
+
+clr_u32 clr_halton_pair_digits(const clr_halton_prime *pr, uint64_t limit) {
+  uint64_t chunk = pr->base;
+  for (clr_u32 m = 1; m <= CLR_HALTON_PAIR_MAX_DIGITS; ++m, chunk *= pr->base) {
+    if (chunk > CLR_HALTON_PAIR_MOST_ENTRIES) return 0;
+    if (chunk * chunk < limit) continue;
+    return bits_of((clr_u32)chunk) + bits_of(m + 1u) <= 16u ? m : 0u;
+  }
+  return 0;
+}
+
+size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_u32 m) {
+  return CLR_HALTON_PAIR_HEADER + 2u * (size_t)power_of(pr->base, m);
+}
+
+void clr_halton_pair_table(const clr_halton_prime *pr, clr_u32 m, clr_u16 *out) {
+  const clr_u16 *perm = clr_halton_permutations(NULL) + pr->perm_offset;
+  clr_u32 chunk = power_of(pr->base, m), count_shift = bits_of(chunk);
+  /* n / chunk = (n * magic) >> shift for every n below 2^28 (>= chunk^2): magic =
+   * ceil(2^(28 + l) / chunk) < 2^29 with 2^l >= chunk (Granlund-Montgomery). */
+  clr_u32 shift = CLR_HALTON_PAIR_ARGUMENT_BITS + bits_of(chunk);
+  clr_u32 magic = (clr_u32)((((clr_u64)1 << shift) + chunk - 1u) / chunk);
+  const clr_u16 header[8] = {(clr_u16)chunk, (clr_u16)magic, (clr_u16)(magic >> 16),
+                             (clr_u16)shift, (clr_u16)m,     (clr_u16)count_shift};
+  memcpy(out, header, sizeof header);
+  for (clr_u32 k = 0; k < 8; ++k) out[8 + k] = (clr_u16)(k <= m ? power_of(pr->base, k) : 0u);
+  clr_u16 *low = out + CLR_HALTON_PAIR_HEADER, *top = low + chunk;
+  for (clr_u32 d = 0; d < chunk; ++d) {
+    clr_u32 count;
+    low[d] = (clr_u16)(permuted_reversal(perm, pr->base, d, (int)m, &count) | m << count_shift);
+    clr_u32 value = permuted_reversal(perm, pr->base, d, -1, &count);
+    top[d] = (clr_u16)(value | count << count_shift);
+  }
+}
+
 /* x with a * x = 1 (mod n), in [0, n) (0 when n == 1); a and n coprime. Extended Euclid. */
 static clr_i64 multiplicative_inverse(clr_i64 a, clr_i64 n) {
   clr_i64 r0 = a, r1 = n, x0 = 1, x1 = 0;
