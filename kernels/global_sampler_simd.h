@@ -241,12 +241,12 @@ CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_
   return clr_below_one8(v);
 }
 
-/* clr_scrambled_radical_inverse32 for arguments a < B^2 from the record's pair table `pt`
- * (CLR_HALTON_PAIR_HEADER in halton_funcs.h): a = hi * B + lo; lo's entry is its m digits below
- * a nonzero hi, else its significant ones; hi's entry its significant digits (none for 0). The
- * reversed digits are lo's * base^(hi's count) + hi's, below B^2 <= 2^28 (so a signed
- * conversion gives the same float); their count is at most 2m <= 14, so invBaseN comes from two
- * register tables. Same integers, same float operations. */
+/* clr_scrambled_radical_inverse32 for the arguments of a launch from the record's pair table
+ * `pt` (CLR_HALTON_PAIR_HEADER in halton_funcs.h): a = hi * B + lo; lo's entry is its m digits
+ * below a nonzero hi, else its significant ones; hi's entry its significant digits (none for 0).
+ * The reversed digits are lo's * base^(hi's count) + hi's, below 2^31 (so a signed conversion
+ * gives the same float); their count is at most 14, so invBaseN comes from two register tables.
+ * Same integers, same float operations. */
 CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
                                         __global const ushort *pt, uint8 a) {
   uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];

@@ -250,11 +250,11 @@ static void test_large_indices_match_reference(void **state) {
   }
 }
 
-/* Halton's pair tables (two lookups per value where every argument of a launch is below
- * base^2m, base^m <= 16384): 512^2 film, so indices up to 31104 * spp. With 16 spp every table
- * size from m = 5 (base 5) to m = 1 (primes from 709); with 64 spp some bases need a part past
- * 16384 entries and keep the chunk loop; with 500 values past the tables' budget. Pixel (0, 0)
- * has arguments below B (a zero top part). Device == reference bit for bit. */
+/* Halton's pair tables (two lookups per value where every argument of a launch is below 2^28 and
+ * fits the table limits): 512^2 film, so indices below 31104 * spp; tables of one to four digits
+ * per part, with 64 spp larger ones, with 500 values past the tables' budget (the rest keep the
+ * chunk loop, as do the bases of test_large_indices_match_reference). Pixel (0, 0) has arguments
+ * below B (a zero top part). Device == reference bit for bit. */
 static void test_halton_pair_tables_match_reference(void **state) {
   (void)state;
   static clr_sample_request req[250];

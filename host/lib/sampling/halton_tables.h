@@ -25,14 +25,17 @@ const clr_halton_prime *clr_halton_primes(void);
  * default-constructed RNG). *count (may be NULL) receives CLR_HALTON_TABLE_ENTRIES. */
 const clr_u16 *clr_halton_permutations(size_t *count);
 
-/* Digits m of the pair table (kernels/halton_funcs.h) of record pr for arguments below `limit`:
- * the least m with base^(2m) >= limit, or 0 where none fits (m > 7, base^m past
- * CLR_HALTON_PAIR_MOST_ENTRIES, or a value and its count past 16 bits). */
-clr_u32 clr_halton_pair_digits(const clr_halton_prime *pr, uint64_t limit);
+/* A pair table (kernels/halton_funcs.h): B = base^digits lo entries, `tops` top entries. */
+typedef struct clr_halton_pair_shape {
+  clr_u32 digits, tops;
+} clr_halton_pair_shape;
+/* The pair table of record pr with the fewest entries for arguments below `limit` (digits 0:
+ * none fits, see CLR_HALTON_PAIR_HEADER). */
+clr_halton_pair_shape clr_halton_pair_shape_for(const clr_halton_prime *pr, uint64_t limit);
 /* u16 entries of that table. */
-size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_u32 m);
+size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape);
 /* Writes the table into out (clr_halton_pair_entries entries). */
-void clr_halton_pair_table(const clr_halton_prime *pr, clr_u32 m, clr_u16 *out);
+void clr_halton_pair_table(const clr_halton_prime *pr, clr_halton_pair_shape shape, clr_u16 *out);
 
 /* Fills halton_scale, halton_exponent, halton_mult_inverse and halton_stride from the sample
  * bounds p->sample_x0..sample_y1 as pbrt-v3's HaltonSampler constructor (kMaxResolution 128). */

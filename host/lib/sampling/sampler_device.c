@@ -50,9 +50,10 @@ struct clr_sampler_device {
   clr_index_plan index_slots[CLR_MAX_VALUES_PER_SAMPLE + 1];
   int slot_first[CLR_MAX_VALUES_PER_SAMPLE + 2];
   clr_request_slot slots_copy[CLR_MAX_REQUESTS];
-  /* Halton pair tables of the last launch: their (record, digits) keys, host copy, entries. */
+  /* Halton pair tables of the last launch: their (record, shape) keys, host copy. */
   int pair_count; /* -1: the device buffer holds nothing valid */
-  int pair_records[CLR_HALTON_PRIME_RECORDS], pair_digits[CLR_HALTON_PRIME_RECORDS];
+  int pair_records[CLR_HALTON_PRIME_RECORDS];
+  clr_halton_pair_shape pair_shapes[CLR_HALTON_PRIME_RECORDS];
   clr_u16 *pair_host;
   size_t pair_capacity;
 };
@@ -258,19 +259,20 @@ static clr_result build_pair_tables(clr_sampler_device *d, int count, size_t siz
   size_t at = 0;
   for (int j = 0; j < count; ++j) {
     const clr_halton_prime *pr = &primes[d->pair_records[j]];
-    clr_halton_pair_table(pr, (clr_u32)d->pair_digits[j], d->pair_host + at);
-    at += clr_halton_pair_entries(pr, (clr_u32)d->pair_digits[j]);
+    clr_halton_pair_table(pr, d->pair_shapes[j], d->pair_host + at);
+    at += clr_halton_pair_entries(pr, d->pair_shapes[j]);
   }
   return CLR_SUCCESS;
 }
 
-/* The halton plan's pair tables: one per (record, digits) where every argument (below `limit`)
- * fits two parts; sets each entry's pair_table and uploads the tables unless the last launch had
- * the same ones. *any: whether there is one. */
+/* The halton plan's pair tables: one per (record, shape) where the arguments (below `limit`) fit
+ * two parts; sets each entry's pair_table and uploads the tables unless the last launch had the
+ * same ones. *any: whether there is one. */
 static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_params *p,
                                      int value_count, uint64_t limit, int *any) {
   const clr_halton_prime *primes = clr_halton_primes();
-  int records[CLR_HALTON_PRIME_RECORDS], digits[CLR_HALTON_PRIME_RECORDS];
+  int records[CLR_HALTON_PRIME_RECORDS];
+  clr_halton_pair_shape shapes[CLR_HALTON_PRIME_RECORDS];
   size_t offsets[CLR_HALTON_PRIME_RECORDS], size = 0;
   int count = 0;
   uint64_t scale1 = (uint64_t)p->halton_scale[1];
@@ -279,15 +281,17 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
     if (e->dim < 1 || e->dim >= CLR_HALTON_PRIMES) continue;
     int record = e->dim == 1 ? CLR_HALTON_BASE3_RECORD : e->dim;
     uint64_t arguments = e->dim == 1 ? (limit + scale1 - 1) / scale1 : limit;
-    clr_u32 m = clr_halton_pair_digits(&primes[record], arguments);
-    if (m == 0) continue;
+    clr_halton_pair_shape shape = clr_halton_pair_shape_for(&primes[record], arguments);
+    if (shape.digits == 0) continue;
     int j = 0;
-    while (j < count && (records[j] != record || digits[j] != (int)m)) ++j;
+    while (j < count && (records[j] != record || shapes[j].digits != shape.digits ||
+                         shapes[j].tops != shape.tops))
+      ++j;
     if (j == count) {
-      size_t entries = clr_halton_pair_entries(&primes[record], m);
+      size_t entries = clr_halton_pair_entries(&primes[record], shape);
       if (size + entries > PAIR_BUDGET) continue;
       records[count] = record;
-      digits[count] = (int)m;
+      shapes[count] = shape;
       offsets[count++] = size;
       size += entries;
     }
@@ -296,11 +300,11 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
   *any = count > 0;
   if (count == 0 || (count == d->pair_count &&
                      memcmp(records, d->pair_records, sizeof(int) * (size_t)count) == 0 &&
-                     memcmp(digits, d->pair_digits, sizeof(int) * (size_t)count) == 0))
+                     memcmp(shapes, d->pair_shapes, sizeof shapes[0] * (size_t)count) == 0))
     return CLR_SUCCESS;
   d->pair_count = -1;
   memcpy(d->pair_records, records, sizeof(int) * (size_t)count);
-  memcpy(d->pair_digits, digits, sizeof(int) * (size_t)count);
+  memcpy(d->pair_shapes, shapes, sizeof shapes[0] * (size_t)count);
   CLR_CHECK(build_pair_tables(d, count, size));
   CLR_CHECK(upload(d->ctx, &d->pair, d->pair_host, sizeof(clr_u16) * size, "halton pair tables"));
   d->pair_count = count;
