@@ -69,15 +69,28 @@ static double device_rate(clr_context ctx, clr_sampler_type type, int quick) {
   return t > 0 ? (double)values / t : -1;
 }
 
+/* Whether CLR_BENCH_SAMPLERS (comma-separated sampler names; unset: every sampler) names t. */
+static int sampler_wanted(clr_sampler_type t) {
+  const char *list = getenv("CLR_BENCH_SAMPLERS"), *name = clr_sampler_type_name(t);
+  if (!list) return 1;
+  size_t n = strlen(name);
+  for (const char *at = list; (at = strstr(at, name)) != NULL; at += n)
+    if ((at == list || at[-1] == ',') && (at[n] == ',' || at[n] == '\0')) return 1;
+  return 0;
+}
+
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count) {
   enum { MAX_TYPES = 64 };
   int types = bench_sampler_count() < MAX_TYPES ? bench_sampler_count() : MAX_TYPES;
   double baseline[MAX_TYPES];
-  for (int t = 0; t < types; ++t) baseline[t] = reference_rate((clr_sampler_type)t, o->quick);
+  for (int t = 0; t < types; ++t)
+    baseline[t] =
+        sampler_wanted((clr_sampler_type)t) ? reference_rate((clr_sampler_type)t, o->quick) : -1;
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "samples");
     if (!ctx) continue;
     for (int t = 0; t < types; ++t) {
+      if (!sampler_wanted((clr_sampler_type)t)) continue;
       double rate = device_rate(ctx, (clr_sampler_type)t, o->quick);
       printf("{\"bench\":\"samples\",");
       bench_json_device(ctx);

@@ -59,10 +59,11 @@ CLR_INLINE void clr_global_sample_vector(
  * the order of a plan built on the host, grouped by index slot: slot 0 is the item's own sample,
  * the other slots the elements of arrays (sample numbers s * scale + offset). */
 
-/* One value of the sample vector: its offset in the vector, its dimension, its index slot, and
- * per-family shape bits (halton: chunks | reversed-fits-32-bits << 8; see global_sampler_simd.h). */
+/* One value of the sample vector: its offset in the vector, its dimension, its index slot,
+ * per-family shape bits (halton: chunks | reversed-fits-32-bits << 8; see global_sampler_simd.h)
+ * and (halton) the offset of its pair table in the launch's pair tables, or -1. */
 typedef struct clr_value_plan {
-  clr_i32 value, dim, index_slot, shape;
+  clr_i32 value, dim, index_slot, shape, pair_table;
 } clr_value_plan;
 
 /* One index slot: the sample number of the item's sample s is s * scale + offset. */

@@ -85,6 +85,15 @@ CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_p
   values[(size_t)item.s7 * stride + at] = v.s7;
 }
 
+/* Table lookup in every lane: table[index & 7] (one vpermd on AVX2). */
+CLR_SIMD_INLINE uint8 clr_permute8(uint8 table, uint8 index) {
+#if defined(__AVX2__)
+  return as_uint8(__builtin_ia32_permvarsi256(as_int8(table), as_int8(index)));
+#else
+  return shuffle(table, index & 7u);
+#endif
+}
+
 /* Sample numbers s * scale + offset of an index slot. */
 static inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
   return sample * (uint)ip.scale + (uint)ip.offset;
@@ -118,15 +127,6 @@ static inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global con
   uint8 b = (((as_uint8(px) & mask) << (uint)CLR_SOBOL_M) | (as_uint8(py) & mask)) ^ delta;
   return (frame << (uint)(2 * CLR_SOBOL_M)) ^
          clr_xor_columns_low8(b, vdc_inv + row, 2 * CLR_SOBOL_M);
-#endif
-}
-
-/* Table lookup in every lane: table[index & 7] (one vpermd on AVX2). */
-CLR_SIMD_INLINE uint8 clr_permute8(uint8 table, uint8 index) {
-#if defined(__AVX2__)
-  return as_uint8(__builtin_ia32_permvarsi256(as_int8(table), as_int8(index)));
-#else
-  return shuffle(table, index & 7u);
 #endif
 }
 
@@ -165,6 +165,10 @@ CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global co
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON && defined(CLR_INDEX32)
 CLR_SIMD_INLINE uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
+  return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
+}
+
+CLR_SIMD_INLINE uint8 clr_gather_u32(__global const uint *t, uint8 i) {
   return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
 }
 
@@ -237,8 +241,36 @@ CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_
   return clr_below_one8(v);
 }
 
+/* clr_scrambled_radical_inverse32 for the arguments of a launch from the record's pair table
+ * `pt` (CLR_HALTON_PAIR_HEADER in halton_funcs.h): a = hi * B + lo; lo's entry is its m digits
+ * below a nonzero hi, else its significant ones; hi's entry its significant digits (none for 0).
+ * The reversed digits are lo's * base^(hi's count) + hi's, below 2^31 (so a signed conversion
+ * gives the same float); their count is at most 14, so invBaseN comes from two register tables.
+ * Same integers, same float operations. */
+CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
+                                        __global const ushort *pt, uint8 a) {
+  uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];
+  uint8 hi = clr_mul_shift8(a, magic, pt[3]);
+  uint8 lo = a - hi * chunk;
+  uint8 low_table =
+      select((uint8)CLR_HALTON_PAIR_HEADER, (uint8)(CLR_HALTON_PAIR_HEADER + chunk), hi == 0u);
+  uint8 low = clr_gather_u16(pt, low_table + lo);
+  uint8 high = clr_gather_u16(pt + CLR_HALTON_PAIR_HEADER + chunk, hi);
+  uint value_mask = (1u << count_shift) - 1u;
+  uint8 count = high >> count_shift;
+  uint8 powers = convert_uint8(vload8(1, pt)); /* base^0..base^7 */
+  uint8 reversed = (low & value_mask) * clr_permute8(powers, count) + (high & value_mask);
+  int8 digits = as_int8((low >> count_shift) + count);
+  uint8 pow_lo = clr_permute8(as_uint8(vload8(0, pr->inv_base_pow)), as_uint8(digits));
+  uint8 pow_hi = clr_permute8(as_uint8(vload8(1, pr->inv_base_pow)), as_uint8(digits));
+  float8 inv_base_n = as_float8(select(pow_lo, pow_hi, digits > 7));
+  return clr_below_one8(inv_base_n * (convert_float8(as_int8(reversed)) + pr->scramble_tail));
+}
+
 /* clr_halton_sampler_index for indices below 2^32. */
 static inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number) {
+  if (all(px == px.s0) && all(py == py.s0)) /* one pixel (spp a multiple of 8): its offset once */
+    return (uint)clr_halton_sampler_index(p, px.s0, py.s0, 0) + number * (uint)p->halton_stride;
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
   uint stride = (uint)p->halton_stride;
   int exponent1 = p->halton_exponent[1];
@@ -260,21 +292,21 @@ static inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8
   return offset + number * stride;
 }
 
-/* clr_halton_sampler_value for indices below 2^32. */
+/* clr_halton_sampler_value for indices below 2^32; pair: the dimension's pair table, or NULL. */
 static inline float8 clr_halton_value8(const clr_sampler_params *p,
                                        __global const clr_halton_prime *primes,
-                                       __global const ushort *perms, uint8 index, int dim,
-                                       int chunks, int reversed32) {
+                                       __global const ushort *perms, __global const ushort *pair,
+                                       uint8 index, int dim, int chunks, int reversed32) {
   uint udim = (uint)dim;
   if (udim <= 1u && p->sample_pixel_center) return (float8)0.5f;
   if (udim == 0u)
     return convert_float8(clr_reverse_bits32x8(index >> (uint)p->halton_exponent[0])) * 0x1p-32f;
-  if (udim == 1u)
-    return clr_scrambled_radical_inverse8(primes + CLR_HALTON_BASE3_RECORD, perms,
-                                          clr_halton_div_pow3x8(index, p->halton_exponent[1]),
-                                          chunks, reversed32);
-  if (udim < CLR_HALTON_PRIMES)
-    return clr_scrambled_radical_inverse8(primes + udim, perms, index, chunks, reversed32);
+  if (udim < CLR_HALTON_PRIMES) {
+    __global const clr_halton_prime *pr = primes + (udim == 1u ? CLR_HALTON_BASE3_RECORD : udim);
+    uint8 a = udim == 1u ? clr_halton_div_pow3x8(index, p->halton_exponent[1]) : index;
+    if (pair) return clr_halton_pair8(pr, pair, a);
+    return clr_scrambled_radical_inverse8(pr, perms, a, chunks, reversed32);
+  }
   uint lanes[CLR_LANES];
   float out[CLR_LANES];
   vstore8(index, 0, lanes);

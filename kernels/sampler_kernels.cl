@@ -94,10 +94,11 @@ typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and i
 #else
 typedef __global const clr_halton_prime *clr_table0_t; /* one record per prime */
 typedef __global const ushort *clr_table1_t;           /* permutations and chunk tables */
-typedef __global const uint *clr_table2_t;             /* unused */
+typedef __global const ushort *clr_table2_t;           /* pair tables (or NULL) */
 #define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number)
-#define clr_value8(index, e) \
-  clr_halton_value8(&p, t0, t1, index, e.dim, e.shape & 0xff, e.shape >> 8)
+#define clr_value8(index, e)                                                             \
+  clr_halton_value8(&p, t0, t1, e.pair_table >= 0 ? t2 + e.pair_table : 0, index, e.dim, \
+                    e.shape & 0xff, e.shape >> 8)
 #define clr_index1(j, number) clr_halton_sampler_index(&p, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_halton_sampler_value(&p, t0, t1, index, dim)
 #endif

@@ -189,7 +189,8 @@ static void check_v4_randomizations(void) {
 }
 
 /* The global samplers' other paths: indices past 2^32 (halton), more than 32 index bits (sobol),
- * halton reversals past 2^32, values past the tables (hash fallback). */
+ * halton reversals past 2^32, values past the tables (hash fallback), halton's pair tables with
+ * the 8 lanes of a work-item in one pixel (the bench's case). */
 static void check_global_paths(void) {
   static clr_sample_request many[601];
   for (int i = 0; i < 601; ++i) many[i] = (clr_sample_request){2, 0};
@@ -205,6 +206,7 @@ static void check_global_paths(void) {
       {CLR_SAMPLER_HALTON, 4096, 4094, 2, many, 201, "halton 3-digit reversals"},
       {CLR_SAMPLER_HALTON, 4096, 200, 3, arrays, 4, "halton arrays, large spp"},
       {CLR_SAMPLER_HALTON, 16, 0, 1, many, 601, "halton past 1000 primes"},
+      {CLR_SAMPLER_HALTON, 16, 0, 16, camera10, 6, "halton pair tables, one pixel"},
       {CLR_SAMPLER_SOBOL, 1 << 16, (1 << 16) - 2, 2, camera10, 6, "sobol 36-bit indices"},
       {CLR_SAMPLER_SOBOL, 1 << 16, 100, 2, arrays, 4, "sobol arrays, large spp"},
       {CLR_SAMPLER_SOBOL, 16, 0, 1, many, 601, "sobol past 1024 dimensions"},

@@ -250,6 +250,39 @@ static void test_large_indices_match_reference(void **state) {
   }
 }
 
+/* Halton's pair tables (two lookups per value where every argument of a launch is below 2^28 and
+ * fits the table limits): 512^2 film, so indices below 31104 * spp; tables of one to four digits
+ * per part, with 64 spp larger ones, with 500 values past the tables' budget (the rest keep the
+ * chunk loop, as do the bases of test_large_indices_match_reference). Pixel (0, 0) has arguments
+ * below B (a zero top part). Device == reference bit for bit. */
+static void test_halton_pair_tables_match_reference(void **state) {
+  (void)state;
+  static clr_sample_request req[250];
+  for (int i = 0; i < 250; ++i) req[i] = (clr_sample_request){2, 0}; /* dims up to 499 */
+  struct {
+    int spp, nreq;
+    clr_bounds2i px;
+  } cases[] = {{16, 30, {0, 0, 64, 2}},
+               {16, 30, {448, 509, 512, 512}},
+               {64, 30, {100, 7, 132, 8}},
+               {16, 250, {5, 5, 7, 6}}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, CLR_SAMPLER_HALTON);
+    d.pixel_samples = cases[c].spp;
+    d.film.x_resolution = d.film.y_resolution = 512;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    generated dev = generate(s, cases[c].px, 0, 0, req, cases[c].nreq, 1);
+    generated ref = generate(s, cases[c].px, 0, 0, req, cases[c].nreq, 0);
+    assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
+    assert_memory_equal(dev.indices, ref.indices, dev.items * sizeof(uint64_t));
+    free_generated(&dev);
+    free_generated(&ref);
+    clr_sampler_release(s);
+  }
+}
+
 static void test_bad_input(void **state) {
   (void)state;
   clr_sampler_desc d;
@@ -370,6 +403,7 @@ int main(void) {
       cmocka_unit_test(test_stratified_device_strata),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
+      cmocka_unit_test(test_halton_pair_tables_match_reference),
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_device_buffer_output),
   };

@@ -183,6 +183,76 @@ const clr_u16 *clr_halton_permutations(size_t *count) {
   return t->permutations;
 }
 
+static clr_u32 power_of(clr_u32 base, clr_u32 m) {
+  clr_u32 v = 1;
+  for (clr_u32 i = 0; i < m; ++i) v *= base;
+  return v;
+}
+
+static clr_u32 bits_of(clr_u32 n) { /* bits of the values below n */
+  clr_u32 b = 0;
+  while (((clr_u64)1 << b) < n) ++b;
+  return b;
+}
+
+static clr_u32 digits_of(clr_u32 base, clr_u32 n) { /* significant base-b digits of n */
+  clr_u32 count = 0;
+  for (; n != 0; n /= base) ++count;
+  return count;
+}
+
+clr_halton_pair_shape clr_halton_pair_shape_for(const clr_halton_prime *pr, uint64_t limit) {
+  clr_halton_pair_shape best = {0, 0};
+  if (limit > ((uint64_t)1 << CLR_HALTON_PAIR_ARGUMENT_BITS)) return best;
+  uint64_t chunk = pr->base;
+  for (clr_u32 m = 1; m <= CLR_HALTON_PAIR_MAX_DIGITS && chunk <= CLR_HALTON_PAIR_MOST_ENTRIES;
+       ++m, chunk *= pr->base) {
+    uint64_t tops = (limit + chunk - 1u) / chunk;
+    if (tops < chunk) tops = chunk; /* the top table also serves lo below a zero top part */
+    if (tops > CLR_HALTON_PAIR_MOST_TOPS) continue;
+    clr_u32 top_digits = digits_of(pr->base, (clr_u32)tops - 1u);
+    uint64_t top_power = power_of(pr->base, top_digits);
+    if (top_digits > CLR_HALTON_PAIR_MAX_DIGITS || top_power > (1u << 15) ||
+        chunk * top_power > ((uint64_t)1 << 31))
+      continue;
+    clr_u32 value_bits = bits_of((clr_u32)(chunk > top_power ? chunk : top_power));
+    if (value_bits + bits_of((m > top_digits ? m : top_digits) + 1u) > 16u) continue;
+    if (best.digits == 0 || chunk + tops < power_of(pr->base, best.digits) + best.tops)
+      best = (clr_halton_pair_shape){m, (clr_u32)tops};
+  }
+  return best;
+}
+
+size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape) {
+  return CLR_HALTON_PAIR_HEADER + (size_t)power_of(pr->base, shape.digits) + shape.tops;
+}
+
+void clr_halton_pair_table(const clr_halton_prime *pr, const clr_u16 *permutations,
+                           clr_halton_pair_shape shape, clr_u16 *out) {
+  const clr_u16 *perm = permutations + pr->perm_offset;
+  clr_u32 m = shape.digits, chunk = power_of(pr->base, m);
+  clr_u32 top_digits = digits_of(pr->base, shape.tops - 1u);
+  clr_u32 top_power = power_of(pr->base, top_digits);
+  clr_u32 count_shift = bits_of(chunk > top_power ? chunk : top_power);
+  /* n / chunk = (n * magic) >> shift for every n below 2^28: magic = ceil(2^(28 + l) / chunk)
+   * < 2^29 with 2^l >= chunk (Granlund-Montgomery). */
+  clr_u32 shift = CLR_HALTON_PAIR_ARGUMENT_BITS + bits_of(chunk);
+  clr_u32 magic = (clr_u32)((((clr_u64)1 << shift) + chunk - 1u) / chunk);
+  const clr_u16 header[8] = {(clr_u16)chunk, (clr_u16)magic, (clr_u16)(magic >> 16),
+                             (clr_u16)shift, (clr_u16)m,     (clr_u16)count_shift};
+  memcpy(out, header, sizeof header);
+  for (clr_u32 k = 0; k < 8; ++k)
+    out[8 + k] = (clr_u16)(k <= top_digits ? power_of(pr->base, k) : 0u);
+  clr_u16 *low = out + CLR_HALTON_PAIR_HEADER, *top = low + chunk;
+  clr_u32 count;
+  for (clr_u32 d = 0; d < chunk; ++d)
+    low[d] = (clr_u16)(permuted_reversal(perm, pr->base, d, (int)m, &count) | m << count_shift);
+  for (clr_u32 d = 0; d < shape.tops; ++d) {
+    clr_u32 value = permuted_reversal(perm, pr->base, d, -1, &count);
+    top[d] = (clr_u16)(value | count << count_shift);
+  }
+}
+
 /* x with a * x = 1 (mod n), in [0, n) (0 when n == 1); a and n coprime. Extended Euclid. */
 static clr_i64 multiplicative_inverse(clr_i64 a, clr_i64 n) {
   clr_i64 r0 = a, r1 = n, x0 = 1, x1 = 0;

@@ -4,6 +4,7 @@
 #define CLR_HALTON_TABLES_H
 
 #include <stddef.h>
+#include <stdint.h>
 /* GCC does not know clr_platform.h's "#pragma STDC FP_CONTRACT" (-ffp-contract=off does the job). */
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunknown-pragmas"
@@ -42,6 +43,20 @@ int clr_halton_layout_dimensions(const clr_request_slot *slots, int count);
 const clr_halton_prime *clr_halton_primes(void);
 /* That set's u16 table; *count (may be NULL) receives CLR_HALTON_TABLE_ENTRIES. */
 const clr_u16 *clr_halton_permutations(size_t *count);
+
+/* A pair table (kernels/halton_funcs.h): B = base^digits lo entries, `tops` top entries. */
+typedef struct clr_halton_pair_shape {
+  clr_u32 digits, tops;
+} clr_halton_pair_shape;
+/* The pair table of record pr with the fewest entries for arguments below `limit` (digits 0:
+ * none fits, see CLR_HALTON_PAIR_HEADER). */
+clr_halton_pair_shape clr_halton_pair_shape_for(const clr_halton_prime *pr, uint64_t limit);
+/* u16 entries of that table. */
+size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape);
+/* Writes the table into out (clr_halton_pair_entries entries); `pr` and `permutations` from one
+ * clr_halton_tables set. */
+void clr_halton_pair_table(const clr_halton_prime *pr, const clr_u16 *permutations,
+                           clr_halton_pair_shape shape, clr_u16 *out);
 
 /* Fills halton_scale, halton_exponent, halton_mult_inverse and halton_stride from the sample
  * bounds p->sample_x0..sample_y1 as pbrt-v3's HaltonSampler constructor (kMaxResolution 128). */

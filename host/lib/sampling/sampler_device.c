@@ -42,7 +42,7 @@ struct clr_sampler_device {
   pthread_mutex_t lock;
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
-  grow_buffer plan, index_plan, indices, scratch, slots, bounded, pmj;
+  grow_buffer plan, index_plan, indices, scratch, slots, bounded, pmj, pair;
   cl_uint *bounded_host; /* 4 per bound b = 1..bounded_count (clr_pcg32x8_bounded) */
   int bounded_count;
   /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
@@ -50,6 +50,12 @@ struct clr_sampler_device {
   clr_index_plan index_slots[CLR_MAX_VALUES_PER_SAMPLE + 1];
   int slot_first[CLR_MAX_VALUES_PER_SAMPLE + 2];
   clr_request_slot slots_copy[CLR_MAX_REQUESTS];
+  /* Halton pair tables of the last launch: their (record, shape) keys, host copy. */
+  int pair_count; /* -1: the device buffer holds nothing valid */
+  int pair_records[CLR_HALTON_PRIME_RECORDS];
+  clr_halton_pair_shape pair_shapes[CLR_HALTON_PRIME_RECORDS];
+  clr_u16 *pair_host;
+  size_t pair_capacity;
 };
 
 clr_result clr_sampler_device_create(clr_context ctx, clr_sampler_device **out) {
@@ -60,6 +66,7 @@ clr_result clr_sampler_device_create(clr_context ctx, clr_sampler_device **out) 
     return clr_fail(ctx, CLR_ERROR_INTERNAL, "clr_sampler_create: pthread_mutex_init failed");
   }
   d->ctx = ctx;
+  d->pair_count = -1;
   *out = d;
   return CLR_SUCCESS;
 }
@@ -73,11 +80,12 @@ void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
   grow_buffer *buffers[] = {&d->plan,  &d->index_plan, &d->indices, &d->scratch,
-                            &d->slots, &d->bounded,    &d->pmj};
+                            &d->slots, &d->bounded,    &d->pmj,     &d->pair};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
   free(d->bounded_host);
+  free(d->pair_host);
   free(d);
 }
 
@@ -196,6 +204,7 @@ static void build_global_plan(clr_sampler_device *d, const clr_sampler_params *p
         e->dim = sl->source + c;
         e->index_slot = sl->array_size ? array_slot(d, g, sl->array_size, j) : 0;
         e->shape = 0;
+        e->pair_table = -1;
       }
   }
   /* Stable counting sort by slot. */
@@ -215,11 +224,16 @@ static int bits_for(uint64_t limit) { /* bits of the values below `limit` */
 /* Halton plan entries' shape: the chunks of clr_scrambled_radical_inverse8 that cover every
  * argument below `limit`, and (bit 8) whether base^(digits of limit - 1) <= 2^32, i.e. whether
  * the reversed digits fit 32 bits. */
-static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t limit) {
+/* The Halton tables covering the dimensions of the plan's values. */
+static const clr_halton_tables *plan_tables(const clr_sampler_device *d, int value_count) {
   int dims = 0;
   for (int i = 0; i < value_count; ++i)
     if (d->values[i].dim >= dims) dims = d->values[i].dim + 1;
-  const clr_halton_prime *primes = clr_halton_tables_covering(dims)->primes;
+  return clr_halton_tables_covering(dims);
+}
+
+static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t limit) {
+  const clr_halton_prime *primes = plan_tables(d, value_count)->primes;
   for (int i = 0; i < value_count; ++i) {
     int dim = d->values[i].dim;
     if (dim < 1 || dim >= CLR_HALTON_PRIMES) continue;
@@ -235,6 +249,75 @@ static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t
       power *= pr->base;
     d->values[i].shape = chunks | (power <= ((uint64_t)1 << 32) ? 1 << 8 : 0);
   }
+}
+
+/* A launch's pair tables (clr_halton_pair8) hold at most PAIR_BUDGET entries; other dimensions
+ * keep the chunk loop. */
+#define PAIR_BUDGET ((size_t)1 << 20)
+
+/* Builds the launch's pair tables into d->pair_host (count tables, `size` entries). */
+static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tables *t, int count,
+                                    size_t size) {
+  if (size > d->pair_capacity) {
+    clr_u16 *t = realloc(d->pair_host, sizeof(clr_u16) * size);
+    if (!t) return clr_fail(d->ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sampler_generate: out of memory");
+    d->pair_host = t;
+    d->pair_capacity = size;
+  }
+  size_t at = 0;
+  for (int j = 0; j < count; ++j) {
+    const clr_halton_prime *pr = &t->primes[d->pair_records[j]];
+    clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
+    at += clr_halton_pair_entries(pr, d->pair_shapes[j]);
+  }
+  return CLR_SUCCESS;
+}
+
+/* The halton plan's pair tables: one per (record, shape) where the arguments (below `limit`) fit
+ * two parts; sets each entry's pair_table and uploads the tables unless the last launch had the
+ * same ones. *any: whether there is one. */
+static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_params *p,
+                                     int value_count, uint64_t limit, int *any) {
+  const clr_halton_tables *t = plan_tables(d, value_count);
+  const clr_halton_prime *primes = t->primes;
+  int records[CLR_HALTON_PRIME_RECORDS];
+  clr_halton_pair_shape shapes[CLR_HALTON_PRIME_RECORDS];
+  size_t offsets[CLR_HALTON_PRIME_RECORDS], size = 0;
+  int count = 0;
+  uint64_t scale1 = (uint64_t)p->halton_scale[1];
+  for (int i = 0; i < value_count; ++i) {
+    clr_value_plan *e = &d->values[i];
+    if (e->dim < 1 || e->dim >= CLR_HALTON_PRIMES) continue;
+    int record = e->dim == 1 ? CLR_HALTON_BASE3_RECORD : e->dim;
+    uint64_t arguments = e->dim == 1 ? (limit + scale1 - 1) / scale1 : limit;
+    clr_halton_pair_shape shape = clr_halton_pair_shape_for(&primes[record], arguments);
+    if (shape.digits == 0) continue;
+    int j = 0;
+    while (j < count && (records[j] != record || shapes[j].digits != shape.digits ||
+                         shapes[j].tops != shape.tops))
+      ++j;
+    if (j == count) {
+      size_t entries = clr_halton_pair_entries(&primes[record], shape);
+      if (size + entries > PAIR_BUDGET) continue;
+      records[count] = record;
+      shapes[count] = shape;
+      offsets[count++] = size;
+      size += entries;
+    }
+    e->pair_table = (int)offsets[j];
+  }
+  *any = count > 0;
+  if (count == 0 || (count == d->pair_count &&
+                     memcmp(records, d->pair_records, sizeof(int) * (size_t)count) == 0 &&
+                     memcmp(shapes, d->pair_shapes, sizeof shapes[0] * (size_t)count) == 0))
+    return CLR_SUCCESS;
+  d->pair_count = -1;
+  memcpy(d->pair_records, records, sizeof(int) * (size_t)count);
+  memcpy(d->pair_shapes, shapes, sizeof shapes[0] * (size_t)count);
+  CLR_CHECK(build_pair_tables(d, t, count, size));
+  CLR_CHECK(upload(d->ctx, &d->pair, d->pair_host, sizeof(clr_u16) * size, "halton pair tables"));
+  d->pair_count = count;
+  return CLR_SUCCESS;
 }
 
 /* Build defines of the global samplers (every loop's trip count); whether indices fit 32 bits. */
@@ -368,6 +451,11 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
                                         &tables[0]));
     CLR_CHECK(clr_context_shared_buffer(ctx, t->permutations_key, t->permutations,
                                         sizeof(clr_u16) * t->entries, &tables[1]));
+    int pairs = 0;
+    if (index32)
+      CLR_CHECK(halton_pair_tables(d, p, p->values_per_sample,
+                                   (uint64_t)p->halton_stride * (uint64_t)g.frame_limit, &pairs));
+    if (pairs) tables[2] = d->pair.mem;
   }
   CLR_CHECK(upload(ctx, &d->plan, d->values, sizeof(clr_value_plan) * (size_t)p->values_per_sample,
                    "sample value plan"));
