@@ -120,7 +120,8 @@ static void test_texture_formulas(void **state) {
       s = s * 1664525u + 1013904223u;
       r[k] = (float)(s >> 8) / 16777216.0f * 6.0f - 3.0f;
     }
-    float p[3] = {r[2], r[3], r[4]}, q[3] = {p[0] - 1, p[1] - 2, p[2] - 3};
+    /* pbrt-v3's IdentityMapping3D applies the Texture's CTM (Translate 1 2 3) itself */
+    float p[3] = {r[2], r[3], r[4]}, q[3] = {p[0] + 1, p[1] + 2, p[2] + 3};
     float fv = eval_at(&set, f, r[0], r[1], p[0], p[1], p[2], 0);
     assert_true(fabsf(fv - rs_fbm(q, 0.6f, 5)) < 1e-5f);
     assert_true(fabsf(eval_at(&set, sc, r[0], r[1], p[0], p[1], p[2], 2) - 3.0f * fv) < 1e-5f);
@@ -451,6 +452,44 @@ static void test_bump_plane(void **state) {
   }
 }
 
+/* pbrt-v3's 3D textures map a point by the Texture statement's CTM itself (IdentityMapping3D is
+ * given the texture-to-world transform as its world-to-texture one): a 3D checkerboard (1 and 0)
+ * defined under Translate 0.25 0 0, Scale 2 2 2 (in TransformBegin/End) on the plane z = 0.25, seen orthographically
+ * (16 x 16 pixel centres over [-1, 1]^2, lit along the normal, matte Kd = the texture): each
+ * pixel is the check of (2 x + 0.25, 2 y, 0.5). Before, the inverse CTM was applied (checks of
+ * ((x - 0.25) / 2, y / 2, 0.125)), which pbrt-v3 does only for its spherical and cylindrical 2D
+ * mappings. */
+static void test_texture_3d_mapping(void **state) {
+  (void)state;
+  const char *scene =
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\"\nFilm \"image\" \"integer "
+      "xresolution\" [16] \"integer yresolution\" [16]\nSampler \"halton\" \"integer "
+      "pixelsamples\" [1] \"bool samplepixelcenter\" \"true\"\nIntegrator \"directlighting\"\n"
+      "WorldBegin\nLightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb "
+      "L\" [3.14159265 3.14159265 3.14159265]\nTransformBegin\nTranslate 0.25 0 0\nScale 2 2 2\n"
+      "Texture \"ck\" \"spectrum\" \"checkerboard\" \"integer dimension\" [3] \"rgb tex1\" "
+      "[1 1 1] \"rgb tex2\" [0 0 0]\nTransformEnd\nMaterial \"matte\" \"texture Kd\" \"ck\"\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-2 -2 0.25  2 -2 "
+      "0.25  2 2 0.25  -2 2 0.25]\nWorldEnd\n";
+  int w, h;
+  float *rgb = stu_render(scene, CLR_BINARY_DIR "/materials.pbrt", &w, &h);
+  assert_int_equal(w, 16);
+  assert_int_equal(h, 16);
+  int ones = 0;
+  for (int py = 0; py < 16; ++py)
+    for (int px = 0; px < 16; ++px) {
+      double x = 1.0 - (2.0 * px + 1.0) / 16.0, y = 1.0 - (2.0 * py + 1.0) / 16.0; /* x: left */
+      long sum = (long)floor(2.0 * x + 0.25) + (long)floor(2.0 * y) + 0;
+      double expect = (sum % 2 == 0) ? 1.0 : 0.0;
+      ones += expect == 1.0;
+      if (fabs(rgb[3 * (py * 16 + px)] - expect) >= 1e-4)
+        fprintf(stderr, "px %d %d: %g, expected %g\n", px, py, rgb[3 * (py * 16 + px)], expect);
+      assert_true(fabs(rgb[3 * (py * 16 + px)] - expect) < 1e-4);
+    }
+  assert_true(ones > 64 && ones < 192);
+  free(rgb);
+}
+
 /* An infinite light with a 16x8 lat-long map (top half 1, bottom half 0.2, light z up) over a
  * white matte plane facing +z: the radiance is 2 int_0^{pi/2} L(theta) cos sin dtheta, with L the
  * map's bilinear lookup (wrap repeat) along theta, by quadrature. The map is importance-sampled
@@ -773,6 +812,7 @@ int main(void) {
       cmocka_unit_test(test_material_furnaces),
       cmocka_unit_test(test_rough_glass_limit),
       cmocka_unit_test(test_bump_plane),
+      cmocka_unit_test(test_texture_3d_mapping),
       cmocka_unit_test(test_infinite_map_and_blackbody),
       cmocka_unit_test(test_progress_eta),
       cmocka_unit_test(test_camera_motion_blur),

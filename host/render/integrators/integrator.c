@@ -764,7 +764,8 @@ static void mirror_direction(const clr_surface *sf, const float wo[3], float wi[
 
 /* pbrt-v3 SpecularReflect and SpecularTransmit for a lobe BSDF: each followed when it has such
  * a component, with f |cos| / pdf as the factor (sample values hashed); rd (or NULL): the
- * incoming ray's differentials, propagated into nextd (reflection only). */
+ * incoming ray's differentials, propagated into nextd (transmission with BSDF::eta as pbrt-v3's
+ * SpecularTransmit). */
 static void general_specular(const clr_surface *sf, const float wo[3], uint64_t key, int depth,
                              const clr_ray_differential *rd, clr_ray next[2],
                              clr_ray_differential *nextd, float factor[6], int cont[2]) {
@@ -780,7 +781,9 @@ static void general_specular(const clr_surface *sf, const float wo[3], uint64_t 
     clr_render_scene_spawn_ray(sf, wi, &next[q]);
     if (nextd) {
       nextd[q].has = 0;
+      float eta = rs_dot(wo, sf->n_geom) > 0.0f ? 1.0f / sf->bsdf.eta : sf->bsdf.eta;
       if (!q) rs_reflect_differential(sf, rd, wo, wi, &nextd[q]);
+      if (q) rs_transmit_differential(sf, rd, wo, wi, eta, &nextd[q]);
     }
     cont[q] = 1;
   }

@@ -252,9 +252,9 @@ static void scaled(float c[3], const float op[3]) {
 
 static void uber(const eval_ctx *e, const rs_material *m, clr_bsdf *b) {
   float eta = value(e, &m->eta), op[3], t[3], kd[3], ks[3], kr[3], kt[3];
-  b->eta = eta;
   colour(e, &m->opacity, op);
   for (int k = 0; k < 3; ++k) t[k] = fmaxf(0.0f, 1.0f - op[k]);
+  b->eta = black(t) ? eta : 1.0f; /* pbrt-v3: BSDF(si, 1) when the surface lets light through */
   if (!black(t)) add(b, CLR_LOBE_SPECULAR_T, t); /* SpecularTransmission(t, 1, 1) */
   colour(e, &m->kd, kd);
   scaled(kd, op);

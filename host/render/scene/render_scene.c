@@ -917,6 +917,27 @@ static void sphere_normal_partials(const rs_shape *sh, const clr_transform *o2w,
   clr_transform_normal(o2w, dv_o, dndv);
 }
 
+/* A quadric's dndu, dndv (pbrt-v3's Weingarten equations in its Intersect) at world point pw,
+ * as normals; raw: the normal they are the partials of (dpdu x dpdv, unit in object space). */
+static void quadric_normal_partials(const rs_shape *sh, const clr_transform *o2w, const float pw[3],
+                                    float dndu[3], float dndv[3], float raw[3]) {
+  float po[3];
+  clr_transform w2o = clr_transform_inverse(o2w);
+  clr_transform_point(&w2o, pw, po);
+  double pd[3] = {po[0], po[1], po[2]}, du[3], dv[3], uv[2], pu[3], pv[3];
+  clr_quadric_normal_partials(&sh->quadric, pd, du, dv);
+  clr_quadric_param(&sh->quadric, pd, uv, pu, pv);
+  float duf[3], dvf[3], pu_f[3], pv_f[3], n[3];
+  for (int i = 0; i < 3; ++i) {
+    duf[i] = (float)du[i], dvf[i] = (float)dv[i];
+    pu_f[i] = (float)pu[i], pv_f[i] = (float)pv[i];
+  }
+  rs_cross(pu_f, pv_f, n);
+  clr_transform_normal(o2w, duf, dndu);
+  clr_transform_normal(o2w, dvf, dndv);
+  clr_transform_normal(o2w, n, raw);
+}
+
 /* pbrt-v3 Triangle's dndu, dndv from the vertex normals (0 where the (u, v) are degenerate);
  * raw: the interpolated normal they are the partials of. Mesh space. */
 static void mesh_normal_partials(const rs_shape *sh, const clr_hit *hit, float dndu[3],
@@ -942,8 +963,8 @@ static void mesh_normal_partials(const rs_shape *sh, const clr_hit *hit, float d
 }
 
 /* The shading normal's screen-space changes at a specular hit (pbrt-v3's shading.dndu dudx +
- * shading.dndv dvdx), oriented as ns: spheres and meshes with normals; 0 for flat shapes and
- * quadrics. o2w: the shape's object (or instance) to world. */
+ * shading.dndv dvdx), oriented as ns: spheres, quadrics and meshes with normals; 0 for flat
+ * shapes. o2w: the shape's object (or instance) to world. */
 static void shading_normal_differentials(const rs_shape *sh, const clr_transform *o2w,
                                          const clr_hit *hit, const float pw[3],
                                          const rs_tex_ctx *tc, const float ns[3], float dndx[3],
@@ -955,6 +976,8 @@ static void shading_normal_differentials(const rs_shape *sh, const clr_transform
     clr_transform_point(&w2o, pw, po);
     clr_transform_normal(o2w, po, raw);
     sphere_normal_partials(sh, o2w, pw, dndu, dndv);
+  } else if (sh->type == RS_SHAPE_QUADRIC) {
+    quadric_normal_partials(sh, o2w, pw, dndu, dndv, raw);
   } else if (sh->type == RS_SHAPE_MESH && sh->mesh.n) {
     float du[3], dv[3], r[3];
     mesh_normal_partials(sh, hit, du, dv, r);
@@ -969,7 +992,7 @@ static void shading_normal_differentials(const rs_shape *sh, const clr_transform
   }
 }
 
-/* pbrt-v3's shading dpdv (and dndu, dndv for spheres; 0 for the other shapes) at a hit, for
+/* pbrt-v3's shading dpdv (and dndu, dndv for spheres and quadrics; 0 for the other shapes), for
  * Material::Bump; dpdu becomes the unit shading tangent for meshes with normals, as pbrt-v3's
  * Triangle sets it. geo_dpdv: the geometric dpdv. */
 static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const float pw[3],
@@ -990,7 +1013,9 @@ static void bump_partials(const rs_shape *sh, const clr_transform *o2w, const fl
     return;
   }
   memcpy(dpdv, geo_dpdv, 3 * sizeof(float));
+  float raw[3];
   if (sh->type == RS_SHAPE_SPHERE) sphere_normal_partials(sh, o2w, pw, dndu, dndv);
+  if (sh->type == RS_SHAPE_QUADRIC) quadric_normal_partials(sh, o2w, pw, dndu, dndv, raw);
 }
 
 /* A moving shape's object-to-world at the hit's time, as Embree placed it; 0 on failure. */

@@ -327,6 +327,7 @@ clr_result rs_textures_build(rs_texture_set *set, const clr_scene_desc *d, clr_w
     t->value.texture = -1;
     t->value.rgb[0] = t->value.rgb[1] = t->value.rgb[2] = 0.5f;
     t->world_to_texture = clr_transform_inverse(&td->texture_to_world);
+    t->world_to_texture_3d = td->texture_to_world;
     if (!build_type(t, td, warn, wu)) {
       warn_at(warn, wu, p,
               td->kind == CLR_TEXTURE_FLOAT ? "float texture (using 0.5)" : "texture (using 0.5)",
@@ -511,11 +512,11 @@ static void colour_eval(const rs_texture_set *set, const rs_colour *c, const rs_
     if (is_2d(t->type))
       rs_texture_map_2d(t, ctx, st, filtered ? dx : NULL, filtered ? dy : NULL);
     else if (t->type != RS_TEX_CONSTANT && t->type != RS_TEX_SCALE && t->type != RS_TEX_MIX)
-      clr_transform_point(&t->world_to_texture, ctx->p, q); /* pbrt-v3 IdentityMapping3D */
+      clr_transform_point(&t->world_to_texture_3d, ctx->p, q); /* pbrt-v3 IdentityMapping3D */
     float qx[3], qy[3];
     if (is_noise(t->type)) {
-      clr_transform_vector(&t->world_to_texture, ctx->dpdx, qx);
-      clr_transform_vector(&t->world_to_texture, ctx->dpdy, qy);
+      clr_transform_vector(&t->world_to_texture_3d, ctx->dpdx, qx);
+      clr_transform_vector(&t->world_to_texture_3d, ctx->dpdy, qy);
     }
     switch (t->type) {
       case RS_TEX_CONSTANT:

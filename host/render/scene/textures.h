@@ -42,7 +42,10 @@ typedef struct rs_texture {
   rs_mapping mapping;
   float su, sv, du, dv;           /* pbrt UVMapping2D; planar: du, dv */
   float v1[3], v2[3];             /* PlanarMapping2D */
-  clr_transform world_to_texture; /* 3D textures and the spherical/cylindrical mappings */
+  clr_transform world_to_texture; /* the spherical/cylindrical mappings */
+  /* 3D textures: pbrt-v3 passes the Texture's CTM itself (not its inverse) to IdentityMapping3D
+   * as the world-to-texture transform */
+  clr_transform world_to_texture_3d;
   rs_colour value, tex1, tex2, amount;
   int32_t width, height;
   float *rgb;    /* unfiltered lookups: texels, row 0 = top of the file, scale and gamma applied */

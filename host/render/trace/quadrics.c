@@ -221,3 +221,53 @@ void clr_quadric_point(const clr_quadric *q, double u, double v, double p[3]) {
     }
   }
 }
+
+static double dot_d(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* pbrt-v3's second partials of each quadric at object-space p (uv and dpdv from
+ * clr_quadric_param). */
+static void second_partials(const clr_quadric *q, const double p[3], const double uv[2],
+                            const double dpdv[3], double duu[3], double duv[3], double dvv[3]) {
+  double f = q->phimax * q->phimax;
+  duu[0] = -f * p[0], duu[1] = -f * p[1], duu[2] = 0.0;
+  duv[0] = duv[1] = duv[2] = dvv[0] = dvv[1] = dvv[2] = 0.0;
+  switch (q->type) {
+    case CLR_QUADRIC_CYLINDER:
+      return;
+    case CLR_QUADRIC_CONE: {
+      double w = 1.0 - uv[1], k = w > 0.0 ? q->phimax / w : 0.0;
+      duv[0] = k * p[1], duv[1] = -k * p[0];
+      return;
+    }
+    case CLR_QUADRIC_PARABOLOID: {
+      double dz = q->zmax - q->zmin, z = p[2];
+      if (!(z > 0.0)) return;
+      duv[0] = -dz * q->phimax * p[1] / (2.0 * z), duv[1] = dz * q->phimax * p[0] / (2.0 * z);
+      dvv[0] = -dz * dz * p[0] / (4.0 * z * z), dvv[1] = -dz * dz * p[1] / (4.0 * z * z);
+      return;
+    }
+    default:
+      duv[0] = -q->phimax * dpdv[1], duv[1] = q->phimax * dpdv[0];
+  }
+}
+
+void clr_quadric_normal_partials(const clr_quadric *q, const double p[3], double dndu[3],
+                                 double dndv[3]) {
+  double uv[2], du[3], dv[3], duu[3], duv[3], dvv[3];
+  clr_quadric_param(q, p, uv, du, dv);
+  second_partials(q, p, uv, dv, duu, duv, dvv);
+  double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
+                 du[0] * dv[1] - du[1] * dv[0]};
+  double len = sqrt(dot_d(n, n));
+  double E = dot_d(du, du), F = dot_d(du, dv), G = dot_d(dv, dv), det = E * G - F * F;
+  for (int i = 0; i < 3; ++i) dndu[i] = dndv[i] = 0.0;
+  if (!(len > 0.0) || !(det > 0.0) || !isfinite(det)) return; /* apex, pole: pbrt-v3's inf/NaN */
+  for (int i = 0; i < 3; ++i) n[i] /= len;
+  double e = dot_d(n, duu), f = dot_d(n, duv), g = dot_d(n, dvv);
+  for (int i = 0; i < 3; ++i) { /* Weingarten equations */
+    dndu[i] = ((f * F - e * G) * du[i] + (e * F - f * E) * dv[i]) / det;
+    dndv[i] = ((g * F - f * G) * du[i] + (f * F - g * E) * dv[i]) / det;
+  }
+}

@@ -29,6 +29,10 @@ int clr_quadric_intersect(const clr_quadric *q, const double o[3], const double 
 /* At an object-space point on the surface: pbrt-v3's (u, v), dpdu and dpdv. */
 void clr_quadric_param(const clr_quadric *q, const double p[3], double uv[2], double dpdu[3],
                        double dpdv[3]);
+/* pbrt-v3's dndu, dndv (Weingarten equations) of the unit normal along dpdu x dpdv at an
+ * object-space surface point; 0 where the partials are degenerate (cone apex, paraboloid tip). */
+void clr_quadric_normal_partials(const clr_quadric *q, const double p[3], double dndu[3],
+                                 double dndv[3]);
 /* The surface point at (u, v). */
 void clr_quadric_point(const clr_quadric *q, double u, double v, double p[3]);
 
