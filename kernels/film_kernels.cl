@@ -152,51 +152,72 @@ __kernel void clr_film_weigh8(clr_filter_params filt, clr_film_grid grid,
   vstore8(clr_film_factors8(&filt, factors, 1, dy, ys, lane, ny), 0, o + CLR_FILM_WEIGHED8_Y);
 }
 
-#define CLR_FILM_STORE_LANE(j, c) \
+/* Adds a weighed sample's positioned x-factors f times its y-factor fy to the sums of one row. */
+#define CLR_FILM_ADD8(s, f, fy, r, g, b, w)                   \
+  do {                                                         \
+    const float8 fw = clr_flush_subnormal8((f) * (fy));        \
+    r += (s)[0] * fw;                                          \
+    g += (s)[1] * fw;                                          \
+    b += (s)[2] * fw;                                          \
+    w += fw;                                                   \
+  } while (0)
+
+#define CLR_FILM_STORE_LANE(out, r, g, b, w, j, c) \
   if (j < n) vstore4((float4)(r.c, g.c, b.c, w.c), j, out)
 
-/* clr_film_gather with the 8 pixels of a run in the lanes of four float8 sums (r, g, b, weight):
- * bin row by bin row (ascending y0) it walks the samples of the bins x0 in [run_x0 - K + 1,
- * run_x0 + 7] in their binned order and adds each one's positioned x-factors (the half of its 16
- * that covers the run) times its y-factor: every lane adds its pixel's contributions in
- * clr_film_gather's order (lanes the sample does not reach add zeros), so the same bits.
- * Global size: (runs of 8 per row rounded up to the work-group size, out_h). */
+/* Stores the first n lanes of one row's sums at out (CLR_FILM_SUM_FLOATS per pixel). */
+static inline void clr_film_store8(__global float *out, int n, float8 r, float8 g, float8 b,
+                                   float8 w) {
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 0, s0);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 1, s1);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 2, s2);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 3, s3);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 4, s4);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 5, s5);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 6, s6);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 7, s7);
+}
+
+/* clr_film_gather for a run of 8 pixels in two rows (py0, py0 + 1), the pixels in the lanes of
+ * four float8 sums (r, g, b, weight) per row: bin row by bin row (ascending y0, from py0 - K + 1
+ * to py0 + 1) it walks the samples of the bins x0 in [run_x0 - K + 1, run_x0 + 7] in their binned
+ * order and adds each one's positioned x-factors (the half of its 16 that covers the run) times
+ * its y-factor of each row (0 for a row the bin row cannot reach: adds zeros): every lane adds its
+ * pixel's contributions in clr_film_gather's order (lanes and rows the sample does not reach add
+ * zeros), so the same bits. Global size: (runs per row rounded up to the work-group size, row
+ * pairs). */
 __kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed,
                                __global const uint *starts, __global float *sums) {
   const int out_x1 = grid.out_x0 + grid.out_w;
   const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
   if (run_x0 >= out_x1) return;
   const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
-  const int py = grid.out_y0 + (int)get_global_id(1);
+  const int oy = 2 * (int)get_global_id(1), py = grid.out_y0 + oy;
   const int kx = grid.reach_x, ky = grid.reach_y;
-  float8 r = (float8)(0.0f), g = r, b = r, w = r;
+  float8 r0 = (float8)(0.0f), g0 = r0, b0 = r0, w0 = r0, r1 = r0, g1 = r0, b1 = r0, w1 = r0;
   const int cx0 = max(run_x0 - kx + 1 - grid.bin_x0, 0);
   const int cx1 = min(run_x1 - 1 - grid.bin_x0, grid.bins_x - 1);
-  for (int j = 0; j < ky; ++j) {
+  for (int j = 0; j <= ky; ++j) { /* bin row y0 = py - ky + 1 + j */
     const int row = py - ky + 1 + j - grid.bin_y0;
     if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
-    const int fy_at = CLR_FILM_WEIGHED8_Y + (ky - 1 - j); /* this row's py - y0 */
+    /* y-factors of rows py (py - y0 = ky - 1 - j) and py + 1 (ky - j), where in reach */
+    const int fy0_at = CLR_FILM_WEIGHED8_Y + (j < ky ? ky - 1 - j : 0);
+    const int fy1_at = CLR_FILM_WEIGHED8_Y + (j > 0 ? ky - j : 0);
+    const float fy0_on = j < ky ? 1.0f : 0.0f, fy1_on = j > 0 ? 1.0f : 0.0f;
     const uint end = starts[row * grid.bins_x + cx1 + 1];
     for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
       __global const float *s = weighed + (size_t)i * CLR_FILM_WEIGHED8_FLOATS;
       const int upper = as_int(s[6]) != run_x0; /* else its run is the previous one */
-      const float8 f = clr_flush_subnormal8(vload8(upper, s + CLR_FILM_WEIGHED8_X) * s[fy_at]);
-      r += s[0] * f;
-      g += s[1] * f;
-      b += s[2] * f;
-      w += f;
+      const float8 f = vload8(upper, s + CLR_FILM_WEIGHED8_X);
+      CLR_FILM_ADD8(s, f, s[fy0_at] * fy0_on, r0, g0, b0, w0);
+      CLR_FILM_ADD8(s, f, s[fy1_at] * fy1_on, r1, g1, b1, w1);
     }
   }
-  __global float *out =
-      sums + ((size_t)get_global_id(1) * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
-                 CLR_FILM_SUM_FLOATS;
   const int n = run_x1 - run_x0;
-  CLR_FILM_STORE_LANE(0, s0);
-  CLR_FILM_STORE_LANE(1, s1);
-  CLR_FILM_STORE_LANE(2, s2);
-  CLR_FILM_STORE_LANE(3, s3);
-  CLR_FILM_STORE_LANE(4, s4);
-  CLR_FILM_STORE_LANE(5, s5);
-  CLR_FILM_STORE_LANE(6, s6);
-  CLR_FILM_STORE_LANE(7, s7);
+  __global float *out =
+      sums + ((size_t)oy * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
+                 CLR_FILM_SUM_FLOATS;
+  clr_film_store8(out, n, r0, g0, b0, w0);
+  if (oy + 1 < grid.out_h)
+    clr_film_store8(out + (size_t)grid.out_w * CLR_FILM_SUM_FLOATS, n, r1, g1, b1, w1);
 }

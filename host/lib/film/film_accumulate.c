@@ -400,7 +400,7 @@ static clr_result enqueue_gather8(clr_film film, const clr_film_grid *g) {
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->sums));
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
   size_t runs = ((size_t)g->out_w + CLR_FILM_LANES - 1) / CLR_FILM_LANES;
-  size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
+  size_t global[2] = {(runs + group - 1) / group * group, ((size_t)g->out_h + 1) / 2};
   size_t local[2] = {group, 1};
   CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
                                                  global, local, 0, NULL, NULL));
