@@ -146,10 +146,13 @@ __kernel void clr_film_weigh8(clr_filter_params filt, clr_film_grid grid,
   vstore4((float4)(s[2] * w, s[3] * w, s[4] * w, 1.0f), 0, o);
   vstore4((float4)(as_float(x0), as_float(y0), as_float(gx), 0.0f), 1, o);
   const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
-  const int8 lo = gx + lane, hi = lo + CLR_FILM_LANES, ys = y0 + lane;
-  vstore8(clr_film_factors8(&filt, factors, 0, dx, lo, lo - x0, nx), 0, o + CLR_FILM_WEIGHED8_X);
-  vstore8(clr_film_factors8(&filt, factors, 0, dx, hi, hi - x0, nx), 1, o + CLR_FILM_WEIGHED8_X);
-  vstore8(clr_film_factors8(&filt, factors, 1, dy, ys, lane, ny), 0, o + CLR_FILM_WEIGHED8_Y);
+  /* the 8 x-factors from pixel x0 on, stored over zeros at their place among the 16 */
+  vstore8((float8)(0.0f), 0, o + CLR_FILM_WEIGHED8_X);
+  vstore8((float8)(0.0f), 1, o + CLR_FILM_WEIGHED8_X);
+  vstore8(clr_film_factors8(&filt, factors, 0, dx, x0 + lane, lane, nx), 0,
+          o + CLR_FILM_WEIGHED8_X + (x0 - gx));
+  vstore8(clr_film_factors8(&filt, factors, 1, dy, y0 + lane, lane, ny), 0,
+          o + CLR_FILM_WEIGHED8_Y);
 }
 
 /* Adds a weighed sample's positioned x-factors f times its y-factor fy to the sums of one row. */
