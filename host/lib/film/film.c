@@ -188,7 +188,7 @@ static void *add_rows(void *arg) {
 /* Blocks of at least this many pixels are added by two threads (each pixel by one). */
 #define ADD_BLOCK_SPLIT_PIXELS (1 << 16)
 
-void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums) {
+void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads) {
   const clr_film_params *p = &film->params;
   const int32_t y0 = block.y0 > p->pixel_y0 ? block.y0 : p->pixel_y0;
   const int32_t y1 = block.y1 < p->pixel_y1 ? block.y1 : p->pixel_y1;
@@ -196,7 +196,7 @@ void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums) {
   add_rows_job jobs[2] = {{film, block, sums, y0, y1}, {film, block, sums, y1, y1}};
   pthread_t helper;
   int started = 0;
-  if ((int64_t)(y1 - y0) * (block.x1 - block.x0) >= ADD_BLOCK_SPLIT_PIXELS) {
+  if (threads > 1 && (int64_t)(y1 - y0) * (block.x1 - block.x0) >= ADD_BLOCK_SPLIT_PIXELS) {
     jobs[0].y_end = jobs[1].y_begin = y0 + (y1 - y0) / 2;
     started = pthread_create(&helper, NULL, add_rows, &jobs[1]) == 0;
   }

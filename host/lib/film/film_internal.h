@@ -60,9 +60,9 @@ struct clr_film_t {
 };
 
 /* Adds per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`, which may
- * reach past the pixel bounds: those pixels are skipped) into the film's double sums. Caller
- * holds the lock. */
-void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums);
+ * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with two
+ * threads for large blocks when `threads` > 1 (the same bits). Caller holds the lock. */
+void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads);
 
 /* One chunk's per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`),
  * owned by the accumulator until clr_film_chunk_sums_release. sums is NULL when no sample of
