@@ -120,8 +120,9 @@ __kernel void clr_film_gather_pixels(clr_film_grid grid, __global const float *w
 /* clr_film_weigh in 8 lanes: the weighed sample of film_types.h (CLR_FILM_WEIGHED8_FLOATS). A
  * factor lane holds clr_film_filter_factor at its pixel where the sample reaches the pixel (k =
  * pixel - first pixel in [0, last - first]), else 0: clr_film_weigh's values, positioned. */
-CLR_FILTER_SIMD_INLINE float8 clr_film_factors8(const clr_filter_params *f, __global const float *factors,
-                                       int axis, float d, int8 pixel, int8 k, int last_k) {
+CLR_FILTER_SIMD_INLINE float8 clr_film_factors8(const clr_filter_params *f,
+                                                __global const float *factors, int axis, float d,
+                                                int8 pixel, int8 k, int last_k) {
   float8 v = clr_filter_eval_1d8(f, axis, convert_float8(pixel) - d, factors);
   return select((float8)(0.0f), v, k >= 0 && k <= last_k);
 }
@@ -141,8 +142,8 @@ __kernel void clr_film_weigh8(clr_filter_params filt, clr_film_grid grid,
   const int nx = clr_film_last_pixel(dx, filt.radius_x) - x0;
   const int ny = clr_film_last_pixel(dy, filt.radius_y) - y0;
   /* x0 - out_x0 >= -(reach_x - 1) > -CLR_FILM_LANES: the division rounds down */
-  const int gx = grid.out_x0 +
-                 ((x0 - grid.out_x0 + CLR_FILM_LANES) / CLR_FILM_LANES - 1) * CLR_FILM_LANES;
+  const int gx =
+      grid.out_x0 + ((x0 - grid.out_x0 + CLR_FILM_LANES) / CLR_FILM_LANES - 1) * CLR_FILM_LANES;
   vstore4((float4)(s[2] * w, s[3] * w, s[4] * w, 1.0f), 0, o);
   vstore4((float4)(as_float(x0), as_float(y0), as_float(gx), 0.0f), 1, o);
   const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
@@ -156,13 +157,13 @@ __kernel void clr_film_weigh8(clr_filter_params filt, clr_film_grid grid,
 }
 
 /* Adds a weighed sample's positioned x-factors f times its y-factor fy to the sums of one row. */
-#define CLR_FILM_ADD8(s, f, fy, r, g, b, w)                   \
-  do {                                                         \
-    const float8 fw = clr_flush_subnormal8((f) * (fy));        \
-    r += (s)[0] * fw;                                          \
-    g += (s)[1] * fw;                                          \
-    b += (s)[2] * fw;                                          \
-    w += fw;                                                   \
+#define CLR_FILM_ADD8(s, f, fy, r, g, b, w)             \
+  do {                                                  \
+    const float8 fw = clr_flush_subnormal8((f) * (fy)); \
+    r += (s)[0] * fw;                                   \
+    g += (s)[1] * fw;                                   \
+    b += (s)[2] * fw;                                   \
+    w += fw;                                            \
   } while (0)
 
 #define CLR_FILM_STORE_LANE(out, r, g, b, w, j, c) \
@@ -217,9 +218,8 @@ __kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed
     }
   }
   const int n = run_x1 - run_x0;
-  __global float *out =
-      sums + ((size_t)oy * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
-                 CLR_FILM_SUM_FLOATS;
+  __global float *out = sums + ((size_t)oy * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
+                                   CLR_FILM_SUM_FLOATS;
   clr_film_store8(out, n, r0, g0, b0, w0);
   if (oy + 1 < grid.out_h)
     clr_film_store8(out + (size_t)grid.out_w * CLR_FILM_SUM_FLOATS, n, r1, g1, b1, w1);
