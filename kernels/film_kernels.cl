@@ -186,9 +186,8 @@ static inline void clr_film_store8(__global float *out, int n, float8 r, float8 
  * four float8 sums (r, g, b, weight) per row: bin row by bin row (ascending y0, from py0 - K + 1
  * to py0 + 1) it walks the samples of the bins x0 in [run_x0 - K + 1, run_x0 + 7] in their binned
  * order and adds each one's positioned x-factors (the half of its 16 that covers the run) times
- * its y-factor of each row (0 for a row the bin row cannot reach: adds zeros): every lane adds its
- * pixel's contributions in clr_film_gather's order (lanes and rows the sample does not reach add
- * zeros), so the same bits. Global size: (runs per row rounded up to the work-group size, row
+ * its y-factor to each row the bin row can reach: every lane adds its pixel's contributions in
+ * clr_film_gather's order (lanes the sample does not reach add zeros), so the same bits. Global size: (runs per row rounded up to the work-group size, row
  * pairs). */
 __kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed,
                                __global const uint *starts, __global float *sums) {
@@ -204,17 +203,17 @@ __kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed
   for (int j = 0; j <= ky; ++j) { /* bin row y0 = py - ky + 1 + j */
     const int row = py - ky + 1 + j - grid.bin_y0;
     if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
-    /* y-factors of rows py (py - y0 = ky - 1 - j) and py + 1 (ky - j), where in reach */
-    const int fy0_at = CLR_FILM_WEIGHED8_Y + (j < ky ? ky - 1 - j : 0);
-    const int fy1_at = CLR_FILM_WEIGHED8_Y + (j > 0 ? ky - j : 0);
-    const float fy0_on = j < ky ? 1.0f : 0.0f, fy1_on = j > 0 ? 1.0f : 0.0f;
+    /* rows py (py - y0 = ky - 1 - j) and py + 1 (ky - j) where in reach, and their y-factors */
+    const int on0 = j<ky, on1 = j> 0 && oy + 1 < grid.out_h;
+    const int fy0_at = CLR_FILM_WEIGHED8_Y + (on0 ? ky - 1 - j : 0);
+    const int fy1_at = CLR_FILM_WEIGHED8_Y + (on1 ? ky - j : 0);
     const uint end = starts[row * grid.bins_x + cx1 + 1];
     for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
       __global const float *s = weighed + (size_t)i * CLR_FILM_WEIGHED8_FLOATS;
       const int upper = as_int(s[6]) != run_x0; /* else its run is the previous one */
       const float8 f = vload8(upper, s + CLR_FILM_WEIGHED8_X);
-      CLR_FILM_ADD8(s, f, s[fy0_at] * fy0_on, r0, g0, b0, w0);
-      CLR_FILM_ADD8(s, f, s[fy1_at] * fy1_on, r1, g1, b1, w1);
+      if (on0) CLR_FILM_ADD8(s, f, s[fy0_at], r0, g0, b0, w0);
+      if (on1) CLR_FILM_ADD8(s, f, s[fy1_at], r1, g1, b1, w1);
     }
   }
   const int n = run_x1 - run_x0;
