@@ -1,8 +1,10 @@
 /* The accumulator behind film_add_samples: the host checks a chunk's samples and bins them by
  * their first reached pixel (a stable sort by bin row, then by bin column: the canonical order of
- * film.h), the gather kernel sums every reached pixel over its neighbouring bins and the chunk's
- * float sums go back to the film, which owns the double sums. Also the host reference, which
- * sums the binned samples in the same order. */
+ * film.h), the weigh kernel computes each binned sample's filter factors once, the gather kernel
+ * sums every reached pixel over its neighbouring bins (on SIMD-shaped contexts both in 8 lanes
+ * where the chunk's reach allows: use_lanes) and the chunk's float sums go back to the film,
+ * which owns the double sums. Also the host reference, which sums the binned samples in the same
+ * order. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
