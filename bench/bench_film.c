@@ -100,6 +100,14 @@ static const char *filter_name(int type) {
   return type == CLR_FILTER_BOX ? "box" : type == CLR_FILTER_TRIANGLE ? "triangle" : "mitchell";
 }
 
+/* CLR_BENCH_FILM_FILTER (box, triangle, mitchell) and CLR_BENCH_FILM_MODE (exact, table), when
+ * set, keep only the cases they name (shorter profiles and side-by-side runs). */
+static int case_selected(int type, int use_table) {
+  const char *filter = getenv("CLR_BENCH_FILM_FILTER"), *mode = getenv("CLR_BENCH_FILM_MODE");
+  return (!filter || strcmp(filter, filter_name(type)) == 0) &&
+         (!mode || strcmp(mode, use_table ? "table" : "exact") == 0);
+}
+
 void bench_film(const bench_options *o, const clr_device_info *devices, int device_count) {
   const char *env = getenv("CLR_BENCH_FILM_SPP");
   size_t spp = env ? (size_t)atoi(env) : o->quick ? 2 : 16;
@@ -122,13 +130,15 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
   double baseline[FILTER_COUNT][2];
   for (int t = 0; t < FILTER_COUNT; ++t)
     for (int m = 0; m < 2; ++m)
-      baseline[t][m] = rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL);
+      baseline[t][m] = case_selected(filter_types[t], m)
+                           ? rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL)
+                           : -1;
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "film");
     if (!ctx) continue;
     for (int t = 0; t < FILTER_COUNT; ++t)
       for (int m = 0; m < 2; ++m)
-        for (int path = 0; path < 2; ++path) {
+        for (int path = 0; path < 2 && case_selected(filter_types[t], m); ++path) {
           film_memory mem = {0, 0};
           double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &mem);
           printf("{\"bench\":\"film\",");

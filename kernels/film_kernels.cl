@@ -113,3 +113,113 @@ __kernel void clr_film_gather_pixels(clr_film_grid grid, __global const float *w
   }
   vstore4(acc, (size_t)oy * (size_t)grid.out_w + (size_t)ox, sums);
 }
+
+/* The SIMD shape, for chunks whose reach is at most CLR_FILM_LANES pixels along both axes. */
+#include "filter_simd.h"
+
+/* clr_film_weigh in 8 lanes: the weighed sample of film_types.h (CLR_FILM_WEIGHED8_FLOATS). A
+ * factor lane holds clr_film_filter_factor at its pixel where the sample reaches the pixel (k =
+ * pixel - first pixel in [0, last - first]), else 0: clr_film_weigh's values, positioned. */
+CLR_FILTER_SIMD_INLINE float8 clr_film_factors8(const clr_filter_params *f,
+                                                __global const float *factors, int axis, float d,
+                                                int8 pixel, int8 k, int last_k) {
+  float8 v = clr_filter_eval_1d8(f, axis, convert_float8(pixel) - d, factors);
+  return select((float8)(0.0f), v, k >= 0 && k <= last_k);
+}
+
+/* factors: 2 x 16 table factors (table mode); binned: CLR_FILM_BINNED_FLOATS per sample;
+ * weighed: CLR_FILM_WEIGHED8_FLOATS per sample. Global size: count (rounded up). */
+__kernel void clr_film_weigh8(clr_filter_params filt, clr_film_grid grid,
+                              __global const float *factors, __global const float *binned,
+                              uint count, __global float *weighed) {
+  const size_t i = get_global_id(0);
+  if (i >= count) return;
+  __global const float *s = binned + i * CLR_FILM_BINNED_FLOATS;
+  __global float *o = weighed + i * CLR_FILM_WEIGHED8_FLOATS;
+  const float dx = s[0], dy = s[1], w = s[5];
+  const int x0 = clr_film_first_pixel(dx, filt.radius_x);
+  const int y0 = clr_film_first_pixel(dy, filt.radius_y);
+  const int nx = clr_film_last_pixel(dx, filt.radius_x) - x0;
+  const int ny = clr_film_last_pixel(dy, filt.radius_y) - y0;
+  /* x0 - out_x0 >= -(reach_x - 1) > -CLR_FILM_LANES: the division rounds down */
+  const int gx =
+      grid.out_x0 + ((x0 - grid.out_x0 + CLR_FILM_LANES) / CLR_FILM_LANES - 1) * CLR_FILM_LANES;
+  vstore4((float4)(s[2] * w, s[3] * w, s[4] * w, 1.0f), 0, o);
+  vstore4((float4)(as_float(x0), as_float(y0), as_float(gx), 0.0f), 1, o);
+  const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+  /* the 8 x-factors from pixel x0 on, stored over zeros at their place among the 16 */
+  vstore8((float8)(0.0f), 0, o + CLR_FILM_WEIGHED8_X);
+  vstore8((float8)(0.0f), 1, o + CLR_FILM_WEIGHED8_X);
+  vstore8(clr_film_factors8(&filt, factors, 0, dx, x0 + lane, lane, nx), 0,
+          o + CLR_FILM_WEIGHED8_X + (x0 - gx));
+  vstore8(clr_film_factors8(&filt, factors, 1, dy, y0 + lane, lane, ny), 0,
+          o + CLR_FILM_WEIGHED8_Y);
+}
+
+/* Adds a weighed sample's positioned x-factors f times its y-factor fy to the sums of one row. */
+#define CLR_FILM_ADD8(s, f, fy, r, g, b, w)             \
+  do {                                                  \
+    const float8 fw = clr_flush_subnormal8((f) * (fy)); \
+    r += (s)[0] * fw;                                   \
+    g += (s)[1] * fw;                                   \
+    b += (s)[2] * fw;                                   \
+    w += fw;                                            \
+  } while (0)
+
+#define CLR_FILM_STORE_LANE(out, r, g, b, w, j, c) \
+  if (j < n) vstore4((float4)(r.c, g.c, b.c, w.c), j, out)
+
+/* Stores the first n lanes of one row's sums at out (CLR_FILM_SUM_FLOATS per pixel). */
+static inline void clr_film_store8(__global float *out, int n, float8 r, float8 g, float8 b,
+                                   float8 w) {
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 0, s0);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 1, s1);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 2, s2);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 3, s3);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 4, s4);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 5, s5);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 6, s6);
+  CLR_FILM_STORE_LANE(out, r, g, b, w, 7, s7);
+}
+
+/* clr_film_gather for a run of 8 pixels in two rows (py0, py0 + 1), the pixels in the lanes of
+ * four float8 sums (r, g, b, weight) per row: bin row by bin row (ascending y0, from py0 - K + 1
+ * to py0 + 1) it walks the samples of the bins x0 in [run_x0 - K + 1, run_x0 + 7] in their binned
+ * order and adds each one's positioned x-factors (the half of its 16 that covers the run) times
+ * its y-factor to each row the bin row can reach: every lane adds its pixel's contributions in
+ * clr_film_gather's order (lanes the sample does not reach add zeros), so the same bits. Global size: (runs per row rounded up to the work-group size, row
+ * pairs). */
+__kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed,
+                               __global const uint *starts, __global float *sums) {
+  const int out_x1 = grid.out_x0 + grid.out_w;
+  const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
+  if (run_x0 >= out_x1) return;
+  const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
+  const int oy = 2 * (int)get_global_id(1), py = grid.out_y0 + oy;
+  const int kx = grid.reach_x, ky = grid.reach_y;
+  float8 r0 = (float8)(0.0f), g0 = r0, b0 = r0, w0 = r0, r1 = r0, g1 = r0, b1 = r0, w1 = r0;
+  const int cx0 = max(run_x0 - kx + 1 - grid.bin_x0, 0);
+  const int cx1 = min(run_x1 - 1 - grid.bin_x0, grid.bins_x - 1);
+  for (int j = 0; j <= ky; ++j) { /* bin row y0 = py - ky + 1 + j */
+    const int row = py - ky + 1 + j - grid.bin_y0;
+    if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
+    /* rows py (py - y0 = ky - 1 - j) and py + 1 (ky - j) where in reach, and their y-factors */
+    const int on0 = j<ky, on1 = j> 0 && oy + 1 < grid.out_h;
+    const int fy0_at = CLR_FILM_WEIGHED8_Y + (on0 ? ky - 1 - j : 0);
+    const int fy1_at = CLR_FILM_WEIGHED8_Y + (on1 ? ky - j : 0);
+    const uint end = starts[row * grid.bins_x + cx1 + 1];
+    for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
+      __global const float *s = weighed + (size_t)i * CLR_FILM_WEIGHED8_FLOATS;
+      const int upper = as_int(s[6]) != run_x0; /* else its run is the previous one */
+      const float8 f = vload8(upper, s + CLR_FILM_WEIGHED8_X);
+      if (on0) CLR_FILM_ADD8(s, f, s[fy0_at], r0, g0, b0, w0);
+      if (on1) CLR_FILM_ADD8(s, f, s[fy1_at], r1, g1, b1, w1);
+    }
+  }
+  const int n = run_x1 - run_x0;
+  __global float *out = sums + ((size_t)oy * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
+                                   CLR_FILM_SUM_FLOATS;
+  clr_film_store8(out, n, r0, g0, b0, w0);
+  if (oy + 1 < grid.out_h)
+    clr_film_store8(out + (size_t)grid.out_w * CLR_FILM_SUM_FLOATS, n, r1, g1, b1, w1);
+}

@@ -13,6 +13,15 @@
  * weight sum's factor), x0 and y0 (as int bits), then reach_x x-factors (pixels x0, x0 + 1, ...)
  * and reach_y y-factors, 0 past the sample's last reached pixel. */
 #define CLR_FILM_WEIGHED_HEAD 6
+/* The SIMD shape's weighed sample (clr_film_weigh8, clr_film_gather8), for reaches up to
+ * CLR_FILM_LANES: rw, gw, bw, 1, x0, y0 and gx (the first pixel of the 8-pixel run of the
+ * chunk's output region that holds x0; as int bits), one pad, then the x-factors of the 16
+ * pixels gx .. gx + 15 (0 where the sample does not reach), then CLR_FILM_LANES y-factors of
+ * pixels y0 .. y0 + 7 (0 past its reach). */
+#define CLR_FILM_LANES 8
+#define CLR_FILM_WEIGHED8_X 8
+#define CLR_FILM_WEIGHED8_Y 24
+#define CLR_FILM_WEIGHED8_FLOATS 32
 /* Most pixels a sample reaches along an axis: 2 * CLR_FILM_MAX_FILTER_RADIUS + 1. */
 #define CLR_FILM_REACH_MAX 65
 /* Per-pixel sums a kernel writes: r, g, b, filter weight. */

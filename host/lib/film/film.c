@@ -1,6 +1,7 @@
 /* Film lifetime, pbrt-v3 bounds (crop window, sample bounds), splats, raw sums, merges and the
  * resolve to RGB (pbrt WriteImage). */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -155,21 +156,55 @@ clr_bounds2i film_sample_bounds(clr_film film) {
   return b;
 }
 
-void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums) {
+/* Rows [y_begin, y_end) of clr_film_add_block, already clipped to the pixel bounds. */
+typedef struct add_rows_job {
+  clr_film film;
+  clr_bounds2i block;
+  const float *sums;
+  int32_t y_begin, y_end;
+} add_rows_job;
+
+static void *add_rows(void *arg) {
+  const add_rows_job *j = arg;
+  clr_film film = j->film;
   const clr_film_params *p = &film->params;
-  int32_t bw = block.x1 - block.x0;
-  for (int32_t y = block.y0; y < block.y1; ++y) {
-    if (y < p->pixel_y0 || y >= p->pixel_y1) continue;
-    for (int32_t x = block.x0; x < block.x1; ++x) {
-      if (x < p->pixel_x0 || x >= p->pixel_x1) continue;
-      const float *s = sums + ((size_t)(y - block.y0) * bw + (x - block.x0)) * CLR_FILM_SUM_FLOATS;
-      size_t i = (size_t)(y - p->pixel_y0) * film->width + (x - p->pixel_x0);
+  const int32_t bw = j->block.x1 - j->block.x0;
+  const int32_t x0 = j->block.x0 > p->pixel_x0 ? j->block.x0 : p->pixel_x0;
+  const int32_t x1 = j->block.x1 < p->pixel_x1 ? j->block.x1 : p->pixel_x1;
+  for (int32_t y = j->y_begin; y < j->y_end; ++y) {
+    const float *s =
+        j->sums + ((size_t)(y - j->block.y0) * bw + (x0 - j->block.x0)) * CLR_FILM_SUM_FLOATS;
+    size_t i = (size_t)(y - p->pixel_y0) * film->width + (x0 - p->pixel_x0);
+    for (int32_t x = x0; x < x1; ++x, ++i, s += CLR_FILM_SUM_FLOATS) {
       film->rgb_sum[3 * i] += (double)s[0];
       film->rgb_sum[3 * i + 1] += (double)s[1];
       film->rgb_sum[3 * i + 2] += (double)s[2];
       film->weight_sum[i] += (double)s[3];
     }
   }
+  return NULL;
+}
+
+/* Blocks of at least this many pixels are added by two threads (each pixel by one). */
+#define ADD_BLOCK_SPLIT_PIXELS (1 << 16)
+
+void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads) {
+  const clr_film_params *p = &film->params;
+  const int32_t y0 = block.y0 > p->pixel_y0 ? block.y0 : p->pixel_y0;
+  const int32_t y1 = block.y1 < p->pixel_y1 ? block.y1 : p->pixel_y1;
+  if (y0 >= y1 || block.x0 >= block.x1) return;
+  add_rows_job jobs[2] = {{film, block, sums, y0, y1}, {film, block, sums, y1, y1}};
+  pthread_t helper;
+  int started = 0;
+  if (threads > 1 && (int64_t)(y1 - y0) * (block.x1 - block.x0) >= ADD_BLOCK_SPLIT_PIXELS) {
+    jobs[0].y_end = jobs[1].y_begin = y0 + (y1 - y0) / 2;
+    started = pthread_create(&helper, NULL, add_rows, &jobs[1]) == 0;
+  }
+  add_rows(&jobs[0]);
+  if (started)
+    pthread_join(helper, NULL);
+  else
+    add_rows(&jobs[1]);
 }
 
 /* The splat sums are allocated by the first splat (most renders never splat): the film holds

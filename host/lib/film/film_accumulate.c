@@ -1,8 +1,10 @@
 /* The accumulator behind film_add_samples: the host checks a chunk's samples and bins them by
  * their first reached pixel (a stable sort by bin row, then by bin column: the canonical order of
- * film.h), the gather kernel sums every reached pixel over its neighbouring bins and the chunk's
- * float sums go back to the film, which owns the double sums. Also the host reference, which
- * sums the binned samples in the same order. */
+ * film.h), the weigh kernel computes each binned sample's filter factors once, the gather kernel
+ * sums every reached pixel over its neighbouring bins (on SIMD-shaped contexts both in 8 lanes
+ * where the chunk's reach allows: use_lanes) and the chunk's float sums go back to the film,
+ * which owns the double sums. Also the host reference, which sums the binned samples in the same
+ * order. */
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,7 +67,8 @@ static size_t key_rows(const clr_film_params *p) {
 }
 
 /* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
- * pixel), counts them per bin row, records their bounds and the largest reach. */
+ * pixel) and binned values, counts them per bin row, records their bounds and the largest
+ * reach. */
 static void key_part(bin_part *t) {
   clr_film film = t->film;
   const clr_film_params *p = &film->params;
@@ -76,7 +79,7 @@ static void key_part(bin_part *t) {
   t->bx1 = t->by1 = INT32_MIN;
   t->reach_x = t->reach_y = 1;
   for (size_t i = t->begin; i < t->end; ++i) {
-    clr_film_prepared s;
+    clr_film_prepared s = {0};
     clr_i32 status = prepare(film, &t->samples[i], &s);
     t->accepted += status == CLR_FILM_SAMPLE_OK;
     t->dropped += status == CLR_FILM_SAMPLE_DROPPED;
@@ -84,6 +87,13 @@ static void key_part(bin_part *t) {
     keys[i] = KEY_NONE;
     if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) continue;
     keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
+    float *v = film->bins.values + i * CLR_FILM_BINNED_FLOATS;
+    v[0] = s.dx;
+    v[1] = s.dy;
+    v[2] = s.r;
+    v[3] = s.g;
+    v[4] = s.b;
+    v[5] = s.w;
     ++t->rows[s.y0 - ky0];
     t->bx0 = s.x0 < t->bx0 ? s.x0 : t->bx0;
     t->bx1 = s.x0 > t->bx1 ? s.x0 : t->bx1;
@@ -99,21 +109,15 @@ static void key_part(bin_part *t) {
 static void row_part(bin_part *t) {
   clr_film film = t->film;
   const uint32_t *keys = film->bins.keys;
+  const float *values = film->bins.values;
   row_entry *rowed = film->bins.rowed;
   const uint32_t column0 = (uint32_t)(t->grid->bin_x0 - (film->params.pixel_x0 - KEY_MARGIN));
   for (size_t i = t->begin; i < t->end; ++i) {
     uint32_t key = keys[i];
     if (key == KEY_NONE) continue;
-    clr_film_prepared s;
-    if (prepare(film, &t->samples[i], &s) != CLR_FILM_SAMPLE_OK) continue; /* keyed: never */
     row_entry *e = &rowed[t->rows[key >> 16]++];
     e->column = (key & 0xffffu) - column0;
-    e->v[0] = s.dx;
-    e->v[1] = s.dy;
-    e->v[2] = s.r;
-    e->v[3] = s.g;
-    e->v[4] = s.b;
-    e->v[5] = s.w;
+    memcpy(e->v, values + i * CLR_FILM_BINNED_FLOATS, sizeof e->v);
   }
 }
 
@@ -222,6 +226,8 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
   clr_film_bins *b = &film->bins;
   const size_t rows = key_rows(&film->params);
   if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys) ||
+      !grow((void **)&b->values, &b->values_cap, count * CLR_FILM_BINNED_FLOATS,
+            sizeof *b->values) ||
       !grow((void **)&b->cursor, &b->cursor_cap, rows * CLR_FILM_BIN_THREADS, sizeof *b->cursor))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
   int n = count < 8192 ? 1 : threads; /* threads cost ~50 us */
@@ -350,13 +356,32 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   return CLR_SUCCESS;
 }
 
-/* Runs the weigh kernel over the chunk's binned samples. */
-static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
+/* Whether the chunk runs the SIMD shape's 8-lane kernels (clr_film_weigh8, clr_film_gather8):
+ * on SIMD-shaped contexts when no sample reaches more than 8 pixels along an axis. */
+static int use_lanes(clr_film film, const clr_film_grid *g) {
+  return !clr_context_portable(film->ctx) && g->reach_x <= CLR_FILM_LANES &&
+         g->reach_y <= CLR_FILM_LANES;
+}
+
+static clr_result ensure_lane_kernels(clr_film film) {
+  clr_film_device *d = &film->dev;
+  if (!d->weigh8)
+    CLR_CHECK(
+        clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_weigh8", &d->weigh8));
+  if (!d->gather8)
+    CLR_CHECK(
+        clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather8", &d->gather8));
+  return CLR_SUCCESS;
+}
+
+/* Runs the weigh kernel (clr_film_weigh, or clr_film_weigh8 with `lanes`) over the chunk's
+ * binned samples. */
+static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned, int lanes) {
   clr_film_device *d = &film->dev;
   size_t bytes = binned * (size_t)g->weighed_floats * sizeof(float);
   CLR_CHECK(
       ensure_buffer(film, &d->weighed, &d->weighed_bytes, bytes, CL_MEM_READ_WRITE, "weighed"));
-  cl_kernel k = d->weigh;
+  cl_kernel k = lanes ? d->weigh8 : d->weigh;
   cl_uint n = (cl_uint)binned;
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->filter, &film->filter));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
@@ -364,7 +389,24 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned) {
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->binned));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof n, &n));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weighed));
-  return clr_context_launch(film->ctx, k, binned, 64, "clr_film_weigh");
+  return clr_context_launch(film->ctx, k, binned, 64, lanes ? "clr_film_weigh8" : "clr_film_weigh");
+}
+
+/* Enqueues the SIMD shape's 8-lane gather over the grid's output region. */
+static clr_result enqueue_gather8(clr_film film, const clr_film_grid *g) {
+  clr_film_device *d = &film->dev;
+  cl_kernel k = d->gather8;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof(cl_mem), &d->weighed));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->sums));
+  size_t group = film->group_size_override ? film->group_size_override : d->group_size;
+  size_t runs = ((size_t)g->out_w + CLR_FILM_LANES - 1) / CLR_FILM_LANES;
+  size_t global[2] = {(runs + group - 1) / group * group, ((size_t)g->out_h + 1) / 2};
+  size_t local[2] = {group, 1};
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
+                                                 global, local, 0, NULL, NULL));
+  return CLR_SUCCESS;
 }
 
 /* The portable shape's gather: one work-item per output pixel (clr_film_gather_pixels), 2D
@@ -391,8 +433,10 @@ static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
   return CLR_SUCCESS;
 }
 
-/* Runs the gather over the grid's output region; *out maps its sums. */
-static clr_result gather(clr_film film, const clr_film_grid *g, clr_film_chunk_sums *out) {
+/* Runs the gather over the grid's output region (clr_film_gather8 with `lanes`); *out maps its
+ * sums. */
+static clr_result gather(clr_film film, const clr_film_grid *g, int lanes,
+                         clr_film_chunk_sums *out) {
   clr_film_device *d = &film->dev;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
@@ -408,7 +452,9 @@ static clr_result gather(clr_film film, const clr_film_grid *g, clr_film_chunk_s
   size_t runs = ((size_t)g->out_w + tile - 1) / tile;
   size_t global[2] = {(runs + group - 1) / group * group, (size_t)g->out_h};
   size_t local[2] = {group, 1};
-  if (clr_context_portable(film->ctx))
+  if (lanes)
+    CLR_CHECK(enqueue_gather8(film, g));
+  else if (clr_context_portable(film->ctx))
     CLR_CHECK(enqueue_gather_pixels(film, g));
   else
     CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
@@ -429,9 +475,14 @@ static clr_result device_chunk(clr_film film, const clr_film_sample *samples, si
   CLR_CHECK(ensure_kernel(film));
   CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
+  int lanes = use_lanes(film, &g);
+  if (lanes) {
+    CLR_CHECK(ensure_lane_kernels(film));
+    g.weighed_floats = CLR_FILM_WEIGHED8_FLOATS;
+  }
   CLR_CHECK(upload_bins(film, &set, &g, binned));
-  CLR_CHECK(weigh(film, &g, binned));
-  return gather(film, &g, out);
+  CLR_CHECK(weigh(film, &g, binned, lanes));
+  return gather(film, &g, lanes, out);
 }
 
 /* Host reference of one chunk: the same binning; each binned sample, in bin order, adds to every
@@ -514,7 +565,8 @@ size_t clr_film_scratch_bytes(clr_film film) {
   const clr_film_device *d = &film->dev;
   const clr_film_bins *b = &film->bins;
   size_t bytes = d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
-  bytes += b->keys_cap * sizeof *b->keys + b->rowed_cap * sizeof(row_entry) +
+  bytes += b->keys_cap * sizeof *b->keys + b->values_cap * sizeof *b->values +
+           b->rowed_cap * sizeof(row_entry) +
            (b->starts_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
            b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
   return bytes;
@@ -528,8 +580,11 @@ void clr_film_accumulate_release(clr_film film) {
   if (d->kernel) clReleaseKernel(d->kernel);
   if (d->weigh) clReleaseKernel(d->weigh);
   if (d->pixel_gather) clReleaseKernel(d->pixel_gather);
+  if (d->weigh8) clReleaseKernel(d->weigh8);
+  if (d->gather8) clReleaseKernel(d->gather8);
   clr_film_bins *b = &film->bins;
   free(b->keys);
+  free(b->values);
   free(b->starts);
   free(b->cursor);
   free(b->rowed);

@@ -13,8 +13,9 @@
  * lock). */
 typedef struct clr_film_device {
   cl_kernel kernel, weigh;
-  cl_kernel pixel_gather; /* portable shape's per-pixel gather, made on first use */
-  size_t group_size;      /* automatic work-group size (runs of pixels) */
+  cl_kernel pixel_gather;    /* portable shape's per-pixel gather, made on first use */
+  cl_kernel weigh8, gather8; /* SIMD shape's 8-lane kernels, made on first use */
+  size_t group_size;         /* automatic work-group size (runs of pixels) */
   cl_mem table; /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
   cl_mem binned, weighed, starts, sums;
   size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
@@ -27,13 +28,14 @@ typedef struct clr_film_device {
  * demand. */
 typedef struct clr_film_bins {
   uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
+  float *values;    /* per chunk sample: its binned values (CLR_FILM_BINNED_FLOATS), when keyed */
   uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
   uint32_t *cursor; /* per part and bin row: count, then fill position */
   struct row_entry *rowed; /* binned samples sorted by bin row only, with their bin column */
   uint32_t *columns;       /* per part and bin column: fill position of the row sort */
   float *binned;           /* host copy of the binned samples (reference path) */
   float *sums;             /* host per-pixel sums (reference path) */
-  size_t keys_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
+  size_t keys_cap, values_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
@@ -58,9 +60,9 @@ struct clr_film_t {
 };
 
 /* Adds per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`, which may
- * reach past the pixel bounds: those pixels are skipped) into the film's double sums. Caller
- * holds the lock. */
-void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums);
+ * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with two
+ * threads for large blocks when `threads` > 1 (the same bits). Caller holds the lock. */
+void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads);
 
 /* One chunk's per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`),
  * owned by the accumulator until clr_film_chunk_sums_release. sums is NULL when no sample of

@@ -100,7 +100,7 @@ clr_result film_merge_tile(clr_film film, clr_film_tile tile) {
     return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE, "film_merge_tile: tile already merged");
   pthread_mutex_lock(&film->lock);
   if (tile->bounds.x1 > tile->bounds.x0 && tile->bounds.y1 > tile->bounds.y0)
-    clr_film_add_block(film, tile->bounds, tile->sums);
+    clr_film_add_block(film, tile->bounds, tile->sums, 1);
   film->accepted += tile->accepted;
   film->dropped += tile->dropped;
   film->outside += tile->outside;
