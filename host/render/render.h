@@ -58,6 +58,10 @@ typedef struct clr_render_options {
   const char *error_map; /* with noise_threshold: write the estimates to this EXR, or NULL */
   const char *scene_id;  /* recorded as clrender.scene and checked by resume; clr_render_file
                             sets the scene file's content hash when NULL */
+  int32_t eager_samples; /* 1: every sample vector generated whole before shading; 0 (default):
+                            path tracing with halton or sobol generates the camera's and the
+                            first bounce's values and fetches a deeper bounce's for the paths
+                            that reach it (the same values: the image is identical) */
 } clr_render_options;
 
 typedef struct clr_render_stats {

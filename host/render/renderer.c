@@ -306,6 +306,10 @@ typedef struct tile_info {
 typedef struct render_job {
   const clr_render_scene *scene;
   const clr_integrator *integrator;
+  clr_sampler sampler;
+  /* The generated prefix of each sample vector: requests and values per sample, and the path
+   * bounces it holds (the whole layout, or lazy_layout's); deeper values are fetched. */
+  int32_t requests, stride, path_bounces;
   clr_film film;
   int spp;                  /* samples per pixel of this pass */
   int first_sample;         /* the pass's first sample index */
@@ -326,7 +330,7 @@ typedef struct render_job {
   pthread_cond_t cond;
   int stop;
   /* per-thread phase sums, merged under the mutex */
-  double trace_s, shade_s, recon_s;
+  double trace_s, shade_s, recon_s, fetch_s;
   uint64_t rays;
   uint64_t rays_sent; /* of them, reported to rank 0 with earlier passes */
 } render_job;
@@ -339,12 +343,30 @@ typedef struct worker_buffers {
   clr_ray_differential diffs[CHUNK_SAMPLES];
   uint64_t keys[CHUNK_SAMPLES];
   float L[3 * CHUNK_SAMPLES], weights[CHUNK_SAMPLES];
+  clr_sample_point points[CHUNK_SAMPLES]; /* the chunk's pixels and samples */
+  const render_job *job;                  /* for fetch_values */
+  double fetch_s;                         /* in fetch_values */
 } worker_buffers;
 
 static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
   return clr_mix64(((uint64_t)seed << 32) ^
                    clr_mix64(((uint64_t)(uint32_t)px << 32) | (uint32_t)py)) +
          (uint64_t)s * 0x9E3779B97F4A7C15ull;
+}
+
+/* clr_fetch_values_fn of the renderer: values of the chunk's samples past the generated prefix,
+ * computed on the host (clr_sampler_generate_at: the generated values' bits). */
+static clr_result fetch_values(void *user, const int32_t *samples, int32_t n, int32_t first_value,
+                               int32_t value_count, float *out) {
+  worker_buffers *b = user;
+  const clr_integrator *it = b->job->integrator;
+  clr_sample_point pts[CHUNK_SAMPLES];
+  for (int32_t j = 0; j < n; ++j) pts[j] = b->points[samples[j]];
+  double t0 = now_seconds();
+  clr_result r = clr_sampler_generate_at(b->job->sampler, it->requests, it->request_count, pts, n,
+                                         first_value, value_count, out);
+  b->fetch_s += now_seconds() - t0;
+  return r;
 }
 
 /* Traces and shades `n` consecutive samples of pixel row py starting at column px0, sample s0;
@@ -355,7 +377,7 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
   const clr_integrator *it = job->integrator;
   int spp = job->spp;
   for (int k = 0, px = px0, s = s0; k < n; ++k) {
-    const float *v = values + (size_t)k * (size_t)it->values_per_sample;
+    const float *v = values + (size_t)k * (size_t)job->stride;
     clr_camera_sample cs;
     clr_camera_sample_from_values(&job->camera, v + it->camera_offset, px, py, &cs);
     fs[k].x = cs.pixel_x;
@@ -363,12 +385,22 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     b->weights[k] = clr_render_scene_camera_ray(job->scene, cs.film_x, cs.film_y, cs.time,
                                                 cs.lens_u, cs.lens_v, &b->rays[k], &b->diffs[k]);
     b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
+    b->points[k].x = px;
+    b->points[k].y = py;
+    b->points[k].sample = job->first_sample + s;
     if (++s == spp) {
       s = 0;
       ++px;
     }
   }
-  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, b->diffs, values, b->keys, n, b->L,
+  clr_integrator_values sv = clr_integrator_values_whole(it, values);
+  if (job->stride != it->values_per_sample) {
+    sv.stride = job->stride;
+    sv.path_bounces = job->path_bounces;
+    sv.fetch = fetch_values;
+    sv.fetch_user = b;
+  }
+  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, b->diffs, &sv, b->keys, n, b->L,
                               counters));
   for (int k = 0; k < n; ++k) {
     fs[k].r = b->L[3 * k];
@@ -384,7 +416,7 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
                              clr_integrator_scratch *scratch, clr_integrator_counters *counters,
                              double *recon_s) {
   const sample_band *band = &job->bands[tile->band];
-  size_t vps = (size_t)job->integrator->values_per_sample, spp = (size_t)job->spp;
+  size_t vps = (size_t)job->stride, spp = (size_t)job->spp;
   int w = tile->pixels.x1 - tile->pixels.x0, h = tile->pixels.y1 - tile->pixels.y0;
   int band_w = band->pixels.x1 - band->pixels.x0;
   size_t row = (size_t)w * spp, total = row * (size_t)h;
@@ -424,6 +456,7 @@ static void *worker_main(void *arg) {
   render_job *job = arg;
   clr_integrator_scratch *scratch = clr_integrator_scratch_create();
   worker_buffers *buffers = calloc(1, sizeof *buffers);
+  if (buffers) buffers->job = job;
   clr_integrator_counters counters = {0, 0.0, CLR_SUCCESS};
   double busy = 0.0, recon = 0.0;
   pthread_mutex_lock(&job->mutex);
@@ -449,9 +482,11 @@ static void *worker_main(void *arg) {
     if (--job->bands[tile->band].unfinished == 0) job->bands[tile->band].in_use = 0;
     pthread_cond_broadcast(&job->cond);
   }
+  double fetch = buffers ? buffers->fetch_s : 0.0;
   job->trace_s += counters.trace_seconds;
   job->recon_s += recon;
-  job->shade_s += busy - counters.trace_seconds - recon;
+  job->fetch_s += fetch;
+  job->shade_s += busy - counters.trace_seconds - recon - fetch;
   job->rays += counters.rays;
   pthread_mutex_unlock(&job->mutex);
   if (buffers) free(buffers->fs);
@@ -527,7 +562,7 @@ static clr_result generate_values(render_job *job, clr_sampler sampler, clr_samp
   if (active == all) return generate_rect(job, sampler, batch, px, values);
   if (active == 0) return CLR_SUCCESS; /* no sample of the band is shaded */
   if (active * 2 > all) return generate_rect(job, sampler, batch, px, values);
-  size_t per_pixel = (size_t)job->spp * (size_t)job->integrator->values_per_sample;
+  size_t per_pixel = (size_t)job->spp * (size_t)job->stride;
   for (int y = px.y0; y < px.y1; ++y)
     for (int x = px.x0, xe; x < px.x1; x = xe) {
       xe = clr_adaptive_next_run(job->adaptive, y, x, px.x1, 16, &x);
@@ -551,8 +586,8 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   int n = row_left < g->band_tiles ? row_left : g->band_tiles;
   clr_bounds2i a = tile_pixels(g, first), z = tile_pixels(g, first + n - 1);
   clr_bounds2i px = {a.x0, a.y0, z.x1, a.y1};
-  size_t need = (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp *
-                (size_t)job->integrator->values_per_sample;
+  size_t need =
+      (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp * (size_t)job->stride;
   if (need > band->values_cap) {
     free(band->values);
     band->values = malloc(need * sizeof *band->values);
@@ -601,7 +636,7 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
   clr_sample_batch batch;
   clr_sample_batch_init(&batch);
   batch.requests = job->integrator->requests;
-  batch.request_count = job->integrator->request_count;
+  batch.request_count = job->requests;
   int next_gen = 0, next_merge = 0, claims_done = 0;
   clr_result r = CLR_SUCCESS;
   double t_start = now_seconds(), t_first = 0.0;
@@ -696,8 +731,7 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
   g.nty = (g.bounds.y1 - g.bounds.y0 + g.size - 1) / g.size;
   g.ntiles = g.ntx * g.nty;
-  size_t tile_values = (size_t)g.size * (size_t)g.size * (size_t)job->spp *
-                       (size_t)job->integrator->values_per_sample;
+  size_t tile_values = (size_t)g.size * (size_t)g.size * (size_t)job->spp * (size_t)job->stride;
   size_t fit = BATCH_VALUES_BUDGET / (tile_values ? tile_values : 1);
   g.band_tiles = fit < 1 ? 1 : fit > (size_t)g.ntx ? g.ntx : (int)fit;
   st->tiles_total = g.ntiles;
@@ -958,6 +992,28 @@ static clr_result output_paths(const char *path, clr_render_stats *st) {
 
 /* ---------- entry points ---------- */
 
+/* Path bounces whose values are generated up front with lazy sample vectors. */
+#define LAZY_PREFIX_BOUNCES 1
+
+/* The generated part of each sample vector: the whole layout, or for path tracing with a sampler
+ * whose values are a function of (pixel, sample, dimension) and a layout without arrays (so a
+ * prefix of the layout has the same values) the camera's and the first bounces' values. */
+static void lazy_layout(render_job *job, const clr_render_options *o) {
+  const clr_integrator *it = job->integrator;
+  job->requests = it->request_count;
+  job->stride = it->values_per_sample;
+  job->path_bounces = it->path_bounces_in_layout;
+  if (o->eager_samples || !clr_sampler_has_global_index(job->sampler)) return;
+  for (int32_t i = 0; i < it->request_count; ++i)
+    if (it->requests[i].array_size) return;
+  int32_t values = 0;
+  int32_t requests = clr_integrator_path_prefix(it, LAZY_PREFIX_BOUNCES, &values);
+  if (requests <= 0 || values >= it->values_per_sample) return;
+  job->requests = requests;
+  job->stride = values;
+  job->path_bounces = LAZY_PREFIX_BOUNCES;
+}
+
 /* The scene and its integrator, built beside the device setup. */
 typedef struct scene_build_job {
   const clr_scene_desc *d;
@@ -1095,6 +1151,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.camera = camera;
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
+    job.sampler = sampler;
+    lazy_layout(&job, o);
     st->spp = st->spp_target = job.spp;
     st->passes = 1;
     st->threads = nthreads;
@@ -1142,6 +1200,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->seconds_render = now_seconds() - tr;
     st->seconds_tracing = job.trace_s;
     st->seconds_shading = job.shade_s;
+    st->seconds_sample_generation += job.fetch_s; /* the workers' fetches, summed over threads */
     st->seconds_reconstruction = job.recon_s;
     st->rays = job.rays;
   }
