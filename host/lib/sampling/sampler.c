@@ -702,28 +702,40 @@ static int32_t slot_values(const clr_request_slot *sl) {
   return sl->dims * (sl->array_size ? sl->array_size : 1);
 }
 
-/* Values [first, end) of one point's vector (global samplers), written to out[0 .. end - first);
- * the same calls as clr_global_sample_vector, for requests r0... that the range overlaps. */
+/* Points per block of global_values_at: their indices on the stack. */
+#define AT_BLOCK 256
+
+/* Values [first, end) of the vectors of points[0 .. n) (n <= AT_BLOCK; global samplers) into
+ * out[i * (end - first) + k]: the same calls as clr_global_sample_vector, for the requests r0...
+ * that the range overlaps, value by value over the points (each dimension's tables stay in
+ * cache). */
 static void global_values_at(const clr_sampler_params *p, const clr_request_slot *slots, int32_t r0,
-                             const clr_sample_point *pt, int32_t first, int32_t end, float *out) {
+                             const clr_sample_point *points, int32_t n, int32_t first, int32_t end,
+                             float *out) {
   const clr_u16 *perms = clr_halton_permutations(NULL);
   const clr_halton_prime *primes = clr_halton_primes();
   const clr_u64 *vdc = &clr_vdc_sobol_matrices[0][0], *vdc_inv = &clr_vdc_sobol_matrices_inv[0][0];
-  clr_u64 index = clr_global_index(p, vdc, vdc_inv, pt->x, pt->y, (clr_i64)pt->sample);
+  clr_u64 index[AT_BLOCK];
+  size_t stride = (size_t)(end - first);
+  for (int32_t i = 0; i < n; ++i)
+    index[i] =
+        clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y, (clr_i64)points[i].sample);
   for (int32_t r = r0; r < p->request_count && slots[r].first_value < end; ++r) {
     const clr_request_slot *sl = &slots[r];
     int32_t elements = sl->array_size ? sl->array_size : 1;
-    for (int32_t j = 0; j < elements; ++j) {
-      int32_t v0 = sl->first_value + j * sl->dims;
-      if (v0 + sl->dims <= first || v0 >= end) continue;
-      clr_u64 at = sl->array_size ? clr_global_index(p, vdc, vdc_inv, pt->x, pt->y,
-                                                     (clr_i64)pt->sample * sl->array_size + j)
-                                  : index;
-      for (int32_t c = 0; c < sl->dims; ++c)
-        if (v0 + c >= first && v0 + c < end)
-          out[v0 + c - first] = clr_global_value(p, clr_sobol_matrices32, primes, perms, at,
-                                                 sl->source + c, pt->x, pt->y);
-    }
+    for (int32_t j = 0; j < elements; ++j)
+      for (int32_t c = 0; c < sl->dims; ++c) {
+        int32_t v = sl->first_value + j * sl->dims + c;
+        if (v < first || v >= end) continue;
+        for (int32_t i = 0; i < n; ++i) {
+          const clr_sample_point *pt = &points[i];
+          clr_u64 at = sl->array_size ? clr_global_index(p, vdc, vdc_inv, pt->x, pt->y,
+                                                         (clr_i64)pt->sample * sl->array_size + j)
+                                      : index[i];
+          out[(size_t)i * stride + (size_t)(v - first)] = clr_global_value(
+              p, clr_sobol_matrices32, primes, perms, at, sl->source + c, pt->x, pt->y);
+        }
+      }
   }
 }
 
@@ -761,8 +773,8 @@ clr_result clr_sampler_generate_at(clr_sampler s, const clr_sample_request *requ
   CLR_CHECK(prepare_batch(s, &b, &p, slots));
   int32_t r0 = 0, end = first_value + value_count;
   while (r0 < request_count && slots[r0].first_value + slot_values(&slots[r0]) <= first_value) ++r0;
-  for (int32_t i = 0; i < count && value_count > 0; ++i)
-    global_values_at(&p, slots, r0, &points[i], first_value, end,
-                     values + (size_t)i * (size_t)value_count);
+  for (int32_t i = 0; i < count && value_count > 0; i += AT_BLOCK)
+    global_values_at(&p, slots, r0, points + i, count - i < AT_BLOCK ? count - i : AT_BLOCK,
+                     first_value, end, values + (size_t)i * (size_t)value_count);
   return CLR_SUCCESS;
 }
