@@ -251,7 +251,7 @@ static const char *box_scene =
     "Shape \"sphere\" \"float radius\" [0.35]\nAttributeEnd\n"
     "WorldEnd\n";
 
-static float *render(const char *sampler, int eager, int threads, int tile, clr_seeding seeding,
+static float *render(const char *sampler, int lazy, int threads, int tile, clr_seeding seeding,
                      int *n) {
   char text[4096];
   snprintf(text, sizeof text, box_scene, sampler);
@@ -262,7 +262,7 @@ static float *render(const char *sampler, int eager, int threads, int tile, clr_
   clr_render_options o;
   clr_render_options_init(&o);
   o.quiet = 1;
-  o.eager_samples = eager;
+  o.lazy_samples = lazy;
   o.nthreads = threads;
   o.tile_size = tile;
   o.seeding = seeding;
@@ -276,30 +276,35 @@ static float *render(const char *sampler, int eager, int threads, int tile, clr_
   return im.rgb;
 }
 
-/* Lazy and eager vectors give the same image bit for bit, with 1 or 2 threads (the image never
- * depends on the thread count) and at another tile size (which changes the film sums' rounding
- * alike in both). */
+/* Fetched and whole vectors give the same image bit for bit: fetching always (past bounce 0)
+ * or as chosen per band, with 1 or 2 threads (the image never depends on the thread count) and
+ * at another tile size (which changes the film sums' rounding alike in both). */
 static void test_lazy_render_identical(void **state) {
   (void)state;
   const char *samplers[] = {"halton", "sobol"};
+  enum {
+    OFF = CLR_LAZY_SAMPLES_OFF,
+    ALWAYS = CLR_LAZY_SAMPLES_ALWAYS,
+    AUTO = CLR_LAZY_SAMPLES_AUTO
+  };
   for (int t = 0; t < 2; ++t)
     for (int k = 0; k < 2; ++k) {
       clr_seeding seeding = k ? CLR_SEEDING_PBRT_V3 : CLR_SEEDING_PIXEL;
-      int tile = k ? 16 : 5, n[5];
-      float *img[5] = {render(samplers[t], 1, 2, 16, seeding, &n[0]),
-                       render(samplers[t], 0, 2, 16, seeding, &n[1]),
-                       render(samplers[t], 0, 1, 16, seeding, &n[2]),
-                       render(samplers[t], 1, 2, tile, seeding, &n[3]),
-                       render(samplers[t], 0, 1, tile, seeding, &n[4])};
+      int tile = k ? 16 : 5, n[6];
+      float *img[6] = {render(samplers[t], OFF, 2, 16, seeding, &n[0]),
+                       render(samplers[t], ALWAYS, 2, 16, seeding, &n[1]),
+                       render(samplers[t], ALWAYS, 1, 16, seeding, &n[2]),
+                       render(samplers[t], AUTO, 2, 16, seeding, &n[3]),
+                       render(samplers[t], OFF, 2, tile, seeding, &n[4]),
+                       render(samplers[t], ALWAYS, 1, tile, seeding, &n[5])};
       assert_int_equal(n[0], 20 * 16 * 3);
       double sum = 0.0;
       for (int i = 0; i < n[0]; ++i) sum += img[0][i];
       assert_true(sum > 0.0); /* the box is lit: the comparison is not of black images */
-      for (int c = 1; c < 5; ++c) assert_int_equal(n[c], n[0]);
-      assert_memory_equal(img[1], img[0], (size_t)n[0] * sizeof(float));
-      assert_memory_equal(img[2], img[0], (size_t)n[0] * sizeof(float));
-      assert_memory_equal(img[4], img[3], (size_t)n[0] * sizeof(float));
-      for (int c = 0; c < 5; ++c) free(img[c]);
+      for (int c = 1; c < 6; ++c) assert_int_equal(n[c], n[0]);
+      for (int c = 1; c < 4; ++c) assert_memory_equal(img[c], img[0], (size_t)n[0] * sizeof(float));
+      assert_memory_equal(img[5], img[4], (size_t)n[0] * sizeof(float));
+      for (int c = 0; c < 6; ++c) free(img[c]);
     }
 }
 

@@ -1141,6 +1141,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     free(picked);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
+  c->samples += (uint64_t)count;
   for (int i = 0; i < count; ++i) {
     eta_scale[i] = 1.0f;
     beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;
@@ -1189,6 +1190,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         s->active[i] = 0;
         continue;
       }
+      c->bounce_vertices[bounces < CLR_COUNTED_BOUNCES ? bounces : CLR_COUNTED_BOUNCES - 1]++;
       const float *bv = path_bounce(it, sv, deep, i, bounces);
       float *w = wos + 3 * i;
       w[0] = -ray->dx;

@@ -49,10 +49,16 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
                                         clr_warn_fn warn, void *warn_user, clr_integrator *out);
 void clr_integrator_free(clr_integrator *integrator);
 
+/* Path bounces whose vertices clr_integrator_counters counts one by one (the last entry counts
+ * every deeper bounce). */
+#define CLR_COUNTED_BOUNCES 16
+
 typedef struct clr_integrator_counters {
   uint64_t rays;        /* every ray given to the tracer (camera, shadow, bounce) */
   double trace_seconds; /* time inside tracer calls */
   clr_result error;     /* first failing tracer call, CLR_SUCCESS when none */
+  /* path: camera samples, and the vertices per bounce that draw the bounce's sample values */
+  uint64_t samples, bounce_vertices[CLR_COUNTED_BOUNCES];
 } clr_integrator_counters;
 
 typedef struct clr_integrator_scratch clr_integrator_scratch;
