@@ -17,6 +17,8 @@ extern "C" {
  * flight; the image is then written and marked partial. Must be cheap. */
 typedef int (*clr_render_progress_fn)(void *user, int32_t tiles_done, int32_t tiles_total);
 
+enum { CLR_LAZY_SAMPLES_AUTO = 0, CLR_LAZY_SAMPLES_OFF = 1, CLR_LAZY_SAMPLES_ALWAYS = 2 };
+
 typedef struct clr_render_options {
   size_t struct_size;   /* sizeof(clr_render_options), set by clr_render_options_init */
   int32_t nthreads;     /* worker threads; 0: every core */
@@ -58,6 +60,12 @@ typedef struct clr_render_options {
   const char *error_map; /* with noise_threshold: write the estimates to this EXR, or NULL */
   const char *scene_id;  /* recorded as clrender.scene and checked by resume; clr_render_file
                             sets the scene file's content hash when NULL */
+  /* Path tracing with halton or sobol may generate only the camera's and the first bounces'
+   * values of each sample vector up front and fetch a deeper bounce's values on the host for the
+   * paths that reach it (the same values: the image is identical). CLR_LAZY_SAMPLES_AUTO
+   * (default): per band, by the measured costs and path survival; _OFF: every vector whole;
+   * _ALWAYS: the first bounce up front, deeper ones fetched (tests). */
+  int32_t lazy_samples;
 } clr_render_options;
 
 typedef struct clr_render_stats {

@@ -289,6 +289,9 @@ enum { TILE_PENDING, TILE_READY, TILE_BUSY, TILE_DONE, TILE_MERGED };
 typedef struct sample_band {
   float *values;
   size_t values_cap;
+  /* the generated prefix of each vector (the whole layout, or choose_prefix's): requests,
+   * values and path bounces; deeper bounces' values are fetched */
+  int32_t requests, stride, path_bounces;
   clr_bounds2i pixels; /* the band's pixel rectangle */
   int unfinished;      /* tiles of the band not yet shaded; the band is free at 0 */
   int in_use;
@@ -306,6 +309,13 @@ typedef struct tile_info {
 typedef struct render_job {
   const clr_render_scene *scene;
   const clr_integrator *integrator;
+  clr_sampler sampler;
+  int lazy; /* bands may hold a prefix of the layout (lazy_allowed), 2: always the same */
+  /* choose_prefix's figures: samples shaded and their vertices per bounce, and the costs of a
+   * generated and of a fetched value (the main thread's and the workers' seconds) */
+  uint64_t seen_samples, seen_vertices[CLR_COUNTED_BOUNCES];
+  double gen_value_s, fetch_value_s;
+  uint64_t gen_values, fetched_values;
   clr_film film;
   int spp;                  /* samples per pixel of this pass */
   int first_sample;         /* the pass's first sample index */
@@ -339,6 +349,10 @@ typedef struct worker_buffers {
   clr_ray_differential diffs[CHUNK_SAMPLES];
   uint64_t keys[CHUNK_SAMPLES];
   float L[3 * CHUNK_SAMPLES], weights[CHUNK_SAMPLES];
+  clr_sample_point points[CHUNK_SAMPLES]; /* the chunk's pixels and samples */
+  const render_job *job;                  /* for fetch_values */
+  double fetch_s;                         /* in fetch_values */
+  uint64_t fetched;                       /* values fetched */
 } worker_buffers;
 
 static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
@@ -347,15 +361,32 @@ static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
          (uint64_t)s * 0x9E3779B97F4A7C15ull;
 }
 
+/* clr_fetch_values_fn of the renderer: values of the chunk's samples past the generated prefix,
+ * computed on the host (clr_sampler_generate_at: the generated values' bits). */
+static clr_result fetch_values(void *user, const int32_t *samples, int32_t n, int32_t first_value,
+                               int32_t value_count, float *out) {
+  worker_buffers *b = user;
+  const clr_integrator *it = b->job->integrator;
+  clr_sample_point pts[CHUNK_SAMPLES];
+  for (int32_t j = 0; j < n; ++j) pts[j] = b->points[samples[j]];
+  double t0 = now_seconds();
+  clr_result r = clr_sampler_generate_at(b->job->sampler, it->requests, it->request_count, pts, n,
+                                         first_value, value_count, out);
+  b->fetch_s += now_seconds() - t0;
+  b->fetched += (uint64_t)n * (uint64_t)value_count;
+  return r;
+}
+
 /* Traces and shades `n` consecutive samples of pixel row py starting at column px0, sample s0;
  * values: their sample vectors; fs: their film samples. */
-static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_scratch *scratch,
-                            clr_integrator_counters *counters, int px0, int py, int s0, int n,
-                            const float *values, clr_film_sample *fs) {
+static clr_result shade_run(render_job *job, const sample_band *band, worker_buffers *b,
+                            clr_integrator_scratch *scratch, clr_integrator_counters *counters,
+                            int px0, int py, int s0, int n, const float *values,
+                            clr_film_sample *fs) {
   const clr_integrator *it = job->integrator;
   int spp = job->spp;
   for (int k = 0, px = px0, s = s0; k < n; ++k) {
-    const float *v = values + (size_t)k * (size_t)it->values_per_sample;
+    const float *v = values + (size_t)k * (size_t)band->stride;
     clr_camera_sample cs;
     clr_camera_sample_from_values(&job->camera, v + it->camera_offset, px, py, &cs);
     fs[k].x = cs.pixel_x;
@@ -363,12 +394,22 @@ static clr_result shade_run(render_job *job, worker_buffers *b, clr_integrator_s
     b->weights[k] = clr_render_scene_camera_ray(job->scene, cs.film_x, cs.film_y, cs.time,
                                                 cs.lens_u, cs.lens_v, &b->rays[k], &b->diffs[k]);
     b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
+    b->points[k].x = px;
+    b->points[k].y = py;
+    b->points[k].sample = job->first_sample + s;
     if (++s == spp) {
       s = 0;
       ++px;
     }
   }
-  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, b->diffs, values, b->keys, n, b->L,
+  clr_integrator_values sv = clr_integrator_values_whole(it, values);
+  if (band->stride != it->values_per_sample) {
+    sv.stride = band->stride;
+    sv.path_bounces = band->path_bounces;
+    sv.fetch = fetch_values;
+    sv.fetch_user = b;
+  }
+  CLR_CHECK(clr_integrator_li(it, job->scene, scratch, b->rays, b->diffs, &sv, b->keys, n, b->L,
                               counters));
   for (int k = 0; k < n; ++k) {
     fs[k].r = b->L[3 * k];
@@ -384,7 +425,7 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
                              clr_integrator_scratch *scratch, clr_integrator_counters *counters,
                              double *recon_s) {
   const sample_band *band = &job->bands[tile->band];
-  size_t vps = (size_t)job->integrator->values_per_sample, spp = (size_t)job->spp;
+  size_t vps = (size_t)band->stride, spp = (size_t)job->spp;
   int w = tile->pixels.x1 - tile->pixels.x0, h = tile->pixels.y1 - tile->pixels.y0;
   int band_w = band->pixels.x1 - band->pixels.x0;
   size_t row = (size_t)w * spp, total = row * (size_t)h;
@@ -407,8 +448,9 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
       size_t run = (size_t)(xe - x) * spp;
       for (size_t base = 0; base < run; base += CHUNK_SAMPLES) {
         int n = (int)(run - base < CHUNK_SAMPLES ? run - base : CHUNK_SAMPLES);
-        CLR_CHECK(shade_run(job, b, scratch, counters, x + (int)(base / spp), py, (int)(base % spp),
-                            n, band->values + (first + base) * vps, b->fs + filled + base));
+        CLR_CHECK(shade_run(job, band, b, scratch, counters, x + (int)(base / spp), py,
+                            (int)(base % spp), n, band->values + (first + base) * vps,
+                            b->fs + filled + base));
       }
       filled += run;
     }
@@ -420,12 +462,29 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
   return r;
 }
 
+/* Adds a worker's path figures since its last report to the job's (under the job's mutex);
+ * returns its fetch seconds. */
+static double report_tile_figures(render_job *job, clr_integrator_counters *c, worker_buffers *b) {
+  job->seen_samples += c->samples;
+  for (int k = 0; k < CLR_COUNTED_BOUNCES; ++k) job->seen_vertices[k] += c->bounce_vertices[k];
+  job->fetch_value_s += b->fetch_s;
+  job->fetched_values += b->fetched;
+  double fetch = b->fetch_s;
+  c->samples = 0;
+  memset(c->bounce_vertices, 0, sizeof c->bounce_vertices);
+  b->fetch_s = 0.0;
+  b->fetched = 0;
+  return fetch;
+}
+
 static void *worker_main(void *arg) {
   render_job *job = arg;
   clr_integrator_scratch *scratch = clr_integrator_scratch_create();
   worker_buffers *buffers = calloc(1, sizeof *buffers);
-  clr_integrator_counters counters = {0, 0.0, CLR_SUCCESS};
-  double busy = 0.0, recon = 0.0;
+  if (buffers) buffers->job = job;
+  clr_integrator_counters counters;
+  memset(&counters, 0, sizeof counters);
+  double busy = 0.0, recon = 0.0, fetch = 0.0;
   pthread_mutex_lock(&job->mutex);
   for (;;) {
     if (job->next_take == job->ready_end) { /* the lowest READY tile keeps merges flowing */
@@ -447,11 +506,12 @@ static void *worker_main(void *arg) {
     tile->state = TILE_DONE;
     job->busy--;
     if (--job->bands[tile->band].unfinished == 0) job->bands[tile->band].in_use = 0;
+    if (buffers) fetch += report_tile_figures(job, &counters, buffers);
     pthread_cond_broadcast(&job->cond);
   }
   job->trace_s += counters.trace_seconds;
   job->recon_s += recon;
-  job->shade_s += busy - counters.trace_seconds - recon;
+  job->shade_s += busy - counters.trace_seconds - recon - fetch;
   job->rays += counters.rays;
   pthread_mutex_unlock(&job->mutex);
   if (buffers) free(buffers->fs);
@@ -507,7 +567,7 @@ static int bands_per_row(const tile_grid *g) {
   return (g->ntx + g->band_tiles - 1) / g->band_tiles;
 }
 
-static clr_result generate_rect(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
+static clr_result generate_rect(const render_job *job, clr_sampler sampler, clr_sample_batch *batch,
                                 clr_bounds2i px, float *values) {
   clr_sample_output out;
   clr_sample_output_init(&out);
@@ -520,14 +580,15 @@ static clr_result generate_rect(render_job *job, clr_sampler sampler, clr_sample
 /* The band's sample values (row-major over px): all of them, or with adaptive sampling only the
  * runs of active pixels when fewer than half are active (per-pixel streams make a pixel's values
  * the same in any batch). */
-static clr_result generate_values(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
-                                  clr_bounds2i px, float *values) {
+static clr_result generate_values(const render_job *job, clr_sampler sampler,
+                                  clr_sample_batch *batch, clr_bounds2i px, int32_t stride,
+                                  float *values) {
   int64_t active = clr_adaptive_count_active(job->adaptive, px);
   int64_t w = px.x1 - px.x0, all = w * (px.y1 - px.y0);
   if (active == all) return generate_rect(job, sampler, batch, px, values);
   if (active == 0) return CLR_SUCCESS; /* no sample of the band is shaded */
   if (active * 2 > all) return generate_rect(job, sampler, batch, px, values);
-  size_t per_pixel = (size_t)job->spp * (size_t)job->integrator->values_per_sample;
+  size_t per_pixel = (size_t)job->spp * (size_t)stride;
   for (int y = px.y0; y < px.y1; ++y)
     for (int x = px.x0, xe; x < px.x1; x = xe) {
       xe = clr_adaptive_next_run(job->adaptive, y, x, px.x1, 16, &x);
@@ -540,19 +601,29 @@ static clr_result generate_values(render_job *job, clr_sampler sampler, clr_samp
   return CLR_SUCCESS;
 }
 
-/* Generates band `index` of the grid into band slot `bi`, its tiles at tiles[pos...]; returns its
- * tile count in *count. */
+/* Generates band `index` of the grid into band slot `bi` with the layout's prefix holding
+ * `bounces` path bounces (or the whole layout), its tiles at tiles[pos...]; returns its tile
+ * count in *count. */
 static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample_batch *batch,
-                                const tile_grid *g, int index, int pos, int bi, int *count) {
+                                const tile_grid *g, int index, int pos, int bi, int32_t bounces,
+                                int *count) {
   sample_band *band = &job->bands[bi];
+  const clr_integrator *it = job->integrator;
+  band->requests = it->request_count;
+  band->stride = it->values_per_sample;
+  band->path_bounces = it->path_bounces_in_layout;
+  if (bounces < it->path_bounces_in_layout) {
+    band->requests = clr_integrator_path_prefix(it, bounces, &band->stride);
+    band->path_bounces = bounces;
+  }
   int bpr = bands_per_row(g);
   int first = (index / bpr) * g->ntx + (index % bpr) * g->band_tiles;
   int row_left = g->ntx - first % g->ntx;
   int n = row_left < g->band_tiles ? row_left : g->band_tiles;
   clr_bounds2i a = tile_pixels(g, first), z = tile_pixels(g, first + n - 1);
   clr_bounds2i px = {a.x0, a.y0, z.x1, a.y1};
-  size_t need = (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp *
-                (size_t)job->integrator->values_per_sample;
+  size_t need =
+      (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)job->spp * (size_t)band->stride;
   if (need > band->values_cap) {
     free(band->values);
     band->values = malloc(need * sizeof *band->values);
@@ -562,7 +633,11 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   }
   batch->first_sample = job->first_sample;
   batch->sample_count = job->spp;
-  CLR_CHECK(generate_values(job, sampler, batch, px, band->values));
+  batch->request_count = band->requests;
+  double t0 = now_seconds();
+  CLR_CHECK(generate_values(job, sampler, batch, px, band->stride, band->values));
+  job->gen_value_s += now_seconds() - t0;
+  job->gen_values += (uint64_t)need;
   band->pixels = px;
   for (int k = 0; k < n; ++k) {
     job->tiles[pos + k].index = first + k;
@@ -594,6 +669,25 @@ static clr_result commit_tile(render_job *job, tile_info *m) {
   return film_merge_tile(job->film, m->film_tile);
 }
 
+/* The path bounces whose values the next band generates up front (path_bounces_in_layout: the
+ * whole layout). Values are the same either way, so this chooses speed only: a deeper bounce's
+ * values are fetched on the host when the fraction of samples reaching it, times a fetched
+ * value's cost, is below a generated value's cost (each measured so far in this render; the
+ * first band explores with one bounce up front). Bounce 0 is always generated. */
+static int32_t choose_prefix(const render_job *job) {
+  int32_t all = job->integrator->path_bounces_in_layout;
+  if (!job->lazy) return all;
+  if (job->lazy == 2) return 1;
+  if (!job->seen_samples || !job->gen_values || !job->fetched_values) return 1;
+  double ratio = (job->gen_value_s / (double)job->gen_values) /
+                 (job->fetch_value_s / (double)job->fetched_values);
+  for (int32_t b = 1; b < all; ++b) {
+    uint64_t v = job->seen_vertices[b < CLR_COUNTED_BOUNCES ? b : CLR_COUNTED_BOUNCES - 1];
+    if ((double)v < ratio * (double)job->seen_samples) return b;
+  }
+  return all;
+}
+
 /* Main thread: generates bands ahead of the workers and merges finished tiles in claim order
  * (tile order when alone). */
 static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_grid *g,
@@ -601,7 +695,6 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
   clr_sample_batch batch;
   clr_sample_batch_init(&batch);
   batch.requests = job->integrator->requests;
-  batch.request_count = job->integrator->request_count;
   int next_gen = 0, next_merge = 0, claims_done = 0;
   clr_result r = CLR_SUCCESS;
   double t_start = now_seconds(), t_first = 0.0;
@@ -613,12 +706,13 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
     int bi = free_band(job);
     if (!cancelled && !claims_done && bi >= 0) {
       job->bands[bi].in_use = 1;
+      int32_t bounces = choose_prefix(job); /* the workers' figures, read under the mutex */
       pthread_mutex_unlock(&job->mutex);
       int n = 0, index = -1;
       double t0 = now_seconds();
       r = claim_band(job, g, &index);
       if (r == CLR_SUCCESS && index >= 0)
-        r = generate_band(job, sampler, &batch, g, index, next_gen, bi, &n);
+        r = generate_band(job, sampler, &batch, g, index, next_gen, bi, bounces, &n);
       st->seconds_sample_generation += now_seconds() - t0;
       pthread_mutex_lock(&job->mutex);
       if (r != CLR_SUCCESS || index < 0) {
@@ -958,6 +1052,19 @@ static clr_result output_paths(const char *path, clr_render_stats *st) {
 
 /* ---------- entry points ---------- */
 
+/* Whether bands may hold a prefix of the layout: path tracing with a sampler whose values are a
+ * function of (pixel, sample, dimension) and a layout without arrays (so that a prefix of the
+ * layout has the same values as the whole layout). */
+static int lazy_allowed(const render_job *job, const clr_render_options *o) {
+  const clr_integrator *it = job->integrator;
+  if (o->lazy_samples == CLR_LAZY_SAMPLES_OFF || it->type != CLR_INTEGRATOR_PATH ||
+      it->path_bounces_in_layout < 2 || !clr_sampler_has_global_index(job->sampler))
+    return 0;
+  for (int32_t i = 0; i < it->request_count; ++i)
+    if (it->requests[i].array_size) return 0;
+  return o->lazy_samples == CLR_LAZY_SAMPLES_ALWAYS ? 2 : 1;
+}
+
 /* The scene and its integrator, built beside the device setup. */
 typedef struct scene_build_job {
   const clr_scene_desc *d;
@@ -1095,6 +1202,8 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.camera = camera;
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
+    job.sampler = sampler;
+    job.lazy = lazy_allowed(&job, o);
     st->spp = st->spp_target = job.spp;
     st->passes = 1;
     st->threads = nthreads;
@@ -1142,6 +1251,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->seconds_render = now_seconds() - tr;
     st->seconds_tracing = job.trace_s;
     st->seconds_shading = job.shade_s;
+    st->seconds_sample_generation += job.fetch_value_s; /* the workers' fetches, over threads */
     st->seconds_reconstruction = job.recon_s;
     st->rays = job.rays;
   }

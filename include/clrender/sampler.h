@@ -177,6 +177,27 @@ CLR_API clr_result clr_sampler_generate_reference(clr_sampler sampler,
                                                   const clr_sample_batch *batch,
                                                   const clr_sample_output *out);
 
+/* One sample of one pixel, for clr_sampler_generate_at. */
+typedef struct clr_sample_point {
+  int32_t x, y;   /* the pixel, inside the sample bounds */
+  int32_t sample; /* 0 .. clr_sampler_spp - 1 */
+} clr_sample_point;
+
+/* Values [first_value, first_value + value_count) of the sample vectors of `count` samples in
+ * the layout `requests`: values[i * value_count + k] is value first_value + k of the vector of
+ * points[i], the same float that clr_sampler_generate_reference (and so clr_sampler_generate)
+ * writes for that pixel and sample with that layout. Computed on the host by the C build of the
+ * kernel headers, only the values asked for: an integrator can fetch the values of a path's
+ * deeper bounces when the path gets there. Only for samplers with a global index
+ * (clr_sampler_has_global_index: pbrt-v3's halton and sobol), whose values are a function of
+ * (pixel, sample, dimension); CLR_ERROR_INVALID_ARGUMENT for the others. Errors name the
+ * argument (a point outside the sample bounds or spp, a value range outside the layout).
+ * Thread-safe, no lock (as clr_sampler_generate_reference). */
+CLR_API clr_result clr_sampler_generate_at(clr_sampler sampler, const clr_sample_request *requests,
+                                           int32_t request_count, const clr_sample_point *points,
+                                           int32_t count, int32_t first_value, int32_t value_count,
+                                           float *values);
+
 #ifdef __cplusplus
 }
 #endif

@@ -685,3 +685,101 @@ clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
   CLR_CHECK(prepare_batch(s, batch, &p, slots));
   return clr_sampler_device_generate(s->device, &p, slots, s->pmj_pixels, out);
 }
+
+/* clr_sampler_generate_at's checks of one point: inside the sample bounds and the spp. */
+static clr_result check_point(clr_sampler s, const clr_sample_point *pt, int32_t i) {
+  const clr_bounds2i ib = s->index_bounds;
+  if (pt->x < ib.x0 || pt->x >= ib.x1 || pt->y < ib.y0 || pt->y >= ib.y1)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
+                    "clr_sampler_generate_at: points[%d] pixel (%d, %d) outside the sample "
+                    "bounds [%d,%d)x[%d,%d)",
+                    (int)i, (int)pt->x, (int)pt->y, (int)ib.x0, (int)ib.x1, (int)ib.y0, (int)ib.y1);
+  if (pt->sample < 0 || pt->sample >= s->base.spp)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_SPP,
+                    "clr_sampler_generate_at: points[%d] sample %d outside the %d samples per "
+                    "pixel",
+                    (int)i, (int)pt->sample, (int)s->base.spp);
+  return CLR_SUCCESS;
+}
+
+/* Values of a request: dims times its elements. */
+static int32_t slot_values(const clr_request_slot *sl) {
+  return sl->dims * (sl->array_size ? sl->array_size : 1);
+}
+
+/* Points per block of global_values_at: their indices on the stack. */
+#define AT_BLOCK 256
+
+/* Values [first, end) of the vectors of points[0 .. n) (n <= AT_BLOCK; global samplers) into
+ * out[i * (end - first) + k]: the same calls as clr_global_sample_vector, for the requests r0...
+ * that the range overlaps, value by value over the points (each dimension's tables stay in
+ * cache). */
+static void global_values_at(const clr_sampler_params *p, const clr_request_slot *slots, int32_t r0,
+                             const clr_sample_point *points, int32_t n, int32_t first, int32_t end,
+                             float *out) {
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  const clr_halton_prime *primes = clr_halton_primes();
+  const clr_u64 *vdc = &clr_vdc_sobol_matrices[0][0], *vdc_inv = &clr_vdc_sobol_matrices_inv[0][0];
+  clr_u64 index[AT_BLOCK];
+  size_t stride = (size_t)(end - first);
+  for (int32_t i = 0; i < n; ++i)
+    index[i] =
+        clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y, (clr_i64)points[i].sample);
+  for (int32_t r = r0; r < p->request_count && slots[r].first_value < end; ++r) {
+    const clr_request_slot *sl = &slots[r];
+    int32_t elements = sl->array_size ? sl->array_size : 1;
+    for (int32_t j = 0; j < elements; ++j)
+      for (int32_t c = 0; c < sl->dims; ++c) {
+        int32_t v = sl->first_value + j * sl->dims + c;
+        if (v < first || v >= end) continue;
+        for (int32_t i = 0; i < n; ++i) {
+          const clr_sample_point *pt = &points[i];
+          clr_u64 at = sl->array_size ? clr_global_index(p, vdc, vdc_inv, pt->x, pt->y,
+                                                         (clr_i64)pt->sample * sl->array_size + j)
+                                      : index[i];
+          out[(size_t)i * stride + (size_t)(v - first)] = clr_global_value(
+              p, clr_sobol_matrices32, primes, perms, at, sl->source + c, pt->x, pt->y);
+        }
+      }
+  }
+}
+
+clr_result clr_sampler_generate_at(clr_sampler s, const clr_sample_request *requests,
+                                   int32_t request_count, const clr_sample_point *points,
+                                   int32_t count, int32_t first_value, int32_t value_count,
+                                   float *values) {
+  clr_clear_error();
+  if (!s || (count > 0 && (!points || (value_count > 0 && !values))))
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate_at: NULL argument");
+  if (!clr_sampler_has_global_index(s))
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_generate_at: the %s sampler has no global index (only pbrt-v3's "
+                    "halton and sobol)",
+                    clr_sampler_type_name(s->desc.type));
+  int32_t per_sample = 0, film_request = 0;
+  CLR_CHECK(layout_values(requests, request_count, 0, &per_sample, &film_request));
+  if (count < 0 || first_value < 0 || value_count < 0 ||
+      (int64_t)first_value + value_count > per_sample)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "clr_sampler_generate_at: %d points, values [%d, %d + %d) outside the "
+                    "layout's %d values",
+                    (int)count, (int)first_value, (int)first_value, (int)value_count,
+                    (int)per_sample);
+  for (int32_t i = 0; i < count; ++i) CLR_CHECK(check_point(s, &points[i], i));
+  clr_sample_batch b; /* a one-sample batch gives the slots and the layout's checks */
+  clr_sample_batch_init(&b);
+  b.requests = requests;
+  b.request_count = request_count;
+  b.pixels = (clr_bounds2i){s->index_bounds.x0, s->index_bounds.y0, s->index_bounds.x0 + 1,
+                            s->index_bounds.y0 + 1};
+  b.sample_count = 1;
+  clr_sampler_params p;
+  clr_request_slot slots[CLR_MAX_REQUESTS];
+  CLR_CHECK(prepare_batch(s, &b, &p, slots));
+  int32_t r0 = 0, end = first_value + value_count;
+  while (r0 < request_count && slots[r0].first_value + slot_values(&slots[r0]) <= first_value) ++r0;
+  for (int32_t i = 0; i < count && value_count > 0; i += AT_BLOCK)
+    global_values_at(&p, slots, r0, points + i, count - i < AT_BLOCK ? count - i : AT_BLOCK,
+                     first_value, end, values + (size_t)i * (size_t)value_count);
+  return CLR_SUCCESS;
+}

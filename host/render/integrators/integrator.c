@@ -1005,22 +1005,57 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
   return r;
 }
 
-/* Value k of a bounce: light choice, light 2D, scattering 2D, BSDF 2D, then Russian roulette's,
- * which pbrt-v3's PathIntegrator draws only past bounce 3 (7 values a bounce until then). */
-static float path_value(const clr_integrator *it, const float *v, uint64_t key, int bounce, int k) {
-  if (bounce < it->path_bounces_in_layout)
-    return v[it->value_offset + bounce * (CLR_PATH_VALUES_PER_BOUNCE - 1) +
-             (bounce > 4 ? bounce - 4 : 0) + k];
+/* First value of a bounce: light choice, light 2D, scattering 2D, BSDF 2D, then Russian
+ * roulette's, which pbrt-v3's PathIntegrator draws only past bounce 3 (7 values a bounce until
+ * then). */
+static int32_t path_bounce_offset(const clr_integrator *it, int bounce) {
+  return it->value_offset + bounce * (CLR_PATH_VALUES_PER_BOUNCE - 1) +
+         (bounce > 4 ? bounce - 4 : 0);
+}
+
+static int32_t path_bounce_values(int bounce) {
+  return CLR_PATH_VALUES_PER_BOUNCE - (bounce > 3 ? 0 : 1);
+}
+
+clr_integrator_values clr_integrator_values_whole(const clr_integrator *it, const float *values) {
+  clr_integrator_values v = {values, it->values_per_sample, it->path_bounces_in_layout, NULL, NULL};
+  return v;
+}
+
+int32_t clr_integrator_path_prefix(const clr_integrator *it, int32_t bounces, int32_t *values) {
+  *values = 0;
+  if (it->type != CLR_INTEGRATOR_PATH) return 0;
+  if (bounces > it->path_bounces_in_layout) bounces = it->path_bounces_in_layout;
+  if (bounces < 0) bounces = 0;
+  int32_t requests = it->request_count - (it->path_bounces_in_layout - bounces) * 4;
+  for (int b = bounces; b < it->path_bounces_in_layout; ++b) requests -= b > 3;
+  *values = path_bounce_offset(it, bounces);
+  return requests;
+}
+
+/* The values of bounce `bounce` of sample i: in its vector, fetched into deep, or NULL past the
+ * layout (hashed values). */
+static const float *path_bounce(const clr_integrator *it, const clr_integrator_values *sv,
+                                const float *deep, int i, int bounce) {
+  if (bounce >= it->path_bounces_in_layout) return NULL;
+  if (bounce < sv->path_bounces)
+    return sv->values + (size_t)i * (size_t)sv->stride + path_bounce_offset(it, bounce);
+  return deep + (size_t)i * CLR_PATH_VALUES_PER_BOUNCE;
+}
+
+/* Value k of a bounce (bv: path_bounce's). */
+static float path_value(const float *bv, uint64_t key, int bounce, int k) {
+  if (bv) return bv[k];
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
 }
 
 /* pbrt-v3 Russian roulette after bounce 3, on beta * etaScale. */
-static void path_roulette(const clr_integrator *it, const float *v, uint64_t key, int bounces,
+static void path_roulette(const clr_integrator *it, const float *bv, uint64_t key, int bounces,
                           float eta_scale, float b[3], int32_t *active) {
   float m = fmaxf(b[0] * eta_scale, fmaxf(b[1] * eta_scale, b[2] * eta_scale));
   if (m < it->rr_threshold && bounces > 3) {
     float q = fmaxf(0.05f, 1.0f - m);
-    if (path_value(it, v, key, bounces, 7) < q) {
+    if (path_value(bv, key, bounces, 7) < q) {
       *active = 0;
     } else {
       for (int a = 0; a < 3; ++a) b[a] /= 1.0f - q;
@@ -1061,9 +1096,33 @@ static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
   }
 }
 
+/* The values of the wave's vertices that sample (material surfaces below maxdepth) at bounces
+ * past those the vectors hold, into deep (CLR_PATH_VALUES_PER_BOUNCE per sample); picked and
+ * got: scratch of count entries and count * CLR_PATH_VALUES_PER_BOUNCE floats. */
+static clr_result fetch_deep_values(const clr_integrator *it, const clr_integrator_values *sv,
+                                    const clr_integrator_scratch *s, const int *idx, int n,
+                                    int32_t *picked, float *got, float *deep) {
+  for (int bounce = sv->path_bounces; bounce < it->path_bounces_in_layout; ++bounce) {
+    int32_t m = 0;
+    for (int k = 0; k < n; ++k) {
+      int i = idx[k];
+      if (s->hits[k].geom_id != CLR_TRACER_INVALID_ID && s->surfaces[i].has_material &&
+          s->bounces[i] == bounce)
+        picked[m++] = i;
+    }
+    if (!m) continue;
+    int32_t nv = path_bounce_values(bounce);
+    CLR_CHECK(sv->fetch(sv->fetch_user, picked, m, path_bounce_offset(it, bounce), nv, got));
+    for (int32_t j = 0; j < m; ++j)
+      memcpy(deep + (size_t)picked[j] * CLR_PATH_VALUES_PER_BOUNCE, got + (size_t)j * nv,
+             (size_t)nv * sizeof *got);
+  }
+  return CLR_SUCCESS;
+}
+
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
-                          clr_integrator_scratch *s, const float *values, const uint64_t *keys,
-                          int count, float *L, clr_integrator_counters *c) {
+                          clr_integrator_scratch *s, const clr_integrator_values *sv,
+                          const uint64_t *keys, int count, float *L, clr_integrator_counters *c) {
   float wo[3 * 1];
   (void)wo;
   float *beta = s->beta;
@@ -1072,13 +1131,20 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   int *idx = malloc((size_t)count * sizeof(int));
   int *specular = calloc((size_t)(count > 0 ? count : 1), sizeof(int)); /* last bounce specular */
   float *eta_scale = malloc((size_t)(count > 0 ? count : 1) * sizeof(float));
-  if (!wos || !idx || !specular || !eta_scale) {
+  int lazy = sv->path_bounces < it->path_bounces_in_layout;
+  size_t deep_floats = lazy ? (size_t)count * CLR_PATH_VALUES_PER_BOUNCE : 1;
+  float *deep = malloc(2 * deep_floats * sizeof(float)); /* and the fetch's output */
+  int32_t *picked = malloc((size_t)(count > 0 ? count : 1) * sizeof(int32_t));
+  if (!wos || !idx || !specular || !eta_scale || !deep || !picked) {
     free(wos);
     free(idx);
     free(specular);
     free(eta_scale);
+    free(deep);
+    free(picked);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
+  c->samples += (uint64_t)count;
   for (int i = 0; i < count; ++i) {
     eta_scale[i] = 1.0f;
     beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;
@@ -1097,6 +1163,8 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     for (int k = 0; k < n; ++k) s->rays[k] = s->rays2[idx[k]];
     trace(sc, s->rays, s->hits, (size_t)n, c);
     path_surfaces(it, sc, s, idx, n, wave);
+    if (lazy) r = fetch_deep_values(it, sv, s, idx, n, picked, deep + deep_floats, deep);
+    if (r != CLR_SUCCESS) break;
     int nj = 0;
     for (int k = 0; k < n; ++k) {
       int i = idx[k];
@@ -1125,7 +1193,8 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         s->active[i] = 0;
         continue;
       }
-      const float *v = values + (size_t)i * (size_t)it->values_per_sample;
+      c->bounce_vertices[bounces < CLR_COUNTED_BOUNCES ? bounces : CLR_COUNTED_BOUNCES - 1]++;
+      const float *bv = path_bounce(it, sv, deep, i, bounces);
       float *w = wos + 3 * i;
       w[0] = -ray->dx;
       w[1] = -ray->dy;
@@ -1135,7 +1204,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         float wi[3], cos_o = rs_dot(w, sf->ns);
         int entering = rs_dot(w, sf->n_geom) > 0.0f;
         float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
-        if (path_value(it, v, keys[i], bounces, 5) < F) {
+        if (path_value(bv, keys[i], bounces, 5) < F) {
           mirror_direction(sf, w, wi);
           for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a]; /* Kr F / F */
         } else {
@@ -1156,7 +1225,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
           continue;
         }
         clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-        path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+        path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
         s->bounces[i] = bounces + 1;
         continue;
       }
@@ -1169,25 +1238,25 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         }
         for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
         clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-        path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+        path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
         s->bounces[i] = bounces + 1;
         continue;
       }
       if (path_samples_light(it, sf, bounces)) {
         float lpdf;
-        int light = choose_light(it, s->cdfs[i], path_value(it, v, keys[i], bounces, 0), &lpdf);
+        int light = choose_light(it, s->cdfs[i], path_value(bv, keys[i], bounces, 0), &lpdf);
         if (lpdf > 0.0f) {
           direct_job *jb = &s->jobs[nj++];
           jb->sample = i;
           jb->light = light;
           for (int a = 0; a < 2; ++a) {
-            jb->u_light[a] = path_value(it, v, keys[i], bounces, 1 + a);
-            jb->u_scatter[a] = path_value(it, v, keys[i], bounces, 3 + a);
+            jb->u_light[a] = path_value(bv, keys[i], bounces, 1 + a);
+            jb->u_scatter[a] = path_value(bv, keys[i], bounces, 3 + a);
           }
           for (int a = 0; a < 3; ++a) jb->scale[a] = b[a] / lpdf;
         }
       }
-      float u[2] = {path_value(it, v, keys[i], bounces, 5), path_value(it, v, keys[i], bounces, 6)};
+      float u[2] = {path_value(bv, keys[i], bounces, 5), path_value(bv, keys[i], bounces, 6)};
       float wi[3], pdf;
       float f3[3];
       int flags = 0;
@@ -1203,7 +1272,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       }
       for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-      path_roulette(it, v, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+      path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
       s->bounces[i] = bounces + 1;
     }
     if (nj) {
@@ -1218,14 +1287,22 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   free(idx);
   free(specular);
   free(eta_scale);
+  free(deep);
+  free(picked);
   return r;
 }
 
 clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *sc,
                              clr_integrator_scratch *s, const clr_ray *rays,
-                             const clr_ray_differential *diffs, const float *values,
+                             const clr_ray_differential *diffs, const clr_integrator_values *sv,
                              const uint64_t *keys, int count, float *L,
                              clr_integrator_counters *c) {
+  if (sv->stride != it->values_per_sample &&
+      (it->type != CLR_INTEGRATOR_PATH || !sv->fetch ||
+       sv->stride != path_bounce_offset(it, sv->path_bounces)))
+    return clr_set_last_error(CLR_ERROR_INTERNAL, "integrator: %d of %d values per sample",
+                              (int)sv->stride, (int)it->values_per_sample);
+  const float *values = sv->values;
   CLR_CHECK(reserve_samples(s, (size_t)count));
   CLR_CHECK(reserve_rays(s, (size_t)count));
   memcpy(s->rays2, rays, (size_t)count * sizeof *rays);
@@ -1239,7 +1316,7 @@ clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *s
       r = li_direct(it, sc, s, values, keys, count, L, c);
       break;
     default:
-      r = li_path(it, sc, s, values, keys, count, L, c);
+      r = li_path(it, sc, s, sv, keys, count, L, c);
       break;
   }
   s->diffs = NULL;

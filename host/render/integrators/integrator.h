@@ -49,22 +49,53 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
                                         clr_warn_fn warn, void *warn_user, clr_integrator *out);
 void clr_integrator_free(clr_integrator *integrator);
 
+/* Path bounces whose vertices clr_integrator_counters counts one by one (the last entry counts
+ * every deeper bounce). */
+#define CLR_COUNTED_BOUNCES 16
+
 typedef struct clr_integrator_counters {
   uint64_t rays;        /* every ray given to the tracer (camera, shadow, bounce) */
   double trace_seconds; /* time inside tracer calls */
   clr_result error;     /* first failing tracer call, CLR_SUCCESS when none */
+  /* path: camera samples, and the vertices per bounce that draw the bounce's sample values */
+  uint64_t samples, bounce_vertices[CLR_COUNTED_BOUNCES];
 } clr_integrator_counters;
 
 typedef struct clr_integrator_scratch clr_integrator_scratch;
 clr_integrator_scratch *clr_integrator_scratch_create(void);
 void clr_integrator_scratch_free(clr_integrator_scratch *scratch);
 
+/* Fills out[j * value_count + k] with value first_value + k of the layout of sample samples[j]
+ * (an index into the clr_integrator_li call's samples). */
+typedef clr_result (*clr_fetch_values_fn)(void *user, const int32_t *samples, int32_t n,
+                                          int32_t first_value, int32_t value_count, float *out);
+
+/* The sample values clr_integrator_li reads: `count` vectors of `stride` floats, each the
+ * layout's first `stride` values. The whole layout (stride == values_per_sample), or for path
+ * the camera's and the first path_bounces bounces' values, `fetch` giving a deeper bounce's
+ * values for the paths that reach it (clr_integrator_path_prefix). */
+typedef struct clr_integrator_values {
+  const float *values;
+  int32_t stride;
+  int32_t path_bounces; /* bounces held in the vectors (path_bounces_in_layout when whole) */
+  clr_fetch_values_fn fetch;
+  void *fetch_user;
+} clr_integrator_values;
+
+/* The whole layout's vectors. */
+clr_integrator_values clr_integrator_values_whole(const clr_integrator *it, const float *values);
+
+/* Path only: the requests and values of the layout's prefix holding the camera's values and
+ * those of the first `bounces` bounces (at most path_bounces_in_layout); 0 for the other
+ * integrators. */
+int32_t clr_integrator_path_prefix(const clr_integrator *it, int32_t bounces, int32_t *values);
+
 /* Radiance of `count` camera rays. diffs: their differentials (may be NULL), used at their
- * first hits as pbrt-v3 does; values: count sample vectors of values_per_sample floats; keys:
- * per-sample hash keys for dimensions past the layout; L: 3 floats per sample. */
+ * first hits as pbrt-v3 does; values: their sample vectors; keys: per-sample hash keys for
+ * dimensions past the layout; L: 3 floats per sample. */
 clr_result clr_integrator_li(const clr_integrator *it, const clr_render_scene *scene,
                              clr_integrator_scratch *scratch, const clr_ray *rays,
-                             const clr_ray_differential *diffs, const float *values,
+                             const clr_ray_differential *diffs, const clr_integrator_values *values,
                              const uint64_t *keys, int count, float *L,
                              clr_integrator_counters *counters);
 
