@@ -717,8 +717,14 @@ static int32_t slot_values(const clr_request_slot *sl) {
 static void global_values_at(const clr_sampler_params *p, const clr_request_slot *slots, int32_t r0,
                              const clr_sample_point *points, int32_t n, int32_t first, int32_t end,
                              float *out) {
-  const clr_u16 *perms = clr_halton_permutations(NULL);
-  const clr_halton_prime *primes = clr_halton_primes();
+  const clr_halton_prime *primes = NULL;
+  const clr_u16 *perms = NULL;
+  if (p->type == CLR_SAMPLER_TYPE_HALTON) {
+    const clr_halton_tables *t =
+        clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
+    primes = t->primes;
+    perms = t->permutations;
+  }
   const clr_u64 *vdc = &clr_vdc_sobol_matrices[0][0], *vdc_inv = &clr_vdc_sobol_matrices_inv[0][0];
   clr_u64 index[AT_BLOCK];
   size_t stride = (size_t)(end - first);
