@@ -124,6 +124,10 @@ void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light,
 /* The same sample's wi, li and pdf without its shadow ray. */
 void clr_render_scene_sample_light_li(const clr_render_scene *scene, int32_t light,
                                       const float p[3], const float u[2], clr_light_sample *ls);
+/* The point Sample_Li picks on light `light` for u when it does not depend on the reference
+ * point (triangle, disk, cylinder area lights); 0 for other lights. */
+int clr_render_scene_light_emitter_point(const clr_render_scene *scene, int32_t light,
+                                         const float u[2], clr_emitter_point *e);
 /* Radiance arriving along a ray that escaped the scene (infinite lights), summed. */
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]);
 
