@@ -74,7 +74,7 @@ typedef struct clr_surface {
   int32_t has_material; /* 0 for material "none" (invisible: continue the ray) */
   int32_t area_light;   /* index of the area light (into the light list) or -1 */
   int32_t general;      /* 1: the material is the lobe list `bsdf` (uber, substrate, mix, ...) */
-  float time; /* the hitting ray's motion time, given to the rays spawned here */
+  float time;           /* the hitting ray's motion time, given to the rays spawned here */
   /* Set only at mirror, glass and lobe-BSDF hits of rays with differentials (pbrt-v3
    * SpecularReflect / SpecularTransmit): the hit's screen-space dpdx, dpdy and the change of ns
    * (as oriented here) dndx = dndu dudx + dndv dvdx, dndy. */
