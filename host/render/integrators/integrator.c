@@ -301,31 +301,24 @@ static inline void sincos_quarter(float a, float *sn, float *cs) {
                                          a2 * (1.0f / 40320.0f + a2 * (-1.0f / 3628800.0f)))));
 }
 
-/* a when pick, else b, without a branch (random samples mispredict half of them). */
-static inline float select_f(int pick, float a, float b) {
-  uint32_t ia, ib, m = 0u - (uint32_t)(pick != 0);
-  memcpy(&ia, &a, sizeof ia);
-  memcpy(&ib, &b, sizeof ib);
-  uint32_t r = (ia & m) | (ib & ~m);
-  float f;
-  memcpy(&f, &r, sizeof f);
-  return f;
-}
-
 /* pbrt ConcentricSampleDisk; its angles stay within pi/4 of an axis, so the quarter-range
- * polynomials give cos and sin (pi/2 - a = a swapped). r = ox, a = (pi/4) oy/ox, (x, y) =
- * r (cos a, sin a) when |ox| > |oy|; else r = oy, a = (pi/4) ox/oy, (x, y) = r (sin a, cos a). */
+ * polynomials give cos and sin (pi/2 - a = a swapped). */
 static inline void concentric_disk(const float u[2], float *x, float *y) {
   float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
   if (ox == 0.0f && oy == 0.0f) {
     *x = *y = 0.0f;
     return;
   }
-  int xmajor = fabsf(ox) > fabsf(oy);
-  float r = select_f(xmajor, ox, oy), t = select_f(xmajor, oy, ox), sn, cs;
-  sincos_quarter((RS_PI / 4.0f) * (t / r), &sn, &cs);
-  *x = r * select_f(xmajor, cs, sn);
-  *y = r * select_f(xmajor, sn, cs);
+  float sn, cs;
+  if (fabsf(ox) > fabsf(oy)) {
+    sincos_quarter((RS_PI / 4.0f) * (oy / ox), &sn, &cs);
+    *x = ox * cs;
+    *y = ox * sn;
+  } else {
+    sincos_quarter((RS_PI / 4.0f) * (ox / oy), &sn, &cs);
+    *x = oy * sn;
+    *y = oy * cs;
+  }
 }
 
 static inline void cosine_hemisphere(const float u[2], float w[3]) {
