@@ -1,8 +1,13 @@
 /* pbrt-v3 SpatialLightDistribution (lightdistrib.cpp), re-implemented from its definition; the
  * voxel cdfs are published with an atomic compare-and-swap instead of pbrt-v3's hash table. */
+#define _DEFAULT_SOURCE /* posix_memalign, madvise */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 #include "light_distribution.h"
 
 #define POINTS 128
@@ -59,6 +64,20 @@ static clr_result fix_points(clr_light_distribution *d) {
   return CLR_SUCCESS;
 }
 
+/* The voxel grid (2 MB for a cube): every path vertex reads a random slot, so a big grid goes on
+ * 2 MB-aligned memory that Linux may back with transparent huge pages (one TLB entry). */
+static void *alloc_grid(size_t bytes) {
+  const size_t huge = (size_t)2 << 20;
+  if (bytes < huge / 2) return malloc(bytes);
+  void *p = NULL;
+  size_t rounded = (bytes + huge - 1) / huge * huge;
+  if (posix_memalign(&p, huge, rounded) != 0) return NULL;
+#if defined(MADV_HUGEPAGE)
+  madvise(p, rounded, MADV_HUGEPAGE); /* a hint: no huge pages is fine */
+#endif
+  return p;
+}
+
 static float radical_inverse(int base, unsigned i) {
   double inv = 1.0 / base, f = inv, r = 0.0;
   for (; i; i /= (unsigned)base, f *= inv) r += (double)(i % (unsigned)base) * f;
@@ -84,7 +103,7 @@ clr_result clr_light_distribution_create(const clr_render_scene *scene,
     d->n[i] = v < 1 ? 1 : v;
     count *= (size_t)d->n[i];
   }
-  d->voxels = calloc(count, sizeof *d->voxels);
+  d->voxels = count <= SIZE_MAX / sizeof *d->voxels ? alloc_grid(count * sizeof *d->voxels) : NULL;
   if (!d->voxels) {
     free(d);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light distribution");
