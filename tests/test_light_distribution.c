@@ -203,11 +203,114 @@ static void test_sample_li_matches(void **state) {
   clr_scene_desc_free(desc);
 }
 
+/* A voxel's cdf as the distribution computed it before it kept each area light's emitter
+ * points (one Sample_Li per light and Halton point, in float and double as there). */
+static void per_sample_cdf(const clr_render_scene *scene, size_t index, float *cdf) {
+  int n = clr_render_scene_light_count(scene), res[3], v[3];
+  float lo[3], hi[3], bmax = 0.0f;
+  clr_render_scene_world_bounds(scene, lo, hi);
+  for (int i = 0; i < 3; ++i) bmax = fmaxf(bmax, hi[i] - lo[i]);
+  for (int i = 0; i < 3; ++i) {
+    int r = (int)lroundf((hi[i] - lo[i]) / bmax * 64.0f);
+    res[i] = r < 1 ? 1 : r;
+  }
+  v[0] = (int)(index % (size_t)res[0]);
+  v[1] = (int)(index / (size_t)res[0] % (size_t)res[1]);
+  v[2] = (int)(index / (size_t)res[0] / (size_t)res[1]);
+  float p0[3], p1[3];
+  for (int i = 0; i < 3; ++i) {
+    float t0 = (float)v[i] / (float)res[i], t1 = (float)(v[i] + 1) / (float)res[i];
+    p0[i] = (1.0f - t0) * lo[i] + t0 * hi[i];
+    p1[i] = (1.0f - t1) * lo[i] + t1 * hi[i];
+  }
+  double contrib[16] = {0};
+  assert_true(n <= 16);
+  static const unsigned bases[5] = {2, 3, 5, 7, 11};
+  for (unsigned s = 0; s < 128; ++s) {
+    float h[5];
+    for (int b = 0; b < 5; ++b) h[b] = (float)fmin(radical_inverse(bases[b], s), 0x1.fffffep-1);
+    float po[3], u[2] = {h[3], h[4]};
+    for (int i = 0; i < 3; ++i) po[i] = (1.0f - h[i]) * p0[i] + h[i] * p1[i];
+    for (int j = 0; j < n; ++j) {
+      clr_light_sample ls;
+      clr_render_scene_sample_light_li(scene, j, po, u, &ls);
+      if (ls.pdf > 0.0f)
+        contrib[j] += (0.212671 * ls.li[0] + 0.715160 * ls.li[1] + 0.072169 * ls.li[2]) / ls.pdf;
+    }
+  }
+  double sum = 0.0;
+  for (int j = 0; j < n; ++j) sum += contrib[j];
+  double avg = sum / (128.0 * n), floor_c = avg > 0.0 ? 0.001 * avg : 1.0;
+  sum = 0.0;
+  for (int j = 0; j < n; ++j) {
+    contrib[j] = fmax(contrib[j], floor_c);
+    if (!isfinite(contrib[j])) contrib[j] = floor_c;
+    sum += contrib[j];
+  }
+  double acc = 0.0;
+  cdf[0] = 0.0f;
+  for (int j = 0; j < n; ++j) {
+    acc += contrib[j];
+    cdf[j + 1] = (float)(acc / sum);
+  }
+  cdf[n] = 1.0f;
+}
+
+/* The cdfs from the kept emitter points (triangles one- and two-sided, a disk, a cylinder) are
+ * the bits of one Sample_Li per point (a sphere and a point light sampled as before). */
+static void test_kept_points_exact(void **state) {
+  (void)state;
+  clr_scene_desc *desc = NULL;
+  clr_render_scene *scene = build(
+      "WorldBegin\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 2 3]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [-1 4 -1  1 4 -1  1 4 1]\n"
+      "AttributeEnd\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [2 1 2] \"bool twosided\" true\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [4 1 -1  4 1 1  4 3 0]\n"
+      "AttributeEnd\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [2 2 2] \"bool twosided\" true\n"
+      "Translate 3 2 0\nShape \"sphere\" \"float radius\" [0.5]\nAttributeEnd\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [3 1 1]\nTranslate -3 3 0\n"
+      "Rotate 90 1 0 0\nShape \"disk\" \"float radius\" [0.7]\nAttributeEnd\n"
+      "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 3 1]\nTranslate 0 2 -4\n"
+      "Shape \"cylinder\" \"float radius\" [0.3] \"float zmin\" [-0.5] \"float zmax\" [0.5]\n"
+      "AttributeEnd\n"
+      "LightSource \"point\" \"point from\" [0 5 0] \"rgb I\" [5 5 5]\n"
+      "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] "
+      "\"point P\" [-10 0 -10  10 0 -10  10 0 10  -10 0 10]\n"
+      "WorldEnd\n",
+      &desc);
+  int n = clr_render_scene_light_count(scene);
+  assert_int_equal(n, 6);
+  clr_light_distribution *d = NULL;
+  assert_int_equal(clr_light_distribution_create(scene, &d), CLR_SUCCESS);
+  uint32_t s = 5u;
+  for (int k = 0; k < 300; ++k) {
+    float p[3];
+    for (int i = 0; i < 3; ++i) {
+      s = s * 1664525u + 1013904223u;
+      p[i] = (float)(s >> 8) / 16777216.0f * 24.0f - 12.0f;
+    }
+    size_t voxel = clr_light_distribution_voxel(d, p);
+    const float *cdf = clr_light_distribution_lookup_voxel(d, voxel);
+    float want[7];
+    per_sample_cdf(scene, voxel, want);
+    assert_non_null(cdf);
+    if (memcmp(cdf, want, (size_t)(n + 1) * sizeof *cdf) != 0)
+      fail_msg("voxel %zu: cdf differs from the per-sample one", voxel);
+  }
+  clr_light_distribution_free(d);
+  clr_render_scene_free(scene);
+  clr_scene_desc_free(desc);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_voxel_cdf_values),
       cmocka_unit_test(test_lookup_by_voxel),
       cmocka_unit_test(test_sample_li_matches),
+      cmocka_unit_test(test_kept_points_exact),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,18 +1,82 @@
 /* pbrt-v3 SpatialLightDistribution (lightdistrib.cpp), re-implemented from its definition; the
  * voxel cdfs are published with an atomic compare-and-swap instead of pbrt-v3's hash table. */
+#define _DEFAULT_SOURCE /* posix_memalign, madvise */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 #include "light_distribution.h"
+
+#define POINTS 128
+#define MAX_FIXED_LIGHTS 256
+
+/* A light's 128 emitter points (when they do not depend on the voxel), by coordinate. */
+typedef struct fixed_points {
+  float x[POINTS], y[POINTS], z[POINTS], nx[POINTS], ny[POINTS], nz[POINTS];
+  float pdf;
+  int two_sided;
+  double y_le; /* luminance of what the light sends toward its front */
+} fixed_points;
 
 struct clr_light_distribution {
   const clr_render_scene *scene;
   int nlights;
   int n[3];
   float lo[3], hi[3];
-  float halton[128][5]; /* the 128 Halton points (bases 2, 3, 5, 7, 11) every voxel uses */
+  float halton[POINTS][5]; /* the 128 Halton points (bases 2, 3, 5, 7, 11) every voxel uses */
+  fixed_points **fixed;    /* per light, or NULL (then sampled per voxel) */
   _Atomic(float *) *voxels;
 };
+
+static double luminance(const float c[3]) {
+  return 0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2];
+}
+
+/* The lights' emitter points that every voxel shares (at most MAX_FIXED_LIGHTS lights). */
+static clr_result fix_points(clr_light_distribution *d) {
+  if (d->nlights > MAX_FIXED_LIGHTS) return CLR_SUCCESS;
+  d->fixed = calloc((size_t)d->nlights, sizeof *d->fixed);
+  if (!d->fixed) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light distribution");
+  for (int j = 0; j < d->nlights; ++j) {
+    fixed_points f;
+    for (int s = 0; s < POINTS; ++s) {
+      clr_emitter_point e;
+      float u[2] = {d->halton[s][3], d->halton[s][4]};
+      if (!clr_render_scene_light_emitter_point(d->scene, j, u, &e)) break;
+      f.x[s] = e.p[0];
+      f.y[s] = e.p[1];
+      f.z[s] = e.p[2];
+      f.nx[s] = e.n[0];
+      f.ny[s] = e.n[1];
+      f.nz[s] = e.n[2];
+      f.pdf = e.pdf;
+      f.two_sided = e.two_sided;
+      f.y_le = luminance(e.le);
+      if (s + 1 < POINTS) continue;
+      d->fixed[j] = malloc(sizeof f);
+      if (!d->fixed[j]) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light distribution");
+      *d->fixed[j] = f;
+    }
+  }
+  return CLR_SUCCESS;
+}
+
+/* The voxel grid (2 MB for a cube): every path vertex reads a random slot, so a big grid goes on
+ * 2 MB-aligned memory that Linux may back with transparent huge pages (one TLB entry). */
+static void *alloc_grid(size_t bytes) {
+  const size_t huge = (size_t)2 << 20;
+  if (bytes < huge / 2) return malloc(bytes);
+  void *p = NULL;
+  size_t rounded = (bytes + huge - 1) / huge * huge;
+  if (posix_memalign(&p, huge, rounded) != 0) return NULL;
+#if defined(MADV_HUGEPAGE)
+  madvise(p, rounded, MADV_HUGEPAGE); /* a hint: no huge pages is fine */
+#endif
+  return p;
+}
 
 static float radical_inverse(int base, unsigned i) {
   double inv = 1.0 / base, f = inv, r = 0.0;
@@ -39,15 +103,20 @@ clr_result clr_light_distribution_create(const clr_render_scene *scene,
     d->n[i] = v < 1 ? 1 : v;
     count *= (size_t)d->n[i];
   }
-  d->voxels = calloc(count, sizeof *d->voxels);
+  d->voxels = count <= SIZE_MAX / sizeof *d->voxels ? alloc_grid(count * sizeof *d->voxels) : NULL;
   if (!d->voxels) {
     free(d);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light distribution");
   }
   for (size_t i = 0; i < count; ++i) atomic_init(&d->voxels[i], NULL);
   static const int bases[5] = {2, 3, 5, 7, 11};
-  for (unsigned s = 0; s < 128; ++s)
+  for (unsigned s = 0; s < POINTS; ++s)
     for (int b = 0; b < 5; ++b) d->halton[s][b] = radical_inverse(bases[b], s);
+  clr_result r = fix_points(d);
+  if (r != CLR_SUCCESS) {
+    clr_light_distribution_free(d);
+    return r;
+  }
   *out = d;
   return CLR_SUCCESS;
 }
@@ -56,8 +125,29 @@ void clr_light_distribution_free(clr_light_distribution *d) {
   if (!d) return;
   size_t count = (size_t)d->n[0] * (size_t)d->n[1] * (size_t)d->n[2];
   for (size_t i = 0; i < count; ++i) free(atomic_load(&d->voxels[i]));
+  for (int j = 0; d->fixed && j < d->nlights; ++j) free(d->fixed[j]);
+  free(d->fixed);
   free(d->voxels);
   free(d);
+}
+
+/* Sample_Li's pdf toward each fixed emitter point from the voxel's points po (0 where the sample
+ * is unusable or the light sends nothing that way), as lights.c computes it, in a loop the
+ * compiler can vectorise; then the Li.y / pdf sum in the same order as per-sample calls. */
+static double fixed_contrib(const fixed_points *f, const float po[3][POINTS]) {
+  float pdf[POINTS];
+  for (int s = 0; s < POINTS; ++s) {
+    float dx = f->x[s] - po[0][s], dy = f->y[s] - po[1][s], dz = f->z[s] - po[2][s];
+    float d2 = dx * dx + dy * dy + dz * dz, dist = sqrtf(d2);
+    float cn = f->nx[s] * (dx / dist) + f->ny[s] * (dy / dist) + f->nz[s] * (dz / dist);
+    float c = fabsf(cn), p = f->pdf * d2 / c;
+    int seen = f->two_sided | (cn < 0.0f); /* the light faces the point */
+    pdf[s] = (d2 > 0.0f) & (c > 0.0f) & (p > 0.0f) & (p < INFINITY) & seen ? p : 0.0f;
+  }
+  double contrib = 0.0;
+  for (int s = 0; s < POINTS; ++s)
+    if (pdf[s] > 0.0f) contrib += f->y_le / pdf[s];
+  return contrib;
 }
 
 /* pbrt-v3 SpatialLightDistribution::ComputeDistribution for the voxel at index v. */
@@ -76,20 +166,25 @@ static float *compute(const clr_light_distribution *d, const int v[3]) {
     p0[i] = (1.0f - t0) * d->lo[i] + t0 * d->hi[i];
     p1[i] = (1.0f - t1) * d->lo[i] + t1 * d->hi[i];
   }
-  for (unsigned s = 0; s < 128; ++s) {
+  float pts[3][POINTS];
+  for (int i = 0; i < 3; ++i)
+    for (int s = 0; s < POINTS; ++s)
+      pts[i][s] = (1.0f - d->halton[s][i]) * p0[i] + d->halton[s][i] * p1[i];
+  for (int j = 0; j < n; ++j)
+    if (d->fixed && d->fixed[j]) contrib[j] = fixed_contrib(d->fixed[j], pts);
+  for (unsigned s = 0; s < POINTS; ++s) {
     const float *h = d->halton[s];
-    float po[3], u[2] = {h[3], h[4]};
-    for (int i = 0; i < 3; ++i) po[i] = (1.0f - h[i]) * p0[i] + h[i] * p1[i];
+    float po[3] = {pts[0][s], pts[1][s], pts[2][s]}, u[2] = {h[3], h[4]};
     for (int j = 0; j < n; ++j) {
+      if (d->fixed && d->fixed[j]) continue;
       clr_light_sample ls;
       clr_render_scene_sample_light_li(d->scene, j, po, u, &ls);
-      if (ls.pdf > 0.0f)
-        contrib[j] += (0.212671 * ls.li[0] + 0.715160 * ls.li[1] + 0.072169 * ls.li[2]) / ls.pdf;
+      if (ls.pdf > 0.0f) contrib[j] += luminance(ls.li) / ls.pdf;
     }
   }
   double sum = 0.0;
   for (int j = 0; j < n; ++j) sum += contrib[j];
-  double avg = sum / (128.0 * n), floor_c = avg > 0.0 ? 0.001 * avg : 1.0;
+  double avg = sum / ((double)POINTS * n), floor_c = avg > 0.0 ? 0.001 * avg : 1.0;
   sum = 0.0;
   for (int j = 0; j < n; ++j) {
     contrib[j] = fmax(contrib[j], floor_c);

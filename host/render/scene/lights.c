@@ -537,6 +537,19 @@ void rs_lights_sample_li(const rs_light_set *set, const rs_shape *shapes, int32_
   sample_li(set, shapes, light, p, u, ls, target);
 }
 
+int rs_light_emitter_point(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                           const float u[2], clr_emitter_point *e) {
+  const rs_light *l = &set->items[light];
+  if (l->type != RS_LIGHT_AREA_TRIANGLE && l->type != RS_LIGHT_AREA_DISK &&
+      l->type != RS_LIGHT_AREA_CYLINDER)
+    return 0;
+  int solid;
+  sample_emitter(shapes, l, NULL, u, e->p, e->n, &e->pdf, &solid);
+  e->two_sided = l->two_sided;
+  memcpy(e->le, l->colour, sizeof e->le);
+  return 1;
+}
+
 /* pbrt-v3's lat-long coordinates of a light-space unit direction: (phi / 2 pi, theta / pi). */
 static void envmap_coords(const float w[3], float *s, float *t) {
   float phi = atan2f(w[1], w[0]);

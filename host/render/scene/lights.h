@@ -61,6 +61,16 @@ typedef struct clr_light_sample {
   clr_ray shadow;
 } clr_light_sample;
 
+/* The point Sample_Li picks on a triangle, disk or cylinder area light, which does not depend on
+ * the reference point: its position, oriented normal and area-measure pdf, and what the light
+ * sends toward the side n faces (both sides when two_sided). */
+typedef struct clr_emitter_point {
+  float p[3], n[3];
+  float pdf;
+  int32_t two_sided;
+  float le[3];
+} clr_emitter_point;
+
 /* The LightSource directives (needs set->world_radius). */
 clr_result rs_lights_build(rs_light_set *set, const clr_scene_desc *d, clr_warn_fn warn, void *wu);
 /* Adds the area lights of `shape` (index shape_index, geometry final) and sets its first_light. */
@@ -79,6 +89,10 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
                    const float n_hit[3]);
 /* 0 when ray certainly misses area light `light`'s own shape (pbrt-v3 Light::Pdf_Li is then 0
  * and the scene ray is not traced), else 1. */
+/* The emitter point of light `light` for u; 0 (nothing written) for lights whose points depend on
+ * the reference point or that have none. */
+int rs_light_emitter_point(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                           const float u[2], clr_emitter_point *e);
 int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
                            const clr_ray *ray);
 /* Radiance of an escaped ray from infinite light `light`. */

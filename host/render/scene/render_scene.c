@@ -87,6 +87,11 @@ void clr_render_scene_sample_light_li(const clr_render_scene *scene, int32_t lig
   rs_lights_sample_li(&scene->lights, scene->shapes, light, p, u, ls);
 }
 
+int clr_render_scene_light_emitter_point(const clr_render_scene *scene, int32_t light,
+                                         const float u[2], clr_emitter_point *e) {
+  return rs_light_emitter_point(&scene->lights, scene->shapes, light, u, e);
+}
+
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]) {
   rs_lights_escaped(&scene->lights, ray, le);
 }

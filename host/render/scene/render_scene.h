@@ -74,13 +74,13 @@ typedef struct clr_surface {
   int32_t has_material; /* 0 for material "none" (invisible: continue the ray) */
   int32_t area_light;   /* index of the area light (into the light list) or -1 */
   int32_t general;      /* 1: the material is the lobe list `bsdf` (uber, substrate, mix, ...) */
-  clr_bsdf bsdf;
-  float time; /* the hitting ray's motion time, given to the rays spawned here */
+  float time;           /* the hitting ray's motion time, given to the rays spawned here */
   /* Set only at mirror, glass and lobe-BSDF hits of rays with differentials (pbrt-v3
    * SpecularReflect / SpecularTransmit): the hit's screen-space dpdx, dpdy and the change of ns
    * (as oriented here) dndx = dndu dudx + dndv dvdx, dndy. */
   int32_t has_differentials;
   float dpdx[3], dpdy[3], dndx[3], dndy[3];
+  clr_bsdf bsdf; /* last: the fields every hit reads and writes share fewer cache lines */
 } clr_surface;
 
 /* Non-zero when some surface filters its textures (camera rays then carry differentials). */
@@ -124,6 +124,10 @@ void clr_render_scene_sample_light(const clr_render_scene *scene, int32_t light,
 /* The same sample's wi, li and pdf without its shadow ray. */
 void clr_render_scene_sample_light_li(const clr_render_scene *scene, int32_t light,
                                       const float p[3], const float u[2], clr_light_sample *ls);
+/* The point Sample_Li picks on light `light` for u when it does not depend on the reference
+ * point (triangle, disk, cylinder area lights); 0 for other lights. */
+int clr_render_scene_light_emitter_point(const clr_render_scene *scene, int32_t light,
+                                         const float u[2], clr_emitter_point *e);
 /* Radiance arriving along a ray that escaped the scene (infinite lights), summed. */
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]);
 
