@@ -8,8 +8,8 @@
 # Renders each bundled comparison scene (bench/scenes/: the Cornell box, a sphere under a point
 # light, a star of thin triangles) with each integrator (ambientocclusion with 1 and 64
 # directions, directlighting, path) and sampler at 256x256, 16 spp, box filter, 2 threads, with
-# clrender and pbrt-v3 interleaved (the order alternates per repetition), and prints one JSON line
-# per case: both medians of the wall time, the ratio pbrt / clrender (> 1: clrender faster), rays
+# clrender and pbrt-v3 (both --quiet) interleaved (the order alternates per repetition), and
+# prints one JSON line per case: both medians of the wall time, the ratio pbrt / clrender (> 1: clrender faster), rays
 # traced, CPU seconds (user + system) and their ratio, peak RSS; then a summary table with the
 # geometric means. The machine may be shared: only ratios measured in the same run mean anything,
 # the medians tame the noise, and on a loaded machine the CPU ratio is the steadier figure.
@@ -101,11 +101,13 @@ results = []
 for scene, integ, sampler in cases:
     path = scene_file(scene, integ, sampler)
     cl_cmd = [clrender, "render", path, "--nthreads", str(threads), "--quiet", "--stats"]
-    pb_cmd = [pbrt, "--nthreads", str(threads), path]
+    # Both quiet: pbrt-v3's progress thread sleeps in 250 ms steps and is joined at the end, which
+    # would add up to 0.25 s to its wall time; its statistics (the ray count) need a loud run.
+    pb_cmd = [pbrt, "--nthreads", str(threads), "--quiet", path]
+    rays = {"pbrt": pbrt_rays(run([pbrt, "--nthreads", str(threads), path])[3])}
     t = {"clrender": [], "pbrt": []}
     cpu = {"clrender": [], "pbrt": []}
     rss = {"clrender": [], "pbrt": []}
-    rays = {}
     for rep in range(reps):
         order = [("clrender", cl_cmd), ("pbrt", pb_cmd)]
         if rep % 2:
@@ -115,7 +117,8 @@ for scene, integ, sampler in cases:
             t[who].append(wall)
             cpu[who].append(cpu_s)
             rss[who].append(peak)
-            rays[who] = clrender_rays(out) if who == "clrender" else pbrt_rays(out)
+            if who == "clrender":
+                rays[who] = clrender_rays(out)
     line = {"scene": scene, "integrator": integ, "sampler": sampler, "res": res, "spp": spp,
             "threads": threads, "reps": reps,
             "clrender_s": round(statistics.median(t["clrender"]), 4),

@@ -88,8 +88,8 @@ clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *con
   memset(&tables, 0, sizeof tables);
   job.work = work;
   job.user = user;
-  /* Halton's tables take a fifth of the setup's time (profile 2026-11-30); a host-only sampler
-   * builds them beside it (the host reference of any global sampler would build them). */
+  /* A host-only sampler builds Halton's smallest table set beside the setup (larger layouts build
+   * a larger set on first use; halton_tables.c). */
   tables.tables_of = sampler_desc;
   if (sampler_desc->type == CLR_SAMPLER_HALTON && !clr_device_is_host(context_desc->device))
     tables.started = pthread_create(&tables.thread, NULL, helper_main, &tables) == 0;
