@@ -15,6 +15,7 @@
 #include "quadrics.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 
 #define PI_D 3.14159265358979323846
 
@@ -200,16 +201,8 @@ static void test_cylinder_render(void **state) {
       "Material \"matte\" \"rgb Kd\" [1 1 1]\nAttributeBegin\nRotate -90 1 0 0\n"
       "Shape \"cylinder\" \"float radius\" [0.6] \"float zmin\" [-0.5] \"float zmax\" [0.8]\n"
       "AttributeEnd\nWorldEnd\n";
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "quadrics.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+  int w = 0, h = 0;
+  float *rgb = stu_render(text, "quadrics.pbrt", &w, &h);
   int inside = 0;
   for (int py = 0; py < 40; ++py)
     for (int px = 0; px < 40; ++px) {
@@ -217,13 +210,12 @@ static void test_cylinder_render(void **state) {
       int in = fabs(wx) < 0.6 && wy >= -0.5 && wy <= 0.8;
       double expect = in ? sqrt(1 - (wx / 0.6) * (wx / 0.6)) : 0.0;
       inside += in;
-      if (fabs(im.rgb[3 * (py * 40 + px)] - expect) >= 1e-4)
-        fprintf(stderr, "px %d %d: %g vs %g\n", px, py, im.rgb[3 * (py * 40 + px)], expect);
-      assert_true(fabs(im.rgb[3 * (py * 40 + px)] - expect) < 1e-4);
+      if (fabs(rgb[3 * (py * w + px)] - expect) >= 1e-4)
+        fprintf(stderr, "px %d %d: %g vs %g\n", px, py, rgb[3 * (py * w + px)], expect);
+      assert_true(fabs(rgb[3 * (py * w + px)] - expect) < 1e-4);
     }
-  assert_true(inside > 200);
-  free(im.rgb);
-  clr_scene_desc_free(desc);
+  assert_true(inside > 200 && w == 40 && h == 40);
+  free(rgb);
 }
 
 /* Renders `text` (parsed as quadrics.pbrt); returns the result, the image in *im. */
@@ -260,40 +252,31 @@ static void test_cone_silhouette_render(void **state) {
       "Material \"matte\" \"rgb Kd\" [1 1 1]\nAttributeBegin\nTranslate 0 -0.75 0\n"
       "Rotate -90 1 0 0\nShape \"cone\" \"float radius\" [0.6] \"float height\" [1.5]\n"
       "AttributeEnd\nWorldEnd\n";
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "quadrics.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-  const double r = 0.6, h = 1.5, l[3] = {1 / sqrt(6.0), 2 / sqrt(6.0), 1 / sqrt(6.0)};
+  int w = 0, h = 0;
+  float *rgb = stu_render(text, "quadrics.pbrt", &w, &h);
+  const double r = 0.6, height = 1.5, l[3] = {1 / sqrt(6.0), 2 / sqrt(6.0), 1 / sqrt(6.0)};
   int lit_edge = 0, inside = 0, bad = 0;
   for (int py = 0; py < 160; ++py)
     for (int px = 0; px < 160; ++px) {
       double wx = 1.0 - 2.0 * (px + 0.5) / 160.0, wy = 1.0 - 2.0 * (py + 0.5) / 160.0; /* x: left */
-      double yc = wy + 0.75, rho = r * (1.0 - yc / h), expect = 0.0;
-      if (yc > 0.0 && yc < h && fabs(fabs(wx) - rho) < 1e-6) continue; /* on the outline */
-      if (yc > 0.0 && yc < h && fabs(wx) < rho) {
-        double z = sqrt(rho * rho - wx * wx), n[3] = {wx / rho, r / h, z / rho};
+      double yc = wy + 0.75, rho = r * (1.0 - yc / height), expect = 0.0;
+      if (yc > 0.0 && yc < height && fabs(fabs(wx) - rho) < 1e-6) continue; /* on the outline */
+      if (yc > 0.0 && yc < height && fabs(wx) < rho) {
+        double z = sqrt(rho * rho - wx * wx), n[3] = {wx / rho, r / height, z / rho};
         double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         expect = fmax(0.0, (n[0] * l[0] + n[1] * l[1] + n[2] * l[2]) / ln);
         inside++;
         lit_edge += rho - fabs(wx) < 0.01 * rho && expect > 0.1;
       }
-      float got = im.rgb[3 * (py * 160 + px)];
+      float got = rgb[3 * (py * w + px)];
       if (fabs(got - expect) >= 1e-4) fprintf(stderr, "px %d %d: %g vs %g\n", px, py, got, expect);
       bad += fabs(got - expect) >= 1e-4;
     }
   fprintf(stderr, "cone: %d pixels, %d lit within 1 %% of the radius from the silhouette\n", inside,
           lit_edge);
   assert_int_equal(bad, 0);
-  assert_true(inside > 5000 && lit_edge > 10);
-  free(im.rgb);
-  clr_scene_desc_free(desc);
+  assert_true(inside > 5000 && lit_edge > 10 && w == 160 && h == 160);
+  free(rgb);
 }
 
 /* A matte patch (Kd 0.5) on the axis of a cylinder light (radius 1, L = 2, z in [0.5, 2]),
