@@ -308,12 +308,39 @@ static void test_lazy_render_identical(void **state) {
     }
 }
 
+/* A lazy_samples value outside auto/off/always is refused, naming it; nothing is rendered. */
+static void test_lazy_option_refused(void **state) {
+  (void)state;
+  char text[4096];
+  snprintf(text, sizeof text, box_scene, "halton");
+  clr_scene_desc *desc = NULL;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  assert_int_equal(clr_scene_parse_string(text, "box.pbrt", &po, &desc), CLR_SUCCESS);
+  const int32_t bad[] = {-1, 3, 1000};
+  for (int i = 0; i < 3; ++i) {
+    clr_render_options o;
+    clr_render_options_init(&o);
+    o.quiet = 1;
+    o.lazy_samples = bad[i];
+    clr_render_image im;
+    memset(&im, 0, sizeof im);
+    assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_ERROR_INVALID_ARGUMENT);
+    assert_null(im.rgb);
+    char want[64];
+    snprintf(want, sizeof want, "lazy_samples %d", (int)bad[i]);
+    assert_non_null(strstr(clr_last_error_message(), want));
+  }
+  clr_scene_desc_free(desc);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_generate_at_equals_whole_layout),
       cmocka_unit_test(test_prefix_layout_same_values),
       cmocka_unit_test(test_generate_at_bad_arguments),
       cmocka_unit_test(test_lazy_render_identical),
+      cmocka_unit_test(test_lazy_option_refused),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -1102,6 +1102,10 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
                               "clr_render_options.struct_size %zu, expected %zu", o->struct_size,
                               sizeof *o);
+  if (o->lazy_samples < CLR_LAZY_SAMPLES_AUTO || o->lazy_samples > CLR_LAZY_SAMPLES_ALWAYS)
+    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                              "clr_render_options.lazy_samples %d (auto 0, off 1, always 2)",
+                              (int)o->lazy_samples);
   clr_render_stats local;
   clr_render_stats_init(&local);
   clr_render_stats *st = &local;
