@@ -37,9 +37,33 @@ CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
-/* clr_reverse_bits32 in every lane, nibble by nibble (no shift-and-mask idiom that compilers
- * turn into llvm.bitreverse, which Oclgrind cannot run). */
+#if defined(__AVX2__)
+typedef char clr_bytes32 __attribute__((vector_size(32)));
+
+/* Byte lookup in every 128-bit half: byte k of the result is byte (index byte k) & 15 of the
+ * same half of table (vpshufb; index bytes below 128). */
+CLR_SIMD_INLINE uint8 clr_shuffle_bytes8(uint8 table, uint8 index) {
+  return __builtin_astype(__builtin_ia32_pshufb256(__builtin_astype(table, clr_bytes32),
+                                                   __builtin_astype(index, clr_bytes32)),
+                          uint8);
+}
+#endif
+
+/* clr_reverse_bits32 in every lane. On AVX2: the bytes of each lane reversed, then each byte's
+ * two nibbles reversed and swapped, by byte lookups; else nibble by nibble (no shift-and-mask
+ * idiom that compilers turn into llvm.bitreverse, which Oclgrind cannot run). */
 static inline uint8 clr_reverse_bits32x8(uint8 n) {
+#if defined(__AVX2__)
+  const uint8 byte_swap = (uint8)(0x00010203u, 0x04050607u, 0x08090A0Bu, 0x0C0D0E0Fu, 0x00010203u,
+                                  0x04050607u, 0x08090A0Bu, 0x0C0D0E0Fu);
+  const uint8 low_up = (uint8)(0xC0408000u, 0xE060A020u, 0xD0509010u, 0xF070B030u, 0xC0408000u,
+                               0xE060A020u, 0xD0509010u, 0xF070B030u); /* rev4(i) << 4 */
+  const uint8 high_down = (uint8)(0x0C040800u, 0x0E060A02u, 0x0D050901u, 0x0F070B03u, 0x0C040800u,
+                                  0x0E060A02u, 0x0D050901u, 0x0F070B03u); /* rev4(i) */
+  uint8 b = clr_shuffle_bytes8(n, byte_swap);
+  return clr_shuffle_bytes8(low_up, b & 0x0F0F0F0Fu) |
+         clr_shuffle_bytes8(high_down, (b >> 4u) & 0x0F0F0F0Fu);
+#else
   uint8 r = (uint8)0u;
   CLR_UNROLL
   for (uint i = 0u; i < 8u; ++i) {
@@ -48,6 +72,7 @@ static inline uint8 clr_reverse_bits32x8(uint8 n) {
     r |= rev << (28u - 4u * i);
   }
   return r;
+#endif
 }
 
 /* The batch items of this work-item (8 consecutive ones; past the end the last one repeats, so
@@ -69,6 +94,18 @@ static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p,
   it.px = p->batch_x0 + as_int8(pixel - row * (uint)p->batch_width);
   it.py = p->batch_y0 + as_int8(row);
   return it;
+}
+
+/* Writes lane j's value to out[j * stride]. */
+CLR_SIMD_INLINE void clr_store_rows8(__global float *out, size_t stride, float8 v) {
+  out[0] = v.s0;
+  out[stride] = v.s1;
+  out[2 * stride] = v.s2;
+  out[3 * stride] = v.s3;
+  out[4 * stride] = v.s4;
+  out[5 * stride] = v.s5;
+  out[6 * stride] = v.s6;
+  out[7 * stride] = v.s7;
 }
 
 /* Writes lane j's value to values[item_j * values_per_sample + value]. */
@@ -248,13 +285,19 @@ CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_
  * gives the same float); their count is at most 14, so invBaseN comes from two register tables.
  * Same integers, same float operations. */
 CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
-                                        __global const ushort *pt, uint8 a) {
+                                        __global const ushort *pt, uint8 a, int stepped) {
   uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];
+  uint rows = (uint)pt[6] | (uint)pt[7] << 16;
   uint8 hi = clr_mul_shift8(a, magic, pt[3]);
-  uint8 lo = a - hi * chunk;
-  uint8 low_table =
-      select((uint8)CLR_HALTON_PAIR_HEADER, (uint8)(CLR_HALTON_PAIR_HEADER + chunk), hi == 0u);
-  uint8 low = clr_gather_u16(pt, low_table + lo);
+  uint8 low;
+  if (stepped && rows != 0u && hi.s0 != 0u) { /* a_j = a_0 + j * step, every hi nonzero */
+    low = convert_uint8(vload8(0, pt + rows + (a.s0 - hi.s0 * chunk) * CLR_HALTON_PAIR_ROW));
+  } else {
+    uint8 lo = a - hi * chunk;
+    uint8 low_table =
+        select((uint8)CLR_HALTON_PAIR_HEADER, (uint8)(CLR_HALTON_PAIR_HEADER + chunk), hi == 0u);
+    low = clr_gather_u16(pt, low_table + lo);
+  }
   uint8 high = clr_gather_u16(pt + CLR_HALTON_PAIR_HEADER + chunk, hi);
   uint value_mask = (1u << count_shift) - 1u;
   uint8 count = high >> count_shift;
@@ -267,10 +310,37 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
   return clr_below_one8(inv_base_n * (convert_float8(as_int8(reversed)) + pr->scramble_tail));
 }
 
-/* clr_halton_sampler_index for indices below 2^32. */
-static inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number) {
-  if (all(px == px.s0) && all(py == py.s0)) /* one pixel (spp a multiple of 8): its offset once */
-    return (uint)clr_halton_sampler_index(p, px.s0, py.s0, 0) + number * (uint)p->halton_stride;
+/* clr_halton_sampler_index(p, px, py, 0), scalar, in fewer steps: the e0 <= 7 low bits of mx
+ * reversed from two nibble reversals, y1 / 3^e1 as y1 / scale1 (the same quotient). */
+CLR_SIMD_INLINE uint clr_halton_pixel_offset(const clr_sampler_params *p, int px, int py) {
+  uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
+  uint mx = (uint)px & (CLR_HALTON_MAX_RESOLUTION - 1u);
+  uint my = (uint)py & (CLR_HALTON_MAX_RESOLUTION - 1u);
+  uint reversed8 = clr_reverse_nibble(mx & 15u) << 4u | clr_reverse_nibble(mx >> 4u);
+  uint d0 = reversed8 >> (8u - (uint)p->halton_exponent[0]);
+  uint d1 = 0u;
+  CLR_UNROLL
+  for (int i = 0; i < 5; ++i) {
+    uint next = my / 3u;
+    d1 = i < p->halton_exponent[1] ? d1 * 3u + (my - next * 3u) : d1;
+    my = next;
+  }
+  uint x0 = (d0 * p->halton_mult_inverse[0]) & (scale0 - 1u);
+  uint y1 = d1 * p->halton_mult_inverse[1];
+  uint offset = x0 * scale1 + (y1 - y1 / scale1 * scale1) * scale0;
+  return offset >= (uint)p->halton_stride ? offset - (uint)p->halton_stride : offset;
+}
+
+/* clr_halton_sampler_index for indices below 2^32, and in *base3 the argument of dimension 1,
+ * index / scale1 (clr_halton_drop_base3_digits): with the lanes in one pixel, offset / scale1 +
+ * number * scale0 (stride = scale0 * scale1). */
+CLR_SIMD_INLINE uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number,
+                                        uint8 *base3) {
+  if (all(px == px.s0) && all(py == py.s0)) { /* one pixel (spp a multiple of 8): its offset once */
+    uint offset = clr_halton_pixel_offset(p, px.s0, py.s0);
+    *base3 = offset / (uint)p->halton_scale[1] + number * (uint)p->halton_scale[0];
+    return offset + number * (uint)p->halton_stride;
+  }
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
   uint stride = (uint)p->halton_stride;
   int exponent1 = p->halton_exponent[1];
@@ -289,22 +359,27 @@ static inline uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8
   uint8 x1 = y1 - clr_halton_div_pow3x8(y1, exponent1) * scale1;
   uint8 offset = x0 * scale1 + x1 * scale0;
   offset = select(offset, offset - stride, offset >= stride);
-  return offset + number * stride;
+  uint8 index = offset + number * stride;
+  *base3 = clr_halton_div_pow3x8(index, exponent1);
+  return index;
 }
 
-/* clr_halton_sampler_value for indices below 2^32; pair: the dimension's pair table, or NULL. */
+/* clr_halton_sampler_value for indices below 2^32; pair: the dimension's pair table, or NULL;
+ * stepped: the lanes are consecutive samples of one pixel and index is slot 0's (index_j = index_0
+ * + j * stride, base3_j = base3_0 + j * scale[0]: the pair tables' lane rows apply). */
 static inline float8 clr_halton_value8(const clr_sampler_params *p,
                                        __global const clr_halton_prime *primes,
                                        __global const ushort *perms, __global const ushort *pair,
-                                       uint8 index, int dim, int chunks, int reversed32) {
+                                       uint8 index, uint8 base3, int stepped, int dim, int chunks,
+                                       int reversed32) {
   uint udim = (uint)dim;
   if (udim <= 1u && p->sample_pixel_center) return (float8)0.5f;
   if (udim == 0u)
     return convert_float8(clr_reverse_bits32x8(index >> (uint)p->halton_exponent[0])) * 0x1p-32f;
   if (udim < CLR_HALTON_PRIMES) {
     __global const clr_halton_prime *pr = primes + (udim == 1u ? CLR_HALTON_BASE3_RECORD : udim);
-    uint8 a = udim == 1u ? clr_halton_div_pow3x8(index, p->halton_exponent[1]) : index;
-    if (pair) return clr_halton_pair8(pr, pair, a);
+    uint8 a = udim == 1u ? base3 : index;
+    if (pair) return clr_halton_pair8(pr, pair, a, stepped);
     return clr_scrambled_radical_inverse8(pr, perms, a, chunks, reversed32);
   }
   uint lanes[CLR_LANES];

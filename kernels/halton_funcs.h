@@ -27,17 +27,22 @@
 #define CLR_HALTON_MAX_DIGITS32 32
 /* Halton pair table, for a launch whose arguments are a < limit <= 2^28: a = hi * B + lo
  * (B = base^m <= 16384) takes two lookups. u16 layout: B, the magic (low, high half) and shift
- * of hi = (a * magic) >> shift, m, the count shift c, two zeros, base^0..base^7 (0 past the top
- * entries' most digits), then B entries for lo below a nonzero hi (its m digits permuted,
- * reversed, | m << c), then max(ceil(limit / B), B) top entries (the significant digits of the
- * entry's number permuted, reversed, | their count << c; lo's when hi is 0). The host picks m
- * for the fewest entries such that entries fit 16 bits, counts add up to at most 14 and the
- * reversed digits stay below 2^31 (host/lib/sampling/halton_tables.c). */
+ * of hi = (a * magic) >> shift, m, the count shift c, the offset of the lane rows (low, high half;
+ * 0: none), base^0..base^7 (0 past the top entries' most digits), then B entries for lo below a
+ * nonzero hi (its m digits permuted, reversed, | m << c), then max(ceil(limit / B), B) top entries
+ * (the significant digits of the entry's number permuted, reversed, | their count << c; lo's when
+ * hi is 0), then, for B <= CLR_HALTON_PAIR_MOST_ROW_CHUNK, B lane rows of 8 entries: row r holds
+ * the lo entries of (r + j * step) mod B, j = 0..7, for 8 lanes whose arguments step by `step`
+ * (the launch's index stride; for dimension 1 scale[0]). The host picks m for the fewest entries
+ * such that entries fit 16 bits, counts add up to at most 14 and the reversed digits stay below
+ * 2^31 (host/lib/sampling/halton_tables.c). */
 #define CLR_HALTON_PAIR_HEADER 16
 #define CLR_HALTON_PAIR_MOST_ENTRIES 16384u
 #define CLR_HALTON_PAIR_MOST_TOPS 65536u
 #define CLR_HALTON_PAIR_ARGUMENT_BITS 28u
 #define CLR_HALTON_PAIR_MAX_DIGITS 7
+#define CLR_HALTON_PAIR_ROW 8
+#define CLR_HALTON_PAIR_MOST_ROW_CHUNK 4096u
 
 /* One radical-inverse base, filled on the host by clr_halton_primes(). All offsets index the
  * single u16 table of clr_halton_permutations(). 32-bit scalars only. */

@@ -95,10 +95,10 @@ typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and i
 typedef __global const clr_halton_prime *clr_table0_t; /* one record per prime */
 typedef __global const ushort *clr_table1_t;           /* permutations and chunk tables */
 typedef __global const ushort *clr_table2_t;           /* pair tables (or NULL) */
-#define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number)
+#define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number, &base3)
 #define clr_value8(index, e)                                                             \
-  clr_halton_value8(&p, t0, t1, e.pair_table >= 0 ? t2 + e.pair_table : 0, index, e.dim, \
-                    e.shape & 0xff, e.shape >> 8)
+  clr_halton_value8(&p, t0, t1, e.pair_table >= 0 ? t2 + e.pair_table : 0, index, base3, \
+                    stepped && e.index_slot == 0, e.dim, e.shape & 0xff, e.shape >> 8)
 #define clr_index1(j, number) clr_halton_sampler_index(&p, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_halton_sampler_value(&p, t0, t1, index, dim)
 #endif
@@ -119,6 +119,8 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
   (void)rel_y;
   (void)t2;
 #ifdef CLR_INDEX32
+  uint8 base3 = (uint8)0u; /* halton: dimension 1's argument of the current index */
+  (void)base3;
   uint8 index = clr_index8(clr_sample_numbers8(it.sample, slots[0]));
   if (write_indices) {
     uint lanes[CLR_LANES], items[CLR_LANES];
@@ -127,13 +129,24 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
     for (int j = 0; j < CLR_LANES; ++j) indices_out[items[j]] = lanes[j];
   }
   int current = 0;
+  /* Consecutive items (no repeated padding lane): lane j's value is j rows after lane 0's. */
+  int consecutive = it.item.s7 == it.item.s0 + 7u;
+  /* halton: consecutive samples of one pixel (the pair tables' lane rows apply to slot 0) */
+  int stepped = consecutive && all(it.px == it.px.s0) && all(it.py == it.py.s0);
+  (void)stepped;
+  size_t stride = (size_t)p.values_per_sample;
+  __global float *rows = values + (size_t)it.item.s0 * stride;
   for (int k = 0; k < p.values_per_sample; ++k) {
     clr_value_plan e = plan[k];
     if (e.index_slot != current) {
       current = e.index_slot;
       index = clr_index8(clr_sample_numbers8(it.sample, slots[current]));
     }
-    clr_store8(values, it.item, p.values_per_sample, e.value, clr_value8(index, e));
+    float8 v = clr_value8(index, e);
+    if (consecutive)
+      clr_store_rows8(rows + e.value, stride, v);
+    else
+      clr_store8(values, it.item, p.values_per_sample, e.value, v);
   }
 #else
   uint items[CLR_LANES], samples[CLR_LANES];

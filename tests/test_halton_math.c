@@ -342,6 +342,50 @@ static void test_chunked_path(void **state) {
   }
 }
 
+/* A pair table's lane rows (kernels/halton_funcs.h): row r holds the lo entries of
+ * (r + j * step) mod B, so lane j of arguments a_0 + j * step, a_0 = hi * B + r with hi > 0,
+ * finds its lo entry at row r, column j; the header gives the rows' offset. Index strides of a
+ * 512^2 film (31104) and a 7x5 one (8 * 9), dimension 1's step scale[0]; arguments below
+ * 31104 * 16 (base 7919 has no pair table for them). Tables with B above
+ * CLR_HALTON_PAIR_MOST_ROW_CHUNK have none. */
+static void test_pair_lane_rows(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  const int records[] = {2, 3, 7, 40, 500, CLR_HALTON_PRIMES - 1, CLR_HALTON_BASE3_RECORD};
+  const clr_u32 steps[] = {31104, 72, 128, 8};
+  int tested = 0;
+  for (size_t i = 0; i < sizeof records / sizeof records[0]; ++i)
+    for (size_t k = 0; k < sizeof steps / sizeof steps[0]; ++k) {
+      const clr_halton_prime *p = &pr[records[i]];
+      clr_halton_pair_shape shape = clr_halton_pair_shape_for(p, 31104u * 16u);
+      if (shape.digits == 0) continue;
+      size_t entries = clr_halton_pair_entries(p, shape);
+      size_t rows = clr_halton_pair_row_entries(p, shape);
+      clr_u32 chunk = 1;
+      for (clr_u32 m = 0; m < shape.digits; ++m) chunk *= p->base;
+      assert_int_equal(rows, chunk <= CLR_HALTON_PAIR_MOST_ROW_CHUNK ? 8u * chunk : 0u);
+      clr_u16 *t = calloc(entries + rows, sizeof *t);
+      assert_non_null(t);
+      clr_halton_pair_table(p, perms, shape, t);
+      assert_int_equal(t[6] | t[7] << 16, 0);
+      if (rows) {
+        clr_halton_pair_rows(p, shape, steps[k], t);
+        ++tested;
+        assert_int_equal((size_t)(t[6] | (clr_u32)t[7] << 16), entries);
+        for (clr_u32 a0 = chunk; a0 < 31104u * 8u; a0 += 997u) {
+          clr_u32 r = a0 % chunk;
+          for (clr_u32 j = 0; j < 8; ++j) {
+            clr_u32 lo = (a0 + j * steps[k]) % chunk;
+            assert_int_equal(t[entries + 8u * r + j], t[CLR_HALTON_PAIR_HEADER + lo]);
+          }
+        }
+      }
+      free(t);
+    }
+  assert_true(tested >= 20);
+}
+
 static void test_inverse_radical_inverse(void **state) {
   (void)state;
   assert_int_equal(clr_inverse_radical_inverse(2, 1, 3), 4);  /* 001 -> 100 */
@@ -686,6 +730,7 @@ int main(void) {
       cmocka_unit_test(test_radical_inverse_values),
       cmocka_unit_test(test_scrambled_values),
       cmocka_unit_test(test_chunked_path),
+      cmocka_unit_test(test_pair_lane_rows),
       cmocka_unit_test(test_inverse_radical_inverse),
       cmocka_unit_test(test_index_matches_pbrt_form),
       cmocka_unit_test(test_setup),

@@ -254,7 +254,9 @@ static void test_large_indices_match_reference(void **state) {
  * fits the table limits): 512^2 film, so indices below 31104 * spp; tables of one to four digits
  * per part, with 64 spp larger ones, with 500 values past the tables' budget (the rest keep the
  * chunk loop, as do the bases of test_large_indices_match_reference). Pixel (0, 0) has arguments
- * below B (a zero top part). Device == reference bit for bit. */
+ * below B (a zero top part). Work-items whose 8 lanes are consecutive samples of one pixel read
+ * lo from the lane rows (whole pixels, and samples 8-23 of 24); samples 3-15 put other
+ * work-items across two pixels (lane by lane). Device == reference bit for bit. */
 static void test_halton_pair_tables_match_reference(void **state) {
   (void)state;
   static clr_sample_request req[250];
@@ -262,10 +264,10 @@ static void test_halton_pair_tables_match_reference(void **state) {
   struct {
     int spp, nreq;
     clr_bounds2i px;
-  } cases[] = {{16, 30, {0, 0, 64, 2}},
-               {16, 30, {448, 509, 512, 512}},
-               {64, 30, {100, 7, 132, 8}},
-               {16, 250, {5, 5, 7, 6}}};
+    int first, count;
+  } cases[] = {{16, 30, {0, 0, 64, 2}, 0, 0},       {16, 30, {448, 509, 512, 512}, 0, 0},
+               {64, 30, {100, 7, 132, 8}, 0, 0},    {16, 250, {5, 5, 7, 6}, 0, 0},
+               {24, 30, {200, 60, 203, 62}, 8, 16}, {16, 30, {0, 0, 9, 2}, 3, 13}};
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     clr_sampler_desc d;
     clr_sampler_desc_init(&d, CLR_SAMPLER_HALTON);
@@ -273,8 +275,8 @@ static void test_halton_pair_tables_match_reference(void **state) {
     d.film.x_resolution = d.film.y_resolution = 512;
     clr_sampler s = NULL;
     assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
-    generated dev = generate(s, cases[c].px, 0, 0, req, cases[c].nreq, 1);
-    generated ref = generate(s, cases[c].px, 0, 0, req, cases[c].nreq, 0);
+    generated dev = generate(s, cases[c].px, cases[c].first, cases[c].count, req, cases[c].nreq, 1);
+    generated ref = generate(s, cases[c].px, cases[c].first, cases[c].count, req, cases[c].nreq, 0);
     assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
     assert_memory_equal(dev.indices, ref.indices, dev.items * sizeof(uint64_t));
     free_generated(&dev);

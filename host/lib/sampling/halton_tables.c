@@ -253,6 +253,23 @@ void clr_halton_pair_table(const clr_halton_prime *pr, const clr_u16 *permutatio
   }
 }
 
+size_t clr_halton_pair_row_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape) {
+  clr_u32 chunk = power_of(pr->base, shape.digits);
+  return chunk <= CLR_HALTON_PAIR_MOST_ROW_CHUNK ? (size_t)CLR_HALTON_PAIR_ROW * chunk : 0;
+}
+
+void clr_halton_pair_rows(const clr_halton_prime *pr, clr_halton_pair_shape shape, clr_u32 step,
+                          clr_u16 *table) {
+  size_t at = clr_halton_pair_entries(pr, shape);
+  clr_u32 chunk = power_of(pr->base, shape.digits);
+  const clr_u16 *low = table + CLR_HALTON_PAIR_HEADER;
+  clr_u16 *row = table + at;
+  for (clr_u32 r = 0; r < chunk; ++r, row += CLR_HALTON_PAIR_ROW)
+    for (clr_u32 j = 0; j < CLR_HALTON_PAIR_ROW; ++j) row[j] = low[(r + (clr_u64)j * step) % chunk];
+  table[6] = (clr_u16)at;
+  table[7] = (clr_u16)(at >> 16);
+}
+
 /* x with a * x = 1 (mod n), in [0, n) (0 when n == 1); a and n coprime. Extended Euclid. */
 static clr_i64 multiplicative_inverse(clr_i64 a, clr_i64 n) {
   clr_i64 r0 = a, r1 = n, x0 = 1, x1 = 0;

@@ -57,6 +57,13 @@ size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_halton_pair_shape
  * clr_halton_tables set. */
 void clr_halton_pair_table(const clr_halton_prime *pr, const clr_u16 *permutations,
                            clr_halton_pair_shape shape, clr_u16 *out);
+/* u16 entries of the table's lane rows (0, none: B above CLR_HALTON_PAIR_MOST_ROW_CHUNK). */
+size_t clr_halton_pair_row_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape);
+/* Writes the lane rows of `table` (written by clr_halton_pair_table, with its entries) right after
+ * it and their offset into its header (layout: CLR_HALTON_PAIR_HEADER), for the 8 lanes of a
+ * work-item whose arguments are a_0 + j * step with a nonzero top part. */
+void clr_halton_pair_rows(const clr_halton_prime *pr, clr_halton_pair_shape shape, clr_u32 step,
+                          clr_u16 *table);
 
 /* Fills halton_scale, halton_exponent, halton_mult_inverse and halton_stride from the sample
  * bounds p->sample_x0..sample_y1 as pbrt-v3's HaltonSampler constructor (kMaxResolution 128). */

@@ -53,6 +53,7 @@ struct clr_sampler_device {
   /* Halton pair tables of the last launch: their (record, shape) keys, host copy. */
   int pair_count; /* -1: the device buffer holds nothing valid */
   int pair_records[CLR_HALTON_PRIME_RECORDS];
+  clr_u32 pair_steps[2]; /* the lane rows' steps: index stride, scale[0] (dimension 1) */
   clr_halton_pair_shape pair_shapes[CLR_HALTON_PRIME_RECORDS];
   clr_u16 *pair_host;
   size_t pair_capacity;
@@ -255,7 +256,18 @@ static void halton_value_shapes(clr_sampler_device *d, int value_count, uint64_t
  * keep the chunk loop. */
 #define PAIR_BUDGET ((size_t)1 << 20)
 
-/* Builds the launch's pair tables into d->pair_host (count tables, `size` entries). */
+/* The lane step of record's arguments: the index stride, for dimension 1 scale[0]. */
+static clr_u32 lane_step(const clr_u32 *steps, int record) {
+  return steps[record == CLR_HALTON_BASE3_RECORD];
+}
+
+/* u16 entries of a pair table with its lane rows. */
+static size_t pair_table_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape) {
+  return clr_halton_pair_entries(pr, shape) + clr_halton_pair_row_entries(pr, shape);
+}
+
+/* Builds the launch's pair tables into d->pair_host (count tables, `size` entries), with lane
+ * rows for work-items whose 8 lanes are consecutive samples of one pixel. */
 static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tables *t, int count,
                                     size_t size) {
   if (size > d->pair_capacity) {
@@ -267,8 +279,11 @@ static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tabl
   size_t at = 0;
   for (int j = 0; j < count; ++j) {
     const clr_halton_prime *pr = &t->primes[d->pair_records[j]];
+    clr_u32 step = lane_step(d->pair_steps, d->pair_records[j]);
     clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
-    at += clr_halton_pair_entries(pr, d->pair_shapes[j]);
+    if (clr_halton_pair_row_entries(pr, d->pair_shapes[j]))
+      clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
+    at += pair_table_entries(pr, d->pair_shapes[j]);
   }
   return CLR_SUCCESS;
 }
@@ -297,7 +312,7 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
                          shapes[j].tops != shape.tops))
       ++j;
     if (j == count) {
-      size_t entries = clr_halton_pair_entries(&primes[record], shape);
+      size_t entries = pair_table_entries(&primes[record], shape);
       if (size + entries > PAIR_BUDGET) continue;
       records[count] = record;
       shapes[count] = shape;
@@ -307,11 +322,14 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
     e->pair_table = (int)offsets[j];
   }
   *any = count > 0;
+  clr_u32 steps[2] = {(clr_u32)p->halton_stride, (clr_u32)p->halton_scale[0]};
   if (count == 0 || (count == d->pair_count &&
                      memcmp(records, d->pair_records, sizeof(int) * (size_t)count) == 0 &&
-                     memcmp(shapes, d->pair_shapes, sizeof shapes[0] * (size_t)count) == 0))
+                     memcmp(shapes, d->pair_shapes, sizeof shapes[0] * (size_t)count) == 0 &&
+                     memcmp(steps, d->pair_steps, sizeof steps) == 0))
     return CLR_SUCCESS;
   d->pair_count = -1;
+  memcpy(d->pair_steps, steps, sizeof steps);
   memcpy(d->pair_records, records, sizeof(int) * (size_t)count);
   memcpy(d->pair_shapes, shapes, sizeof shapes[0] * (size_t)count);
   CLR_CHECK(build_pair_tables(d, t, count, size));
