@@ -54,6 +54,7 @@ struct clr_sampler_device {
   int pair_count; /* -1: the device buffer holds nothing valid */
   int pair_records[CLR_HALTON_PRIME_RECORDS];
   clr_u32 pair_steps[2]; /* the lane rows' steps: index stride, scale[0] (dimension 1) */
+  size_t pair_rows[CLR_HALTON_PRIME_RECORDS]; /* each table's lane row entries (0: none) */
   clr_halton_pair_shape pair_shapes[CLR_HALTON_PRIME_RECORDS];
   clr_u16 *pair_host;
   size_t pair_capacity;
@@ -261,10 +262,9 @@ static clr_u32 lane_step(const clr_u32 *steps, int record) {
   return steps[record == CLR_HALTON_BASE3_RECORD];
 }
 
-/* u16 entries of a pair table with its lane rows. */
-static size_t pair_table_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape) {
-  return clr_halton_pair_entries(pr, shape) + clr_halton_pair_row_entries(pr, shape);
-}
+/* Lane rows (8 entries per lo entry) are added in plan order while a launch's rows stay within
+ * ROW_BUDGET entries: past the caches a row costs more than the lane-by-lane lookups it saves. */
+#define ROW_BUDGET ((size_t)1 << 15)
 
 /* Builds the launch's pair tables into d->pair_host (count tables, `size` entries), with lane
  * rows for work-items whose 8 lanes are consecutive samples of one pixel. */
@@ -281,9 +281,8 @@ static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tabl
     const clr_halton_prime *pr = &t->primes[d->pair_records[j]];
     clr_u32 step = lane_step(d->pair_steps, d->pair_records[j]);
     clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
-    if (clr_halton_pair_row_entries(pr, d->pair_shapes[j]))
-      clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
-    at += pair_table_entries(pr, d->pair_shapes[j]);
+    if (d->pair_rows[j]) clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
+    at += clr_halton_pair_entries(pr, d->pair_shapes[j]) + d->pair_rows[j];
   }
   return CLR_SUCCESS;
 }
@@ -297,7 +296,7 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
   const clr_halton_prime *primes = t->primes;
   int records[CLR_HALTON_PRIME_RECORDS];
   clr_halton_pair_shape shapes[CLR_HALTON_PRIME_RECORDS];
-  size_t offsets[CLR_HALTON_PRIME_RECORDS], size = 0;
+  size_t offsets[CLR_HALTON_PRIME_RECORDS], rows[CLR_HALTON_PRIME_RECORDS], size = 0, all_rows = 0;
   int count = 0;
   uint64_t scale1 = (uint64_t)p->halton_scale[1];
   for (int i = 0; i < value_count; ++i) {
@@ -312,12 +311,16 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
                          shapes[j].tops != shape.tops))
       ++j;
     if (j == count) {
-      size_t entries = pair_table_entries(&primes[record], shape);
+      size_t row_entries = clr_halton_pair_row_entries(&primes[record], shape);
+      if (all_rows + row_entries > ROW_BUDGET) row_entries = 0;
+      size_t entries = clr_halton_pair_entries(&primes[record], shape) + row_entries;
       if (size + entries > PAIR_BUDGET) continue;
       records[count] = record;
       shapes[count] = shape;
+      rows[count] = row_entries;
       offsets[count++] = size;
       size += entries;
+      all_rows += row_entries;
     }
     e->pair_table = (int)offsets[j];
   }
@@ -332,6 +335,7 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
   memcpy(d->pair_steps, steps, sizeof steps);
   memcpy(d->pair_records, records, sizeof(int) * (size_t)count);
   memcpy(d->pair_shapes, shapes, sizeof shapes[0] * (size_t)count);
+  memcpy(d->pair_rows, rows, sizeof rows[0] * (size_t)count);
   CLR_CHECK(build_pair_tables(d, t, count, size));
   CLR_CHECK(upload(d->ctx, &d->pair, d->pair_host, sizeof(clr_u16) * size, "halton pair tables"));
   d->pair_count = count;
