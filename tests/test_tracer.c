@@ -501,6 +501,58 @@ static void test_occlusion_tfar(void **state) {
   clr_tracer_release(t);
 }
 
+/* Occlusion of whole and partial spheres (transformed) agrees with intersection, ray by ray:
+ * occluded exactly when the closest hit lies within [tnear, tfar]. Rays start outside, inside
+ * and on the far side, with tfar before, between and past the roots. */
+static void test_sphere_occlusion_matches_hits(void **state) {
+  (void)state;
+  float s[16], tr[16], m[16];
+  identity(s);
+  s[0] = 1.5f, s[5] = 0.75f, s[10] = 1.0f;
+  translate(tr, 0.5f, -1.0f, 2.0f);
+  mul(tr, s, m);
+  for (int partial = 0; partial < 2; ++partial) {
+    clr_tracer t;
+    assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
+    if (partial)
+      assert_int_equal(clr_tracer_add_partial_sphere(t, 0, m, 2.0f, -1.2f, 1.5f, 250.0f, 3, NULL),
+                       CLR_SUCCESS);
+    else
+      assert_int_equal(clr_tracer_add_sphere(t, 0, m, 2.0f, 3, NULL), CLR_SUCCESS);
+    assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
+    enum { N = 4000 };
+    clr_ray *rays = calloc(N, sizeof *rays);
+    clr_hit *hits = calloc(N, sizeof *hits);
+    uint8_t *occ = calloc(N, 1);
+    assert_true(rays && hits && occ);
+    for (int i = 0; i < N; ++i) {
+      double o[3] = {0.5 + 8 * rnd() - 4, -1.0 + 8 * rnd() - 4, 2.0 + 8 * rnd() - 4};
+      double target[3] = {0.5 + 3 * rnd() - 1.5, -1.0 + 3 * rnd() - 1.5, 2.0 + 3 * rnd() - 1.5};
+      float d[3] = {(float)(target[0] - o[0]), (float)(target[1] - o[1]),
+                    (float)(target[2] - o[2])};
+      float tnear = i % 3 == 0 ? (float)(0.5 * rnd()) : 0.0f;
+      float tfar = i % 4 == 0 ? INFINITY : (float)(tnear + 2.0 * rnd());
+      rays[i] = make_ray((float)o[0], (float)o[1], (float)o[2], d[0], d[1], d[2], tnear, tfar);
+    }
+    assert_int_equal(clr_tracer_intersect(t, rays, hits, N), CLR_SUCCESS);
+    assert_int_equal(clr_tracer_occluded(t, rays, occ, N), CLR_SUCCESS);
+    int hit_count = 0;
+    for (int i = 0; i < N; ++i) {
+      int hit = hits[i].geom_id != CLR_TRACER_INVALID_ID;
+      hit_count += hit;
+      if (occ[i] != hit)
+        fail_msg("%s sphere, ray %d: occluded %d, closest hit %d (t %g, tfar %g)",
+                 partial ? "partial" : "whole", i, occ[i], hit, (double)hits[i].t,
+                 (double)rays[i].tfar);
+    }
+    assert_true(hit_count > N / 10 && hit_count < N - N / 10); /* both answers are exercised */
+    free(rays);
+    free(hits);
+    free(occ);
+    clr_tracer_release(t);
+  }
+}
+
 typedef struct thread_job {
   clr_tracer tracer;
   const clr_ray *rays;
@@ -747,6 +799,7 @@ int main(void) {
       cmocka_unit_test(test_instances),
       cmocka_unit_test(test_packets_equal_single),
       cmocka_unit_test(test_occlusion_tfar),
+      cmocka_unit_test(test_sphere_occlusion_matches_hits),
       cmocka_unit_test(test_threads),
       cmocka_unit_test(test_motion_instance),
       cmocka_unit_test(test_bad_input),

@@ -1268,9 +1268,11 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     im.pixel_bounds = film_pixel_bounds(film);
     im.width = im.pixel_bounds.x1 - im.pixel_bounds.x0;
     im.height = im.pixel_bounds.y1 - im.pixel_bounds.y0;
-    im.rgb = malloc((size_t)im.width * (size_t)im.height * 3 * sizeof(float));
-    r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f)
-               : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
+    if (image || (write_files && st->pfm_path[0])) { /* the EXR and PNG read the film */
+      im.rgb = malloc((size_t)im.width * (size_t)im.height * 3 * sizeof(float));
+      r = im.rgb ? film_get_rgb(film, im.rgb, 1.0f)
+                 : clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "image");
+    }
     st->samples = film_sample_count(film);
     st->dropped_samples = film_dropped_samples(film);
   }

@@ -92,6 +92,11 @@ clr_result rs_camera_set_film(rs_camera *cam, int32_t xres, int32_t yres) {
     cam->dx_camera[i] = cx[i] - c0[i];
     cam->dy_camera[i] = cy[i] - c0[i];
   }
+  /* a pinhole's rays all leave the camera-space origin: its world point, mapped once */
+  const float origin[3] = {0.0f, 0.0f, 0.0f};
+  cam->fixed_origin =
+      cam->type == RS_CAMERA_PERSPECTIVE && !(cam->lens_radius > 0.0f) && !cam->motion.animated;
+  clr_transform_point(&cam->camera_to_world, origin, cam->origin_world);
   return CLR_SUCCESS;
 }
 
@@ -160,7 +165,10 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
     rs_animated_transform_at(&cam->motion, t, &moved);
     c2w = &moved;
   }
-  clr_transform_point(c2w, o, ow);
+  if (cam->fixed_origin)
+    memcpy(ow, cam->origin_world, sizeof ow);
+  else
+    clr_transform_point(c2w, o, ow);
   clr_transform_vector(c2w, d, dw);
   rs_normalize(dw);
   if (rd) differential(cam, pc, lx, ly, c2w, ow, dw, rd);

@@ -22,6 +22,8 @@ typedef struct rs_camera {
   clr_transform raster_to_camera;
   float dx_camera[3], dy_camera[3]; /* pbrt-v3 dxCamera, dyCamera: one pixel in camera space */
   float differential_scale;         /* pbrt-v3 ScaleDifferentials: 1 / sqrt(spp) */
+  int fixed_origin;                 /* every ray starts at origin_world (pinhole, not moving) */
+  float origin_world[3];            /* camera_to_world of the camera-space origin */
 } rs_camera;
 
 /* The Camera directive's parameters. */

@@ -164,7 +164,9 @@ typedef struct sphere_hit {
   double ng[3]; /* group space */
 } sphere_hit;
 
-/* Smallest root of |o + t d|^2 = r^2 within [tnear, tfar]; 0 if none. */
+/* Smallest root of |o + t d|^2 = r^2 within [tnear, tfar]; 0 if none. hit NULL (occlusion): only
+ * whether there is one, so a whole sphere answers at its first root in range (the refinement and
+ * phi only clip partial spheres) and no hit's (u, v) and normal are made: the same answer. */
 static int sphere_hit_test(const sphere_shape *s, const float org[3], const float dir[3],
                            float tnear, float tfar, sphere_hit *hit) {
   double og[3] = {org[0], org[1], org[2]}, dg[3] = {dir[0], dir[1], dir[2]}, o[3], d[3];
@@ -187,6 +189,7 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
   for (int root = 0; root < 2 && !found; ++root) {
     t = root ? t1 : t0;
     if (!((float)t >= tnear && (float)t <= tfar)) continue;
+    if (!hit && !s->partial) return 1;
     for (int k = 0; k < 3; ++k) p[k] = o[k] + t * d[k];
     double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
@@ -199,7 +202,7 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
       continue;
     found = 1;
   }
-  if (!found) return 0;
+  if (!found || !hit) return found;
   double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
   hit->t = (float)t;
   if (s->partial) {
@@ -301,8 +304,15 @@ static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) 
   user_intersect(args, sphere_test);
 }
 
+/* sphere_test without the hit's surface figures (occlusion rays). */
+static int sphere_occludes(const void *shape, const float org[3], const float dir[3], float tnear,
+                           float tfar, sphere_hit *hit) {
+  (void)hit;
+  return sphere_hit_test(shape, org, dir, tnear, tfar, NULL);
+}
+
 static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
-  user_occluded(args, sphere_test);
+  user_occluded(args, sphere_occludes);
 }
 
 /* ---- disks: pbrt-v3 Disk::Intersect in object space ---- */
