@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include "hemisphere_wave.h"
 #include "lambert_wave.h"
 
 static uint64_t rng_state = 0x853c49e6748fea9bULL;
@@ -114,6 +115,28 @@ static void test_wave_equals_scalar(void **state) {
   for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; ++i) check_wave(lengths[i]);
 }
 
+/* The AO integrator's directions: the hemisphere wave alone, on values not clamped below 1. */
+static void test_hemisphere_wave_equals_scalar(void **state) {
+  (void)state;
+  enum { N = 203 };
+  float u0[N], u1[N], x[N], y[N], z[N];
+  for (int k = 0; k < N; ++k) {
+    float u[2];
+    make_u(k, u);
+    u0[k] = k % 13 == 0 ? 1.0f : u[0];
+    u1[k] = k % 17 == 0 ? 1.0f : u[1];
+  }
+  clr_wave_cosine_hemisphere(N, u0, u1, x, y, z);
+  for (int k = 0; k < N; ++k) {
+    float u[2] = {u0[k], u1[k]}, w[3], got[3] = {x[k], y[k], z[k]};
+    clr_cosine_hemisphere(u, w);
+    if (memcmp(got, w, sizeof w))
+      fail_msg("entry %d: wave (%a %a %a), scalar (%a %a %a)", k, got[0], got[1], got[2], w[0],
+               w[1], w[2]);
+  }
+  clr_wave_cosine_hemisphere(0, u0, u1, x, y, z); /* an empty wave writes nothing */
+}
+
 /* Reserving again keeps the storage when it is large enough and restarts the wave. */
 static void test_wave_reuse(void **state) {
   (void)state;
@@ -138,6 +161,7 @@ static void test_wave_reuse(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_wave_equals_scalar),
+      cmocka_unit_test(test_hemisphere_wave_equals_scalar),
       cmocka_unit_test(test_wave_reuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -7,6 +7,7 @@
 #include <time.h>
 #include "render_error.h"
 #include "grow.h"
+#include "hemisphere_wave.h"
 #include "integrator.h"
 #include "lambert_wave.h"
 #include "lambertian.h"
@@ -201,7 +202,7 @@ struct clr_integrator_scratch {
   int32_t *bounces, *active;
   const float **cdfs; /* each path vertex's light cdf (spatial light distribution) */
   size_t *voxels;     /* and its voxel, SIZE_MAX when it samples no light */
-  float *ao_terms;
+  float *ao_terms;    /* AO: 6 arrays of ao_cap: each direction's term, u0, u1 and x, y, z */
   size_t ao_cap;
   clr_lambert_wave lambert; /* a wave's Lambertian BSDF samples, structure of arrays */
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
@@ -638,14 +639,28 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
   intersect_visible(sc, s, count, NULL, c);
   int n = it->ao_samples;
   CLR_CHECK(reserve_rays(s, (size_t)count * (size_t)n));
-  /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query */
-  float *term = s->ao_terms;
-  if ((size_t)count * (size_t)n > s->ao_cap) {
-    size_t cap = (size_t)count * (size_t)n;
-    term = realloc(s->ao_terms, cap * sizeof *term);
-    if (!term) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
-    s->ao_terms = term;
-    s->ao_cap = cap;
+  /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query; the
+   * cosine-hemisphere directions of the whole wave in one vector loop */
+  size_t total = (size_t)count * (size_t)n;
+  if (total > s->ao_cap) {
+    float *block = realloc(s->ao_terms, total * 6 * sizeof *block);
+    if (!block) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    s->ao_terms = block;
+    s->ao_cap = total;
+  }
+  float *term = s->ao_terms, *u0 = term + s->ao_cap, *u1 = u0 + s->ao_cap, *dx = u1 + s->ao_cap,
+        *dy = dx + s->ao_cap, *dz = dy + s->ao_cap;
+  if (it->ao_cos_sample) {
+    int32_t m = 0;
+    for (int i = 0; i < count; ++i) {
+      if (s->surfaces[i].has_material < 0) continue;
+      const float *u = values + (size_t)i * (size_t)it->values_per_sample + it->value_offset;
+      for (int k = 0; k < n; ++k, ++m) {
+        u0[m] = u[2 * k];
+        u1[m] = u[2 * k + 1];
+      }
+    }
+    clr_wave_cosine_hemisphere(m, u0, u1, dx, dy, dz);
   }
   size_t q = 0;
   for (int i = 0; i < count; ++i) {
@@ -663,11 +678,14 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
       down[a] = sf->p[a] + sf->ng[a] * -e;
     }
     for (int k = 0; k < n; ++k, ++q) {
-      float w[3], wi[3];
-      if (it->ao_cos_sample)
-        clr_cosine_hemisphere(u + 2 * k, w);
-      else
+      float w[3] = {0.0f, 0.0f, 0.0f}, wi[3];
+      if (it->ao_cos_sample) {
+        w[0] = dx[q];
+        w[1] = dy[q];
+        w[2] = dz[q];
+      } else {
         uniform_hemisphere(u + 2 * k, w);
+      }
       for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
       float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
       float cos_n = rs_dot(wi, sf->ng);

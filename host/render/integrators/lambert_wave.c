@@ -2,6 +2,7 @@
  * instead of branches (both sides computed, the same operations as the scalar code's taken side). */
 #include "lambert_wave.h"
 #include <stdlib.h>
+#include "hemisphere_wave.h"
 #include "render_error.h"
 
 #define WAVE_ARRAYS 34 /* float arrays in clr_lambert_wave */
@@ -38,33 +39,6 @@ void clr_lambert_wave_free(clr_lambert_wave *w) {
   w->block = NULL;
   w->owner = NULL;
   w->cap = w->n = 0;
-}
-
-/* clr_cosine_hemisphere: the concentric disk's one division picks its operands first; a point
- * at the disk's centre gets (0, 0) (its division by 1 is discarded). */
-static void wave_cosine_hemisphere(int32_t n, const float *restrict u0, const float *restrict u1,
-                                   float *restrict x, float *restrict y, float *restrict z) {
-  for (int32_t k = 0; k < n; ++k) {
-    float ox = 2.0f * u0[k] - 1.0f, oy = 2.0f * u1[k] - 1.0f;
-    int centre = ox == 0.0f && oy == 0.0f, wide = fabsf(ox) > fabsf(oy);
-    float num = wide ? oy : ox, den = wide ? ox : oy;
-    float a = (RS_PI / 4.0f) * (num / (centre ? 1.0f : den));
-    float a2 = a * a;
-    float sn =
-        a * (1.0f + a2 * (-1.0f / 6.0f +
-                          a2 * (1.0f / 120.0f + a2 * (-1.0f / 5040.0f + a2 * (1.0f / 362880.0f)))));
-    float cs =
-        1.0f + a2 * (-0.5f + a2 * (1.0f / 24.0f +
-                                   a2 * (-1.0f / 720.0f +
-                                         a2 * (1.0f / 40320.0f + a2 * (-1.0f / 3628800.0f)))));
-    float px = den * (wide ? cs : sn), py = den * (wide ? sn : cs);
-    px = centre ? 0.0f : px;
-    py = centre ? 0.0f : py;
-    float z2 = 1.0f - px * px - py * py;
-    x[k] = px;
-    y[k] = py;
-    z[k] = sqrtf(z2 > 0.0f ? z2 : 0.0f);
-  }
 }
 
 /* clr_shading_frame's ss: dpdu less its ns part, an axis-made vector when that vanishes,
@@ -148,7 +122,7 @@ static void wave_lambert_cos(int32_t n, const float *restrict o0, const float *r
 
 void clr_lambert_wave_sample(clr_lambert_wave *w) {
   int32_t n = w->n;
-  wave_cosine_hemisphere(n, w->u0, w->u1, w->l[0], w->l[1], w->l[2]);
+  clr_wave_cosine_hemisphere(n, w->u0, w->u1, w->l[0], w->l[1], w->l[2]);
   wave_tangent(n, w->dpdu[0], w->dpdu[1], w->dpdu[2], w->ns[0], w->ns[1], w->ns[2], w->ss[0],
                w->ss[1], w->ss[2]);
   wave_shape_frame(n, w->ns[0], w->ns[1], w->ns[2], w->n_geom[0], w->n_geom[1], w->n_geom[2],
