@@ -11,6 +11,7 @@
 #include "integrator.h"
 #include "lambert_wave.h"
 #include "lambertian.h"
+#include "light_wave.h"
 #include "light_distribution.h"
 #include "microfacet.h"
 #include "pcg32.h"
@@ -62,6 +63,24 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
     it->light_cdf[i + 1] = (float)(acc / total);
   }
   if (it->light_count) it->light_cdf[it->light_count] = 1.0f;
+  return CLR_SUCCESS;
+}
+
+/* The triangles of the lights that are plain triangles (light_wave.h samples them), or none. */
+static clr_result build_light_triangles(clr_integrator *it, const clr_render_scene *scene) {
+  int found = 0;
+  for (int j = 0; j < it->light_count && !found; ++j) {
+    clr_light_triangle t;
+    found = clr_render_scene_light_triangle(scene, j, &t);
+  }
+  if (!found) return CLR_SUCCESS;
+  it->light_triangles = calloc((size_t)it->light_count, sizeof *it->light_triangles);
+  it->light_triangle_ok = calloc((size_t)it->light_count, 1);
+  if (!it->light_triangles || !it->light_triangle_ok)
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
+  for (int j = 0; j < it->light_count; ++j)
+    it->light_triangle_ok[j] =
+        (uint8_t)clr_render_scene_light_triangle(scene, j, &it->light_triangles[j]);
   return CLR_SUCCESS;
 }
 
@@ -135,6 +154,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
       add_request(it, 2, 0);
       add_request(it, 2, 0);
     }
+    CLR_CHECK(build_light_triangles(it, scene));
     return build_light_cdf(it, scene, 0);
   }
   if (strcmp(type, "path") != 0 && warn) {
@@ -158,6 +178,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
     }
     it->path_bounces_in_layout = b + 1;
   }
+  CLR_CHECK(build_light_triangles(it, scene));
   if (strcmp(strategy, "spatial") == 0 && it->light_count > 1)
     CLR_CHECK(clr_light_distribution_create(scene, &it->light_spatial));
   clr_result r = build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
@@ -173,6 +194,8 @@ void clr_integrator_free(clr_integrator *it) {
   clr_light_distribution_free(it->light_spatial);
   free(it->light_samples);
   free(it->light_offsets);
+  free(it->light_triangles);
+  free(it->light_triangle_ok);
   memset(it, 0, sizeof *it);
 }
 
@@ -187,6 +210,7 @@ typedef struct direct_job {
   float bsdf_pdf;
   int32_t shadow_index, mis_index;
   int32_t lambert_entry; /* the MIS BSDF sample's entry in the scratch's Lambert wave, or -1 */
+  int32_t light_entry;   /* the light sample's entry in the scratch's light wave, or -1 */
   float shadow_contrib[3];
 } direct_job;
 
@@ -205,6 +229,7 @@ struct clr_integrator_scratch {
   float *ao_terms;    /* AO: 6 arrays of ao_cap: each direction's term, u0, u1 and x, y, z */
   size_t ao_cap;
   clr_lambert_wave lambert; /* a wave's Lambertian BSDF samples, structure of arrays */
+  clr_light_wave lights;    /* and its triangle-light samples at Lambertian surfaces */
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
 };
 
@@ -228,6 +253,7 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s->cdfs);
   free(s->voxels);
   clr_lambert_wave_free(&s->lambert);
+  clr_light_wave_free(&s->lights);
   free(s);
 }
 
@@ -342,8 +368,7 @@ static float lambert_cos(const clr_surface *s, const float wo[3], const float wi
 }
 
 static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
-  float a = rs_dot(wo, s->ns), b = rs_dot(wi, s->ns);
-  return (a * b > 0.0f) ? fabsf(b) * RS_INV_PI : 0.0f;
+  return clr_lambert_pdf(s, wo, wi);
 }
 
 /* pbrt Lambertian Sample_f: direction wi and pdf; returns f*|cos| scale (without Kd). */
@@ -526,12 +551,48 @@ static int lambert_wave_result(const clr_lambert_wave *lw, int32_t e, const clr_
 
 /* ---------- EstimateDirect for a batch of jobs ---------- */
 
-static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scratch *s,
-                                  direct_job *jobs, int njobs, const float *wo_all,
-                                  clr_integrator_counters *c) {
+/* Light sample j's shadow ray and contribution from entry e of the sampled light wave. */
+static void light_wave_result(const clr_light_wave *lv, int32_t e, float time, clr_ray *ray,
+                              float contrib[3]) {
+  ray->ox = lv->origin[0][e];
+  ray->oy = lv->origin[1][e];
+  ray->oz = lv->origin[2][e];
+  ray->tnear = 0.0f;
+  ray->dx = lv->dir[0][e];
+  ray->dy = lv->dir[1][e];
+  ray->dz = lv->dir[2][e];
+  ray->tfar = lv->tfar[e];
+  ray->time = time;
+  for (int k = 0; k < 3; ++k) contrib[k] = lv->contrib[k][e];
+}
+
+/* The jobs whose light samples the light wave computes (Lambertian surfaces, plain triangle
+ * lights), pushed and sampled. */
+static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scratch *s,
+                                  direct_job *jobs, int njobs, const float *wo_all) {
+  clr_light_wave *lv = &s->lights;
+  CLR_CHECK(clr_light_wave_reserve(lv, njobs));
+  for (int j = 0; j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    const clr_surface *sf = &s->surfaces[jb->sample];
+    int wave =
+        it->light_triangle_ok && it->light_triangle_ok[jb->light] && clr_surface_is_lambertian(sf);
+    jb->light_entry = wave ? clr_light_wave_push(lv, sf, wo_all + 3 * jb->sample, jb->u_light,
+                                                 &it->light_triangles[jb->light])
+                           : -1;
+  }
+  clr_light_wave_sample(lv);
+  return CLR_SUCCESS;
+}
+
+static clr_result estimate_direct(const clr_integrator *it, const clr_render_scene *sc,
+                                  clr_integrator_scratch *s, direct_job *jobs, int njobs,
+                                  const float *wo_all, clr_integrator_counters *c) {
   CLR_CHECK(reserve_rays(s, (size_t)njobs * 2));
   clr_lambert_wave *lw = &s->lambert;
   CLR_CHECK(clr_lambert_wave_reserve(lw, njobs));
+  CLR_CHECK(light_wave_jobs(it, s, jobs, njobs, wo_all));
+  const clr_light_wave *lv = &s->lights;
   int nshadow = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
@@ -540,6 +601,14 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     memset(jb->result, 0, sizeof jb->result);
     jb->shadow_index = -1;
     jb->mis_index = -1;
+    if (jb->light_entry >= 0) { /* a triangle light: not a delta light */
+      jb->lambert_entry = clr_lambert_wave_push(lw, sf, wo, jb->u_scatter, j);
+      if (lv->use[jb->light_entry]) {
+        light_wave_result(lv, jb->light_entry, sf->time, &s->rays[nshadow], jb->shadow_contrib);
+        jb->shadow_index = nshadow++;
+      }
+      continue;
+    }
     clr_light_sample ls;
     clr_render_scene_sample_light(sc, jb->light, sf->p, sf->ng, jb->u_light, &ls);
     jb->lambert_entry = !ls.is_delta && clr_surface_is_lambertian(sf)
@@ -865,7 +934,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)nl;
     }
   }
-  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
+  CLR_CHECK(estimate_direct(it, sc, s, s->jobs, nj, wo, c));
   add_jobs(s->jobs, nj, Lk);
   return CLR_SUCCESS;
 }
@@ -1280,7 +1349,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     path_lambert_wave(it, sv, deep, keys, s, eta_scale);
     if (nj) {
       /* the direct jobs need the surfaces of this wave: copy their index order */
-      r = estimate_direct(sc, s, s->jobs, nj, wos, c);
+      r = estimate_direct(it, sc, s, s->jobs, nj, wos, c);
       if (r == CLR_SUCCESS) add_jobs(s->jobs, nj, L);
     }
     nactive = 0;

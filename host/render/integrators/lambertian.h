@@ -106,4 +106,10 @@ static inline float clr_lambert_cos_plain(const clr_surface *s, const float wo[3
   return fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
 }
 
+/* pbrt-v3 Lambertian::Pdf: cosine-weighted when wo and wi are on the same side of ns. */
+static inline float clr_lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
+  float a = rs_dot(wo, s->ns), b = rs_dot(wi, s->ns);
+  return (a * b > 0.0f) ? fabsf(b) * RS_INV_PI : 0.0f;
+}
+
 #endif
