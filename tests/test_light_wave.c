@@ -1,9 +1,10 @@
 /* The structure-of-arrays triangle-light samples (integrators/light_wave.c) against the scalar
  * code the integrators run for other lights: the light sample (clr_render_scene_sample_light:
  * wi, Li, pdf, shadow ray) and the Lambertian value and pdf (lambertian.h), combined as
- * EstimateDirect does (power heuristic, f Li w / pdf). Same bits for every entry: one-sided,
- * two-sided and reversed triangle lights, points above and below them, a point on a light's
- * vertex (no sample), sample values on the triangle's corners and edges. */
+ * EstimateDirect does (power heuristic, f Li w / pdf; weight 1 for a point light). Same bits for
+ * every entry: one-sided, two-sided and reversed triangle lights and a point light, surface
+ * points above and below them, a point on a light's vertex or position (no sample), sample
+ * values on the triangle's corners and edges. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -19,9 +20,12 @@
 #include "scene_parser.h"
 
 /* A one-sided square (two triangles) facing down at y = 4, a two-sided triangle, a reversed
- * one-sided triangle, a sphere light (not a triangle) and a floor. */
+ * one-sided triangle, a point light, a sphere light and a spot light (neither in a wave) and a
+ * floor. */
 static const char *const LIGHTS =
     "WorldBegin\n"
+    "LightSource \"point\" \"rgb I\" [7.3 5.1 3.3] \"point from\" [0.5 2 1]\n"
+    "LightSource \"spot\" \"rgb I\" [5 5 5] \"point from\" [0 5 0] \"point to\" [0 0 0]\n"
     "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [4.3 3.1 2.7]\n"
     "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] "
     "\"point P\" [-1 4 -1  1 4 -1  1 4 1  -1 4 1]\nAttributeEnd\n"
@@ -53,7 +57,8 @@ static void random_unit(float v[3]) {
   rs_normalize(v);
 }
 
-/* Surface k: a point in the box around the lights (every 50th on the first light's first vertex),
+/* Surface k: a point in the box around the lights (every 50th on the square's corner, every 50th
+ * on the point light),
  * a random geometric normal and a shading normal near it, a colour with a zero channel. */
 static void make_surface(int k, clr_surface *s) {
   memset(s, 0, sizeof *s);
@@ -62,6 +67,11 @@ static void make_surface(int k, clr_surface *s) {
     s->p[0] = -1.0f;
     s->p[1] = 4.0f;
     s->p[2] = -1.0f;
+  }
+  if (k % 50 == 8) {
+    s->p[0] = 0.5f;
+    s->p[1] = 2.0f;
+    s->p[2] = 1.0f;
   }
   random_unit(s->ng);
   for (int a = 0; a < 3; ++a) s->ns[a] = s->ng[a] + 0.2f * (2.0f * uniform() - 1.0f);
@@ -88,24 +98,18 @@ static void make_u(int k, float u[2]) {
 
 static int same(const float *a, const float *b, size_t n) { return !memcmp(a, b, n * 4); }
 
-static void test_wave_equals_scalar(void **state) {
-  (void)state;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  clr_scene_desc *desc = NULL;
-  assert_int_equal(clr_scene_parse_string(LIGHTS, CLR_BINARY_DIR "/lightwave.pbrt", &po, &desc),
-                   CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
-  int nl = clr_render_scene_light_count(scene);
-  assert_int_equal(nl, 5);
-  clr_light_triangle tris[5];
-  int ok[5];
-  for (int j = 0; j < nl; ++j) ok[j] = clr_render_scene_light_triangle(scene, j, &tris[j]);
-  assert_true(ok[0] && ok[1] && ok[2] && ok[3]);
-  assert_false(ok[4]); /* the sphere */
-  assert_int_equal(tris[2].two_sided, 1);
-
+/* The wave's entries of the lights of one kind against the scalar light sample. */
+static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) {
+  int nl = clr_render_scene_light_count(scene), lights[8], nk = 0;
+  static clr_light_triangle tris[8];
+  static clr_light_point points[8];
+  for (int j = 0; j < nl; ++j) {
+    int tri = clr_render_scene_light_triangle(scene, j, &tris[j]);
+    int point = clr_render_scene_light_point(scene, j, &points[j]);
+    assert_false(tri && point);
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE ? tri : point) lights[nk++] = j;
+  }
+  assert_int_equal(nk, kind == CLR_WAVE_LIGHT_TRIANGLE ? 4 : 1);
   enum { N = 1003 };
   clr_light_wave w;
   memset(&w, 0, sizeof w);
@@ -117,15 +121,22 @@ static void test_wave_equals_scalar(void **state) {
     make_surface(k, &surfaces[k]);
     random_unit(wo[k]);
     make_u(k, u[k]);
-    light[k] = k % 4;
-    assert_int_equal(clr_light_wave_push(&w, &surfaces[k], wo[k], u[k], &tris[light[k]]), k);
+    light[k] = lights[k % nk];
+    int32_t e = kind == CLR_WAVE_LIGHT_TRIANGLE
+                    ? clr_light_wave_push(&w, &surfaces[k], wo[k], u[k], &tris[light[k]])
+                    : clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
+    assert_int_equal(e, k);
   }
-  clr_light_wave_sample(&w);
+  if (kind == CLR_WAVE_LIGHT_TRIANGLE)
+    clr_light_wave_sample(&w);
+  else
+    clr_light_wave_sample_points(&w);
   int used = 0, unlit = 0;
   for (int k = 0; k < N; ++k) {
     const clr_surface *sf = &surfaces[k];
     clr_light_sample ls;
     clr_render_scene_sample_light(scene, light[k], sf->p, sf->ng, u[k], &ls);
+    assert_int_equal(ls.is_delta, kind == CLR_WAVE_LIGHT_POINT);
     int use = 0;
     float contrib[3] = {0, 0, 0};
     if (ls.pdf > 0.0f && !(ls.li[0] == 0.0f && ls.li[1] == 0.0f && ls.li[2] == 0.0f)) {
@@ -134,6 +145,7 @@ static void test_wave_equals_scalar(void **state) {
       if (fc > 0.0f && !(f[0] == 0.0f && f[1] == 0.0f && f[2] == 0.0f)) {
         float bp = clr_lambert_pdf(sf, wo[k], ls.wi), l2 = ls.pdf * ls.pdf, b2 = bp * bp;
         float mis = (l2 + b2) > 0.0f ? l2 / (l2 + b2) : 0.0f; /* pbrt PowerHeuristic(1, ., 1, .) */
+        if (ls.is_delta) mis = 1.0f;
         for (int a = 0; a < 3; ++a) contrib[a] = f[a] * ls.li[a] * mis / ls.pdf;
         use = 1;
       }
@@ -156,15 +168,29 @@ static void test_wave_equals_scalar(void **state) {
     assert_true(ls.shadow.tnear == 0.0f);
   }
   assert_true(used > N / 10 && used < N); /* both outcomes exercised */
-  assert_true(unlit > 0);                 /* the point on the vertex */
+  assert_true(unlit > 0);                 /* the points on the light */
   clr_light_wave_free(&w);
+}
+
+static void test_waves_equal_scalar(void **state) {
+  (void)state;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  clr_scene_desc *desc = NULL;
+  assert_int_equal(clr_scene_parse_string(LIGHTS, CLR_BINARY_DIR "/lightwave.pbrt", &po, &desc),
+                   CLR_SUCCESS);
+  clr_render_scene *scene = NULL;
+  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  assert_int_equal(clr_render_scene_light_count(scene), 7);
+  check_kind(scene, CLR_WAVE_LIGHT_TRIANGLE);
+  check_kind(scene, CLR_WAVE_LIGHT_POINT);
   clr_render_scene_free(scene);
   clr_scene_desc_free(desc);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_wave_equals_scalar),
+      cmocka_unit_test(test_waves_equal_scalar),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -66,21 +66,26 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
   return CLR_SUCCESS;
 }
 
-/* The triangles of the lights that are plain triangles (light_wave.h samples them), or none. */
-static clr_result build_light_triangles(clr_integrator *it, const clr_render_scene *scene) {
+/* The lights light_wave.h samples (plain triangles and point lights): their kinds and data. */
+static clr_result build_wave_lights(clr_integrator *it, const clr_render_scene *scene) {
   int found = 0;
   for (int j = 0; j < it->light_count && !found; ++j) {
     clr_light_triangle t;
-    found = clr_render_scene_light_triangle(scene, j, &t);
+    clr_light_point p;
+    found =
+        clr_render_scene_light_triangle(scene, j, &t) || clr_render_scene_light_point(scene, j, &p);
   }
   if (!found) return CLR_SUCCESS;
+  it->light_wave_kind = calloc((size_t)it->light_count, 1);
   it->light_triangles = calloc((size_t)it->light_count, sizeof *it->light_triangles);
-  it->light_triangle_ok = calloc((size_t)it->light_count, 1);
-  if (!it->light_triangles || !it->light_triangle_ok)
+  it->light_points = calloc((size_t)it->light_count, sizeof *it->light_points);
+  if (!it->light_wave_kind || !it->light_triangles || !it->light_points)
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
   for (int j = 0; j < it->light_count; ++j)
-    it->light_triangle_ok[j] =
-        (uint8_t)clr_render_scene_light_triangle(scene, j, &it->light_triangles[j]);
+    if (clr_render_scene_light_triangle(scene, j, &it->light_triangles[j]))
+      it->light_wave_kind[j] = CLR_WAVE_LIGHT_TRIANGLE;
+    else if (clr_render_scene_light_point(scene, j, &it->light_points[j]))
+      it->light_wave_kind[j] = CLR_WAVE_LIGHT_POINT;
   return CLR_SUCCESS;
 }
 
@@ -154,7 +159,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
       add_request(it, 2, 0);
       add_request(it, 2, 0);
     }
-    CLR_CHECK(build_light_triangles(it, scene));
+    CLR_CHECK(build_wave_lights(it, scene));
     return build_light_cdf(it, scene, 0);
   }
   if (strcmp(type, "path") != 0 && warn) {
@@ -178,7 +183,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
     }
     it->path_bounces_in_layout = b + 1;
   }
-  CLR_CHECK(build_light_triangles(it, scene));
+  CLR_CHECK(build_wave_lights(it, scene));
   if (strcmp(strategy, "spatial") == 0 && it->light_count > 1)
     CLR_CHECK(clr_light_distribution_create(scene, &it->light_spatial));
   clr_result r = build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
@@ -194,8 +199,9 @@ void clr_integrator_free(clr_integrator *it) {
   clr_light_distribution_free(it->light_spatial);
   free(it->light_samples);
   free(it->light_offsets);
+  free(it->light_wave_kind);
   free(it->light_triangles);
-  free(it->light_triangle_ok);
+  free(it->light_points);
   memset(it, 0, sizeof *it);
 }
 
@@ -230,6 +236,7 @@ struct clr_integrator_scratch {
   size_t ao_cap;
   clr_lambert_wave lambert; /* a wave's Lambertian BSDF samples, structure of arrays */
   clr_light_wave lights;    /* and its triangle-light samples at Lambertian surfaces */
+  clr_light_wave points;    /* and its point-light ones */
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
 };
 
@@ -254,6 +261,7 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s->voxels);
   clr_lambert_wave_free(&s->lambert);
   clr_light_wave_free(&s->lights);
+  clr_light_wave_free(&s->points);
   free(s);
 }
 
@@ -570,18 +578,24 @@ static void light_wave_result(const clr_light_wave *lv, int32_t e, float time, c
  * lights), pushed and sampled. */
 static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scratch *s,
                                   direct_job *jobs, int njobs, const float *wo_all) {
-  clr_light_wave *lv = &s->lights;
-  CLR_CHECK(clr_light_wave_reserve(lv, njobs));
+  clr_light_wave *tris = &s->lights, *points = &s->points;
+  CLR_CHECK(clr_light_wave_reserve(tris, njobs));
+  CLR_CHECK(clr_light_wave_reserve(points, njobs));
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
     const clr_surface *sf = &s->surfaces[jb->sample];
-    int wave =
-        it->light_triangle_ok && it->light_triangle_ok[jb->light] && clr_surface_is_lambertian(sf);
-    jb->light_entry = wave ? clr_light_wave_push(lv, sf, wo_all + 3 * jb->sample, jb->u_light,
-                                                 &it->light_triangles[jb->light])
-                           : -1;
+    const float *wo = wo_all + 3 * jb->sample;
+    int kind = it->light_wave_kind && clr_surface_is_lambertian(sf) ? it->light_wave_kind[jb->light]
+                                                                    : CLR_WAVE_LIGHT_NONE;
+    jb->light_entry = -1;
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE)
+      jb->light_entry =
+          clr_light_wave_push(tris, sf, wo, jb->u_light, &it->light_triangles[jb->light]);
+    else if (kind == CLR_WAVE_LIGHT_POINT)
+      jb->light_entry = clr_light_wave_push_point(points, sf, wo, &it->light_points[jb->light]);
   }
-  clr_light_wave_sample(lv);
+  clr_light_wave_sample(tris);
+  clr_light_wave_sample_points(points);
   return CLR_SUCCESS;
 }
 
@@ -592,7 +606,6 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
   clr_lambert_wave *lw = &s->lambert;
   CLR_CHECK(clr_lambert_wave_reserve(lw, njobs));
   CLR_CHECK(light_wave_jobs(it, s, jobs, njobs, wo_all));
-  const clr_light_wave *lv = &s->lights;
   int nshadow = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
@@ -601,8 +614,10 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
     memset(jb->result, 0, sizeof jb->result);
     jb->shadow_index = -1;
     jb->mis_index = -1;
-    if (jb->light_entry >= 0) { /* a triangle light: not a delta light */
-      jb->lambert_entry = clr_lambert_wave_push(lw, sf, wo, jb->u_scatter, j);
+    if (jb->light_entry >= 0) {
+      int point = it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_POINT; /* a delta light */
+      const clr_light_wave *lv = point ? &s->points : &s->lights;
+      jb->lambert_entry = point ? -1 : clr_lambert_wave_push(lw, sf, wo, jb->u_scatter, j);
       if (lv->use[jb->light_entry]) {
         light_wave_result(lv, jb->light_entry, sf->time, &s->rays[nshadow], jb->shadow_contrib);
         jb->shadow_index = nshadow++;

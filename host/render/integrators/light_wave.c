@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include "render_error.h"
 
-#define WAVE_FLOATS 52 /* float arrays in clr_light_wave */
+#define WAVE_FLOATS 53 /* float arrays in clr_light_wave */
 #define WAVE_INTS 3    /* and int32_t ones */
 
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
@@ -19,15 +19,15 @@ clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light wave of %d entries", (int)n);
   clr_light_wave_free(w);
   float **arrays[WAVE_FLOATS] = {
-      &w->u0,         &w->u1,         &w->p[0],       &w->p[1],      &w->p[2],      &w->ng[0],
-      &w->ng[1],      &w->ng[2],      &w->ns[0],      &w->ns[1],     &w->ns[2],     &w->kd[0],
-      &w->kd[1],      &w->kd[2],      &w->wo[0],      &w->wo[1],     &w->wo[2],     &w->v0[0],
-      &w->v0[1],      &w->v0[2],      &w->v1[0],      &w->v1[1],     &w->v1[2],     &w->v2[0],
-      &w->v2[1],      &w->v2[2],      &w->ln[0],      &w->ln[1],     &w->ln[2],     &w->inv_area,
-      &w->le[0],      &w->le[1],      &w->le[2],      &w->pt[0],     &w->pt[1],     &w->pt[2],
-      &w->wi[0],      &w->wi[1],      &w->wi[2],      &w->light_pdf, &w->fcos,      &w->bsdf_pdf,
-      &w->contrib[0], &w->contrib[1], &w->contrib[2], &w->origin[0], &w->origin[1], &w->origin[2],
-      &w->dir[0],     &w->dir[1],     &w->dir[2],     &w->tfar};
+      &w->u0,        &w->u1,         &w->p[0],       &w->p[1],       &w->p[2],      &w->ng[0],
+      &w->ng[1],     &w->ng[2],      &w->ns[0],      &w->ns[1],      &w->ns[2],     &w->kd[0],
+      &w->kd[1],     &w->kd[2],      &w->wo[0],      &w->wo[1],      &w->wo[2],     &w->v0[0],
+      &w->v0[1],     &w->v0[2],      &w->v1[0],      &w->v1[1],      &w->v1[2],     &w->v2[0],
+      &w->v2[1],     &w->v2[2],      &w->ln[0],      &w->ln[1],      &w->ln[2],     &w->inv_area,
+      &w->le[0],     &w->le[1],      &w->le[2],      &w->pt[0],      &w->pt[1],     &w->pt[2],
+      &w->wi[0],     &w->wi[1],      &w->wi[2],      &w->light_pdf,  &w->fcos,      &w->dist2,
+      &w->bsdf_pdf,  &w->contrib[0], &w->contrib[1], &w->contrib[2], &w->origin[0], &w->origin[1],
+      &w->origin[2], &w->dir[0],     &w->dir[1],     &w->dir[2],     &w->tfar};
   for (int a = 0; a < WAVE_FLOATS; ++a) *arrays[a] = block + (size_t)a * cap;
   int32_t *ints = (int32_t *)(block + (size_t)WAVE_FLOATS * cap);
   w->two_sided = ints;
@@ -88,6 +88,26 @@ static void wave_light_li(int32_t n, const float *restrict t0, const float *rest
   }
 }
 
+/* lights.c sample_li on a point light: wi toward it, the squared distance, pdf 1 (0 when p is
+ * the light's position). */
+static void wave_point_li(int32_t n, const float *restrict t0, const float *restrict t1,
+                          const float *restrict t2, const float *restrict p0,
+                          const float *restrict p1, const float *restrict p2, float *restrict w0,
+                          float *restrict w1, float *restrict w2, float *restrict dist2,
+                          float *restrict pdf) {
+  for (int32_t k = 0; k < n; ++k) {
+    float d0 = t0[k] - p0[k], d1 = t1[k] - p1[k], d2 = t2[k] - p2[k];
+    float dd = d0 * d0 + d1 * d1 + d2 * d2;
+    float len = sqrtf(dd); /* rs_normalize recomputes dd: the same bits */
+    float div = len > 0.0f ? len : 1.0f;
+    w0[k] = d0 / div;
+    w1[k] = d1 / div;
+    w2[k] = d2 / div;
+    dist2[k] = dd > 0.0f ? dd : 1.0f;
+    pdf[k] = dd > 0.0f ? 1.0f : 0.0f;
+  }
+}
+
 /* integrator.c bsdf_eval and bsdf_pdf of a Lambertian surface: f |cos| / Kd with the reflect
  * rule, and the pdf of wi. */
 static void wave_lambert_eval(int32_t n, const float *restrict o0, const float *restrict o1,
@@ -133,6 +153,28 @@ static void wave_contributions(int32_t n, const float *restrict kd0, const float
   }
 }
 
+/* estimate_direct's term for a delta light: f Li (weight 1, pdf 1), Li = I / distance^2, used
+ * when the pdf, Li and the BSDF value are not zero. */
+static void wave_point_contributions(int32_t n, const float *restrict kd0,
+                                     const float *restrict kd1, const float *restrict kd2,
+                                     const float *restrict i0, const float *restrict i1,
+                                     const float *restrict i2, const float *restrict dist2,
+                                     const float *restrict fcos, const float *restrict light_pdf,
+                                     int32_t *restrict use, float *restrict c0, float *restrict c1,
+                                     float *restrict c2) {
+  for (int32_t k = 0; k < n; ++k) {
+    float fc = fcos[k], lp = light_pdf[k];
+    float f0 = kd0[k] * fc, f1 = kd1[k] * fc, f2 = kd2[k] * fc;
+    float l0 = i0[k] / dist2[k], l1 = i1[k] / dist2[k], l2 = i2[k] / dist2[k];
+    int li = (l0 != 0.0f) | (l1 != 0.0f) | (l2 != 0.0f);
+    int f = (fc > 0.0f) & ((f0 != 0.0f) | (f1 != 0.0f) | (f2 != 0.0f));
+    use[k] = (lp > 0.0f) & li & f;
+    c0[k] = f0 * l0;
+    c1[k] = f1 * l1;
+    c2[k] = f2 * l2;
+  }
+}
+
 /* lights.c shadow_to: from p, offset along ng toward the point, to short of the point. */
 static void wave_shadow_rays(int32_t n, const float *restrict p0, const float *restrict p1,
                              const float *restrict p2, const float *restrict g0,
@@ -175,6 +217,20 @@ void clr_light_wave_sample(clr_light_wave *w) {
   wave_contributions(n, w->kd[0], w->kd[1], w->kd[2], w->le[0], w->le[1], w->le[2], w->fcos,
                      w->bsdf_pdf, w->light_pdf, w->emits, w->use, w->contrib[0], w->contrib[1],
                      w->contrib[2]);
+  wave_shadow_rays(n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0], w->pt[1],
+                   w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0], w->dir[1],
+                   w->dir[2], w->tfar);
+}
+
+void clr_light_wave_sample_points(clr_light_wave *w) {
+  int32_t n = w->n;
+  wave_point_li(n, w->pt[0], w->pt[1], w->pt[2], w->p[0], w->p[1], w->p[2], w->wi[0], w->wi[1],
+                w->wi[2], w->dist2, w->light_pdf);
+  wave_lambert_eval(n, w->wo[0], w->wo[1], w->wo[2], w->wi[0], w->wi[1], w->wi[2], w->ng[0],
+                    w->ng[1], w->ng[2], w->ns[0], w->ns[1], w->ns[2], w->fcos, w->bsdf_pdf);
+  wave_point_contributions(n, w->kd[0], w->kd[1], w->kd[2], w->le[0], w->le[1], w->le[2], w->dist2,
+                           w->fcos, w->light_pdf, w->use, w->contrib[0], w->contrib[1],
+                           w->contrib[2]);
   wave_shadow_rays(n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0], w->pt[1],
                    w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0], w->dir[1],
                    w->dir[2], w->tfar);

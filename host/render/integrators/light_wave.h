@@ -10,6 +10,15 @@
 #include <stdint.h>
 #include "lambertian.h"
 
+/* How the light wave samples a light. */
+typedef enum {
+  CLR_WAVE_LIGHT_NONE,
+  CLR_WAVE_LIGHT_TRIANGLE,
+  CLR_WAVE_LIGHT_POINT
+} clr_wave_light_kind;
+
+/* A wave holds samples of triangle lights or of point lights (pbrt-v3 PointLight::Sample_Li:
+ * pt the light's position, le its I, no MIS weight), not both. */
 typedef struct clr_light_wave {
   int32_t n, cap;
   /* inputs: sample values, the surface's p, ng, ns, Kd and wo, the light's triangle */
@@ -17,7 +26,7 @@ typedef struct clr_light_wave {
   float *v0[3], *v1[3], *v2[3], *ln[3], *inv_area, *le[3];
   int32_t *two_sided;
   /* the point on the light, wi, the light's pdf, the Lambertian f |cos| / Kd and pdf */
-  float *pt[3], *wi[3], *light_pdf, *fcos, *bsdf_pdf;
+  float *pt[3], *wi[3], *light_pdf, *fcos, *bsdf_pdf, *dist2;
   int32_t *emits; /* the light sends Li toward the surface */
   /* outputs: whether the sample contributes (then its shadow ray is traced), f Li w / pdf, the
    * shadow ray's origin, direction and tfar */
@@ -54,7 +63,25 @@ static inline int32_t clr_light_wave_push(clr_light_wave *w, const clr_surface *
   return k;
 }
 
-/* use, contrib and the shadow rays of entries 0 .. n. */
+/* Appends a sample of point light l from surface s seen from wo; returns its index. */
+static inline int32_t clr_light_wave_push_point(clr_light_wave *w, const clr_surface *s,
+                                                const float wo[3], const clr_light_point *l) {
+  int32_t k = w->n++;
+  for (int a = 0; a < 3; ++a) {
+    w->p[a][k] = s->p[a];
+    w->ng[a][k] = s->ng[a];
+    w->ns[a][k] = s->ns[a];
+    w->kd[a][k] = s->kd[a];
+    w->wo[a][k] = wo[a];
+    w->pt[a][k] = l->pos[a];
+    w->le[a][k] = l->intensity[a];
+  }
+  return k;
+}
+
+/* use, contrib and the shadow rays of entries 0 .. n of triangle lights. */
 void clr_light_wave_sample(clr_light_wave *w);
+/* The same for point lights. */
+void clr_light_wave_sample_points(clr_light_wave *w);
 
 #endif

@@ -569,6 +569,14 @@ int rs_light_triangle(const rs_light_set *set, const rs_shape *shapes, int32_t l
   return 1;
 }
 
+int rs_light_point(const rs_light_set *set, int32_t light, clr_light_point *p) {
+  const rs_light *l = &set->items[light];
+  if (l->type != RS_LIGHT_POINT || l->pattern) return 0;
+  memcpy(p->pos, l->pos, sizeof p->pos);
+  memcpy(p->intensity, l->colour, sizeof p->intensity);
+  return 1;
+}
+
 /* pbrt-v3's lat-long coordinates of a light-space unit direction: (phi / 2 pi, theta / pi). */
 static void envmap_coords(const float w[3], float *s, float *t) {
   float phi = atan2f(w[1], w[0]);

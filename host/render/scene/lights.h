@@ -81,6 +81,12 @@ typedef struct clr_light_triangle {
   float le[3];
 } clr_light_triangle;
 
+/* A point light without a pattern (goniometric, projection): its position and I; what
+ * integrators/light_wave.c samples. */
+typedef struct clr_light_point {
+  float pos[3], intensity[3];
+} clr_light_point;
+
 /* The LightSource directives (needs set->world_radius). */
 clr_result rs_lights_build(rs_light_set *set, const clr_scene_desc *d, clr_warn_fn warn, void *wu);
 /* Adds the area lights of `shape` (index shape_index, geometry final) and sets its first_light. */
@@ -107,6 +113,8 @@ int rs_light_emitter_point(const rs_light_set *set, const rs_shape *shapes, int3
  * normals. */
 int rs_light_triangle(const rs_light_set *set, const rs_shape *shapes, int32_t light,
                       clr_light_triangle *t);
+/* Light `light` as a plain point light; 0 (nothing written) for other lights. */
+int rs_light_point(const rs_light_set *set, int32_t light, clr_light_point *p);
 int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
                            const clr_ray *ray);
 /* Radiance of an escaped ray from infinite light `light`. */
