@@ -375,10 +375,6 @@ static float lambert_cos(const clr_surface *s, const float wo[3], const float wi
   return s->on_b == 0.0f && s->on_a == 1.0f ? f : f * oren_nayar_factor(s, wo, wi);
 }
 
-static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
-  return clr_lambert_pdf(s, wo, wi);
-}
-
 /* pbrt Lambertian Sample_f: direction wi and pdf; returns f*|cos| scale (without Kd). */
 static float lambert_sample(const clr_surface *s, const float wo[3], const float u_in[2],
                             float wi[3], float *pdf) {
@@ -452,7 +448,7 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
     to_local(ss, ts, s->ns, wi, li);
     return lo[2] == 0.0f ? 0.0f : clr_microfacet_pdf(lo, li, s->alpha);
   }
-  if (!s->plastic) return lambert_pdf(s, wo, wi);
+  if (!s->plastic) return clr_lambert_pdf(s, wo, wi);
   int d, g, n = plastic_components(s, &d, &g);
   if (!n) return 0.0f;
   float ss[3], ts[3], nf[3], lo[3], li[3];
@@ -461,7 +457,7 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
   to_local(ss, ts, nf, wi, li);
   if (lo[2] == 0.0f) return 0.0f;
   float pdf =
-      (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
+      (d ? clr_lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
   return pdf / (float)n;
 }
 
