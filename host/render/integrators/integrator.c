@@ -7,7 +7,11 @@
 #include <time.h>
 #include "render_error.h"
 #include "grow.h"
+#include "hemisphere_wave.h"
 #include "integrator.h"
+#include "lambert_wave.h"
+#include "lambertian.h"
+#include "light_wave.h"
 #include "light_distribution.h"
 #include "microfacet.h"
 #include "pcg32.h"
@@ -59,6 +63,29 @@ static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *sc
     it->light_cdf[i + 1] = (float)(acc / total);
   }
   if (it->light_count) it->light_cdf[it->light_count] = 1.0f;
+  return CLR_SUCCESS;
+}
+
+/* The lights light_wave.h samples (plain triangles and point lights): their kinds and data. */
+static clr_result build_wave_lights(clr_integrator *it, const clr_render_scene *scene) {
+  int found = 0;
+  for (int j = 0; j < it->light_count && !found; ++j) {
+    clr_light_triangle t;
+    clr_light_point p;
+    found =
+        clr_render_scene_light_triangle(scene, j, &t) || clr_render_scene_light_point(scene, j, &p);
+  }
+  if (!found) return CLR_SUCCESS;
+  it->light_wave_kind = calloc((size_t)it->light_count, 1);
+  it->light_triangles = calloc((size_t)it->light_count, sizeof *it->light_triangles);
+  it->light_points = calloc((size_t)it->light_count, sizeof *it->light_points);
+  if (!it->light_wave_kind || !it->light_triangles || !it->light_points)
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator");
+  for (int j = 0; j < it->light_count; ++j)
+    if (clr_render_scene_light_triangle(scene, j, &it->light_triangles[j]))
+      it->light_wave_kind[j] = CLR_WAVE_LIGHT_TRIANGLE;
+    else if (clr_render_scene_light_point(scene, j, &it->light_points[j]))
+      it->light_wave_kind[j] = CLR_WAVE_LIGHT_POINT;
   return CLR_SUCCESS;
 }
 
@@ -132,6 +159,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
       add_request(it, 2, 0);
       add_request(it, 2, 0);
     }
+    CLR_CHECK(build_wave_lights(it, scene));
     return build_light_cdf(it, scene, 0);
   }
   if (strcmp(type, "path") != 0 && warn) {
@@ -155,6 +183,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
     }
     it->path_bounces_in_layout = b + 1;
   }
+  CLR_CHECK(build_wave_lights(it, scene));
   if (strcmp(strategy, "spatial") == 0 && it->light_count > 1)
     CLR_CHECK(clr_light_distribution_create(scene, &it->light_spatial));
   clr_result r = build_light_cdf(it, scene, strcmp(strategy, "uniform") != 0);
@@ -170,6 +199,9 @@ void clr_integrator_free(clr_integrator *it) {
   clr_light_distribution_free(it->light_spatial);
   free(it->light_samples);
   free(it->light_offsets);
+  free(it->light_wave_kind);
+  free(it->light_triangles);
+  free(it->light_points);
   memset(it, 0, sizeof *it);
 }
 
@@ -183,6 +215,8 @@ typedef struct direct_job {
   float bsdf_f[3]; /* f * |cos| / pdf of the BSDF sample (MIS part) */
   float bsdf_pdf;
   int32_t shadow_index, mis_index;
+  int32_t lambert_entry; /* the MIS BSDF sample's entry in the scratch's Lambert wave, or -1 */
+  int32_t light_entry;   /* the light sample's entry in the scratch's light wave, or -1 */
   float shadow_contrib[3];
 } direct_job;
 
@@ -198,8 +232,11 @@ struct clr_integrator_scratch {
   int32_t *bounces, *active;
   const float **cdfs; /* each path vertex's light cdf (spatial light distribution) */
   size_t *voxels;     /* and its voxel, SIZE_MAX when it samples no light */
-  float *ao_terms;
+  float *ao_terms;    /* AO: 6 arrays of ao_cap: each direction's term, u0, u1 and x, y, z */
   size_t ao_cap;
+  clr_lambert_wave lambert; /* a wave's Lambertian BSDF samples, structure of arrays */
+  clr_light_wave lights;    /* and its triangle-light samples at Lambertian surfaces */
+  clr_light_wave points;    /* and its point-light ones */
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
 };
 
@@ -222,6 +259,9 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   free(s->active);
   free(s->cdfs);
   free(s->voxels);
+  clr_lambert_wave_free(&s->lambert);
+  clr_light_wave_free(&s->lights);
+  clr_light_wave_free(&s->points);
   free(s);
 }
 
@@ -291,42 +331,6 @@ static float fallback(uint64_t key, int dim) {
   return clr_hash_float(key ^ clr_mix64(0x5bd1e995u + (uint64_t)dim));
 }
 
-/* sin and cos of a in [-pi/4, pi/4]: Taylor polynomials, error below 2e-9 there (a float ulp). */
-static inline void sincos_quarter(float a, float *sn, float *cs) {
-  float a2 = a * a;
-  *sn = a * (1.0f + a2 * (-1.0f / 6.0f +
-                          a2 * (1.0f / 120.0f + a2 * (-1.0f / 5040.0f + a2 * (1.0f / 362880.0f)))));
-  *cs = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24.0f +
-                                   a2 * (-1.0f / 720.0f +
-                                         a2 * (1.0f / 40320.0f + a2 * (-1.0f / 3628800.0f)))));
-}
-
-/* pbrt ConcentricSampleDisk; its angles stay within pi/4 of an axis, so the quarter-range
- * polynomials give cos and sin (pi/2 - a = a swapped). */
-static inline void concentric_disk(const float u[2], float *x, float *y) {
-  float ox = 2.0f * u[0] - 1.0f, oy = 2.0f * u[1] - 1.0f;
-  if (ox == 0.0f && oy == 0.0f) {
-    *x = *y = 0.0f;
-    return;
-  }
-  float sn, cs;
-  if (fabsf(ox) > fabsf(oy)) {
-    sincos_quarter((RS_PI / 4.0f) * (oy / ox), &sn, &cs);
-    *x = ox * cs;
-    *y = ox * sn;
-  } else {
-    sincos_quarter((RS_PI / 4.0f) * (ox / oy), &sn, &cs);
-    *x = oy * sn;
-    *y = oy * cs;
-  }
-}
-
-static inline void cosine_hemisphere(const float u[2], float w[3]) {
-  concentric_disk(u, &w[0], &w[1]);
-  float z2 = 1.0f - w[0] * w[0] - w[1] * w[1];
-  w[2] = sqrtf(z2 > 0.0f ? z2 : 0.0f);
-}
-
 static void uniform_hemisphere(const float u[2], float w[3]) {
   float z = u[0], r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
   w[0] = r * cosf(phi);
@@ -334,42 +338,12 @@ static void uniform_hemisphere(const float u[2], float w[3]) {
   w[2] = z;
 }
 
-/* Shading frame (ss, ts, ns) of a surface. */
-static void shading_frame(const clr_surface *s, float ss[3], float ts[3]) {
-  float d = rs_dot(s->dpdu, s->ns);
-  for (int i = 0; i < 3; ++i) ss[i] = s->dpdu[i] - d * s->ns[i];
-  if (!(rs_dot(ss, ss) > 1e-20f)) {
-    if (fabsf(s->ns[0]) > fabsf(s->ns[1])) {
-      ss[0] = -s->ns[2];
-      ss[1] = 0;
-      ss[2] = s->ns[0];
-    } else {
-      ss[0] = 0;
-      ss[1] = s->ns[2];
-      ss[2] = -s->ns[1];
-    }
-  }
-  rs_normalize(ss);
-  rs_cross(s->ns, ss, ts);
-}
-
-/* pbrt-v3's BSDF frame: the shading normal oriented as the shape's (isect.shading.n), not
- * toward wo; plastic's FresnelDielectric(1.5, 1) depends on the side (cos < 0 swaps the etas). */
-static void shape_frame(const clr_surface *s, float ss[3], float ts[3], float n[3]) {
-  shading_frame(s, ss, ts);
-  int flip = rs_dot(s->ns, s->n_geom) < 0.0f;
-  for (int i = 0; i < 3; ++i) {
-    n[i] = flip ? -s->ns[i] : s->ns[i];
-    ts[i] = flip ? -ts[i] : ts[i];
-  }
-}
-
 /* pbrt-v3 OrenNayar::f / R * pi: A + B max(0, cos(phi_i - phi_o)) sin(alpha) tan(beta), in the
  * shading frame (1 for a Lambertian surface). */
 static float oren_nayar_factor(const clr_surface *s, const float wo[3], const float wi[3]) {
   if (s->on_b == 0.0f) return s->on_a;
   float ss[3], ts[3];
-  shading_frame(s, ss, ts);
+  clr_shading_frame(s, ss, ts);
   float o[3] = {rs_dot(wo, ss), rs_dot(wo, ts), rs_dot(wo, s->ns)};
   float i[3] = {rs_dot(wi, ss), rs_dot(wi, ts), rs_dot(wi, s->ns)};
   float sin_o = sqrtf(fmaxf(0.0f, 1.0f - o[2] * o[2])),
@@ -396,26 +370,15 @@ static float oren_nayar_factor(const clr_surface *s, const float wo[3], const fl
 /* Matte BSDF value / Kd times |cos| for world directions, pbrt BSDF::f reflect rule:
  * Lambertian, or Oren-Nayar when the material has "sigma". */
 static float lambert_cos(const clr_surface *s, const float wo[3], const float wi[3]) {
-  if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0.0f;
+  if (!clr_reflects(s, wo, wi)) return 0.0f;
   float f = fabsf(rs_dot(wi, s->ns)) * RS_INV_PI;
   return s->on_b == 0.0f && s->on_a == 1.0f ? f : f * oren_nayar_factor(s, wo, wi);
-}
-
-static float lambert_pdf(const clr_surface *s, const float wo[3], const float wi[3]) {
-  float a = rs_dot(wo, s->ns), b = rs_dot(wi, s->ns);
-  return (a * b > 0.0f) ? fabsf(b) * RS_INV_PI : 0.0f;
 }
 
 /* pbrt Lambertian Sample_f: direction wi and pdf; returns f*|cos| scale (without Kd). */
 static float lambert_sample(const clr_surface *s, const float wo[3], const float u_in[2],
                             float wi[3], float *pdf) {
-  float u[2] = {fminf(u_in[0], ONE_MINUS_EPSILON), u_in[1]}, l[3], ss[3], ts[3];
-  float n[3];
-  cosine_hemisphere(u, l);
-  shape_frame(s, ss, ts, n); /* pbrt-v3's frame: the same directions for the same samples */
-  if (rs_dot(wo, n) < 0.0f) l[2] = -l[2];
-  for (int i = 0; i < 3; ++i) wi[i] = ss[i] * l[0] + ts[i] * l[1] + n[i] * l[2];
-  *pdf = fabsf(l[2]) * RS_INV_PI;
+  clr_lambert_sample_dir(s, wo, u_in, wi, pdf);
   return lambert_cos(s, wo, wi);
 }
 
@@ -453,7 +416,7 @@ static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3],
     f[0] = f[1] = f[2] = 0.0f;
     if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
     float ss[3], ts[3], lo[3], li[3];
-    shading_frame(s, ss, ts);
+    clr_shading_frame(s, ss, ts);
     to_local(ss, ts, s->ns, wo, lo);
     to_local(ss, ts, s->ns, wi, li);
     if (lo[2] == 0.0f) return 0;
@@ -467,7 +430,7 @@ static int bsdf_eval(const clr_surface *s, const float wo[3], const float wi[3],
   f[0] = f[1] = f[2] = 0.0f;
   if (!(rs_dot(wi, s->ng) * rs_dot(wo, s->ng) > 0.0f)) return 0;
   float ss[3], ts[3], n[3], lo[3], li[3];
-  shape_frame(s, ss, ts, n);
+  clr_shape_frame(s, ss, ts, n);
   to_local(ss, ts, n, wo, lo);
   to_local(ss, ts, n, wi, li);
   if (lo[2] == 0.0f) return 0;
@@ -480,21 +443,21 @@ static float bsdf_pdf(const clr_surface *s, const float wo[3], const float wi[3]
   if (s->general) return clr_bsdf_pdf(&s->bsdf, wo, wi, CLR_BXDF_NON_SPECULAR);
   if (s->metal) {
     float ss[3], ts[3], lo[3], li[3];
-    shading_frame(s, ss, ts);
+    clr_shading_frame(s, ss, ts);
     to_local(ss, ts, s->ns, wo, lo);
     to_local(ss, ts, s->ns, wi, li);
     return lo[2] == 0.0f ? 0.0f : clr_microfacet_pdf(lo, li, s->alpha);
   }
-  if (!s->plastic) return lambert_pdf(s, wo, wi);
+  if (!s->plastic) return clr_lambert_pdf(s, wo, wi);
   int d, g, n = plastic_components(s, &d, &g);
   if (!n) return 0.0f;
   float ss[3], ts[3], nf[3], lo[3], li[3];
-  shape_frame(s, ss, ts, nf);
+  clr_shape_frame(s, ss, ts, nf);
   to_local(ss, ts, nf, wo, lo);
   to_local(ss, ts, nf, wi, li);
   if (lo[2] == 0.0f) return 0.0f;
   float pdf =
-      (d ? lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
+      (d ? clr_lambert_pdf(s, wo, wi) : 0.0f) + (g ? clr_microfacet_pdf(lo, li, s->alpha) : 0.0f);
   return pdf / (float)n;
 }
 
@@ -507,7 +470,7 @@ static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in
   if (s->metal) {
     float ss[3], ts[3], n[3], lo[3], li[3];
     *pdf = 0.0f;
-    shape_frame(s, ss, ts, n);
+    clr_shape_frame(s, ss, ts, n);
     to_local(ss, ts, n, wo, lo);
     if (!clr_microfacet_sample_wi(lo, u_in, s->alpha, li, pdf)) return 0;
     for (int i = 0; i < 3; ++i) wi[i] = ss[i] * li[0] + ts[i] * li[1] + n[i] * li[2];
@@ -525,7 +488,7 @@ static int bsdf_sample(const clr_surface *s, const float wo[3], const float u_in
   float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
   int glossy = g && (comp == 1 || !d);
   float ss[3], ts[3], nf[3], lo[3];
-  shape_frame(s, ss, ts, nf);
+  clr_shape_frame(s, ss, ts, nf);
   to_local(ss, ts, nf, wo, lo);
   if (lo[2] == 0.0f) return 0;
   if (glossy) {
@@ -578,12 +541,67 @@ static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch
   for (int k = 0; k < pending; ++k) s->surfaces[s->owner[k]].has_material = -1;
 }
 
+/* ---------- Lambertian samples of a wave (lambert_wave.h) ---------- */
+
+/* bsdf_sample's outputs for entry e of a sampled wave at surface sf; 1 when usable. */
+static int lambert_wave_result(const clr_lambert_wave *lw, int32_t e, const clr_surface *sf,
+                               float wi[3], float *pdf, float f[3]) {
+  float fc = lw->fcos[e];
+  for (int a = 0; a < 3; ++a) wi[a] = lw->wi[a][e];
+  *pdf = lw->pdf[e];
+  for (int k = 0; k < 3; ++k) f[k] = sf->kd[k] * fc;
+  return fc > 0.0f && *pdf > 0.0f && !is_black(f);
+}
+
 /* ---------- EstimateDirect for a batch of jobs ---------- */
 
-static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scratch *s,
-                                  direct_job *jobs, int njobs, const float *wo_all,
-                                  clr_integrator_counters *c) {
+/* Light sample j's shadow ray and contribution from entry e of the sampled light wave. */
+static void light_wave_result(const clr_light_wave *lv, int32_t e, float time, clr_ray *ray,
+                              float contrib[3]) {
+  ray->ox = lv->origin[0][e];
+  ray->oy = lv->origin[1][e];
+  ray->oz = lv->origin[2][e];
+  ray->tnear = 0.0f;
+  ray->dx = lv->dir[0][e];
+  ray->dy = lv->dir[1][e];
+  ray->dz = lv->dir[2][e];
+  ray->tfar = lv->tfar[e];
+  ray->time = time;
+  for (int k = 0; k < 3; ++k) contrib[k] = lv->contrib[k][e];
+}
+
+/* The jobs whose light samples the light wave computes (Lambertian surfaces, plain triangle
+ * lights), pushed and sampled. */
+static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scratch *s,
+                                  direct_job *jobs, int njobs, const float *wo_all) {
+  clr_light_wave *tris = &s->lights, *points = &s->points;
+  CLR_CHECK(clr_light_wave_reserve(tris, njobs));
+  CLR_CHECK(clr_light_wave_reserve(points, njobs));
+  for (int j = 0; j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    const clr_surface *sf = &s->surfaces[jb->sample];
+    const float *wo = wo_all + 3 * jb->sample;
+    int kind = it->light_wave_kind && clr_surface_is_lambertian(sf) ? it->light_wave_kind[jb->light]
+                                                                    : CLR_WAVE_LIGHT_NONE;
+    jb->light_entry = -1;
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE)
+      jb->light_entry =
+          clr_light_wave_push(tris, sf, wo, jb->u_light, &it->light_triangles[jb->light]);
+    else if (kind == CLR_WAVE_LIGHT_POINT)
+      jb->light_entry = clr_light_wave_push_point(points, sf, wo, &it->light_points[jb->light]);
+  }
+  clr_light_wave_sample(tris);
+  clr_light_wave_sample_points(points);
+  return CLR_SUCCESS;
+}
+
+static clr_result estimate_direct(const clr_integrator *it, const clr_render_scene *sc,
+                                  clr_integrator_scratch *s, direct_job *jobs, int njobs,
+                                  const float *wo_all, clr_integrator_counters *c) {
   CLR_CHECK(reserve_rays(s, (size_t)njobs * 2));
+  clr_lambert_wave *lw = &s->lambert;
+  CLR_CHECK(clr_lambert_wave_reserve(lw, njobs));
+  CLR_CHECK(light_wave_jobs(it, s, jobs, njobs, wo_all));
   int nshadow = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
@@ -592,8 +610,21 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     memset(jb->result, 0, sizeof jb->result);
     jb->shadow_index = -1;
     jb->mis_index = -1;
+    if (jb->light_entry >= 0) {
+      int point = it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_POINT; /* a delta light */
+      const clr_light_wave *lv = point ? &s->points : &s->lights;
+      jb->lambert_entry = point ? -1 : clr_lambert_wave_push(lw, sf, wo, jb->u_scatter, j);
+      if (lv->use[jb->light_entry]) {
+        light_wave_result(lv, jb->light_entry, sf->time, &s->rays[nshadow], jb->shadow_contrib);
+        jb->shadow_index = nshadow++;
+      }
+      continue;
+    }
     clr_light_sample ls;
     clr_render_scene_sample_light(sc, jb->light, sf->p, sf->ng, jb->u_light, &ls);
+    jb->lambert_entry = !ls.is_delta && clr_surface_is_lambertian(sf)
+                            ? clr_lambert_wave_push(lw, sf, wo, jb->u_scatter, j)
+                            : -1;
     if (ls.pdf > 0.0f && !is_black(ls.li)) {
       float f3[3];
       if (bsdf_eval(sf, wo, ls.wi, f3)) {
@@ -610,7 +641,8 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
   for (int j = 0; j < njobs; ++j)
     if (jobs[j].shadow_index >= 0 && !s->occluded[jobs[j].shadow_index])
       memcpy(jobs[j].result, jobs[j].shadow_contrib, sizeof jobs[j].result);
-  /* BSDF sampling with MIS, for non-delta lights */
+  /* BSDF sampling with MIS, for non-delta lights (Lambertian surfaces': the wave's) */
+  clr_lambert_wave_sample(lw);
   int nmis = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
@@ -619,7 +651,11 @@ static clr_result estimate_direct(const clr_render_scene *sc, clr_integrator_scr
     const float *wo = wo_all + 3 * jb->sample;
     float wi[3], pdf;
     float f3[3];
-    if (!bsdf_sample(sf, wo, jb->u_scatter, wi, &pdf, f3)) continue;
+    if (jb->lambert_entry >= 0) {
+      if (!lambert_wave_result(lw, jb->lambert_entry, sf, wi, &pdf, f3)) continue;
+    } else if (!bsdf_sample(sf, wo, jb->u_scatter, wi, &pdf, f3)) {
+      continue;
+    }
     for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = f3[k];
     jb->bsdf_pdf = pdf;
     clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis]);
@@ -683,14 +719,28 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
   intersect_visible(sc, s, count, NULL, c);
   int n = it->ao_samples;
   CLR_CHECK(reserve_rays(s, (size_t)count * (size_t)n));
-  /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query */
-  float *term = s->ao_terms;
-  if ((size_t)count * (size_t)n > s->ao_cap) {
-    size_t cap = (size_t)count * (size_t)n;
-    term = realloc(s->ao_terms, cap * sizeof *term);
-    if (!term) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
-    s->ao_terms = term;
-    s->ao_cap = cap;
+  /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query; the
+   * cosine-hemisphere directions of the whole wave in one vector loop */
+  size_t total = (size_t)count * (size_t)n;
+  if (total > s->ao_cap) {
+    float *block = realloc(s->ao_terms, total * 6 * sizeof *block);
+    if (!block) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+    s->ao_terms = block;
+    s->ao_cap = total;
+  }
+  float *term = s->ao_terms, *u0 = term + s->ao_cap, *u1 = u0 + s->ao_cap, *dx = u1 + s->ao_cap,
+        *dy = dx + s->ao_cap, *dz = dy + s->ao_cap;
+  if (it->ao_cos_sample) {
+    int32_t m = 0;
+    for (int i = 0; i < count; ++i) {
+      if (s->surfaces[i].has_material < 0) continue;
+      const float *u = values + (size_t)i * (size_t)it->values_per_sample + it->value_offset;
+      for (int k = 0; k < n; ++k, ++m) {
+        u0[m] = u[2 * k];
+        u1[m] = u[2 * k + 1];
+      }
+    }
+    clr_wave_cosine_hemisphere(m, u0, u1, dx, dy, dz);
   }
   size_t q = 0;
   for (int i = 0; i < count; ++i) {
@@ -708,11 +758,14 @@ static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
       down[a] = sf->p[a] + sf->ng[a] * -e;
     }
     for (int k = 0; k < n; ++k, ++q) {
-      float w[3], wi[3];
-      if (it->ao_cos_sample)
-        cosine_hemisphere(u + 2 * k, w);
-      else
+      float w[3] = {0.0f, 0.0f, 0.0f}, wi[3];
+      if (it->ao_cos_sample) {
+        w[0] = dx[q];
+        w[1] = dy[q];
+        w[2] = dz[q];
+      } else {
         uniform_hemisphere(u + 2 * k, w);
+      }
       for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
       float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
       float cos_n = rs_dot(wi, sf->ng);
@@ -892,7 +945,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       jb->scale[0] = jb->scale[1] = jb->scale[2] = (float)nl;
     }
   }
-  CLR_CHECK(estimate_direct(sc, s, s->jobs, nj, wo, c));
+  CLR_CHECK(estimate_direct(it, sc, s, s->jobs, nj, wo, c));
   add_jobs(s->jobs, nj, Lk);
   return CLR_SUCCESS;
 }
@@ -1120,6 +1173,30 @@ static clr_result fetch_deep_values(const clr_integrator *it, const clr_integrat
   return CLR_SUCCESS;
 }
 
+/* The Lambertian vertices of a wave, pushed by li_path's shading loop: their BSDF samples in
+ * structure-of-arrays form, then the rest of li_path's bounce for each (pbrt-v3: beta *= f |cos|
+ * / pdf, the next ray, Russian roulette). */
+static void path_lambert_wave(const clr_integrator *it, const clr_integrator_values *sv,
+                              const float *deep, const uint64_t *keys, clr_integrator_scratch *s,
+                              const float *eta_scale) {
+  clr_lambert_wave *lw = &s->lambert;
+  clr_lambert_wave_sample(lw);
+  for (int32_t e = 0; e < lw->n; ++e) {
+    int i = lw->owner[e], bounces = s->bounces[i];
+    const clr_surface *sf = &s->surfaces[i];
+    float wi[3], pdf, f3[3], *b = s->beta + 3 * i;
+    if (!lambert_wave_result(lw, e, sf, wi, &pdf, f3)) {
+      s->active[i] = 0;
+      continue;
+    }
+    for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
+    clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+    const float *bv = path_bounce(it, sv, deep, i, bounces);
+    path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+    s->bounces[i] = bounces + 1;
+  }
+}
+
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const clr_integrator_values *sv,
                           const uint64_t *keys, int count, float *L, clr_integrator_counters *c) {
@@ -1164,6 +1241,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     trace(sc, s->rays, s->hits, (size_t)n, c);
     path_surfaces(it, sc, s, idx, n, wave);
     if (lazy) r = fetch_deep_values(it, sv, s, idx, n, picked, deep + deep_floats, deep);
+    if (r == CLR_SUCCESS) r = clr_lambert_wave_reserve(&s->lambert, n);
     if (r != CLR_SUCCESS) break;
     int nj = 0;
     for (int k = 0; k < n; ++k) {
@@ -1257,6 +1335,10 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         }
       }
       float u[2] = {path_value(bv, keys[i], bounces, 5), path_value(bv, keys[i], bounces, 6)};
+      if (clr_surface_is_lambertian(sf)) { /* sampled with the wave's others below */
+        clr_lambert_wave_push(&s->lambert, sf, w, u, i);
+        continue;
+      }
       float wi[3], pdf;
       float f3[3];
       int flags = 0;
@@ -1275,9 +1357,10 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
       s->bounces[i] = bounces + 1;
     }
+    path_lambert_wave(it, sv, deep, keys, s, eta_scale);
     if (nj) {
       /* the direct jobs need the surfaces of this wave: copy their index order */
-      r = estimate_direct(sc, s, s->jobs, nj, wos, c);
+      r = estimate_direct(it, sc, s, s->jobs, nj, wos, c);
       if (r == CLR_SUCCESS) add_jobs(s->jobs, nj, L);
     }
     nactive = 0;

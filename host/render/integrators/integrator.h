@@ -23,7 +23,12 @@ typedef struct clr_integrator {
   int light_count;
   float *light_cdf; /* light_count + 1 entries: light selection for path (uniform or power) */
   struct clr_light_distribution *light_spatial; /* "spatial" (pbrt-v3's default), or NULL */
-  int *light_samples;                           /* directlighting "all": pbrt nsamples per light */
+  /* direct and path: how light_wave.h samples each light (clr_wave_light_kind), and its
+   * triangle or point; all NULL when it samples none */
+  uint8_t *light_wave_kind;
+  clr_light_triangle *light_triangles;
+  clr_light_point *light_points;
+  int *light_samples; /* directlighting "all": pbrt nsamples per light */
   int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
   int camera_offset;  /* the camera's film offset: 0, or 1 after pbrt-v4's wavelength Get1D */
   int value_offset;   /* first integrator value (after the camera's 5 or 6) */

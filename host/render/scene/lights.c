@@ -550,6 +550,33 @@ int rs_light_emitter_point(const rs_light_set *set, const rs_shape *shapes, int3
   return 1;
 }
 
+int rs_light_triangle(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                      clr_light_triangle *t) {
+  const rs_light *l = &set->items[light];
+  if (l->type != RS_LIGHT_AREA_TRIANGLE || shapes[l->shape].mesh.n) return 0;
+  const rs_shape *sh = &shapes[l->shape];
+  const float *p0, *p1, *p2;
+  tri_vertices(sh, l->prim, &p0, &p1, &p2);
+  for (int i = 0; i < 3; ++i) {
+    t->p0[i] = p0[i];
+    t->p1[i] = p1[i];
+    t->p2[i] = p2[i];
+    t->n[i] = sh->flip_normal ? -l->tri_n[i] : l->tri_n[i]; /* as sample_emitter's */
+    t->le[i] = l->colour[i];
+  }
+  t->inv_area = 1.0f / l->area;
+  t->two_sided = l->two_sided;
+  return 1;
+}
+
+int rs_light_point(const rs_light_set *set, int32_t light, clr_light_point *p) {
+  const rs_light *l = &set->items[light];
+  if (l->type != RS_LIGHT_POINT || l->pattern) return 0;
+  memcpy(p->pos, l->pos, sizeof p->pos);
+  memcpy(p->intensity, l->colour, sizeof p->intensity);
+  return 1;
+}
+
 /* pbrt-v3's lat-long coordinates of a light-space unit direction: (phi / 2 pi, theta / pi). */
 static void envmap_coords(const float w[3], float *s, float *t) {
   float phi = atan2f(w[1], w[0]);

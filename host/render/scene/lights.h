@@ -71,6 +71,22 @@ typedef struct clr_emitter_point {
   float le[3];
 } clr_emitter_point;
 
+/* A triangle area light whose Sample_Li normal is its face normal (no shading normals): its
+ * vertices, that normal as sample points get it (flipped with the shape), 1 / area, two_sided
+ * and L; what integrators/light_wave.c samples. */
+typedef struct clr_light_triangle {
+  float p0[3], p1[3], p2[3], n[3];
+  float inv_area;
+  int32_t two_sided;
+  float le[3];
+} clr_light_triangle;
+
+/* A point light without a pattern (goniometric, projection): its position and I; what
+ * integrators/light_wave.c samples. */
+typedef struct clr_light_point {
+  float pos[3], intensity[3];
+} clr_light_point;
+
 /* The LightSource directives (needs set->world_radius). */
 clr_result rs_lights_build(rs_light_set *set, const clr_scene_desc *d, clr_warn_fn warn, void *wu);
 /* Adds the area lights of `shape` (index shape_index, geometry final) and sets its first_light. */
@@ -93,6 +109,12 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
  * the reference point or that have none. */
 int rs_light_emitter_point(const rs_light_set *set, const rs_shape *shapes, int32_t light,
                            const float u[2], clr_emitter_point *e);
+/* Light `light`'s triangle; 0 (nothing written) for other lights and triangles with shading
+ * normals. */
+int rs_light_triangle(const rs_light_set *set, const rs_shape *shapes, int32_t light,
+                      clr_light_triangle *t);
+/* Light `light` as a plain point light; 0 (nothing written) for other lights. */
+int rs_light_point(const rs_light_set *set, int32_t light, clr_light_point *p);
 int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int light,
                            const clr_ray *ray);
 /* Radiance of an escaped ray from infinite light `light`. */

@@ -92,6 +92,15 @@ int clr_render_scene_light_emitter_point(const clr_render_scene *scene, int32_t 
   return rs_light_emitter_point(&scene->lights, scene->shapes, light, u, e);
 }
 
+int clr_render_scene_light_triangle(const clr_render_scene *scene, int32_t light,
+                                    clr_light_triangle *t) {
+  return rs_light_triangle(&scene->lights, scene->shapes, light, t);
+}
+
+int clr_render_scene_light_point(const clr_render_scene *scene, int32_t light, clr_light_point *p) {
+  return rs_light_point(&scene->lights, light, p);
+}
+
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]) {
   rs_lights_escaped(&scene->lights, ray, le);
 }

@@ -128,6 +128,12 @@ void clr_render_scene_sample_light_li(const clr_render_scene *scene, int32_t lig
  * point (triangle, disk, cylinder area lights); 0 for other lights. */
 int clr_render_scene_light_emitter_point(const clr_render_scene *scene, int32_t light,
                                          const float u[2], clr_emitter_point *e);
+/* Light `light`'s triangle (lights.h) when it is a triangle area light without shading normals;
+ * 0 for other lights. */
+int clr_render_scene_light_triangle(const clr_render_scene *scene, int32_t light,
+                                    clr_light_triangle *t);
+/* Light `light` (lights.h) when it is a point light without a pattern; 0 for other lights. */
+int clr_render_scene_light_point(const clr_render_scene *scene, int32_t light, clr_light_point *p);
 /* Radiance arriving along a ray that escaped the scene (infinite lights), summed. */
 void clr_render_scene_escaped(const clr_render_scene *scene, const clr_ray *ray, float le[3]);
 

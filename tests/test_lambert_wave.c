@@ -1,0 +1,168 @@
+/* The structure-of-arrays Lambertian sampling (integrators/lambert_wave.c) against the scalar
+ * steps the integrators ran before it (lambertian.h): the same wi, pdf and f |cos| bits for
+ * every entry of waves of random and edge-case surfaces, directions and sample values (the disk's
+ * centre and diagonals, u0 = 1, dpdu along ns or zero, ns against the shape's normal, wo on
+ * either side), of lengths the vector loops split into full vectors and a remainder. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+#include "hemisphere_wave.h"
+#include "lambert_wave.h"
+
+static uint64_t rng_state = 0x853c49e6748fea9bULL;
+
+static float uniform(void) { /* [0, 1) */
+  rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
+  return (float)(rng_state >> 40) * 0x1p-24f;
+}
+
+static void random_unit(float v[3]) {
+  float l2;
+  do {
+    for (int a = 0; a < 3; ++a) v[a] = 2.0f * uniform() - 1.0f;
+    l2 = rs_dot(v, v);
+  } while (!(l2 > 1e-4f) || l2 > 1.0f);
+  rs_normalize(v);
+}
+
+/* Surface k of a wave: a random frame, every 7th with dpdu along ns, every 11th with dpdu 0,
+ * every 3rd with ns on the other side of the shape's normal; ng a perturbed ns. */
+static void make_surface(int k, clr_surface *s) {
+  memset(s, 0, sizeof *s);
+  random_unit(s->ns);
+  for (int a = 0; a < 3; ++a) s->ng[a] = s->ns[a] + 0.3f * (2.0f * uniform() - 1.0f);
+  rs_normalize(s->ng);
+  if (rs_dot(s->ng, s->ns) < 0.0f)
+    for (int a = 0; a < 3; ++a) s->ng[a] = -s->ng[a];
+  for (int a = 0; a < 3; ++a) s->n_geom[a] = k % 3 == 0 ? -s->ng[a] : s->ng[a];
+  for (int a = 0; a < 3; ++a) s->dpdu[a] = 5.0f * (2.0f * uniform() - 1.0f);
+  if (k % 7 == 0)
+    for (int a = 0; a < 3; ++a) s->dpdu[a] = 2.5f * s->ns[a];
+  if (k % 11 == 0) memset(s->dpdu, 0, sizeof s->dpdu);
+  s->on_a = 1.0f;
+  s->kd[0] = s->kd[1] = s->kd[2] = 0.5f;
+  s->has_material = 1;
+}
+
+/* Sample values of entry k: random, with the disk's centre, its diagonals, its edges and u0 = 1
+ * among them. */
+static void make_u(int k, float u[2]) {
+  static const float edge[][2] = {{0.5f, 0.5f},   {0.0f, 0.0f},        {1.0f, 0.25f},
+                                  {0.75f, 0.75f}, {0.25f, 0.75f},      {0.5f, 0.0f},
+                                  {0.0f, 0.5f},   {0.99999994f, 0.5f}, {0.5f, 0.99999994f}};
+  int ne = (int)(sizeof edge / sizeof edge[0]);
+  if (k % 5 == 0) {
+    u[0] = edge[(k / 5) % ne][0];
+    u[1] = edge[(k / 5) % ne][1];
+  } else {
+    u[0] = uniform();
+    u[1] = uniform();
+  }
+}
+
+static void check_wave(int n) {
+  clr_lambert_wave w;
+  memset(&w, 0, sizeof w);
+  assert_int_equal(clr_lambert_wave_reserve(&w, n), CLR_SUCCESS);
+  clr_surface *surfaces = calloc((size_t)n, sizeof *surfaces);
+  float(*wo)[3] = calloc((size_t)n, sizeof *wo), (*u)[2] = calloc((size_t)n, sizeof *u);
+  assert_non_null(surfaces);
+  assert_non_null(wo);
+  assert_non_null(u);
+  for (int k = 0; k < n; ++k) {
+    make_surface(k, &surfaces[k]);
+    random_unit(wo[k]);
+    make_u(k, u[k]);
+    assert_int_equal(clr_lambert_wave_push(&w, &surfaces[k], wo[k], u[k], 1000 + k), k);
+  }
+  assert_int_equal(w.n, n);
+  clr_lambert_wave_sample(&w);
+  int reflected = 0;
+  for (int k = 0; k < n; ++k) {
+    float wi[3], pdf;
+    clr_lambert_sample_dir(&surfaces[k], wo[k], u[k], wi, &pdf);
+    float fcos = clr_lambert_cos_plain(&surfaces[k], wo[k], wi);
+    float got[3] = {w.wi[0][k], w.wi[1][k], w.wi[2][k]};
+    if (memcmp(got, wi, sizeof wi) || memcmp(&w.pdf[k], &pdf, sizeof pdf) ||
+        memcmp(&w.fcos[k], &fcos, sizeof fcos))
+      fail_msg("entry %d of %d: wave wi (%a %a %a) pdf %a fcos %a, scalar (%a %a %a) %a %a", k, n,
+               got[0], got[1], got[2], w.pdf[k], w.fcos[k], wi[0], wi[1], wi[2], pdf, fcos);
+    assert_int_equal(w.owner[k], 1000 + k);
+    /* and what the bits mean: a unit direction, pdf |cos(wi, n)| / pi (dpdu along ns leaves a
+     * rounding residue as the tangent, not orthogonal to ns: no frame to check there) */
+    if (k % 7) {
+      assert_true(fabsf(rs_dot(wi, wi) - 1.0f) < 1e-5f);
+      assert_true(fabsf(pdf - fabsf(rs_dot(wi, surfaces[k].ns)) * RS_INV_PI) < 1e-5f);
+    }
+    reflected += fcos > 0.0f;
+  }
+  if (n >= 100) assert_true(reflected > n / 4 && reflected < n); /* both cases exercised */
+  clr_lambert_wave_free(&w);
+  free(surfaces);
+  free(wo);
+  free(u);
+}
+
+static void test_wave_equals_scalar(void **state) {
+  (void)state;
+  const int lengths[] = {1, 3, 4, 7, 16, 33, 256, 1001};
+  for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; ++i) check_wave(lengths[i]);
+}
+
+/* The AO integrator's directions: the hemisphere wave alone, on values not clamped below 1. */
+static void test_hemisphere_wave_equals_scalar(void **state) {
+  (void)state;
+  enum { N = 203 };
+  float u0[N], u1[N], x[N], y[N], z[N];
+  for (int k = 0; k < N; ++k) {
+    float u[2];
+    make_u(k, u);
+    u0[k] = k % 13 == 0 ? 1.0f : u[0];
+    u1[k] = k % 17 == 0 ? 1.0f : u[1];
+  }
+  clr_wave_cosine_hemisphere(N, u0, u1, x, y, z);
+  for (int k = 0; k < N; ++k) {
+    float u[2] = {u0[k], u1[k]}, w[3], got[3] = {x[k], y[k], z[k]};
+    clr_cosine_hemisphere(u, w);
+    if (memcmp(got, w, sizeof w))
+      fail_msg("entry %d: wave (%a %a %a), scalar (%a %a %a)", k, got[0], got[1], got[2], w[0],
+               w[1], w[2]);
+  }
+  clr_wave_cosine_hemisphere(0, u0, u1, x, y, z); /* an empty wave writes nothing */
+}
+
+/* Reserving again keeps the storage when it is large enough and restarts the wave. */
+static void test_wave_reuse(void **state) {
+  (void)state;
+  clr_lambert_wave w;
+  memset(&w, 0, sizeof w);
+  assert_int_equal(clr_lambert_wave_reserve(&w, 10), CLR_SUCCESS);
+  float *block = w.block;
+  clr_surface s;
+  make_surface(1, &s);
+  float wo[3] = {0.0f, 0.0f, 1.0f}, u[2] = {0.3f, 0.6f};
+  clr_lambert_wave_push(&w, &s, wo, u, 7);
+  assert_int_equal(clr_lambert_wave_reserve(&w, 5), CLR_SUCCESS);
+  assert_ptr_equal(w.block, block);
+  assert_int_equal(w.n, 0);
+  assert_int_equal(clr_lambert_wave_reserve(&w, 100), CLR_SUCCESS);
+  assert_true(w.cap >= 100);
+  assert_int_equal(w.cap % 32, 16); /* an odd number of cache lines */
+  clr_lambert_wave_free(&w);
+  assert_null(w.block);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_wave_equals_scalar),
+      cmocka_unit_test(test_hemisphere_wave_equals_scalar),
+      cmocka_unit_test(test_wave_reuse),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,196 @@
+/* The structure-of-arrays triangle-light samples (integrators/light_wave.c) against the scalar
+ * code the integrators run for other lights: the light sample (clr_render_scene_sample_light:
+ * wi, Li, pdf, shadow ray) and the Lambertian value and pdf (lambertian.h), combined as
+ * EstimateDirect does (power heuristic, f Li w / pdf; weight 1 for a point light). Same bits for
+ * every entry: one-sided, two-sided and reversed triangle lights and a point light, surface
+ * points above and below them, a point on a light's vertex or position (no sample), sample
+ * values on the triangle's corners and edges. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+#include "clrender.h"
+#include "light_wave.h"
+#include "render_scene.h"
+#include "scene_parser.h"
+
+/* A one-sided square (two triangles) facing down at y = 4, a two-sided triangle, a reversed
+ * one-sided triangle, a point light, a sphere light and a spot light (neither in a wave) and a
+ * floor. */
+static const char *const LIGHTS =
+    "WorldBegin\n"
+    "LightSource \"point\" \"rgb I\" [7.3 5.1 3.3] \"point from\" [0.5 2 1]\n"
+    "LightSource \"spot\" \"rgb I\" [5 5 5] \"point from\" [0 5 0] \"point to\" [0 0 0]\n"
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [4.3 3.1 2.7]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] "
+    "\"point P\" [-1 4 -1  1 4 -1  1 4 1  -1 4 1]\nAttributeEnd\n"
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1.3 2.2 3.7] \"bool twosided\" true\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [3 0.5 -2  5 0.5 -2  4 3 -1]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\nReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [2.9 2.1 1.7]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2] \"point P\" [-4 1 2  -2 1 2  -3 3 3]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nTranslate 0 6 6\n"
+    "Shape \"sphere\" \"float radius\" [0.5]\nAttributeEnd\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] "
+    "\"point P\" [-10 0 -10  10 0 -10  10 0 10  -10 0 10]\n"
+    "WorldEnd\n";
+
+static uint64_t rng_state = 0x2545f4914f6cdd1dULL;
+
+static float uniform(void) { /* [0, 1) */
+  rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
+  return (float)(rng_state >> 40) * 0x1p-24f;
+}
+
+static void random_unit(float v[3]) {
+  float l2;
+  do {
+    for (int a = 0; a < 3; ++a) v[a] = 2.0f * uniform() - 1.0f;
+    l2 = rs_dot(v, v);
+  } while (!(l2 > 1e-4f) || l2 > 1.0f);
+  rs_normalize(v);
+}
+
+/* Surface k: a point in the box around the lights (every 50th on the square's corner, every 50th
+ * on the point light),
+ * a random geometric normal and a shading normal near it, a colour with a zero channel. */
+static void make_surface(int k, clr_surface *s) {
+  memset(s, 0, sizeof *s);
+  for (int a = 0; a < 3; ++a) s->p[a] = 12.0f * uniform() - 6.0f;
+  if (k % 50 == 7) {
+    s->p[0] = -1.0f;
+    s->p[1] = 4.0f;
+    s->p[2] = -1.0f;
+  }
+  if (k % 50 == 8) {
+    s->p[0] = 0.5f;
+    s->p[1] = 2.0f;
+    s->p[2] = 1.0f;
+  }
+  random_unit(s->ng);
+  for (int a = 0; a < 3; ++a) s->ns[a] = s->ng[a] + 0.2f * (2.0f * uniform() - 1.0f);
+  rs_normalize(s->ns);
+  memcpy(s->n_geom, s->ng, sizeof s->ng);
+  s->kd[0] = 0.7f;
+  s->kd[1] = k % 9 == 0 ? 0.0f : 0.4f;
+  s->kd[2] = 0.1f;
+  s->on_a = 1.0f;
+  s->has_material = 1;
+}
+
+static void make_u(int k, float u[2]) {
+  static const float edge[][2] = {{0.0f, 0.0f},        {0.0f, 0.7f},
+                                  {0.99999994f, 0.0f}, {0.99999994f, 0.99999994f},
+                                  {0.25f, 1.0f},       {0.5f, 0.5f}};
+  if (k % 4 == 0) {
+    memcpy(u, edge[(k / 4) % 6], sizeof edge[0]);
+  } else {
+    u[0] = uniform();
+    u[1] = uniform();
+  }
+}
+
+static int same(const float *a, const float *b, size_t n) { return !memcmp(a, b, n * 4); }
+
+/* The wave's entries of the lights of one kind against the scalar light sample. */
+static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) {
+  int nl = clr_render_scene_light_count(scene), lights[8], nk = 0;
+  static clr_light_triangle tris[8];
+  static clr_light_point points[8];
+  for (int j = 0; j < nl; ++j) {
+    int tri = clr_render_scene_light_triangle(scene, j, &tris[j]);
+    int point = clr_render_scene_light_point(scene, j, &points[j]);
+    assert_false(tri && point);
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE ? tri : point) lights[nk++] = j;
+  }
+  assert_int_equal(nk, kind == CLR_WAVE_LIGHT_TRIANGLE ? 4 : 1);
+  enum { N = 1003 };
+  clr_light_wave w;
+  memset(&w, 0, sizeof w);
+  assert_int_equal(clr_light_wave_reserve(&w, N), CLR_SUCCESS);
+  static clr_surface surfaces[N];
+  static float wo[N][3], u[N][2];
+  static int light[N];
+  for (int k = 0; k < N; ++k) {
+    make_surface(k, &surfaces[k]);
+    random_unit(wo[k]);
+    make_u(k, u[k]);
+    light[k] = lights[k % nk];
+    int32_t e = kind == CLR_WAVE_LIGHT_TRIANGLE
+                    ? clr_light_wave_push(&w, &surfaces[k], wo[k], u[k], &tris[light[k]])
+                    : clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
+    assert_int_equal(e, k);
+  }
+  if (kind == CLR_WAVE_LIGHT_TRIANGLE)
+    clr_light_wave_sample(&w);
+  else
+    clr_light_wave_sample_points(&w);
+  int used = 0, unlit = 0;
+  for (int k = 0; k < N; ++k) {
+    const clr_surface *sf = &surfaces[k];
+    clr_light_sample ls;
+    clr_render_scene_sample_light(scene, light[k], sf->p, sf->ng, u[k], &ls);
+    assert_int_equal(ls.is_delta, kind == CLR_WAVE_LIGHT_POINT);
+    int use = 0;
+    float contrib[3] = {0, 0, 0};
+    if (ls.pdf > 0.0f && !(ls.li[0] == 0.0f && ls.li[1] == 0.0f && ls.li[2] == 0.0f)) {
+      float fc = clr_lambert_cos_plain(sf, wo[k], ls.wi), f[3];
+      for (int a = 0; a < 3; ++a) f[a] = sf->kd[a] * fc;
+      if (fc > 0.0f && !(f[0] == 0.0f && f[1] == 0.0f && f[2] == 0.0f)) {
+        float bp = clr_lambert_pdf(sf, wo[k], ls.wi), l2 = ls.pdf * ls.pdf, b2 = bp * bp;
+        float mis = (l2 + b2) > 0.0f ? l2 / (l2 + b2) : 0.0f; /* pbrt PowerHeuristic(1, ., 1, .) */
+        if (ls.is_delta) mis = 1.0f;
+        for (int a = 0; a < 3; ++a) contrib[a] = f[a] * ls.li[a] * mis / ls.pdf;
+        use = 1;
+      }
+    }
+    if (w.use[k] != use)
+      fail_msg("entry %d (light %d): wave use %d, scalar %d", k, light[k], w.use[k], use);
+    used += use;
+    unlit += !(ls.pdf > 0.0f);
+    if (!use) continue;
+    float got_c[3] = {w.contrib[0][k], w.contrib[1][k], w.contrib[2][k]};
+    float got_o[3] = {w.origin[0][k], w.origin[1][k], w.origin[2][k]};
+    float got_d[3] = {w.dir[0][k], w.dir[1][k], w.dir[2][k]};
+    float o[3] = {ls.shadow.ox, ls.shadow.oy, ls.shadow.oz};
+    float d[3] = {ls.shadow.dx, ls.shadow.dy, ls.shadow.dz};
+    if (!same(got_c, contrib, 3) || !same(got_o, o, 3) || !same(got_d, d, 3) ||
+        !same(&w.tfar[k], &ls.shadow.tfar, 1))
+      fail_msg("entry %d (light %d): wave contrib (%a %a %a) tfar %a, scalar (%a %a %a) %a", k,
+               light[k], got_c[0], got_c[1], got_c[2], w.tfar[k], contrib[0], contrib[1],
+               contrib[2], ls.shadow.tfar);
+    assert_true(ls.shadow.tnear == 0.0f);
+  }
+  assert_true(used > N / 10 && used < N); /* both outcomes exercised */
+  assert_true(unlit > 0);                 /* the points on the light */
+  clr_light_wave_free(&w);
+}
+
+static void test_waves_equal_scalar(void **state) {
+  (void)state;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  clr_scene_desc *desc = NULL;
+  assert_int_equal(clr_scene_parse_string(LIGHTS, CLR_BINARY_DIR "/lightwave.pbrt", &po, &desc),
+                   CLR_SUCCESS);
+  clr_render_scene *scene = NULL;
+  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  assert_int_equal(clr_render_scene_light_count(scene), 7);
+  check_kind(scene, CLR_WAVE_LIGHT_TRIANGLE);
+  check_kind(scene, CLR_WAVE_LIGHT_POINT);
+  clr_render_scene_free(scene);
+  clr_scene_desc_free(desc);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_waves_equal_scalar),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
