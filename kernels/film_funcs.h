@@ -13,24 +13,17 @@ CLR_INLINE float clr_film_luminance(float r, float g, float b) {
   return 0.212671f * r + 0.715160f * g + 0.072169f * b;
 }
 
-/* (clr_i32)ceil(x) and (clr_i32)floor(x) for |x| < 2^31; on the host without a libm call: the
- * truncation, plus or minus one where it dropped a fraction ((float)i is exact: below 2^24 every
- * integer is a float, above it x itself is an integer). */
+/* (clr_i32)ceil(x) and (clr_i32)floor(x) for |x| < 2^31 without a libm call (the kernels' ceil
+ * and floor are branchy on some devices): the truncation, plus or minus one where it dropped a
+ * fraction ((float)i is exact: below 2^24 every integer is a float, above it x itself is an
+ * integer). */
 CLR_INLINE clr_i32 clr_film_ceil_i32(float x) {
-#if CLR_DEVICE
-  return (clr_i32)clr_ceilf(x);
-#else
   clr_i32 i = (clr_i32)x;
   return i + (x > (float)i);
-#endif
 }
 CLR_INLINE clr_i32 clr_film_floor_i32(float x) {
-#if CLR_DEVICE
-  return (clr_i32)clr_floorf(x);
-#else
   clr_i32 i = (clr_i32)x;
   return i - (x < (float)i);
-#endif
 }
 
 /* pbrt's first and last pixel a filter of radius r centred at d reaches: ceil(d - r), floor(d + r). */

@@ -141,15 +141,28 @@ __kernel void clr_film_weigh8(clr_filter_params filt, clr_film_grid grid,
   const int y0 = clr_film_first_pixel(dy, filt.radius_y);
   const int nx = clr_film_last_pixel(dx, filt.radius_x) - x0;
   const int ny = clr_film_last_pixel(dy, filt.radius_y) - y0;
-  /* x0 - out_x0 >= -(reach_x - 1) > -CLR_FILM_LANES: the division rounds down */
-  const int gx =
-      grid.out_x0 + ((x0 - grid.out_x0 + CLR_FILM_LANES) / CLR_FILM_LANES - 1) * CLR_FILM_LANES;
+  /* x0 - out_x0 > -CLR_FILM_RUN_BIAS (the largest reach): the division rounds down */
+  const int gx = grid.out_x0 + ((x0 - grid.out_x0 + CLR_FILM_RUN_BIAS) / CLR_FILM_LANES -
+                                CLR_FILM_RUN_BIAS / CLR_FILM_LANES) *
+                                   CLR_FILM_LANES;
   vstore4((float4)(s[2] * w, s[3] * w, s[4] * w, 1.0f), 0, o);
   vstore4((float4)(as_float(x0), as_float(y0), as_float(gx), 0.0f), 1, o);
-  const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
-  /* the 8 x-factors from pixel x0 on, stored over zeros at their place among the 16 */
+  /* the x-factors from pixel x0 on, stored over zeros at their place among the 16 */
   vstore8((float8)(0.0f), 0, o + CLR_FILM_WEIGHED8_X);
   vstore8((float8)(0.0f), 1, o + CLR_FILM_WEIGHED8_X);
+  if (grid.reach_x <= CLR_FILM_QUAD && grid.reach_y <= CLR_FILM_QUAD) {
+    /* 4 x- and 4 y-factors in one vector; those past the reach are 0 (raise_reach in
+     * film_accumulate.c) */
+    const int8 k = (int8)(0, 1, 2, 3, 0, 1, 2, 3);
+    const int8 pixel = (int8)((int4)(x0), (int4)(y0)) + k;
+    const float8 d = convert_float8(pixel) - (float8)((float4)(dx), (float4)(dy));
+    const float8 v = select((float8)(0.0f), clr_filter_eval_xy8(&filt, d, factors),
+                            k <= (int8)((int4)(nx), (int4)(ny)));
+    vstore4(v.lo, 0, o + CLR_FILM_WEIGHED8_X + (x0 - gx));
+    vstore8((float8)(v.hi, (float4)(0.0f)), 0, o + CLR_FILM_WEIGHED8_Y);
+    return;
+  }
+  const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
   vstore8(clr_film_factors8(&filt, factors, 0, dx, x0 + lane, lane, nx), 0,
           o + CLR_FILM_WEIGHED8_X + (x0 - gx));
   vstore8(clr_film_factors8(&filt, factors, 1, dy, y0 + lane, lane, ny), 0,

@@ -19,9 +19,14 @@
  * pixels gx .. gx + 15 (0 where the sample does not reach), then CLR_FILM_LANES y-factors of
  * pixels y0 .. y0 + 7 (0 past its reach). */
 #define CLR_FILM_LANES 8
+/* Reach up to which clr_film_weigh8 evaluates the x- and y-factors in one vector. */
+#define CLR_FILM_QUAD 4
 #define CLR_FILM_WEIGHED8_X 8
 #define CLR_FILM_WEIGHED8_Y 24
 #define CLR_FILM_WEIGHED8_FLOATS 32
+/* Keeps the dividend of the weigh kernels' run start (gx) positive: x0 - out_x0 is above
+ * -CLR_FILM_REACH_MAX. */
+#define CLR_FILM_RUN_BIAS 128
 /* Most pixels a sample reaches along an axis: 2 * CLR_FILM_MAX_FILTER_RADIUS + 1. */
 #define CLR_FILM_REACH_MAX 65
 /* Per-pixel sums a kernel writes: r, g, b, filter weight. */

@@ -731,6 +731,54 @@ static void test_film_memory_until_splat(void **state) {
   film_release(b);
 }
 
+/* Samples exactly at a pixel centre along x, y or both reach 5 pixels per axis at radius 2, the
+ * outer two factors 0 for the filters that vanish at their radius (exact mitchell, triangle,
+ * gaussian, catmullrom: the chunk's reach counts 4, and the 8-lane weigh takes its one-vector
+ * path), not for box or table mode (reach 5). Either way every pixel's sums equal the host
+ * reference's bit for bit, from host samples and from a device buffer. */
+static void test_samples_at_the_radius(void **state) {
+  (void)state;
+  static const int types[] = {CLR_FILTER_TYPE_MITCHELL, CLR_FILTER_TYPE_TRIANGLE,
+                              CLR_FILTER_TYPE_GAUSSIAN, CLR_FILTER_TYPE_CATMULLROM,
+                              CLR_FILTER_TYPE_BOX};
+  const size_t n = 6000;
+  for (size_t t = 0; t < sizeof types / sizeof types[0]; ++t)
+    for (int table = 0; table < 2; ++table) {
+      film_setup s = basic(37, 29, types[t], 2.0f);
+      s.use_table = table;
+      clr_film ref = make_film(&s);
+      clr_film_sample *samples = random_samples(ref, n, 1.0f, 90u + (uint32_t)t);
+      for (size_t i = 0; i < n; ++i) {
+        if (i % 3 == 0) samples[i].x = floorf(samples[i].x) + 0.5f;
+        if (i % 5 < 2) samples[i].y = floorf(samples[i].y) + 0.5f;
+      }
+      assert_int_equal(film_add_samples_reference(ref, samples, n), CLR_SUCCESS);
+      sums expect = get_sums(ref);
+      for (int from_buffer = 0; from_buffer < 2; ++from_buffer) {
+        clr_film film = make_film(&s);
+        if (from_buffer) {
+          cl_int err = 0;
+          cl_mem buf =
+              clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                             n * sizeof *samples, samples, &err);
+          assert_int_equal(err, CL_SUCCESS);
+          assert_int_equal(film_add_samples_buffer(film, buf, n), CLR_SUCCESS);
+          clReleaseMemObject(buf);
+        } else {
+          assert_int_equal(film_add_samples(film, samples, n), CLR_SUCCESS);
+        }
+        sums got = get_sums(film);
+        assert_sums_identical(&got, &expect);
+        assert_int_equal(film_sample_count(film), film_sample_count(ref));
+        free_sums(&got);
+        film_release(film);
+      }
+      free_sums(&expect);
+      free(samples);
+      film_release(ref);
+    }
+}
+
 /* Every filter, exact and table mode, default radius: tile-size, group-size, device-buffer and
  * host-reference invariance (bit-identical sums). */
 static void test_every_filter_invariance(void **state) {
@@ -928,6 +976,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_host_film),
       cmocka_unit_test(test_every_filter_invariance),
+      cmocka_unit_test(test_samples_at_the_radius),
       cmocka_unit_test(test_film_memory_until_splat),
       cmocka_unit_test(test_constant_radiance_every_filter),
       cmocka_unit_test(test_brute_force_double_every_filter),

@@ -66,6 +66,18 @@ static size_t key_rows(const clr_film_params *p) {
   return (size_t)(p->pixel_y1 - p->pixel_y0) + KEY_MARGIN;
 }
 
+/* Raises *reach to the pixels x0 .. last a sample at d reaches along `axis`, counted up to its
+ * last non-zero filter factor: past it the factors are 0, whose additions leave every sum as it
+ * is (film_funcs.h, clr_film_add), so the gathers need not reach those pixels. Filters that
+ * vanish at their radius (mitchell, triangle) then reach 4 pixels, not 5, at radius 2. */
+static void raise_reach(int32_t *reach, clr_film film, int axis, float d, int32_t x0,
+                        int32_t last) {
+  while (last - x0 + 1 > *reach &&
+         clr_film_filter_factor(&film->filter, film->factors, axis, d, last) == 0.0f)
+    --last;
+  if (last - x0 + 1 > *reach) *reach = last - x0 + 1;
+}
+
 /* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
  * pixel) and binned values, counts them per bin row, records their bounds and the largest
  * reach. */
@@ -99,8 +111,8 @@ static void key_part(bin_part *t) {
     t->bx1 = s.x0 > t->bx1 ? s.x0 : t->bx1;
     t->by0 = s.y0 < t->by0 ? s.y0 : t->by0;
     t->by1 = s.y0 > t->by1 ? s.y0 : t->by1;
-    t->reach_x = s.x1 - s.x0 + 1 > t->reach_x ? s.x1 - s.x0 + 1 : t->reach_x;
-    t->reach_y = s.y1 - s.y0 + 1 > t->reach_y ? s.y1 - s.y0 + 1 : t->reach_y;
+    if (s.x1 - s.x0 + 1 > t->reach_x) raise_reach(&t->reach_x, film, 0, s.dx, s.x0, s.x1);
+    if (s.y1 - s.y0 + 1 > t->reach_y) raise_reach(&t->reach_y, film, 1, s.dy, s.y0, s.y1);
     ++t->binned;
   }
 }
