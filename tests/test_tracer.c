@@ -202,6 +202,21 @@ static void test_triangle_and_quad(void **state) {
   clr_tracer_release(t);
 }
 
+/* CLRENDER_EMBREE_ISA caps Embree's ISA: every accepted value traces the triangle and quad
+ * exactly as above (Embree runs at most what the CPU has); anything else is refused by name. */
+static void test_embree_isa_cap(void **state) {
+  static const char *const isas[] = {"sse2", "sse4.2", "avx", "avx2", "avx512"};
+  for (size_t i = 0; i < sizeof isas / sizeof *isas; ++i) {
+    setenv("CLRENDER_EMBREE_ISA", isas[i], 1);
+    test_triangle_and_quad(state);
+  }
+  setenv("CLRENDER_EMBREE_ISA", "avx9", 1);
+  clr_tracer t = (clr_tracer)(uintptr_t)1; /* must come back NULL */
+  assert_error(clr_tracer_create(&t), CLR_ERROR_INVALID_ARGUMENT, "CLRENDER_EMBREE_ISA=avx9");
+  assert_null(t);
+  unsetenv("CLRENDER_EMBREE_ISA");
+}
+
 /* ---- spheres ---- */
 
 /* pbrt-v3 sphere uv of an object-space point. */
@@ -794,6 +809,7 @@ static void test_bad_input(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_triangle_and_quad),
+      cmocka_unit_test(test_embree_isa_cap),
       cmocka_unit_test(test_sphere),
       cmocka_unit_test(test_transformed_sphere),
       cmocka_unit_test(test_instances),

@@ -445,6 +445,24 @@ static clr_result add_group(struct clr_tracer_t *t, const char *fn) {
   return CLR_SUCCESS;
 }
 
+/* Embree runs the widest ISA the CPU has, and its ISAs differ in the last bits of some hits:
+ * CLRENDER_EMBREE_ISA caps it (Embree's max_isa), so that machines of different widths agree. */
+static const char *const embree_isas[] = {"sse2", "sse4.2", "avx", "avx2", "avx512"};
+
+static clr_result embree_config(char *config, size_t size) {
+  const char *isa = getenv("CLRENDER_EMBREE_ISA");
+  config[0] = 0;
+  if (!isa || !*isa) return CLR_SUCCESS;
+  for (size_t i = 0; i < sizeof embree_isas / sizeof *embree_isas; ++i)
+    if (strcmp(isa, embree_isas[i]) == 0) {
+      snprintf(config, size, "max_isa=%s", isa);
+      return CLR_SUCCESS;
+    }
+  return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                            "CLRENDER_EMBREE_ISA=%.64s: expected sse2, sse4.2, avx, avx2 or avx512",
+                            isa);
+}
+
 clr_result clr_tracer_create(clr_tracer *out) {
   if (!out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_create: out is NULL");
   *out = NULL;
@@ -454,7 +472,13 @@ clr_result clr_tracer_create(clr_tracer *out) {
     free(t);
     return clr_set_last_error(CLR_ERROR_INTERNAL, "clr_tracer_create: pthread_mutex_init failed");
   }
-  t->device = rtcNewDevice(NULL);
+  char config[32];
+  clr_result c = embree_config(config, sizeof config);
+  if (c != CLR_SUCCESS) {
+    clr_tracer_release(t);
+    return c;
+  }
+  t->device = rtcNewDevice(config[0] ? config : NULL);
   if (!t->device) {
     enum RTCError code = rtcGetDeviceError(NULL);
     clr_tracer_release(t);
