@@ -299,7 +299,8 @@ CLR_SIMD_INLINE void clr_halton_pair_counts8(__global const ushort *pt, uint8 a,
  * gives the same float); their count is at most 14, so invBaseN comes from two register tables.
  * Same integers, same float operations. */
 CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
-                                        __global const ushort *pt, uint8 a, int stepped) {
+                                        __global const ushort *pt, uint8 a, int stepped,
+                                        int derived) {
   uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];
   uint rows = (uint)pt[6] | (uint)pt[7] << 16;
   uint8 hi = clr_mul_shift8(a, magic, pt[3]);
@@ -315,8 +316,7 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
   uint8 high = clr_gather_u16(pt + CLR_HALTON_PAIR_HEADER + chunk, hi);
   uint value_mask = (1u << count_shift) - 1u;
   uint8 count = high >> count_shift, digits8 = (low >> count_shift) + count;
-  if (count_shift == CLR_HALTON_PAIR_DERIVED_COUNTS)
-    clr_halton_pair_counts8(pt, a, hi, &count, &digits8);
+  if (derived) clr_halton_pair_counts8(pt, a, hi, &count, &digits8);
   uint8 powers = convert_uint8(vload8(1, pt)); /* base^0..base^7 */
   uint8 reversed = (low & value_mask) * clr_permute8(powers, count) + (high & value_mask);
   int8 digits = as_int8(digits8);
@@ -395,7 +395,9 @@ static inline float8 clr_halton_value8(const clr_sampler_params *p,
   if (udim < CLR_HALTON_PRIMES) {
     __global const clr_halton_prime *pr = primes + (udim == 1u ? CLR_HALTON_BASE3_RECORD : udim);
     uint8 a = udim == 1u ? base3 : index;
-    if (pair) return clr_halton_pair8(pr, pair, a, stepped);
+    if (pair) /* two inlined copies: tables with stored counts test nothing per value */
+      return pair[5] == CLR_HALTON_PAIR_DERIVED_COUNTS ? clr_halton_pair8(pr, pair, a, stepped, 1)
+                                                       : clr_halton_pair8(pr, pair, a, stepped, 0);
     return clr_scrambled_radical_inverse8(pr, perms, a, chunks, reversed32);
   }
   uint lanes[CLR_LANES];
