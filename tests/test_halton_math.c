@@ -433,12 +433,11 @@ static void test_pair_tables_decode(void **state) {
       derived += t[5] == CLR_HALTON_PAIR_DERIVED_COUNTS;
       if (l == 0 && r >= 31 && r <= 40) assert_int_equal(t[5], CLR_HALTON_PAIR_DERIVED_COUNTS);
       const clr_u16 *perm = perms + p->perm_offset;
-      clr_u32 b = p->base, b2 = b * b;
-      const clr_u32 edges[] = {
-          0, 1, t[0] - 1, t[0], t[0] * b - 1, t[0] * b, t[0] * b2 - 1, limits[l] - 1};
+      clr_u64 b = p->base, c = t[0];
+      const clr_u64 edges[] = {0, 1, c - 1, c, c * b - 1, c * b, c * b * b - 1, limits[l] - 1};
       for (size_t e = 0; e < sizeof edges / sizeof edges[0]; ++e)
         if (edges[e] < limits[l])
-          assert_float_bits_equal(pair_table_value(p, t, edges[e]),
+          assert_float_bits_equal(pair_table_value(p, t, (clr_u32)edges[e]),
                                   ref_scrambled(b, perm, edges[e]));
       clr_u32 step = (r >= 31 && r <= 53) ? 7u : 997u;
       for (clr_u32 a = r % 7; a < limits[l]; a += step)
