@@ -278,6 +278,20 @@ CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_
   return clr_below_one8(v);
 }
 
+/* The digit counts of a pair table without stored ones (CLR_HALTON_PAIR_DERIVED_COUNTS): c, the
+ * significant base-b digits of hi (of a = lo where hi is 0), is how many of base^0..base^top (the
+ * header's nonzero powers; hi < base^top) it reaches. *count: hi's digits, *digits: a's. */
+CLR_SIMD_INLINE void clr_halton_pair_counts8(__global const ushort *pt, uint8 a, uint8 hi,
+                                             uint8 *count, uint8 *digits) {
+  int8 top = hi != 0u;
+  uint8 x = select(a, hi, top), c = (uint8)0u;
+  /* select, not c -= as_uint8(x >= p): Oclgrind evaluated that form wrongly */
+  for (int k = 0; k < CLR_HALTON_PAIR_ROW && pt[8 + k] != 0u; ++k)
+    c += select((uint8)0u, (uint8)1u, x >= (uint8)(uint)pt[8 + k]);
+  *count = select((uint8)0u, c, top);
+  *digits = c + select((uint8)0u, (uint8)(uint)pt[4], top);
+}
+
 /* clr_scrambled_radical_inverse32 for the arguments of a launch from the record's pair table
  * `pt` (CLR_HALTON_PAIR_HEADER in halton_funcs.h): a = hi * B + lo; lo's entry is its m digits
  * below a nonzero hi, else its significant ones; hi's entry its significant digits (none for 0).
@@ -285,7 +299,8 @@ CLR_SIMD_INLINE float8 clr_scrambled_radical_inverse8(__global const clr_halton_
  * gives the same float); their count is at most 14, so invBaseN comes from two register tables.
  * Same integers, same float operations. */
 CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
-                                        __global const ushort *pt, uint8 a, int stepped) {
+                                        __global const ushort *pt, uint8 a, int stepped,
+                                        int derived) {
   uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];
   uint rows = (uint)pt[6] | (uint)pt[7] << 16;
   uint8 hi = clr_mul_shift8(a, magic, pt[3]);
@@ -300,10 +315,11 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
   }
   uint8 high = clr_gather_u16(pt + CLR_HALTON_PAIR_HEADER + chunk, hi);
   uint value_mask = (1u << count_shift) - 1u;
-  uint8 count = high >> count_shift;
+  uint8 count = high >> count_shift, digits8 = (low >> count_shift) + count;
+  if (derived) clr_halton_pair_counts8(pt, a, hi, &count, &digits8);
   uint8 powers = convert_uint8(vload8(1, pt)); /* base^0..base^7 */
   uint8 reversed = (low & value_mask) * clr_permute8(powers, count) + (high & value_mask);
-  int8 digits = as_int8((low >> count_shift) + count);
+  int8 digits = as_int8(digits8);
   uint8 pow_lo = clr_permute8(as_uint8(vload8(0, pr->inv_base_pow)), as_uint8(digits));
   uint8 pow_hi = clr_permute8(as_uint8(vload8(1, pr->inv_base_pow)), as_uint8(digits));
   float8 inv_base_n = as_float8(select(pow_lo, pow_hi, digits > 7));
@@ -379,7 +395,9 @@ static inline float8 clr_halton_value8(const clr_sampler_params *p,
   if (udim < CLR_HALTON_PRIMES) {
     __global const clr_halton_prime *pr = primes + (udim == 1u ? CLR_HALTON_BASE3_RECORD : udim);
     uint8 a = udim == 1u ? base3 : index;
-    if (pair) return clr_halton_pair8(pr, pair, a, stepped);
+    if (pair) /* two inlined copies: tables with stored counts test nothing per value */
+      return pair[5] == CLR_HALTON_PAIR_DERIVED_COUNTS ? clr_halton_pair8(pr, pair, a, stepped, 1)
+                                                       : clr_halton_pair8(pr, pair, a, stepped, 0);
     return clr_scrambled_radical_inverse8(pr, perms, a, chunks, reversed32);
   }
   uint lanes[CLR_LANES];

@@ -35,7 +35,10 @@
  * the lo entries of (r + j * step) mod B, j = 0..7, for 8 lanes whose arguments step by `step`
  * (the launch's index stride; for dimension 1 scale[0]). The host picks m for the fewest entries
  * such that entries fit 16 bits, counts add up to at most 14 and the reversed digits stay below
- * 2^31 (host/lib/sampling/halton_tables.c). */
+ * 2^31 (host/lib/sampling/halton_tables.c). Where value and count do not share 16 bits (two-digit
+ * top parts of bases 131-251), the count shift is CLR_HALTON_PAIR_DERIVED_COUNTS, the entries hold
+ * values only and the kernel counts digits by comparison with base^k: hi's for a nonzero hi (lo
+ * then has m), lo's (a's) for a zero hi. */
 #define CLR_HALTON_PAIR_HEADER 16
 #define CLR_HALTON_PAIR_MOST_ENTRIES 16384u
 #define CLR_HALTON_PAIR_MOST_TOPS 65536u
@@ -43,6 +46,7 @@
 #define CLR_HALTON_PAIR_MAX_DIGITS 7
 #define CLR_HALTON_PAIR_ROW 8
 #define CLR_HALTON_PAIR_MOST_ROW_CHUNK 4096u
+#define CLR_HALTON_PAIR_DERIVED_COUNTS 16u
 
 /* One radical-inverse base, filled on the host by clr_halton_primes(). All offsets index the
  * single u16 table of clr_halton_permutations(). 32-bit scalars only. */

@@ -386,6 +386,72 @@ static void test_pair_lane_rows(void **state) {
   assert_true(tested >= 20);
 }
 
+/* A pair table read the way clr_halton_pair8 reads it (scalar): a = hi * B + lo, the counts
+ * stored beside the values or, with CLR_HALTON_PAIR_DERIVED_COUNTS, counted against the header's
+ * powers base^0..base^top. */
+static float pair_table_value(const clr_halton_prime *pr, const clr_u16 *t, clr_u32 a) {
+  clr_u32 chunk = t[0], magic = t[1] | (clr_u32)t[2] << 16, shift = t[3], m = t[4], cs = t[5];
+  clr_u32 hi = (clr_u32)(((clr_u64)a * magic) >> shift), lo = a - hi * chunk;
+  clr_u32 low = t[CLR_HALTON_PAIR_HEADER + (hi == 0 ? chunk : 0) + lo];
+  clr_u32 high = t[CLR_HALTON_PAIR_HEADER + chunk + hi];
+  clr_u32 mask = (1u << cs) - 1u, count = high >> cs, digits = (low >> cs) + count;
+  if (cs == CLR_HALTON_PAIR_DERIVED_COUNTS) {
+    clr_u32 x = hi ? hi : a, c = 0;
+    for (int k = 0; k < 8 && t[8 + k] != 0; ++k) c += x >= t[8 + k];
+    count = hi ? c : 0;
+    digits = c + (hi ? m : 0);
+  }
+  clr_u32 reversed = (low & mask) * t[8 + count] + (high & mask);
+  assert_true(reversed < (1u << 31) && digits <= 14);
+  float v = pr->inv_base_pow[digits] * ((float)(clr_i32)reversed + pr->scramble_tail);
+  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+}
+
+/* Every record's pair table against pbrt-v3's scrambled radical inverse, for arguments of a 512^2
+ * film (index stride 31104) at 16 and 64 spp: every 7th argument, the tables' last ones and the
+ * ends of each hi (a zero hi, one digit, two digits). At 16 spp the bases 131-181 (dimensions
+ * 31-41, the path tracer's 41-value layout ends at dimension 40) and 191-251 have two-digit top
+ * parts whose counts do not fit beside the values: their tables derive the counts. */
+static void test_pair_tables_decode(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  const clr_u32 limits[] = {31104u * 16u, 31104u * 64u};
+  for (size_t l = 0; l < 2; ++l) {
+    int covered = 0, derived = 0, largest = 0;
+    for (int r = 1; r < CLR_HALTON_PRIME_RECORDS; ++r) {
+      const clr_halton_prime *p = &pr[r];
+      clr_halton_pair_shape shape = clr_halton_pair_shape_for(p, limits[l]);
+      if (l == 0 && r >= 31 && r <= 40) assert_int_not_equal(shape.digits, 0);
+      if (shape.digits == 0) continue;
+      ++covered;
+      if (r < CLR_HALTON_PRIMES) largest = r;
+      size_t entries = clr_halton_pair_entries(p, shape);
+      clr_u16 *t = calloc(entries, sizeof *t);
+      assert_non_null(t);
+      clr_halton_pair_table(p, perms, shape, t);
+      derived += t[5] == CLR_HALTON_PAIR_DERIVED_COUNTS;
+      if (l == 0 && r >= 31 && r <= 40) assert_int_equal(t[5], CLR_HALTON_PAIR_DERIVED_COUNTS);
+      const clr_u16 *perm = perms + p->perm_offset;
+      clr_u64 b = p->base, c = t[0];
+      const clr_u64 edges[] = {0, 1, c - 1, c, c * b - 1, c * b, c * b * b - 1, limits[l] - 1};
+      for (size_t e = 0; e < sizeof edges / sizeof edges[0]; ++e)
+        if (edges[e] < limits[l])
+          assert_float_bits_equal(pair_table_value(p, t, (clr_u32)edges[e]),
+                                  ref_scrambled(b, perm, edges[e]));
+      clr_u32 step = (r >= 31 && r <= 53) ? 7u : 997u;
+      for (clr_u32 a = r % 7; a < limits[l]; a += step)
+        assert_float_bits_equal(pair_table_value(p, t, a), ref_scrambled(b, perm, a));
+      free(t);
+    }
+    /* 16 spp: all but the 72 bases 257-701 (two-digit top parts above 16 bits), 23 with derived
+     * counts (131-251); 64 spp: 831; the largest base, 7919, has a table at both */
+    assert_int_equal(covered, l == 0 ? 928 : 831);
+    assert_int_equal(derived, l == 0 ? 23 : 27);
+    assert_int_equal(largest, CLR_HALTON_PRIMES - 1);
+  }
+}
+
 static void test_inverse_radical_inverse(void **state) {
   (void)state;
   assert_int_equal(clr_inverse_radical_inverse(2, 1, 3), 4);  /* 001 -> 100 */
@@ -731,6 +797,7 @@ int main(void) {
       cmocka_unit_test(test_scrambled_values),
       cmocka_unit_test(test_chunked_path),
       cmocka_unit_test(test_pair_lane_rows),
+      cmocka_unit_test(test_pair_tables_decode),
       cmocka_unit_test(test_inverse_radical_inverse),
       cmocka_unit_test(test_index_matches_pbrt_form),
       cmocka_unit_test(test_setup),

@@ -256,7 +256,9 @@ static void test_large_indices_match_reference(void **state) {
  * chunk loop, as do the bases of test_large_indices_match_reference). Pixel (0, 0) has arguments
  * below B (a zero top part). Work-items whose 8 lanes are consecutive samples of one pixel read
  * lo from the lane rows (whole pixels, and samples 8-23 of 24); samples 3-15 put other
- * work-items across two pixels (lane by lane). Device == reference bit for bit. */
+ * work-items across two pixels (lane by lane). At 16 spp dimensions 31-53 (bases 131-251, two-digit
+ * top parts) have tables whose digit counts the kernel derives; the 42-value cases end there like
+ * the path tracer's layout (dimension 40). Device == reference bit for bit. */
 static void test_halton_pair_tables_match_reference(void **state) {
   (void)state;
   static clr_sample_request req[250];
@@ -267,7 +269,8 @@ static void test_halton_pair_tables_match_reference(void **state) {
     int first, count;
   } cases[] = {{16, 30, {0, 0, 64, 2}, 0, 0},       {16, 30, {448, 509, 512, 512}, 0, 0},
                {64, 30, {100, 7, 132, 8}, 0, 0},    {16, 250, {5, 5, 7, 6}, 0, 0},
-               {24, 30, {200, 60, 203, 62}, 8, 16}, {16, 30, {0, 0, 9, 2}, 3, 13}};
+               {24, 30, {200, 60, 203, 62}, 8, 16}, {16, 30, {0, 0, 9, 2}, 3, 13},
+               {16, 21, {0, 0, 16, 2}, 0, 0},       {16, 21, {250, 3, 253, 5}, 3, 13}};
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     clr_sampler_desc d;
     clr_sampler_desc_init(&d, CLR_SAMPLER_HALTON);

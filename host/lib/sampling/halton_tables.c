@@ -201,8 +201,19 @@ static clr_u32 digits_of(clr_u32 base, clr_u32 n) { /* significant base-b digits
   return count;
 }
 
+/* The count shift of a pair table (kernels/halton_funcs.h): the bits of its values when their
+ * digit counts fit beside them in 16 bits, else CLR_HALTON_PAIR_DERIVED_COUNTS (the kernel derives
+ * the counts from hi), or 0: the values alone need more than 16 bits. */
+static clr_u32 pair_count_shift(clr_u32 chunk, clr_u32 digits, clr_u32 top_power,
+                                clr_u32 top_digits) {
+  clr_u32 value_bits = bits_of(chunk > top_power ? chunk : top_power);
+  if (value_bits + bits_of((digits > top_digits ? digits : top_digits) + 1u) <= 16u)
+    return value_bits;
+  return value_bits <= 16u ? CLR_HALTON_PAIR_DERIVED_COUNTS : 0u;
+}
+
 clr_halton_pair_shape clr_halton_pair_shape_for(const clr_halton_prime *pr, uint64_t limit) {
-  clr_halton_pair_shape best = {0, 0};
+  clr_halton_pair_shape best = {0, 0}, derived = {0, 0}; /* derived: counts not stored */
   if (limit > ((uint64_t)1 << CLR_HALTON_PAIR_ARGUMENT_BITS)) return best;
   uint64_t chunk = pr->base;
   for (clr_u32 m = 1; m <= CLR_HALTON_PAIR_MAX_DIGITS && chunk <= CLR_HALTON_PAIR_MOST_ENTRIES;
@@ -212,15 +223,16 @@ clr_halton_pair_shape clr_halton_pair_shape_for(const clr_halton_prime *pr, uint
     if (tops > CLR_HALTON_PAIR_MOST_TOPS) continue;
     clr_u32 top_digits = digits_of(pr->base, (clr_u32)tops - 1u);
     uint64_t top_power = power_of(pr->base, top_digits);
-    if (top_digits > CLR_HALTON_PAIR_MAX_DIGITS || top_power > (1u << 15) ||
+    if (top_digits > CLR_HALTON_PAIR_MAX_DIGITS || top_power >= (1u << 16) ||
         chunk * top_power > ((uint64_t)1 << 31))
       continue;
-    clr_u32 value_bits = bits_of((clr_u32)(chunk > top_power ? chunk : top_power));
-    if (value_bits + bits_of((m > top_digits ? m : top_digits) + 1u) > 16u) continue;
-    if (best.digits == 0 || chunk + tops < power_of(pr->base, best.digits) + best.tops)
-      best = (clr_halton_pair_shape){m, (clr_u32)tops};
+    clr_u32 shift = pair_count_shift((clr_u32)chunk, m, (clr_u32)top_power, top_digits);
+    if (shift == 0u) continue;
+    clr_halton_pair_shape *keep = shift == CLR_HALTON_PAIR_DERIVED_COUNTS ? &derived : &best;
+    if (keep->digits == 0 || chunk + tops < power_of(pr->base, keep->digits) + keep->tops)
+      *keep = (clr_halton_pair_shape){m, (clr_u32)tops};
   }
-  return best;
+  return best.digits ? best : derived; /* stored counts cost the kernel no comparisons */
 }
 
 size_t clr_halton_pair_entries(const clr_halton_prime *pr, clr_halton_pair_shape shape) {
@@ -233,7 +245,8 @@ void clr_halton_pair_table(const clr_halton_prime *pr, const clr_u16 *permutatio
   clr_u32 m = shape.digits, chunk = power_of(pr->base, m);
   clr_u32 top_digits = digits_of(pr->base, shape.tops - 1u);
   clr_u32 top_power = power_of(pr->base, top_digits);
-  clr_u32 count_shift = bits_of(chunk > top_power ? chunk : top_power);
+  clr_u32 count_shift = pair_count_shift(chunk, m, top_power, top_digits);
+  clr_u32 count_mask = count_shift < 16u ? 0xFFFFu : 0u; /* derived counts: none stored */
   /* n / chunk = (n * magic) >> shift for every n below 2^28: magic = ceil(2^(28 + l) / chunk)
    * < 2^29 with 2^l >= chunk (Granlund-Montgomery). */
   clr_u32 shift = CLR_HALTON_PAIR_ARGUMENT_BITS + bits_of(chunk);
@@ -246,10 +259,11 @@ void clr_halton_pair_table(const clr_halton_prime *pr, const clr_u16 *permutatio
   clr_u16 *low = out + CLR_HALTON_PAIR_HEADER, *top = low + chunk;
   clr_u32 count;
   for (clr_u32 d = 0; d < chunk; ++d)
-    low[d] = (clr_u16)(permuted_reversal(perm, pr->base, d, (int)m, &count) | m << count_shift);
+    low[d] = (clr_u16)(permuted_reversal(perm, pr->base, d, (int)m, &count) |
+                       ((m << count_shift) & count_mask));
   for (clr_u32 d = 0; d < shape.tops; ++d) {
     clr_u32 value = permuted_reversal(perm, pr->base, d, -1, &count);
-    top[d] = (clr_u16)(value | count << count_shift);
+    top[d] = (clr_u16)(value | ((count << count_shift) & count_mask));
   }
 }
 
