@@ -3,7 +3,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "clr_internal.h"
-#include "film_funcs.h"
 #include "film_internal.h"
 #include "film_tile_add.h"
 
