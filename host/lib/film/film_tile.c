@@ -3,8 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "clr_internal.h"
-#include "film_funcs.h"
 #include "film_internal.h"
+#include "film_tile_add.h"
 
 struct clr_film_tile_t {
   clr_film film; /* retained */
@@ -66,26 +66,13 @@ clr_result film_tile_add_samples(clr_film_tile tile, const clr_film_sample *samp
   if (tile->merged)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE,
                     "film_tile_add_samples: tile already merged");
-  const clr_bounds2i b = tile->bounds;
-  size_t w = (size_t)(b.x1 - b.x0);
-  for (size_t i = 0; i < count; ++i) {
-    const clr_film_sample *in = &samples[i];
-    clr_film_prepared s;
-    clr_i32 status = clr_film_prepare(&film->params, &film->filter, in->x, in->y, in->r, in->g,
-                                      in->b, in->weight, &s);
-    if (status == CLR_FILM_SAMPLE_DROPPED) ++tile->dropped;
-    if (status == CLR_FILM_SAMPLE_OUTSIDE) ++tile->outside;
-    if (status != CLR_FILM_SAMPLE_OK) continue;
-    ++tile->accepted;
-    int32_t x0 = s.x0 > b.x0 ? s.x0 : b.x0, x1 = s.x1 < b.x1 - 1 ? s.x1 : b.x1 - 1;
-    int32_t y0 = s.y0 > b.y0 ? s.y0 : b.y0, y1 = s.y1 < b.y1 - 1 ? s.y1 : b.y1 - 1;
-    for (int32_t y = y0; y <= y1; ++y)
-      for (int32_t x = x0; x <= x1; ++x) {
-        size_t pix = (size_t)(y - b.y0) * w + (size_t)(x - b.x0);
-        clr_film_accumulate(&film->filter, film->factors, &s, x, y,
-                            tile->sums + pix * CLR_FILM_SUM_FLOATS);
-      }
-  }
+  clr_tile_adder a;
+  clr_tile_adder_init(&a, &film->params, &film->filter, film->factors);
+  clr_tile_counts n = {0, 0, 0};
+  clr_tile_add_samples(&a, samples, count, tile->bounds, tile->sums, &n);
+  tile->accepted += n.accepted;
+  tile->dropped += n.dropped;
+  tile->outside += n.outside;
   return CLR_SUCCESS;
 }
 
