@@ -4,7 +4,9 @@
  * EstimateDirect does (power heuristic, f Li w / pdf; weight 1 for a point light). Same bits for
  * every entry: one-sided, two-sided and reversed triangle lights and a point light, surface
  * points above and below them, a point on a light's vertex or position (no sample), sample
- * values on the triangle's corners and edges. */
+ * values on the triangle's corners and edges. The shape wave's tests of MIS rays against
+ * triangle lights (integrators/shape_wave.c) against clr_render_scene_light_may_hit: rays aimed
+ * at the triangles' insides, vertices and edges, past them, in their planes, short of them. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -16,6 +18,7 @@
 #include <cmocka.h>
 #include "clrender.h"
 #include "light_wave.h"
+#include "shape_wave.h"
 #include "render_scene.h"
 #include "scene_parser.h"
 
@@ -188,9 +191,95 @@ static void test_waves_equal_scalar(void **state) {
   clr_scene_desc_free(desc);
 }
 
+/* Ray k toward triangle t: aimed at a point of barycentrics on a vertex, an edge or inside it
+ * (some just outside), from a random origin or one in the triangle's plane; tfar short of the
+ * point for some, tnear beyond it for others; from the vertices with tnear -1 and 0. */
+static void make_shape_ray(int k, const clr_light_triangle *t, clr_ray *r) {
+  float b1 = uniform(), b2 = uniform();
+  switch (k % 7) {
+    case 0:
+      b1 = 0.0f, b2 = 0.0f;
+      break; /* vertex p0 */
+    case 1:
+      b1 = 1.0f, b2 = 0.0f;
+      break; /* vertex p1 */
+    case 2:
+      b2 = 1.0f - b1;
+      break; /* edge p1 p2 */
+    case 3:
+      b2 = 0.0f;
+      break; /* edge p0 p1 */
+    case 4:
+      b1 = 1.1f * b1, b2 = 1.1f * b2 * (1.0f - b1);
+      break; /* around the triangle */
+    default:
+      if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
+  }
+  float target[3], o[3], d[3];
+  for (int a = 0; a < 3; ++a)
+    target[a] = (1.0f - b1 - b2) * t->p0[a] + b1 * t->p1[a] + b2 * t->p2[a];
+  if (k % 23 == 5) /* in the triangle's plane */
+    for (int a = 0; a < 3; ++a) o[a] = t->p0[a] + 2.0f * (t->p0[a] - t->p1[a]);
+  else
+    for (int a = 0; a < 3; ++a) o[a] = 12.0f * uniform() - 6.0f;
+  for (int a = 0; a < 3; ++a) d[a] = target[a] - o[a];
+  float dist = sqrtf(rs_dot(d, d));
+  rs_normalize(d);
+  *r = (clr_ray){.ox = o[0], .oy = o[1], .oz = o[2], .dx = d[0], .dy = d[1], .dz = d[2]};
+  r->tnear = k % 11 == 3 ? 1.01f * dist : 0.0f;
+  r->tfar = k % 13 == 4 ? 0.99f * dist : k % 13 == 6 ? dist : INFINITY;
+  if (k % 17 == 2) r->dx = -r->dx, r->dy = -r->dy, r->dz = -r->dz; /* away from it */
+  if (k % 29 == 9 || k % 29 == 10) { /* from a vertex: u, v, t exactly 0 or u + v exactly 1 */
+    const float *v = (k / 29) % 3 == 0 ? t->p0 : (k / 29) % 3 == 1 ? t->p1 : t->p2;
+    *r = (clr_ray){.ox = v[0], .oy = v[1], .oz = v[2], .dx = 0.25f, .dy = -0.5f, .dz = 0.75f};
+    r->tnear = k % 29 == 9 ? -1.0f : 0.0f;
+    r->tfar = INFINITY;
+  }
+}
+
+static void test_shape_wave_equals_scalar(void **state) {
+  (void)state;
+  clr_parse_options po;
+  clr_parse_options_init(&po);
+  clr_scene_desc *desc = NULL;
+  assert_int_equal(clr_scene_parse_string(LIGHTS, CLR_BINARY_DIR "/shapewave.pbrt", &po, &desc),
+                   CLR_SUCCESS);
+  clr_render_scene *scene = NULL;
+  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  int nl = clr_render_scene_light_count(scene), lights[8], nt = 0;
+  static clr_light_triangle tris[8];
+  for (int j = 0; j < nl; ++j)
+    if (clr_render_scene_light_triangle(scene, j, &tris[j])) lights[nt++] = j;
+  assert_int_equal(nt, 4);
+  enum { N = 2011 };
+  clr_shape_wave w;
+  memset(&w, 0, sizeof w);
+  assert_int_equal(clr_shape_wave_reserve(&w, N), CLR_SUCCESS);
+  static clr_ray rays[N];
+  static int light[N];
+  for (int k = 0; k < N; ++k) {
+    light[k] = lights[(k / 7) % nt];
+    make_shape_ray(k, &tris[light[k]], &rays[k]);
+    assert_int_equal(clr_shape_wave_push(&w, &rays[k], &tris[light[k]]), k);
+  }
+  clr_shape_wave_test(&w);
+  int hits = 0;
+  for (int k = 0; k < N; ++k) {
+    int scalar = clr_render_scene_light_may_hit(scene, light[k], &rays[k]);
+    if ((w.hit[k] != 0.0) != scalar || (w.hit[k] != 0.0 && w.hit[k] != 1.0))
+      fail_msg("ray %d (light %d): wave %g, scalar %d", k, light[k], w.hit[k], scalar);
+    hits += scalar;
+  }
+  assert_true(hits > N / 4 && hits < 3 * N / 4); /* both outcomes exercised */
+  clr_shape_wave_free(&w);
+  clr_render_scene_free(scene);
+  clr_scene_desc_free(desc);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_waves_equal_scalar),
+      cmocka_unit_test(test_shape_wave_equals_scalar),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

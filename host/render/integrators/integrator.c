@@ -12,6 +12,7 @@
 #include "lambert_wave.h"
 #include "lambertian.h"
 #include "light_wave.h"
+#include "shape_wave.h"
 #include "light_distribution.h"
 #include "microfacet.h"
 #include "pcg32.h"
@@ -207,6 +208,8 @@ void clr_integrator_free(clr_integrator *it) {
 
 /* ---------- scratch ---------- */
 
+enum { SHAPE_NO_RAY = -1, SHAPE_MAY_HIT = -2 }; /* direct_job.shape_entry without a wave entry */
+
 typedef struct direct_job {
   int32_t sample, light;
   float u_light[2], u_scatter[2];
@@ -217,6 +220,7 @@ typedef struct direct_job {
   int32_t shadow_index, mis_index;
   int32_t lambert_entry; /* the MIS BSDF sample's entry in the scratch's Lambert wave, or -1 */
   int32_t light_entry;   /* the light sample's entry in the scratch's light wave, or -1 */
+  int32_t shape_entry;   /* the MIS ray's entry in the scratch's shape wave, or a SHAPE_ code */
   float shadow_contrib[3];
 } direct_job;
 
@@ -237,6 +241,7 @@ struct clr_integrator_scratch {
   clr_lambert_wave lambert; /* a wave's Lambertian BSDF samples, structure of arrays */
   clr_light_wave lights;    /* and its triangle-light samples at Lambertian surfaces */
   clr_light_wave points;    /* and its point-light ones */
+  clr_shape_wave shapes;    /* and its MIS rays' triangle-light shape tests */
   size_t ray_cap, ray2_cap, job_cap, sample_cap;
 };
 
@@ -262,6 +267,7 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   clr_lambert_wave_free(&s->lambert);
   clr_light_wave_free(&s->lights);
   clr_light_wave_free(&s->points);
+  clr_shape_wave_free(&s->shapes);
   free(s);
 }
 
@@ -641,11 +647,15 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
   for (int j = 0; j < njobs; ++j)
     if (jobs[j].shadow_index >= 0 && !s->occluded[jobs[j].shadow_index])
       memcpy(jobs[j].result, jobs[j].shadow_contrib, sizeof jobs[j].result);
-  /* BSDF sampling with MIS, for non-delta lights (Lambertian surfaces': the wave's) */
+  /* BSDF sampling with MIS, for non-delta lights (Lambertian surfaces': the wave's); job j's
+   * ray waits in cand[j] for its light's shape test (triangle lights': the shape wave's) */
   clr_lambert_wave_sample(lw);
-  int nmis = 0;
+  clr_shape_wave *sw = &s->shapes;
+  CLR_CHECK(clr_shape_wave_reserve(sw, njobs));
+  clr_ray *cand = s->rays + njobs;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
+    jb->shape_entry = SHAPE_NO_RAY;
     if (light_is_delta(sc, jb->light)) continue;
     const clr_surface *sf = &s->surfaces[jb->sample];
     const float *wo = wo_all + 3 * jb->sample;
@@ -658,9 +668,20 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
     }
     for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = f3[k];
     jb->bsdf_pdf = pdf;
-    clr_render_scene_spawn_ray(sf, wi, &s->rays[nmis]);
+    clr_render_scene_spawn_ray(sf, wi, &cand[j]);
     /* pbrt-v3 asks the light's shape for the pdf first and traces nothing when it is 0 */
-    if (!clr_render_scene_light_may_hit(sc, jb->light, &s->rays[nmis])) continue;
+    if (it->light_wave_kind && it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_TRIANGLE)
+      jb->shape_entry = clr_shape_wave_push(sw, &cand[j], &it->light_triangles[jb->light]);
+    else if (clr_render_scene_light_may_hit(sc, jb->light, &cand[j]))
+      jb->shape_entry = SHAPE_MAY_HIT;
+  }
+  clr_shape_wave_test(sw);
+  int nmis = 0; /* the rays that may hit their light, in job order, packed into rays[0 .. nmis) */
+  for (int j = 0; j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    int32_t e = jb->shape_entry;
+    if (e == SHAPE_NO_RAY || (e >= 0 && sw->hit[e] == 0.0)) continue;
+    s->rays[nmis] = cand[j];
     jb->mis_index = nmis++;
   }
   trace(sc, s->rays, s->hits, (size_t)nmis, c);

@@ -431,6 +431,57 @@ static clr_result add_motion(clr_render_scene *s, const clr_scene_desc *d,
   return clr_tracer_add_motion_instance(s->tracer, group, a.t, a.q, scale, user_id);
 }
 
+/* A mesh triangle's unit normal (from its winding) and dpdu (from its uvs, or an axis-made
+ * tangent where they are degenerate), as pbrt-v3's Triangle::Intersect computes them. */
+static void triangle_frame(const clr_mesh *m, int32_t prim, float n[3], float dpdu[3]) {
+  const uint32_t *ix = m->indices + 3 * (size_t)prim;
+  const float *p0 = m->p + 3 * ix[0], *p1 = m->p + 3 * ix[1], *p2 = m->p + 3 * ix[2];
+  float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
+  if (m->uv) {
+    memcpy(uv0, m->uv + 2 * ix[0], sizeof uv0);
+    memcpy(uv1, m->uv + 2 * ix[1], sizeof uv1);
+    memcpy(uv2, m->uv + 2 * ix[2], sizeof uv2);
+  }
+  float dp02[3], dp12[3];
+  for (int i = 0; i < 3; ++i) {
+    dp02[i] = p0[i] - p2[i];
+    dp12[i] = p1[i] - p2[i];
+  }
+  rs_cross(dp02, dp12, n);
+  rs_normalize(n);
+  float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
+        dv12 = uv1[1] - uv2[1];
+  float det = du02 * dv12 - dv02 * du12;
+  if (fabsf(det) < 1e-8f) {
+    float t[3];
+    if (fabsf(n[0]) > fabsf(n[1])) {
+      t[0] = -n[2];
+      t[1] = 0;
+      t[2] = n[0];
+    } else {
+      t[0] = 0;
+      t[1] = n[2];
+      t[2] = -n[1];
+    }
+    memcpy(dpdu, t, sizeof t);
+  } else {
+    float inv = 1.0f / det;
+    for (int i = 0; i < 3; ++i) dpdu[i] = (dv12 * dp02[i] - dv02 * dp12[i]) * inv;
+  }
+}
+
+/* Every triangle's frame, computed once (a surface reads it instead of a cross product, a square
+ * root and four divisions per hit). */
+static clr_result build_triangle_frames(rs_shape *sh) {
+  size_t count = (size_t)sh->mesh.triangle_count;
+  sh->tri_frames = malloc(6 * sizeof(float) * (count ? count : 1));
+  if (!sh->tri_frames)
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "frames of %zu triangles", count);
+  for (size_t t = 0; t < count; ++t)
+    triangle_frame(&sh->mesh, (int32_t)t, sh->tri_frames + 6 * t, sh->tri_frames + 6 * t + 3);
+  return CLR_SUCCESS;
+}
+
 static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr_warn_fn warn,
                                void *wu, int32_t *object_group) {
   char warned[32][64];
@@ -493,6 +544,11 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
                strcmp(sd->type, "loopsubdiv") == 0) {
       sh->type = RS_SHAPE_MESH;
       CLR_CHECK(build_mesh(sd, sh->moving, &sh->mesh, warn, wu));
+      clr_result r = build_triangle_frames(sh);
+      if (r != CLR_SUCCESS) {
+        clr_mesh_free(&sh->mesh);
+        return r;
+      }
     } else {
       warn_fmt(warn, wu, "%s:%d: shape \"%s\" not supported: ignored", p->file, p->line, sd->type);
       clr_params_mark_used(p); /* one warning for the skipped shape, not one per parameter */
@@ -747,7 +803,10 @@ void clr_render_scene_free(clr_render_scene *s) {
   if (s->tracer) clr_tracer_release(s->tracer);
   rs_textures_free(&s->textures);
   free(s->materials);
-  for (int i = 0; i < s->shape_count; ++i) clr_mesh_free(&s->shapes[i].mesh);
+  for (int i = 0; i < s->shape_count; ++i) {
+    clr_mesh_free(&s->shapes[i].mesh);
+    free(s->shapes[i].tri_frames);
+  }
   free(s->shapes);
   free(s->instances);
   rs_lights_free(&s->lights);
@@ -774,32 +833,9 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
     memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
   }
   for (int i = 0; i < 2; ++i) uv[i] = b0 * uv0[i] + b1 * uv1[i] + b2 * uv2[i];
-  float dp02[3], dp12[3];
-  for (int i = 0; i < 3; ++i) {
-    dp02[i] = p0[i] - p2[i];
-    dp12[i] = p1[i] - p2[i];
-  }
-  rs_cross(dp02, dp12, n);
-  rs_normalize(n);
-  float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
-        dv12 = uv1[1] - uv2[1];
-  float det = du02 * dv12 - dv02 * du12;
-  if (fabsf(det) < 1e-8f) {
-    float t[3];
-    if (fabsf(n[0]) > fabsf(n[1])) {
-      t[0] = -n[2];
-      t[1] = 0;
-      t[2] = n[0];
-    } else {
-      t[0] = 0;
-      t[1] = n[2];
-      t[2] = -n[1];
-    }
-    memcpy(dpdu, t, sizeof t);
-  } else {
-    float inv = 1.0f / det;
-    for (int i = 0; i < 3; ++i) dpdu[i] = (dv12 * dp02[i] - dv02 * dp12[i]) * inv;
-  }
+  const float *frame = sh->tri_frames + 6 * (size_t)hit->prim_id;
+  memcpy(n, frame, 3 * sizeof *n);
+  memcpy(dpdu, frame + 3, 3 * sizeof *dpdu);
   *has_ns = sh->mesh.n != NULL;
   if (*has_ns) {
     for (int i = 0; i < 3; ++i)

@@ -13,7 +13,8 @@ typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK, RS_SHAPE_QUADRIC }
 
 typedef struct rs_shape {
   rs_shape_type type;
-  clr_mesh mesh; /* world space, or object space for shapes of an object */
+  clr_mesh mesh;     /* world space, or object space for shapes of an object */
+  float *tri_frames; /* mesh: each triangle's unit normal and dpdu (6 floats), mesh_surface's */
   float radius;
   float height, inner_radius, phimax; /* disk (phimax in radians); sphere: phimax too */
   float zmin, zmax;                   /* sphere: pbrt-v3's clipping (object space), with phimax */
