@@ -15,21 +15,8 @@
 #include "hemisphere_wave.h"
 #include "lambert_wave.h"
 
-static uint64_t rng_state = 0x853c49e6748fea9bULL;
-
-static float uniform(void) { /* [0, 1) */
-  rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (float)(rng_state >> 40) * 0x1p-24f;
-}
-
-static void random_unit(float v[3]) {
-  float l2;
-  do {
-    for (int a = 0; a < 3; ++a) v[a] = 2.0f * uniform() - 1.0f;
-    l2 = rs_dot(v, v);
-  } while (!(l2 > 1e-4f) || l2 > 1.0f);
-  rs_normalize(v);
-}
+#define WAVE_TEST_SEED 0x853c49e6748fea9bULL
+#include "wave_test_random.h"
 
 /* Surface k of a wave: a random frame, every 7th with dpdu along ns, every 11th with dpdu 0,
  * every 3rd with ns on the other side of the shape's normal; ng a perturbed ns. */

@@ -44,21 +44,8 @@ static const char *const LIGHTS =
     "\"point P\" [-10 0 -10  10 0 -10  10 0 10  -10 0 10]\n"
     "WorldEnd\n";
 
-static uint64_t rng_state = 0x2545f4914f6cdd1dULL;
-
-static float uniform(void) { /* [0, 1) */
-  rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (float)(rng_state >> 40) * 0x1p-24f;
-}
-
-static void random_unit(float v[3]) {
-  float l2;
-  do {
-    for (int a = 0; a < 3; ++a) v[a] = 2.0f * uniform() - 1.0f;
-    l2 = rs_dot(v, v);
-  } while (!(l2 > 1e-4f) || l2 > 1.0f);
-  rs_normalize(v);
-}
+#define WAVE_TEST_SEED 0x2545f4914f6cdd1dULL
+#include "wave_test_random.h"
 
 /* Surface k: a point in the box around the lights (every 50th on the square's corner, every 50th
  * on the point light),

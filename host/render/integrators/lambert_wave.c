@@ -4,17 +4,15 @@
 #include <stdlib.h>
 #include "hemisphere_wave.h"
 #include "render_error.h"
+#include "wave_block.h"
 
 #define WAVE_ARRAYS 34 /* float arrays in clr_lambert_wave */
 
 clr_result clr_lambert_wave_reserve(clr_lambert_wave *w, int32_t n) {
   w->n = 0;
   if (n <= w->cap) return CLR_SUCCESS;
-  /* every array 64-byte aligned, and an odd number of cache lines apart: at a power-of-two
-   * stride the arrays' k-th entries would share one or two first-level cache sets */
-  size_t cap = (size_t)n + 15 - ((size_t)n + 15) % 16;
-  if (cap % 32 == 0) cap += 16;
-  float *block = aligned_alloc(64, cap * WAVE_ARRAYS * sizeof(float));
+  size_t cap;
+  float *block = clr_wave_block_alloc(n, WAVE_ARRAYS, &cap);
   int32_t *owner = malloc(cap * sizeof(int32_t));
   if (!block || !owner) {
     free(block);

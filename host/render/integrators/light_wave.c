@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "render_error.h"
+#include "wave_block.h"
 
 #define WAVE_FLOATS 53 /* float arrays in clr_light_wave */
 #define WAVE_INTS 3    /* and int32_t ones */
@@ -13,11 +14,8 @@
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
   w->n = 0;
   if (n <= w->cap) return CLR_SUCCESS;
-  /* every array 64-byte aligned, and an odd number of cache lines apart: at a power-of-two
-   * stride the arrays' k-th entries would share one or two first-level cache sets */
-  size_t cap = (size_t)n + 15 - ((size_t)n + 15) % 16;
-  if (cap % 32 == 0) cap += 16;
-  float *block = aligned_alloc(64, cap * (WAVE_FLOATS + WAVE_INTS) * sizeof(float));
+  size_t cap;
+  float *block = clr_wave_block_alloc(n, WAVE_FLOATS + WAVE_INTS, &cap);
   if (!block)
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light wave of %d entries", (int)n);
   clr_light_wave_free(w);

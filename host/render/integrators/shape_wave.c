@@ -3,17 +3,15 @@
 #include "shape_wave.h"
 #include <stdlib.h>
 #include "render_error.h"
+#include "wave_block.h"
 
 #define WAVE_FLOATS 17 /* float arrays in clr_shape_wave */
 
 clr_result clr_shape_wave_reserve(clr_shape_wave *w, int32_t n) {
   w->n = 0;
   if (n <= w->cap) return CLR_SUCCESS;
-  /* every array 64-byte aligned, and an odd number of cache lines apart: at a power-of-two
-   * stride the arrays' k-th entries would share one or two first-level cache sets */
-  size_t cap = (size_t)n + 15 - ((size_t)n + 15) % 16;
-  if (cap % 32 == 0) cap += 16;
-  float *block = aligned_alloc(64, cap * (WAVE_FLOATS + 2) * sizeof(float));
+  size_t cap;
+  float *block = clr_wave_block_alloc(n, WAVE_FLOATS + 2, &cap); /* + hit, doubles */
   if (!block)
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "shape wave of %d entries", (int)n);
   clr_shape_wave_free(w);
