@@ -25,7 +25,7 @@ CLR_INLINE float clr_global_value(const clr_sampler_params *p, CLR_GLOBAL const 
 }
 
 /* Writes the sample vector of batch item `item` (pixel-major, then sample) to `out` and its
- * global index to *index_out. */
+ * global index to *index_out. Skipped slots are not computed (their dimensions are in `source`). */
 CLR_INLINE void clr_global_sample_vector(
     const clr_sampler_params *p, CLR_GLOBAL const clr_request_slot *slots,
     CLR_GLOBAL const clr_u32 *sobol32, CLR_GLOBAL const clr_u64 *vdc,
@@ -39,6 +39,7 @@ CLR_INLINE void clr_global_sample_vector(
   *index_out = index;
   for (clr_i32 r = 0; r < p->request_count; ++r) {
     clr_request_slot slot = slots[r];
+    if (slot.skipped) continue;
     if (slot.array_size == 0) {
       for (clr_i32 c = 0; c < slot.dims; ++c)
         out[slot.first_value + c] =

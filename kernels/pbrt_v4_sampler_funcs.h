@@ -501,8 +501,21 @@ CLR_INLINE void clr_v4_get_pixel2d(const clr_sampler_params *p, const clr_v4_tab
   }
 }
 
+/* A skipped Get1D (dims 1) or Get2D: the state moves on as the call would move it, no value. */
+CLR_INLINE void clr_v4_skip(const clr_sampler_params *p, clr_v4_state *s, clr_i32 dims) {
+  if (p->v4_sampler == CLR_V4_INDEPENDENT) {
+    clr_pcg32_advance(&s->rng, (clr_u64)dims);
+    return;
+  }
+  if ((p->v4_sampler == CLR_V4_HALTON && s->dimension + dims - 1 >= CLR_HALTON_PRIMES) ||
+      (p->v4_sampler == CLR_V4_SOBOL && s->dimension + dims - 1 >= CLR_SOBOL_DIMENSIONS))
+    s->dimension = 2;
+  s->dimension += dims;
+  if (p->v4_sampler == CLR_V4_STRATIFIED && p->jitter) clr_pcg32_advance(&s->rng, (clr_u64)dims);
+}
+
 /* Sample vector of batch item `item` (pixel-major, then sample): request p->film_request is
- * GetPixel2D, every other value Get1D/Get2D in layout order. */
+ * GetPixel2D, every other value Get1D/Get2D in layout order (skipped slots: clr_v4_skip). */
 CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
                                      CLR_GLOBAL const clr_request_slot *slots,
                                      const clr_v4_tables *t, clr_i32 item, CLR_GLOBAL float *out) {
@@ -517,7 +530,9 @@ CLR_INLINE void clr_v4_sample_vector(const clr_sampler_params *p,
     clr_i32 elements = sl.array_size ? sl.array_size : 1;
     CLR_GLOBAL float *v = out + sl.first_value;
     for (clr_i32 j = 0; j < elements; ++j) {
-      if (r == p->film_request) {
+      if (sl.skipped) {
+        clr_v4_skip(p, &s, sl.dims);
+      } else if (r == p->film_request) {
         clr_v4_get_pixel2d(p, t, &s, u);
         v[0] = u[0];
         v[1] = u[1];
@@ -612,6 +627,10 @@ CLR_INLINE void clr_v4_pixel_vectors(const clr_sampler_params *p,
   for (clr_i32 r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];
     clr_i32 elements = sl.array_size ? sl.array_size : 1;
+    if (sl.skipped) { /* never the film offset: its dimensions only */
+      dimension += elements * sl.dims;
+      continue;
+    }
     for (clr_i32 j = 0; j < elements; ++j) {
       CLR_GLOBAL float *v = out + sl.first_value + (sl.dims == 2 ? 2 * j : j);
       float u[2];

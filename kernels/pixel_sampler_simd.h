@@ -206,7 +206,7 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p,
                                 p->jitter, rng);
     clr_shuffle8(buf, n, dims, rng, bounded);
     for (int k = 0; k < p->request_count; ++k) {
-      if (!clr_slot_is(&slots[k], dims, 0, d)) continue;
+      if (!clr_slot_stores(&slots[k], dims, 0, d)) continue;
       for (int s = 0; s < p->sample_count; ++s)
         for (int c = 0; c < dims; ++c)
           clr_store_lanes8(
@@ -240,7 +240,7 @@ static inline void clr_stratified_arrays8(const clr_sampler_params *p,
           clr_latin_hypercube_2d8(buf, size, inv_size, rng, bounded);
         }
         for (int k = 0; k < p->request_count; ++k) {
-          if (!clr_slot_is(&slots[k], dims, 1, a)) continue;
+          if (!clr_slot_stores(&slots[k], dims, 1, a)) continue;
           size_t at = (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value;
           for (int v = 0; v < size * dims; ++v)
             clr_store_lanes8(values, out, at + (size_t)v, vload8(v, buf));
@@ -267,6 +267,10 @@ static inline void clr_pixel_store_fallbacks8(const clr_sampler_params *p,
     size_t sample = (size_t)s * (size_t)p->values_per_sample;
     for (int k = 0; k < p->request_count; ++k) {
       if (slots[k].array_size != 0 || slots[k].source >= 0) continue;
+      if (slots[k].skipped) { /* its draws, not its values */
+        clr_pcg32x8_advance(&rng, (ulong)slots[k].dims);
+        continue;
+      }
       for (int c = 0; c < slots[k].dims; ++c)
         clr_store_lanes8(values, out, sample + (size_t)(slots[k].first_value + c),
                          clr_pcg32x8_float(&rng));
@@ -281,7 +285,7 @@ static inline void clr_random_array8(const clr_sampler_params *p,
   int size = clr_slots_array_size(p, slots, dims, source);
   ulong draws_per_sample = (ulong)size * (ulong)dims;
   for (int k = 0; k < p->request_count; ++k) {
-    if (!clr_slot_is(&slots[k], dims, 1, source)) continue;
+    if (!clr_slot_stores(&slots[k], dims, 1, source)) continue;
     clr_pcg32x8 r = *rng;
     clr_pcg32x8_advance(&r, (ulong)p->first_sample * draws_per_sample);
     for (int s = 0; s < p->sample_count; ++s) {

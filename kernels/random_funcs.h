@@ -13,11 +13,17 @@ CLR_INLINE int clr_slot_is(CLR_GLOBAL const clr_request_slot *s, clr_i32 dims, i
   return s->dims == dims && (s->array_size > 0) == is_array && s->source == source;
 }
 
-/* Whether any slot is fed by that stream or array. */
+/* Whether slot `s` is fed by that stream or array and stores its values (not skipped). */
+CLR_INLINE int clr_slot_stores(CLR_GLOBAL const clr_request_slot *s, clr_i32 dims, int is_array,
+                               clr_i32 source) {
+  return !s->skipped && clr_slot_is(s, dims, is_array, source);
+}
+
+/* Whether any slot stores the values of that stream or array. */
 CLR_INLINE int clr_slots_use(const clr_sampler_params *p, CLR_GLOBAL const clr_request_slot *slots,
                              clr_i32 dims, int is_array, clr_i32 source) {
   for (clr_i32 k = 0; k < p->request_count; ++k)
-    if (clr_slot_is(&slots[k], dims, is_array, source)) return 1;
+    if (clr_slot_stores(&slots[k], dims, is_array, source)) return 1;
   return 0;
 }
 
@@ -62,7 +68,7 @@ CLR_INLINE void clr_pixel_store_fallbacks(const clr_sampler_params *p,
   for (clr_i32 s = 0; s < p->sample_count; ++s) {
     CLR_GLOBAL float *out = out_pixel + (clr_i64)s * p->values_per_sample;
     for (clr_i32 k = 0; k < p->request_count; ++k) {
-      if (slots[k].array_size != 0 || slots[k].source >= 0) continue;
+      if (slots[k].array_size != 0 || slots[k].source >= 0 || slots[k].skipped) continue;
       clr_pcg32 r = sample_start;
       clr_pcg32_advance(&r, (clr_u64)slots[k].rng_offset);
       for (clr_i32 c = 0; c < slots[k].dims; ++c)
@@ -81,7 +87,7 @@ CLR_INLINE void clr_random_array(const clr_sampler_params *p,
   clr_i32 size = clr_slots_array_size(p, slots, dims, source);
   clr_u64 draws_per_sample = (clr_u64)size * (clr_u64)dims;
   for (clr_i32 k = 0; out_pixel && k < p->request_count; ++k) {
-    if (!clr_slot_is(&slots[k], dims, 1, source)) continue;
+    if (!clr_slot_stores(&slots[k], dims, 1, source)) continue;
     clr_pcg32 r = *rng;
     clr_pcg32_advance(&r, (clr_u64)p->first_sample * draws_per_sample);
     for (clr_i32 s = 0; s < p->sample_count; ++s) {

@@ -99,7 +99,10 @@ typedef struct clr_request_slot {
   clr_i32 source;
   clr_i32 rng_offset;   /* pixel samplers, source -1: index of its first per-sample RNG draw */
   float inv_array_size; /* 1/array_size rounded on the host */
-  clr_i32 pad[2];
+  /* 1: a skipped request (CLR_SAMPLE_REQUEST_SKIPPED): its dimensions and RNG draws count, its
+   * values are not stored (first_value: where they would start; they take no room) */
+  clr_i32 skipped;
+  clr_i32 pad;
 } clr_request_slot;
 
 #endif

@@ -81,7 +81,7 @@ CLR_INLINE void clr_stratified_store_stream(const clr_sampler_params *p,
                                             clr_i32 source, CLR_GLOBAL const float *buf,
                                             CLR_GLOBAL float *out_pixel) {
   for (clr_i32 k = 0; k < p->request_count; ++k) {
-    if (!clr_slot_is(&slots[k], dims, 0, source)) continue;
+    if (!clr_slot_stores(&slots[k], dims, 0, source)) continue;
     for (clr_i32 s = 0; s < p->sample_count; ++s)
       for (clr_i32 c = 0; c < dims; ++c)
         out_pixel[(clr_i64)s * p->values_per_sample + slots[k].first_value + c] =
@@ -96,7 +96,7 @@ CLR_INLINE void clr_stratified_store_array(const clr_sampler_params *p,
                                            CLR_GLOBAL const float *buf,
                                            CLR_GLOBAL float *out_sample) {
   for (clr_i32 k = 0; k < p->request_count; ++k) {
-    if (!clr_slot_is(&slots[k], dims, 1, source)) continue;
+    if (!clr_slot_stores(&slots[k], dims, 1, source)) continue;
     for (clr_i32 v = 0; v < size * dims; ++v) out_sample[slots[k].first_value + v] = buf[v];
   }
 }

@@ -57,6 +57,11 @@ static const clr_sample_request camera10[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}, {2
 static const clr_sample_request with_arrays[] = {{2, 0}, {1, 0}, {2, 0}, {1, 5}, {2, 0},
                                                  {2, 7}, {1, 0}, {1, 0}, {1, 0}, {2, 0},
                                                  {2, 0}, {2, 3}, {1, 0}};
+/* with_arrays with skipped requests: time, lens, the 2D array of 7, a stream and a fallback. */
+#define SKIP CLR_SAMPLE_REQUEST_SKIPPED
+static const clr_sample_request with_skips[] = {
+    {2, 0},        {1 | SKIP, 0}, {2 | SKIP, 0}, {1, 5},        {2, 0}, {2 | SKIP, 7}, {1, 0},
+    {1 | SKIP, 0}, {1, 0},        {2, 0},        {2 | SKIP, 0}, {2, 3}, {1, 0}};
 
 /* Device and host values (and indices) of one batch: returns whether they are identical. */
 static int compare_batch(clr_sampler s, const char *what, clr_bounds2i px, int first, int count,
@@ -155,6 +160,8 @@ static void check_samplers(void) {
                seedings[seeding]);
       ok &= compare_batch(s, what, (clr_bounds2i){0, 0, 5, 3}, 1, 2, with_arrays,
                           (int)(sizeof with_arrays / sizeof with_arrays[0]));
+      ok &= compare_batch(s, what, (clr_bounds2i){0, 0, 5, 3}, 1, 2, with_skips,
+                          (int)(sizeof with_skips / sizeof with_skips[0]));
       printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
       clr_sampler_release(s);
     }

@@ -622,10 +622,13 @@ static void test_path_sample_layout(void **state) {
     assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &rs), CLR_SUCCESS);
     clr_integrator it;
     assert_int_equal(clr_integrator_create(desc, rs, NULL, NULL, &it), CLR_SUCCESS);
-    int d = depths[k], expect = 5; /* bounces 0..maxdepth-1 (pbrt-v3 stops at maxdepth first) */
+    /* bounces 0..maxdepth-1 (pbrt-v3 stops at maxdepth first); the pinhole's time and lens are
+     * skipped requests (dimensions 2..4, no values) */
+    int d = depths[k], expect = 2;
     for (int b = 0; b < d; ++b) expect += b > 3 ? 8 : 7;
-    assert_int_equal(it.value_offset, 5);
+    assert_int_equal(it.value_offset, 2);
     assert_int_equal(it.values_per_sample, expect);
+    assert_int_equal(it.layout_values, expect + 3);
     assert_int_equal(it.path_bounces_in_layout, d);
     clr_integrator_free(&it);
     clr_render_scene_free(rs);

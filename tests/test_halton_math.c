@@ -173,9 +173,8 @@ static void test_table_sets(void **state) {
     assert_int_equal(t->primes[t->extent].base, 0);
     assert_int_equal(t->primes[CLR_HALTON_PRIMES - 1].base, 0);
   }
-  clr_request_slot slots[3] = {{2, 0, 0, 0, 0, 0.0f, {0, 0}},
-                               {1, 0, 2, 2, 0, 0.0f, {0, 0}},
-                               {2, 4, 3, 70, 0, 0.25f, {0, 0}}};
+  clr_request_slot slots[3] = {
+      {2, 0, 0, 0, 0, 0.0f, 0, 0}, {1, 0, 2, 2, 0, 0.0f, 0, 0}, {2, 4, 3, 70, 0, 0.25f, 0, 0}};
   assert_int_equal(clr_halton_layout_dimensions(slots, 2), 3);
   assert_int_equal(clr_halton_layout_dimensions(slots, 3), 72);
 }

@@ -28,6 +28,18 @@ static const char *path_scene =
     "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
     "\"point P\" [-5 -1 -5  5 -1 -5  5 -1 5  -5 -1 5]\nWorldEnd\n";
 
+/* The same scene seen by a moving thin-lens camera: its rays read the camera's time and lens. */
+static const char *moving_lens_scene =
+    "ActiveTransform EndTime\nTranslate 0.1 0 0\nActiveTransform All\n"
+    "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [50] "
+    "\"float lensradius\" [0.05] \"float focaldistance\" [5]\n"
+    "Film \"image\" \"integer xresolution\" [64] \"integer yresolution\" [64]\n"
+    "Integrator \"path\" \"integer maxdepth\" [2]\n"
+    "WorldBegin\nLightSource \"point\" \"point from\" [0 2 3] \"rgb I\" [5 5 5]\n"
+    "Material \"matte\" \"rgb Kd\" [0.6 0.5 0.4]\nShape \"sphere\" \"float radius\" [1]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+    "\"point P\" [-5 -1 -5  5 -1 -5  5 -1 5  -5 -1 5]\nWorldEnd\n";
+
 typedef struct parsed {
   clr_scene_desc *desc;
   clr_render_scene *scene;
@@ -48,32 +60,42 @@ static void parsed_free(parsed *p) {
 }
 
 /* pbrt-v4's layout: 1D wavelength, 2D film offset, 1D time, 2D lens, then the path integrator's
- * per-bounce requests; pbrt-v3's keeps the camera's 5 values first. */
+ * per-bounce requests; pbrt-v3's keeps the camera's 5 values first. A pinhole camera that does
+ * not move skips time and lens (CLR_SAMPLE_REQUEST_SKIPPED): its vector holds the film offset's
+ * 2 values, then the integrator's. */
 static void test_layout_requests(void **state) {
   (void)state;
-  parsed p = parse(path_scene);
-  clr_integrator v3, v4;
-  assert_int_equal(
-      clr_integrator_create_layout(p.desc, p.scene, CLR_SAMPLER_HALTON, 0, NULL, NULL, &v3),
-      CLR_SUCCESS);
-  assert_int_equal(
-      clr_integrator_create_layout(p.desc, p.scene, CLR_SAMPLER_ZSOBOL, 1, NULL, NULL, &v4),
-      CLR_SUCCESS);
-  assert_int_equal(v3.camera_offset, 0);
-  assert_int_equal(v3.value_offset, 5);
-  assert_int_equal(v4.camera_offset, 1);
-  assert_int_equal(v4.value_offset, 6);
-  assert_int_equal(v4.request_count, v3.request_count + 1);
-  assert_int_equal(v4.values_per_sample, v3.values_per_sample + 1);
-  static const int dims[] = {1, 2, 1, 2, 1, 2, 2, 2, 1};
-  for (int i = 0; i < 9; ++i) {
-    assert_int_equal(v4.requests[i].dims, dims[i]);
-    assert_int_equal(v4.requests[i].array_size, 0);
-    if (i) assert_int_equal(v3.requests[i - 1].dims, dims[i]);
+  for (int moving = 0; moving < 2; ++moving) {
+    parsed p = parse(moving ? moving_lens_scene : path_scene);
+    clr_integrator v3, v4;
+    assert_int_equal(
+        clr_integrator_create_layout(p.desc, p.scene, CLR_SAMPLER_HALTON, 0, NULL, NULL, &v3),
+        CLR_SUCCESS);
+    assert_int_equal(
+        clr_integrator_create_layout(p.desc, p.scene, CLR_SAMPLER_ZSOBOL, 1, NULL, NULL, &v4),
+        CLR_SUCCESS);
+    int camera = moving ? 5 : 2; /* the camera's stored values */
+    assert_int_equal(v3.camera_offset, 0);
+    assert_int_equal(v3.value_offset, camera);
+    assert_int_equal(v4.camera_offset, 1);
+    assert_int_equal(v4.value_offset, 1 + camera);
+    assert_int_equal(v3.time_offset, moving ? 2 : -1);
+    assert_int_equal(v3.lens_offset, moving ? 3 : -1);
+    assert_int_equal(v4.lens_offset, moving ? 4 : -1);
+    assert_int_equal(v4.request_count, v3.request_count + 1);
+    assert_int_equal(v4.values_per_sample, v3.values_per_sample + 1);
+    assert_int_equal(v3.layout_values, v3.values_per_sample + 5 - camera);
+    static const int dims[] = {1, 2, 1, 2, 1, 2, 2, 2, 1};
+    for (int i = 0; i < 9; ++i) {
+      int skipped = !moving && (i == 2 || i == 3) ? CLR_SAMPLE_REQUEST_SKIPPED : 0;
+      assert_int_equal(v4.requests[i].dims, dims[i] | skipped);
+      assert_int_equal(v4.requests[i].array_size, 0);
+      if (i) assert_int_equal(v3.requests[i - 1].dims, dims[i] | skipped);
+    }
+    clr_integrator_free(&v3);
+    clr_integrator_free(&v4);
+    parsed_free(&p);
   }
-  clr_integrator_free(&v3);
-  clr_integrator_free(&v4);
-  parsed_free(&p);
 }
 
 static clr_camera_layout layout_for(clr_sampler_type sampler, clr_seeding seeding,
@@ -242,44 +264,57 @@ static void renderer_vector(const clr_sampler_desc *d, const clr_integrator *it,
   if (ctx) clr_context_release(ctx);
 }
 
+/* The pinned vectors in the full layout (a moving thin-lens camera), and without the skipped time
+ * and lens values (a pinhole): the other values keep pbrt-v4's bits. */
 static void test_vectors_match_pbrt_v4(void **state) {
   (void)state;
-  parsed p = parse(path_scene);
-  static const int at[2][3] = {{3, 5, 0}, {40, 21, 5}};
-  for (size_t i = 0; i < sizeof pins / sizeof pins[0]; ++i) {
-    const pinned_vector *pin = &pins[i];
-    clr_sampler_desc d;
-    clr_sampler_desc_init(&d, pin->type);
-    d.seeding = CLR_SEEDING_PBRT_V4;
-    if (pin->randomization != CLR_RANDOMIZATION_DEFAULT) d.randomization = pin->randomization;
-    d.seed = pin->seed;
-    d.pixel_samples = pin->spp;
-    d.film.x_resolution = d.film.y_resolution = 64;
-    assert_true(clr_camera_sample_is_pbrt_v4(&d));
-    clr_integrator it;
-    assert_int_equal(clr_integrator_create_layout(p.desc, p.scene, pin->type, 1, NULL, NULL, &it),
-                     CLR_SUCCESS);
-    for (int k = 0; k < 2; ++k)
-      for (int device = 0; device < 2; ++device) {
-        float v[9];
-        renderer_vector(&d, &it, at[k][0], at[k][1], at[k][2], device, v);
-        for (int j = 0; j < 9; ++j) {
-          if (v[j] != pin->v[k][j])
-            fprintf(stderr, "sampler %s pixel (%d, %d) value %d: %a, pbrt-v4 %a\n",
-                    clr_sampler_type_name(pin->type), at[k][0], at[k][1], j, (double)v[j],
-                    (double)pin->v[k][j]);
-          assert_true(v[j] == pin->v[k][j]);
+  for (int moving = 0; moving < 2; ++moving) {
+    parsed p = parse(moving ? moving_lens_scene : path_scene);
+    static const int at[2][3] = {{3, 5, 0}, {40, 21, 5}};
+    /* pinned value of the vector's value j: pinhole vectors lack pins 3..5 (time, lens) */
+    static const int full[9] = {0, 1, 2, 3, 4, 5, 6, 7, 8}, pinhole[9] = {0, 1, 2, 6, 7, 8, -1};
+    const int *pinned = moving ? full : pinhole;
+    for (size_t i = 0; i < sizeof pins / sizeof pins[0]; ++i) {
+      const pinned_vector *pin = &pins[i];
+      clr_sampler_desc d;
+      clr_sampler_desc_init(&d, pin->type);
+      d.seeding = CLR_SEEDING_PBRT_V4;
+      if (pin->randomization != CLR_RANDOMIZATION_DEFAULT) d.randomization = pin->randomization;
+      d.seed = pin->seed;
+      d.pixel_samples = pin->spp;
+      d.film.x_resolution = d.film.y_resolution = 64;
+      assert_true(clr_camera_sample_is_pbrt_v4(&d));
+      clr_integrator it;
+      assert_int_equal(clr_integrator_create_layout(p.desc, p.scene, pin->type, 1, NULL, NULL, &it),
+                       CLR_SUCCESS);
+      for (int k = 0; k < 2; ++k)
+        for (int device = 0; device < 2; ++device) {
+          float v[9];
+          renderer_vector(&d, &it, at[k][0], at[k][1], at[k][2], device, v);
+          for (int j = 0; j < 9 && pinned[j] >= 0; ++j) {
+            float want = pin->v[k][pinned[j]];
+            if (v[j] != want)
+              fprintf(stderr, "sampler %s pixel (%d, %d) value %d: %a, pbrt-v4 %a\n",
+                      clr_sampler_type_name(pin->type), at[k][0], at[k][1], j, (double)v[j],
+                      (double)want);
+            assert_true(v[j] == want);
+          }
+          clr_camera_sample cs;
+          clr_camera_layout l = layout_for(pin->type, CLR_SEEDING_PBRT_V4, CLR_FILTER_BOX, 0.0f);
+          clr_camera_layout_skip(&l, it.camera_offset, it.time_offset, it.lens_offset);
+          clr_camera_sample_from_values(&l, v + it.camera_offset, at[k][0], at[k][1], &cs);
+          float lx = (1.0f - v[1]) * -0.5f + v[1] * 0.5f, ly = (1.0f - v[2]) * -0.5f + v[2] * 0.5f;
+          assert_true(cs.film_x == ((float)at[k][0] + lx) + 0.5f);
+          assert_true(cs.film_y == ((float)at[k][1] + ly) + 0.5f);
+          if (moving)
+            assert_true(cs.time == v[3] && cs.lens_u == v[4] && cs.lens_v == v[5]);
+          else /* never read by a pinhole's rays */
+            assert_true(cs.time == 0.0f && cs.lens_u == 0.5f && cs.lens_v == 0.5f);
+          assert_true(v[it.value_offset] == pin->v[k][6]); /* the integrator's first Get1D */
         }
-        clr_camera_sample cs;
-        clr_camera_layout l = layout_for(pin->type, CLR_SEEDING_PBRT_V4, CLR_FILTER_BOX, 0.0f);
-        clr_camera_sample_from_values(&l, v + it.camera_offset, at[k][0], at[k][1], &cs);
-        float lx = (1.0f - v[1]) * -0.5f + v[1] * 0.5f, ly = (1.0f - v[2]) * -0.5f + v[2] * 0.5f;
-        assert_true(cs.film_x == ((float)at[k][0] + lx) + 0.5f);
-        assert_true(cs.film_y == ((float)at[k][1] + ly) + 0.5f);
-        assert_true(cs.time == v[3] && cs.lens_u == v[4] && cs.lens_v == v[5]);
-        assert_true(v[it.value_offset] == pin->v[k][6]); /* the integrator's first Get1D */
-      }
-    clr_integrator_free(&it);
+      clr_integrator_free(&it);
+    }
+    parsed_free(&p);
   }
   /* pbrt-v3 names with the default seeding keep pbrt-v3's layout */
   clr_sampler_desc d;
@@ -287,7 +322,6 @@ static void test_vectors_match_pbrt_v4(void **state) {
   assert_false(clr_camera_sample_is_pbrt_v4(&d));
   clr_sampler_desc_init(&d, CLR_SAMPLER_PMJ02BN);
   assert_true(clr_camera_sample_is_pbrt_v4(&d));
-  parsed_free(&p);
 }
 
 static clr_render_image render(const char *text, const char *sampler, clr_seeding seeding,

@@ -14,6 +14,14 @@ void clr_camera_layout_init(clr_camera_layout *l, const clr_sampler_desc *sd,
   l->filter = l->filter_sampled ? fd->type : CLR_FILTER_BOX;
   l->radius[0] = l->filter_sampled ? fd->radius[0] : 0.5f;
   l->radius[1] = l->filter_sampled ? fd->radius[1] : 0.5f;
+  l->time_value = 2;
+  l->lens_value = 3;
+}
+
+void clr_camera_layout_skip(clr_camera_layout *l, int camera_offset, int time_offset,
+                            int lens_offset) {
+  l->time_value = time_offset < 0 ? -1 : time_offset - camera_offset;
+  l->lens_value = lens_offset < 0 ? -1 : lens_offset - camera_offset;
 }
 
 /* pbrt-v4's Lerp, (1 - t) a + t b (the build never contracts it into an FMA) */
@@ -48,7 +56,7 @@ void clr_camera_sample_from_values(const clr_camera_layout *l, const float *v, i
   }
   cs->pixel_x = l->filter_sampled ? (float)px + 0.5f : cs->film_x;
   cs->pixel_y = l->filter_sampled ? (float)py + 0.5f : cs->film_y;
-  cs->time = v[2];
-  cs->lens_u = v[3];
-  cs->lens_v = v[4];
+  cs->time = l->time_value < 0 ? 0.0f : v[l->time_value];
+  cs->lens_u = l->lens_value < 0 ? 0.5f : v[l->lens_value];
+  cs->lens_v = l->lens_value < 0 ? 0.5f : v[l->lens_value + 1];
 }

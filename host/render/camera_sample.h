@@ -18,6 +18,9 @@ typedef struct clr_camera_layout {
                        * film takes each sample at its pixel's centre (a box of radius 0.5) */
   clr_filter_type filter;
   float radius[2];
+  /* time and lens values: their offsets from the film offset (2 and 3), or -1 where their
+   * requests are skipped (clr_camera_layout_skip): time 0, lens (0.5, 0.5), never read */
+  int time_value, lens_value;
 } clr_camera_layout;
 
 /* pbrt-v4's samplers (their names, or --seeding pbrt-v4): pbrt-v4's camera sample and layout. */
@@ -28,6 +31,10 @@ int clr_camera_sample_is_pbrt_v4(const clr_sampler_desc *sampler);
  * pbrt-v4's box of radius 0.5 and the film's filtering. */
 void clr_camera_layout_init(clr_camera_layout *layout, const clr_sampler_desc *sampler,
                             const clr_filter_desc *filter);
+
+/* The offsets of the integrator's layout: time_offset, lens_offset -1 where skipped. */
+void clr_camera_layout_skip(clr_camera_layout *layout, int camera_offset, int time_offset,
+                            int lens_offset);
 
 /* v: the sample vector's camera values (the film offset first, then time and lens). pbrt-v3:
  * film = pixel + offset. pbrt-v4: film = pixel + filter.Sample(offset).p + 0.5, GetCameraSample's

@@ -1204,6 +1204,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     job.seed = o->seed;
     job.host_samples = o->reference_samples != 0 || !ctx; /* --device host */
     job.camera = camera;
+    clr_camera_layout_skip(&job.camera, integ.camera_offset, integ.time_offset, integ.lens_offset);
     job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
     job.sampler = sampler;
@@ -1227,8 +1228,9 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
                                                         : "pixel";
     oi.id.randomization = clr_randomization_name(sdesc.randomization);
     oi.id.spp_target = job.spp;
+    /* every request's values: skipping unread ones leaves the others' values as they were */
     snprintf(oi.id.layout, sizeof oi.id.layout, "camera %d, values %d", (int)integ.camera_offset,
-             (int)integ.values_per_sample);
+             (int)integ.layout_values);
     oi.id.global_sampler = sdesc.type == CLR_SAMPLER_HALTON || sdesc.type == CLR_SAMPLER_SOBOL ||
                            sdesc.type == CLR_SAMPLER_INDEPENDENT; /* spp-independent samples */
     double tr = now_seconds();

@@ -116,9 +116,22 @@ CLR_API int32_t clr_sampler_round_count(clr_sampler_type type, int32_t count);
  * the film offset (pbrt-v4 takes the wavelength sample first): the first 2D request is then the
  * film offset (GetPixel2D). clr_sample_layout_values checks the strict form. */
 typedef struct clr_sample_request {
-  int32_t dims;       /* 1 or 2 */
+  int32_t dims;       /* 1 or 2, optionally | CLR_SAMPLE_REQUEST_SKIPPED */
   int32_t array_size; /* 0: one value (Get1D/Get2D); n >= 1: an array (Get1DArray/Get2DArray) */
 } clr_sample_request;
+
+/* Or-ed into a request's dims ({2 | CLR_SAMPLE_REQUEST_SKIPPED, 0}): nobody reads its values,
+ * e.g. a pinhole camera's time (1D) and lens (2D) requests. A skipped request keeps its place:
+ * it still takes its dimensions (halton, sobol, pbrt-v4 samplers) and its RNG draws (pixel
+ * samplers), so every other value is bit for bit the one the layout without the flag gives. It
+ * has no values in the sample vector: the values of the requests after it move up, and
+ * clr_sample_layout_values, the output layout and clr_sampler_generate_at's value range count
+ * only the values of requests that are not skipped. Samplers whose values are a function of
+ * (pixel, sample, dimension) do not compute it; pbrt-v3's pixel samplers (stratified, random,
+ * 02sequence, maxmindist) make its RNG draws and only skip its stores. The film offset request
+ * cannot be skipped, and the limits (CLR_MAX_VALUES_PER_SAMPLE, array sizes) count skipped
+ * requests too. Any other bit in dims is an error (CLR_ERROR_INVALID_REQUESTS). */
+#define CLR_SAMPLE_REQUEST_SKIPPED 0x100
 
 #define CLR_MAX_REQUESTS 1024
 #define CLR_MAX_VALUES_PER_SAMPLE 4096
@@ -150,7 +163,7 @@ typedef struct clr_sample_batch {
 } clr_sample_batch;
 
 CLR_API void clr_sample_batch_init(clr_sample_batch *batch);
-/* Values per sample vector: sum of dims * max(1, array_size). */
+/* Values per sample vector: sum of dims * max(1, array_size) over the requests not skipped. */
 CLR_API clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t count,
                                             int32_t *values_per_sample);
 

@@ -411,9 +411,18 @@ int clr_sampler_has_global_index(clr_sampler s) {
          (s->desc.type == CLR_SAMPLER_HALTON || s->desc.type == CLR_SAMPLER_SOBOL);
 }
 
-/* The layout's size; *film_request receives the index of the 2D film offset: the first request,
- * or with leading_1d (pbrt-v4 samplers, whose integrators may take 1D values such as the
- * wavelengths before GetPixel2D) the first 2D request. */
+/* A request's dims without CLR_SAMPLE_REQUEST_SKIPPED, and whether it is skipped. */
+static int32_t request_dims(const clr_sample_request *r) {
+  return r->dims & ~CLR_SAMPLE_REQUEST_SKIPPED;
+}
+static int request_skipped(const clr_sample_request *r) {
+  return (r->dims & CLR_SAMPLE_REQUEST_SKIPPED) != 0;
+}
+
+/* The values the layout stores (skipped requests have none); *film_request receives the index
+ * of the 2D film offset: the first request, or with leading_1d (pbrt-v4 samplers, whose
+ * integrators may take 1D values such as the wavelengths before GetPixel2D) the first 2D
+ * request. The limits count every request, skipped or not. */
 static clr_result layout_values(const clr_sample_request *requests, int32_t count, int leading_1d,
                                 int32_t *values_per_sample, int32_t *film_request) {
   if (!values_per_sample || (count > 0 && !requests))
@@ -422,32 +431,39 @@ static clr_result layout_values(const clr_sample_request *requests, int32_t coun
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS, "sample layout: %d requests (must be 1..%d)",
                     (int)count, CLR_MAX_REQUESTS);
   int32_t f = 0;
-  while (leading_1d && f + 1 < count && requests[f].dims == 1) ++f;
-  if (requests[f].dims != 2 || requests[f].array_size != 0)
+  while (leading_1d && f + 1 < count && request_dims(&requests[f]) == 1) ++f;
+  if (request_dims(&requests[f]) != 2 || requests[f].array_size != 0)
     return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
                     "sample layout: the %s request must be the 2D film offset (got dims %d, "
                     "array %d)",
                     leading_1d ? "first 2D" : "first", (int)requests[f].dims,
                     (int)requests[f].array_size);
+  if (request_skipped(&requests[f]))
+    return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
+                    "sample layout: request %d, the film offset, cannot be skipped (dims 0x%x)",
+                    (int)f, (unsigned)requests[f].dims);
   *film_request = f;
-  int64_t total = 0;
+  int64_t total = 0, stored = 0;
   for (int32_t i = 0; i < count; ++i) {
     const clr_sample_request *r = &requests[i];
-    if (r->dims != 1 && r->dims != 2)
+    if (request_dims(r) != 1 && request_dims(r) != 2)
       return clr_fail(NULL, CLR_ERROR_INVALID_REQUESTS,
-                      "sample layout: request %d has dims %d (must be 1 or 2)", (int)i,
-                      (int)r->dims);
+                      "sample layout: request %d has dims %d (0x%x; must be 1 or 2, optionally "
+                      "| CLR_SAMPLE_REQUEST_SKIPPED)",
+                      (int)i, (int)r->dims, (unsigned)r->dims);
     if (r->array_size < 0 || r->array_size > CLR_MAX_VALUES_PER_SAMPLE)
       return clr_fail(NULL, CLR_ERROR_REQUEST_TOO_LARGE,
                       "sample layout: request %d has array size %d (must be 0..%d)", (int)i,
                       (int)r->array_size, CLR_MAX_VALUES_PER_SAMPLE);
-    total += (int64_t)r->dims * (r->array_size ? r->array_size : 1);
+    int64_t values = (int64_t)request_dims(r) * (r->array_size ? r->array_size : 1);
+    total += values;
+    stored += request_skipped(r) ? 0 : values;
   }
   if (total > CLR_MAX_VALUES_PER_SAMPLE)
     return clr_fail(NULL, CLR_ERROR_REQUEST_TOO_LARGE,
                     "sample layout: %lld values per sample exceed the limit of %d",
                     (long long)total, CLR_MAX_VALUES_PER_SAMPLE);
-  *values_per_sample = (int32_t)total;
+  *values_per_sample = (int32_t)stored;
   return CLR_SUCCESS;
 }
 
@@ -462,7 +478,7 @@ clr_result clr_sample_layout_values(const clr_sample_request *requests, int32_t 
 static void resolve_global_slots(const clr_sample_batch *b, clr_request_slot *slots) {
   int n1 = 0, n2 = 0;
   for (int i = 0; i < b->request_count; ++i)
-    if (b->requests[i].array_size) ++*(b->requests[i].dims == 1 ? &n1 : &n2);
+    if (slots[i].array_size) ++*(slots[i].dims == 1 ? &n1 : &n2);
   int array_end = CLR_GLOBAL_ARRAY_START_DIM + n1 + 2 * n2;
   int dimension = 0, a1 = 0, a2 = 0;
   for (int i = 0; i < b->request_count; ++i) {
@@ -551,11 +567,12 @@ static clr_result prepare_batch(clr_sampler s, const clr_sample_batch *b, clr_sa
   for (int i = 0; i < b->request_count; ++i) {
     clr_request_slot *sl = &slots[i];
     memset(sl, 0, sizeof *sl);
-    sl->dims = b->requests[i].dims;
+    sl->dims = request_dims(&b->requests[i]);
     sl->array_size = b->requests[i].array_size;
+    sl->skipped = request_skipped(&b->requests[i]);
     sl->first_value = offset;
     sl->inv_array_size = sl->array_size ? 1.0f / (float)sl->array_size : 0.0f;
-    offset += sl->dims * (sl->array_size ? sl->array_size : 1);
+    if (!sl->skipped) offset += sl->dims * (sl->array_size ? sl->array_size : 1);
     if (sl->array_size > max_array) max_array = sl->array_size;
   }
   if (p->type == CLR_SAMPLER_TYPE_SOBOL && (int64_t)p->spp * (max_array ? max_array : 1) >
@@ -702,9 +719,9 @@ static clr_result check_point(clr_sampler s, const clr_sample_point *pt, int32_t
   return CLR_SUCCESS;
 }
 
-/* Values of a request: dims times its elements. */
+/* Values a request stores: dims times its elements, none when skipped. */
 static int32_t slot_values(const clr_request_slot *sl) {
-  return sl->dims * (sl->array_size ? sl->array_size : 1);
+  return sl->skipped ? 0 : sl->dims * (sl->array_size ? sl->array_size : 1);
 }
 
 /* Points per block of global_values_at: their indices on the stack. */
@@ -733,7 +750,7 @@ static void global_values_at(const clr_sampler_params *p, const clr_request_slot
         clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y, (clr_i64)points[i].sample);
   for (int32_t r = r0; r < p->request_count && slots[r].first_value < end; ++r) {
     const clr_request_slot *sl = &slots[r];
-    int32_t elements = sl->array_size ? sl->array_size : 1;
+    int32_t elements = sl->skipped ? 0 : sl->array_size ? sl->array_size : 1;
     for (int32_t j = 0; j < elements; ++j)
       for (int32_t c = 0; c < sl->dims; ++c) {
         int32_t v = sl->first_value + j * sl->dims + c;

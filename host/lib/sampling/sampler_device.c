@@ -196,6 +196,7 @@ static void build_global_plan(clr_sampler_device *d, const clr_sampler_params *p
   int n = 0;
   for (int r = 0; r < p->request_count; ++r) {
     const clr_request_slot *sl = &slots[r];
+    if (sl->skipped) continue; /* no values to make */
     int elements = sl->array_size ? sl->array_size : 1;
     if (sl->array_size && end * sl->array_size > g->frame_limit)
       g->frame_limit = end * sl->array_size;

@@ -35,17 +35,25 @@ static int light_is_delta(const clr_render_scene *scene, int32_t light) {
   return light_info(scene, light).is_delta;
 }
 
-static int add_request(clr_integrator *it, int dims, int array_size) {
+/* Appends a request; returns the offset of its values, -1 when the layout is full. A skipped
+ * one (CLR_SAMPLE_REQUEST_SKIPPED) counts towards the limits but has no values (-1). */
+static int add_layout_request(clr_integrator *it, int dims, int array_size, int skipped) {
   int32_t values = dims * (array_size > 0 ? array_size : 1);
   if (it->request_count >= CLR_MAX_REQUESTS ||
-      it->values_per_sample + values > CLR_MAX_VALUES_PER_SAMPLE)
+      it->layout_values + values > CLR_MAX_VALUES_PER_SAMPLE)
     return -1;
-  it->requests[it->request_count].dims = dims;
+  it->requests[it->request_count].dims = dims | (skipped ? CLR_SAMPLE_REQUEST_SKIPPED : 0);
   it->requests[it->request_count].array_size = array_size;
   it->request_count++;
+  it->layout_values += values;
+  if (skipped) return -1;
   int offset = it->values_per_sample;
   it->values_per_sample += values;
   return offset;
+}
+
+static int add_request(clr_integrator *it, int dims, int array_size) {
+  return add_layout_request(it, dims, array_size, 0);
 }
 
 static clr_result build_light_cdf(clr_integrator *it, const clr_render_scene *scene, int power) {
@@ -109,10 +117,12 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
   const char *type = desc->integrator.type ? desc->integrator.type : "path";
   if (pbrt_v4_camera) add_request(it, 1, 0); /* pbrt-v4's wavelength sample */
   it->camera_offset = it->values_per_sample;
-  /* camera: film offset, time, lens */
+  /* camera: film offset, time, lens; skipped where the scene's rays never read them */
+  int reads_time = 1, reads_lens = 1;
+  if (scene) clr_render_scene_camera_reads(scene, &reads_time, &reads_lens);
   add_request(it, 2, 0);
-  add_request(it, 1, 0);
-  add_request(it, 2, 0);
+  it->time_offset = add_layout_request(it, 1, 0, !reads_time);
+  it->lens_offset = add_layout_request(it, 2, 0, !reads_lens);
   it->value_offset = it->values_per_sample;
   it->light_count = clr_render_scene_light_count(scene);
   it->max_depth = clr_params_find_int(p, "maxdepth", 5);
@@ -128,10 +138,10 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
       warn(wu, m);
     }
     it->ao_samples = rounded;
-    if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - it->value_offset) / 2)
+    if (it->ao_samples > (CLR_MAX_VALUES_PER_SAMPLE - it->layout_values) / 2)
       return clr_set_last_error(CLR_ERROR_SCENE, "%s:%d: ambientocclusion nsamples %d above %d",
                                 p->file, p->line, it->ao_samples,
-                                (CLR_MAX_VALUES_PER_SAMPLE - it->value_offset) / 2);
+                                (CLR_MAX_VALUES_PER_SAMPLE - it->layout_values) / 2);
     add_request(it, 2, it->ao_samples);
     return CLR_SUCCESS;
   }
@@ -152,6 +162,7 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
         if (it->light_offsets[j] >= 0 && add_request(it, 2, it->light_samples[j]) < 0) {
           it->request_count--;
           it->values_per_sample -= 2 * it->light_samples[j];
+          it->layout_values -= 2 * it->light_samples[j];
           it->light_offsets[j] = -1;
         }
       }
@@ -175,11 +186,12 @@ clr_result clr_integrator_create_layout(const clr_scene_desc *desc, const clr_re
   /* bounces 0 .. maxdepth - 1 sample (pbrt-v3 stops at maxdepth before drawing a value) */
   for (int b = 0; b < it->max_depth; ++b) {
     int before = it->request_count;
-    int32_t values = it->values_per_sample;
+    int32_t values = it->values_per_sample, layout_values = it->layout_values;
     if (add_request(it, 1, 0) < 0 || add_request(it, 2, 0) < 0 || add_request(it, 2, 0) < 0 ||
         add_request(it, 2, 0) < 0 || (b > 3 && add_request(it, 1, 0) < 0)) {
       it->request_count = before;
       it->values_per_sample = values;
+      it->layout_values = layout_values;
       break;
     }
     it->path_bounces_in_layout = b + 1;

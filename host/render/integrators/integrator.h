@@ -31,11 +31,15 @@ typedef struct clr_integrator {
   int *light_samples; /* directlighting "all": pbrt nsamples per light */
   int *light_offsets; /* directlighting "all": value offset of light j's two arrays or -1 */
   int camera_offset;  /* the camera's film offset: 0, or 1 after pbrt-v4's wavelength Get1D */
-  int value_offset;   /* first integrator value (after the camera's 5 or 6) */
+  /* the camera's time and lens values, or -1 where the scene's rays never read them (their
+   * requests are skipped: clr_render_scene_camera_reads) */
+  int time_offset, lens_offset;
+  int value_offset; /* first integrator value (after the camera's values) */
   int path_bounces_in_layout;
   clr_sample_request requests[CLR_MAX_REQUESTS];
   int32_t request_count;
-  int32_t values_per_sample;
+  int32_t values_per_sample; /* values stored per sample (skipped requests have none) */
+  int32_t layout_values;     /* values of every request, skipped or not */
 } clr_integrator;
 
 /* Reads desc->integrator; unknown types warn and render as "path". */

@@ -122,6 +122,14 @@ float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, f
                        scene->needs_differentials ? rd : NULL);
 }
 
+void clr_render_scene_camera_reads(const clr_render_scene *s, int *time, int *lens) {
+  int moves = s->camera.motion.animated;
+  for (int k = 0; k < s->shape_count && !moves; ++k) moves = s->shapes[k].moving;
+  for (int i = 0; i < s->instance_count && !moves; ++i) moves = s->instances[i].moving;
+  *time = moves;
+  *lens = s->camera.lens_radius > 0.0f;
+}
+
 int clr_render_scene_uses_differentials(const clr_render_scene *scene) {
   return scene->needs_differentials;
 }

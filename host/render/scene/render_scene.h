@@ -52,6 +52,11 @@ float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, f
                                   float time, float lens_u, float lens_v, clr_ray *ray,
                                   clr_ray_differential *rd);
 
+/* Which camera sample values the scene's rays depend on: *time when the camera or a shape or an
+ * instance moves (a ray's time places them), *lens when the camera has a lens radius. Where 0,
+ * any value gives the same rays, hits and shading. */
+void clr_render_scene_camera_reads(const clr_render_scene *scene, int *time, int *lens);
+
 /* --- surfaces --- */
 typedef struct clr_surface {
   float p[3];  /* world position */
