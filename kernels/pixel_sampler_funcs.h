@@ -41,6 +41,8 @@
  *     or among the 2D arrays (dims 2), in request order: the arrays of each kind are numbered
  *     0.. without gaps, and generated in that order. inv_array_size = 1.0f / n from the host.
  *     Element j's values lie at first_value + j * dims + c.
+ *   skipped 1 (CLR_SAMPLE_REQUEST_SKIPPED): the slot feeds its stream, array or RNG draws as any
+ *     other (source, rng_offset, array_size count as above), but nothing is stored for it.
  *
  * Output: sample s (first_sample <= s < first_sample + sample_count) of a pixel lies at
  *   out_pixel[(s - first_sample) * values_per_sample + ...]; per batch, the pixel (px, py) starts at
