@@ -33,6 +33,16 @@ CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
   return (uint8)(convert_uint4(lo >> (ulong)shift), convert_uint4(hi >> (ulong)shift));
 }
 
+/* (a * m) >> 32 per lane in four 64-bit products of even and of odd lanes (AVX2: two vpmuludq
+ * and no repacking; the library's mul_hi goes through 16-bit halves). */
+CLR_SIMD_INLINE uint8 clr_mul_hi8(uint8 a, uint m) {
+  const ulong low_half = 0xFFFFFFFFul;
+  ulong4 pairs = as_ulong4(a);
+  ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
+  ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
+  return as_uint8(even | odd);
+}
+
 CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
@@ -201,8 +211,10 @@ CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global co
 #endif
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON && defined(CLR_INDEX32)
+/* Gathered as 16-bit lanes and widened once (each lane one load-and-insert on x86). */
 CLR_SIMD_INLINE uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
-  return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
+  return convert_uint8(
+      (ushort8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]));
 }
 
 CLR_SIMD_INLINE uint8 clr_gather_u32(__global const uint *t, uint8 i) {
@@ -303,7 +315,8 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
                                         int derived) {
   uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];
   uint rows = (uint)pt[6] | (uint)pt[7] << 16;
-  uint8 hi = clr_mul_shift8(a, magic, pt[3]);
+  /* a < 2^28 and shift >= 30: (a * magic) >> shift = mul_hi(a * 16, magic) >> (shift - 28) */
+  uint8 hi = clr_mul_hi8(a << 4u, magic) >> (uint)(pt[3] - 28u);
   uint8 low;
   if (stepped && rows != 0u && hi.s0 != 0u) { /* a_j = a_0 + j * step, every hi nonzero */
     low = convert_uint8(vload8(0, pt + rows + (a.s0 - hi.s0 * chunk) * CLR_HALTON_PAIR_ROW));
