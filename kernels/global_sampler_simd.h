@@ -27,12 +27,6 @@
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
 
-/* (a * m) >> shift per lane, the product in 64 bits (shift >= 32 keeps it in 32). */
-CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
-  ulong4 lo = convert_ulong4(a.lo) * (ulong)m, hi = convert_ulong4(a.hi) * (ulong)m;
-  return (uint8)(convert_uint4(lo >> (ulong)shift), convert_uint4(hi >> (ulong)shift));
-}
-
 /* (a * m) >> 32 per lane in four 64-bit products of even and of odd lanes (AVX2: two vpmuludq
  * and no repacking; the library's mul_hi goes through 16-bit halves). */
 CLR_SIMD_INLINE uint8 clr_mul_hi8(uint8 a, uint m) {
@@ -41,6 +35,11 @@ CLR_SIMD_INLINE uint8 clr_mul_hi8(uint8 a, uint m) {
   ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
   ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
   return as_uint8(even | odd);
+}
+
+/* (a * m) >> shift per lane for a < 2^31 and shift >= 31: mul_hi(2a, m) >> (shift - 31). */
+CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
+  return clr_mul_hi8(a << 1u, m) >> (shift - 31u);
 }
 
 CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
@@ -90,6 +89,7 @@ static inline uint8 clr_reverse_bits32x8(uint8 n) {
 typedef struct clr_items8 {
   uint8 item, sample;
   int8 px, py;
+  int one_pixel; /* every lane in one pixel (the items do not decrease: first and last lanes) */
 } clr_items8;
 
 static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p,
@@ -103,6 +103,7 @@ static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p,
   it.sample = (uint)p->first_sample + it.item - pixel * (uint)p->sample_count;
   it.px = p->batch_x0 + as_int8(pixel - row * (uint)p->batch_width);
   it.py = p->batch_y0 + as_int8(row);
+  it.one_pixel = pixel.s7 == pixel.s0;
   return it;
 }
 
@@ -240,7 +241,7 @@ CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
                                         uint8 *scale, uint8 *count) {
   uint base = pr->base, base2 = base * base, base4 = base2 * base2;
   uint tail_shift = pr->tail_shift;
-  uint8 t = clr_mul_shift8(a, pr->chunk_magic, 32u); /* clr_halton_mulhi32 */
+  uint8 t = clr_mul_hi8(a, pr->chunk_magic); /* clr_halton_mulhi32 */
   uint8 next = (t + ((a - t) >> 1u)) >> pr->chunk_shift;
   uint8 d = a - next * pr->chunk_base;
   int8 top = next == 0u;
@@ -361,11 +362,11 @@ CLR_SIMD_INLINE uint clr_halton_pixel_offset(const clr_sampler_params *p, int px
 }
 
 /* clr_halton_sampler_index for indices below 2^32, and in *base3 the argument of dimension 1,
- * index / scale1 (clr_halton_drop_base3_digits): with the lanes in one pixel, offset / scale1 +
- * number * scale0 (stride = scale0 * scale1). */
+ * index / scale1 (clr_halton_drop_base3_digits): with the lanes in one pixel (one_pixel), offset /
+ * scale1 + number * scale0 (stride = scale0 * scale1). */
 CLR_SIMD_INLINE uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number,
-                                        uint8 *base3) {
-  if (all(px == px.s0) && all(py == py.s0)) { /* one pixel (spp a multiple of 8): its offset once */
+                                        int one_pixel, uint8 *base3) {
+  if (one_pixel) { /* (spp a multiple of 8): its offset once */
     uint offset = clr_halton_pixel_offset(p, px.s0, py.s0);
     *base3 = offset / (uint)p->halton_scale[1] + number * (uint)p->halton_scale[0];
     return offset + number * (uint)p->halton_stride;
