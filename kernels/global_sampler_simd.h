@@ -340,8 +340,19 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
   return clr_below_one8(inv_base_n * (convert_float8(as_int8(reversed)) + pr->scramble_tail));
 }
 
+/* ceil(2^32 / 3^e), e = 0..5 (scale[1] = 3^e1, e1 <= 5). */
+__constant ulong clr_pow3_reciprocals[6] = {0x100000000ul, 1431655766ul, 477218589ul,
+                                            159072863ul,   53024288ul,   17674763ul};
+
+/* n / 3^e for n < 2^16 and e <= 5: (n * ceil(2^32 / 3^e)) >> 32, exact since n times the
+ * rounding error (below 3^e) times 3^e stays below 2^32; no division instruction. */
+CLR_SIMD_INLINE uint clr_div_pow3_small(uint n, int e) {
+  return (uint)(((ulong)n * clr_pow3_reciprocals[e]) >> 32);
+}
+
 /* clr_halton_sampler_index(p, px, py, 0), scalar, in fewer steps: the e0 <= 7 low bits of mx
- * reversed from two nibble reversals, y1 / 3^e1 as y1 / scale1 (the same quotient). */
+ * reversed from two nibble reversals, y1 / 3^e1 (y1 = d1 * inverse < 3^2e1 <= 243^2) by
+ * clr_div_pow3_small. */
 CLR_SIMD_INLINE uint clr_halton_pixel_offset(const clr_sampler_params *p, int px, int py) {
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
   uint mx = (uint)px & (CLR_HALTON_MAX_RESOLUTION - 1u);
@@ -357,7 +368,8 @@ CLR_SIMD_INLINE uint clr_halton_pixel_offset(const clr_sampler_params *p, int px
   }
   uint x0 = (d0 * p->halton_mult_inverse[0]) & (scale0 - 1u);
   uint y1 = d1 * p->halton_mult_inverse[1];
-  uint offset = x0 * scale1 + (y1 - y1 / scale1 * scale1) * scale0;
+  uint offset =
+      x0 * scale1 + (y1 - clr_div_pow3_small(y1, p->halton_exponent[1]) * scale1) * scale0;
   return offset >= (uint)p->halton_stride ? offset - (uint)p->halton_stride : offset;
 }
 
@@ -368,7 +380,8 @@ CLR_SIMD_INLINE uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, in
                                         int one_pixel, uint8 *base3) {
   if (one_pixel) { /* (spp a multiple of 8): its offset once */
     uint offset = clr_halton_pixel_offset(p, px.s0, py.s0);
-    *base3 = offset / (uint)p->halton_scale[1] + number * (uint)p->halton_scale[0];
+    /* offset < stride <= 128 * 243 */
+    *base3 = clr_div_pow3_small(offset, p->halton_exponent[1]) + number * (uint)p->halton_scale[0];
     return offset + number * (uint)p->halton_stride;
   }
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
