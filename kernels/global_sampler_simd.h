@@ -27,10 +27,19 @@
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
 
-/* (a * m) >> shift per lane, the product in 64 bits (shift >= 32 keeps it in 32). */
+/* (a * m) >> 32 per lane in four 64-bit products of even and of odd lanes (AVX2: two vpmuludq
+ * and no repacking; the library's mul_hi goes through 16-bit halves). */
+CLR_SIMD_INLINE uint8 clr_mul_hi8(uint8 a, uint m) {
+  const ulong low_half = 0xFFFFFFFFul;
+  ulong4 pairs = as_ulong4(a);
+  ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
+  ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
+  return as_uint8(even | odd);
+}
+
+/* (a * m) >> shift per lane for a < 2^31 and shift >= 31: mul_hi(2a, m) >> (shift - 31). */
 CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
-  ulong4 lo = convert_ulong4(a.lo) * (ulong)m, hi = convert_ulong4(a.hi) * (ulong)m;
-  return (uint8)(convert_uint4(lo >> (ulong)shift), convert_uint4(hi >> (ulong)shift));
+  return clr_mul_hi8(a << 1u, m) >> (shift - 31u);
 }
 
 CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
@@ -80,6 +89,7 @@ static inline uint8 clr_reverse_bits32x8(uint8 n) {
 typedef struct clr_items8 {
   uint8 item, sample;
   int8 px, py;
+  int one_pixel; /* every lane in one pixel (the items do not decrease: first and last lanes) */
 } clr_items8;
 
 static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p,
@@ -93,6 +103,7 @@ static inline clr_items8 clr_items_of_work_item(const clr_sampler_params *p,
   it.sample = (uint)p->first_sample + it.item - pixel * (uint)p->sample_count;
   it.px = p->batch_x0 + as_int8(pixel - row * (uint)p->batch_width);
   it.py = p->batch_y0 + as_int8(row);
+  it.one_pixel = pixel.s7 == pixel.s0;
   return it;
 }
 
@@ -201,8 +212,10 @@ CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global co
 #endif
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON && defined(CLR_INDEX32)
+/* Gathered as 16-bit lanes and widened once (each lane one load-and-insert on x86). */
 CLR_SIMD_INLINE uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
-  return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
+  return convert_uint8(
+      (ushort8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]));
 }
 
 CLR_SIMD_INLINE uint8 clr_gather_u32(__global const uint *t, uint8 i) {
@@ -228,7 +241,7 @@ CLR_SIMD_INLINE uint8 clr_halton_chunk8(__global const clr_halton_prime *pr,
                                         uint8 *scale, uint8 *count) {
   uint base = pr->base, base2 = base * base, base4 = base2 * base2;
   uint tail_shift = pr->tail_shift;
-  uint8 t = clr_mul_shift8(a, pr->chunk_magic, 32u); /* clr_halton_mulhi32 */
+  uint8 t = clr_mul_hi8(a, pr->chunk_magic); /* clr_halton_mulhi32 */
   uint8 next = (t + ((a - t) >> 1u)) >> pr->chunk_shift;
   uint8 d = a - next * pr->chunk_base;
   int8 top = next == 0u;
@@ -303,7 +316,8 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
                                         int derived) {
   uint chunk = pt[0], magic = (uint)pt[1] | (uint)pt[2] << 16, count_shift = pt[5];
   uint rows = (uint)pt[6] | (uint)pt[7] << 16;
-  uint8 hi = clr_mul_shift8(a, magic, pt[3]);
+  /* a < 2^28 and shift >= 30: (a * magic) >> shift = mul_hi(a * 16, magic) >> (shift - 28) */
+  uint8 hi = clr_mul_hi8(a << 4u, magic) >> (uint)(pt[3] - 28u);
   uint8 low;
   if (stepped && rows != 0u && hi.s0 != 0u) { /* a_j = a_0 + j * step, every hi nonzero */
     low = convert_uint8(vload8(0, pt + rows + (a.s0 - hi.s0 * chunk) * CLR_HALTON_PAIR_ROW));
@@ -326,8 +340,19 @@ CLR_SIMD_INLINE float8 clr_halton_pair8(__global const clr_halton_prime *pr,
   return clr_below_one8(inv_base_n * (convert_float8(as_int8(reversed)) + pr->scramble_tail));
 }
 
+/* ceil(2^32 / 3^e), e = 0..5 (scale[1] = 3^e1, e1 <= 5). */
+__constant ulong clr_pow3_reciprocals[6] = {0x100000000ul, 1431655766ul, 477218589ul,
+                                            159072863ul,   53024288ul,   17674763ul};
+
+/* n / 3^e for n < 2^16 and e <= 5: (n * ceil(2^32 / 3^e)) >> 32, exact since n times the
+ * rounding error (below 3^e) times 3^e stays below 2^32; no division instruction. */
+CLR_SIMD_INLINE uint clr_div_pow3_small(uint n, int e) {
+  return (uint)(((ulong)n * clr_pow3_reciprocals[e]) >> 32);
+}
+
 /* clr_halton_sampler_index(p, px, py, 0), scalar, in fewer steps: the e0 <= 7 low bits of mx
- * reversed from two nibble reversals, y1 / 3^e1 as y1 / scale1 (the same quotient). */
+ * reversed from two nibble reversals, y1 / 3^e1 (y1 = d1 * inverse < 3^2e1 <= 243^2) by
+ * clr_div_pow3_small. */
 CLR_SIMD_INLINE uint clr_halton_pixel_offset(const clr_sampler_params *p, int px, int py) {
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];
   uint mx = (uint)px & (CLR_HALTON_MAX_RESOLUTION - 1u);
@@ -343,18 +368,20 @@ CLR_SIMD_INLINE uint clr_halton_pixel_offset(const clr_sampler_params *p, int px
   }
   uint x0 = (d0 * p->halton_mult_inverse[0]) & (scale0 - 1u);
   uint y1 = d1 * p->halton_mult_inverse[1];
-  uint offset = x0 * scale1 + (y1 - y1 / scale1 * scale1) * scale0;
+  uint offset =
+      x0 * scale1 + (y1 - clr_div_pow3_small(y1, p->halton_exponent[1]) * scale1) * scale0;
   return offset >= (uint)p->halton_stride ? offset - (uint)p->halton_stride : offset;
 }
 
 /* clr_halton_sampler_index for indices below 2^32, and in *base3 the argument of dimension 1,
- * index / scale1 (clr_halton_drop_base3_digits): with the lanes in one pixel, offset / scale1 +
- * number * scale0 (stride = scale0 * scale1). */
+ * index / scale1 (clr_halton_drop_base3_digits): with the lanes in one pixel (one_pixel), offset /
+ * scale1 + number * scale0 (stride = scale0 * scale1). */
 CLR_SIMD_INLINE uint8 clr_halton_index8(const clr_sampler_params *p, int8 px, int8 py, uint8 number,
-                                        uint8 *base3) {
-  if (all(px == px.s0) && all(py == py.s0)) { /* one pixel (spp a multiple of 8): its offset once */
+                                        int one_pixel, uint8 *base3) {
+  if (one_pixel) { /* (spp a multiple of 8): its offset once */
     uint offset = clr_halton_pixel_offset(p, px.s0, py.s0);
-    *base3 = offset / (uint)p->halton_scale[1] + number * (uint)p->halton_scale[0];
+    /* offset < stride <= 128 * 243 */
+    *base3 = clr_div_pow3_small(offset, p->halton_exponent[1]) + number * (uint)p->halton_scale[0];
     return offset + number * (uint)p->halton_stride;
   }
   uint scale0 = (uint)p->halton_scale[0], scale1 = (uint)p->halton_scale[1];

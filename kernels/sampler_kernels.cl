@@ -95,7 +95,7 @@ typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and i
 typedef __global const clr_halton_prime *clr_table0_t; /* one record per prime */
 typedef __global const ushort *clr_table1_t;           /* permutations and chunk tables */
 typedef __global const ushort *clr_table2_t;           /* pair tables (or NULL) */
-#define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number, &base3)
+#define clr_index8(number) clr_halton_index8(&p, it.px, it.py, number, it.one_pixel, &base3)
 #define clr_value8(index, e)                                                             \
   clr_halton_value8(&p, t0, t1, e.pair_table >= 0 ? t2 + e.pair_table : 0, index, base3, \
                     stepped && e.index_slot == 0, e.dim, e.shape & 0xff, e.shape >> 8)
@@ -132,7 +132,7 @@ __kernel void clr_global_generate(clr_sampler_params p, clr_item_divisors d,
   /* Consecutive items (no repeated padding lane): lane j's value is j rows after lane 0's. */
   int consecutive = it.item.s7 == it.item.s0 + 7u;
   /* halton: consecutive samples of one pixel (the pair tables' lane rows apply to slot 0) */
-  int stepped = consecutive && all(it.px == it.px.s0) && all(it.py == it.py.s0);
+  int stepped = consecutive && it.one_pixel;
   (void)stepped;
   size_t stride = (size_t)p.values_per_sample;
   __global float *rows = values + (size_t)it.item.s0 * stride;

@@ -288,6 +288,35 @@ static void test_halton_pair_tables_match_reference(void **state) {
   }
 }
 
+/* Halton's one-pixel index on the device (work-items of 8 samples of one pixel) divides by
+ * scale[1] = 3^e1 with a reciprocal per e1: films whose heights give e1 = 0..5 (1, 2, 9, 27, 81,
+ * 300 rows; widths give e0 from 0 to 7), whole films or a corner, 8 and 16 spp. Device ==
+ * reference. */
+static void test_halton_film_scales_match_reference(void **state) {
+  (void)state;
+  struct {
+    int width, height, spp;
+  } cases[] = {{1, 1, 16}, {3, 2, 8}, {5, 9, 16}, {16, 27, 8}, {70, 81, 16}, {300, 300, 16}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, CLR_SAMPLER_HALTON);
+    d.pixel_samples = cases[c].spp;
+    d.film.x_resolution = cases[c].width;
+    d.film.y_resolution = cases[c].height;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    clr_bounds2i px = {0, 0, cases[c].width < 24 ? cases[c].width : 24,
+                       cases[c].height < 20 ? cases[c].height : 20};
+    generated dev = generate(s, px, 0, 0, camera10, 6, 1);
+    generated ref = generate(s, px, 0, 0, camera10, 6, 0);
+    assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
+    assert_memory_equal(dev.indices, ref.indices, dev.items * sizeof(uint64_t));
+    free_generated(&dev);
+    free_generated(&ref);
+    clr_sampler_release(s);
+  }
+}
+
 static void test_bad_input(void **state) {
   (void)state;
   clr_sampler_desc d;
@@ -409,6 +438,7 @@ int main(void) {
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),
+      cmocka_unit_test(test_halton_film_scales_match_reference),
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_device_buffer_output),
   };
