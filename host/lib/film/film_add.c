@@ -26,7 +26,7 @@ static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_
   clr_film_chunk_sums chunk;
   clr_result r = clr_film_accumulate_chunk(film, samples, count, reference, &chunk);
   if (r == CLR_SUCCESS && chunk.sums)
-    clr_film_add_block(film, chunk.block, chunk.sums, reference ? 1 : 2); /* reference: 1 thread */
+    clr_film_add_block(film, chunk.block, chunk.sums, reference ? 1 : clr_film_host_threads(film));
   clr_result released = clr_film_chunk_sums_release(film, &chunk);
   return r != CLR_SUCCESS ? r : released;
 }

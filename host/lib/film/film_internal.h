@@ -21,8 +21,11 @@ typedef struct clr_film_device {
   size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
 
-/* Threads of the host binning (a chunk is split into this many consecutive parts). */
-#define CLR_FILM_BIN_THREADS 2
+/* Most threads of the host binning (a chunk is split into up to this many consecutive parts;
+ * the binned order does not depend on their number). */
+#define CLR_FILM_BIN_THREADS_MAX 16
+/* Fewest samples per binning part (a thread costs ~50 us). */
+#define CLR_FILM_BIN_PART_MIN 4096
 
 /* Host scratch of the binning (stable counting sorts by bin row, then by bin column), grown on
  * demand. */
@@ -57,11 +60,12 @@ struct clr_film_t {
   clr_film_device dev;
   clr_film_bins bins;
   size_t group_size_override; /* 0: automatic (tests set it) */
+  int bin_threads;            /* host binning threads, 1..CLR_FILM_BIN_THREADS_MAX */
 };
 
 /* Adds per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`, which may
- * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with two
- * threads for large blocks when `threads` > 1 (the same bits). Caller holds the lock. */
+ * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with up to
+ * `threads` threads (bands of rows) for large blocks (the same bits). Caller holds the lock. */
 void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads);
 
 /* One chunk's per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`),
@@ -85,6 +89,11 @@ clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samp
 /* Forces the gather kernel's work-group size in work-items, each a run of tile_size pixels
  * (1..CLR_FILM_GROUP_MAX; 0 = automatic). */
 clr_result film_set_group_size(clr_film film, size_t group_size);
+/* Sets the host binning's thread count (1..CLR_FILM_BIN_THREADS_MAX; 0 = automatic: the online
+ * CPUs, at most 8). The film's sums do not depend on it. */
+clr_result film_set_bin_threads(clr_film film, int threads);
+/* The threads film_add_samples bins and adds chunk sums with (as set, else automatic). */
+int clr_film_host_threads(clr_film film);
 /* Bytes the film holds (the scratch only grows, so these are also the peaks): its sums (32 bytes
  * per pixel, 56 once splatted) and the accumulation's host and device scratch, bounded by
  * CLR_FILM_CHUNK_SAMPLES and the chunk's pixel footprint. */
