@@ -387,8 +387,9 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
   scatter_chunk(set, dst);
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
+  /* Blocking: the next chunk's binning rewrites bins.starts while this chunk's kernels run. */
   CLR_CL_CHECK(film->ctx,
-               clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0, (nbins + 1) * sizeof(uint32_t),
+               clEnqueueWriteBuffer(q, d->starts, CL_TRUE, 0, (nbins + 1) * sizeof(uint32_t),
                                     film->bins.starts, 0, NULL, NULL));
   return CLR_SUCCESS;
 }
@@ -471,8 +472,8 @@ static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
 }
 
 /* Runs the gather over the grid's output region (clr_film_gather8 with `lanes`); *out maps its
- * sums. */
-static clr_result gather(clr_film film, const clr_film_grid *g, int lanes,
+ * sums, at once when `blocking`, else once out->ready completes. */
+static clr_result gather(clr_film film, const clr_film_grid *g, int lanes, int blocking,
                          clr_film_chunk_sums *out) {
   clr_film_device *d = &film->dev;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
@@ -496,8 +497,11 @@ static clr_result gather(clr_film film, const clr_film_grid *g, int lanes,
   else
     CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
   cl_int err = CL_SUCCESS;
-  float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  cl_event ready = NULL;
+  float *sums = clEnqueueMapBuffer(q, d->sums, blocking ? CL_TRUE : CL_FALSE, CL_MAP_READ, 0, bytes,
+                                   0, NULL, blocking ? NULL : &ready, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
+  out->ready = ready;
   out->block = (clr_bounds2i){g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
   out->sums = sums;
   out->mapped = 1;
@@ -512,6 +516,20 @@ int clr_film_host_threads(clr_film film) {
   return cpus < 1 ? 1 : cpus > 8 ? 8 : (int)cpus;
 }
 
+/* Uploads a binned chunk (bin_chunk) and enqueues its kernels; *out maps its sums (see
+ * gather). */
+static clr_result launch_chunk(clr_film film, bin_set *set, clr_film_grid *g, size_t binned,
+                               int blocking, clr_film_chunk_sums *out) {
+  int lanes = use_lanes(film, g);
+  if (lanes) {
+    CLR_CHECK(ensure_lane_kernels(film));
+    g->weighed_floats = CLR_FILM_WEIGHED8_FLOATS;
+  }
+  CLR_CHECK(upload_bins(film, set, g, binned));
+  CLR_CHECK(weigh(film, g, binned, lanes));
+  return gather(film, g, lanes, blocking, out);
+}
+
 static clr_result device_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                                clr_film_chunk_sums *out) {
   clr_film_grid g;
@@ -520,14 +538,49 @@ static clr_result device_chunk(clr_film film, const clr_film_sample *samples, si
   CLR_CHECK(ensure_kernel(film));
   CLR_CHECK(bin_chunk(film, samples, count, clr_film_host_threads(film), &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
-  int lanes = use_lanes(film, &g);
-  if (lanes) {
-    CLR_CHECK(ensure_lane_kernels(film));
-    g.weighed_floats = CLR_FILM_WEIGHED8_FLOATS;
+  return launch_chunk(film, &set, &g, binned, 1, out);
+}
+
+/* Waits for a launched chunk's sums, adds them into the film's double sums and releases them;
+ * *pending is empty after. */
+static clr_result finish_chunk(clr_film film, clr_film_chunk_sums *pending) {
+  clr_result r = CLR_SUCCESS;
+  if (pending->ready) {
+    cl_int err = clWaitForEvents(1, &pending->ready);
+    cl_int status = CL_COMPLETE;
+    if (err == CL_SUCCESS)
+      err = clGetEventInfo(pending->ready, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status,
+                           &status, NULL);
+    clReleaseEvent(pending->ready);
+    pending->ready = NULL;
+    if (err != CL_SUCCESS || status < 0)
+      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples: chunk sums failed: %s (%d)",
+                   clr_cl_error_name(err != CL_SUCCESS ? err : status),
+                   (int)(err != CL_SUCCESS ? err : status));
   }
-  CLR_CHECK(upload_bins(film, &set, &g, binned));
-  CLR_CHECK(weigh(film, &g, binned, lanes));
-  return gather(film, &g, lanes, out);
+  if (r == CLR_SUCCESS && pending->sums)
+    clr_film_add_block(film, pending->block, pending->sums, clr_film_host_threads(film));
+  clr_result released = clr_film_chunk_sums_release(film, pending);
+  memset(pending, 0, sizeof *pending);
+  return r != CLR_SUCCESS ? r : released;
+}
+
+clr_result clr_film_accumulate_overlapped(clr_film film, const clr_film_sample *samples,
+                                          size_t count) {
+  clr_film_chunk_sums pending = {0};
+  clr_result r = ensure_kernel(film);
+  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
+    size_t n = count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
+    clr_film_grid g;
+    size_t binned = 0;
+    bin_set set;
+    r = bin_chunk(film, samples + at, n, clr_film_host_threads(film), &set, &g, &binned);
+    clr_result done = finish_chunk(film, &pending); /* the previous chunk's, in chunk order */
+    if (r == CLR_SUCCESS) r = done;
+    if (r == CLR_SUCCESS && binned) r = launch_chunk(film, &set, &g, binned, 0, &pending);
+  }
+  clr_result done = finish_chunk(film, &pending);
+  return r != CLR_SUCCESS ? r : done;
 }
 
 /* Host reference of one chunk: the same binning; each binned sample, in bin order, adds to every

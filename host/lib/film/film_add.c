@@ -37,8 +37,11 @@ static clr_result add_host_samples(clr_film film, const clr_film_sample *samples
   CLR_CHECK(check_add_args(film, samples, count, fn));
   pthread_mutex_lock(&film->lock);
   clr_result r = CLR_SUCCESS;
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
-    r = add_chunk(film, samples + at, chunk_length(count, at), reference);
+  if (!reference && film->ctx)
+    r = clr_film_accumulate_overlapped(film, samples, count);
+  else
+    for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
+      r = add_chunk(film, samples + at, chunk_length(count, at), reference);
   pthread_mutex_unlock(&film->lock);
   return r;
 }

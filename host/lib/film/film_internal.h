@@ -74,7 +74,8 @@ void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, in
 typedef struct clr_film_chunk_sums {
   clr_bounds2i block;
   const float *sums;
-  int mapped; /* sums map the device's sum buffer */
+  int mapped;     /* sums map the device's sum buffer */
+  cl_event ready; /* NULL, or the event after which sums may be read */
 } clr_film_chunk_sums;
 
 /* Accumulates up to CLR_FILM_CHUNK_SAMPLES samples in the canonical order with the kernels, or
@@ -82,6 +83,12 @@ typedef struct clr_film_chunk_sums {
 clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                                      int reference, clr_film_chunk_sums *out);
 clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums);
+/* film_add_samples' device path: the chunks of samples[0..count) through the kernels into the
+ * film's double sums, in chunk order (the same bits as chunk by chunk), with each chunk's checks
+ * and first two binning passes running while the device runs the previous chunk's kernels.
+ * Caller holds the film's lock; the film has a context. */
+clr_result clr_film_accumulate_overlapped(clr_film film, const clr_film_sample *samples,
+                                          size_t count);
 
 /* Host reference of film_add_samples: the same chunks, checks, binning and per-pixel float sums in
  * the canonical order, computed by the C build of kernels/film_funcs.h (one thread). */
