@@ -387,10 +387,18 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
   scatter_chunk(set, dst);
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
-  /* Blocking: the next chunk's binning rewrites bins.starts while this chunk's kernels run. */
+  clr_film_bins *b = &film->bins;
   CLR_CL_CHECK(film->ctx,
-               clEnqueueWriteBuffer(q, d->starts, CL_TRUE, 0, (nbins + 1) * sizeof(uint32_t),
-                                    film->bins.starts, 0, NULL, NULL));
+               clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0, (nbins + 1) * sizeof(uint32_t),
+                                    b->starts, 0, NULL, NULL));
+  /* The next chunk bins into the other array while this write may be pending; the one after
+   * finds it done (its sums were waited for, later in the same in-order queue). */
+  uint32_t *sent = b->starts;
+  size_t sent_cap = b->starts_cap;
+  b->starts = b->starts_sent;
+  b->starts_cap = b->starts_sent_cap;
+  b->starts_sent = sent;
+  b->starts_sent_cap = sent_cap;
   return CLR_SUCCESS;
 }
 
@@ -675,10 +683,11 @@ size_t clr_film_scratch_bytes(clr_film film) {
   const clr_film_device *d = &film->dev;
   const clr_film_bins *b = &film->bins;
   size_t bytes = d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
-  bytes += b->keys_cap * sizeof *b->keys + b->values_cap * sizeof *b->values +
-           b->rowed_cap * sizeof(row_entry) +
-           (b->starts_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
-           b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
+  bytes +=
+      b->keys_cap * sizeof *b->keys + b->values_cap * sizeof *b->values +
+      b->rowed_cap * sizeof(row_entry) +
+      (b->starts_cap + b->starts_sent_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
+      b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
   return bytes;
 }
 
@@ -696,6 +705,7 @@ void clr_film_accumulate_release(clr_film film) {
   free(b->keys);
   free(b->values);
   free(b->starts);
+  free(b->starts_sent);
   free(b->cursor);
   free(b->rowed);
   free(b->columns);

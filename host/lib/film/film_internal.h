@@ -33,12 +33,14 @@ typedef struct clr_film_bins {
   uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
   float *values;    /* per chunk sample: its binned values (CLR_FILM_BINNED_FLOATS), when keyed */
   uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
-  uint32_t *cursor; /* per part and bin row: count, then fill position */
+  uint32_t *starts_sent;   /* the previous chunk's starts, source of a write that may be pending */
+  uint32_t *cursor;        /* per part and bin row: count, then fill position */
   struct row_entry *rowed; /* binned samples sorted by bin row only, with their bin column */
   uint32_t *columns;       /* per part and bin column: fill position of the row sort */
   float *binned;           /* host copy of the binned samples (reference path) */
   float *sums;             /* host per-pixel sums (reference path) */
-  size_t keys_cap, values_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
+  size_t keys_cap, values_cap, starts_cap, starts_sent_cap, cursor_cap, rowed_cap, columns_cap,
+      binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
