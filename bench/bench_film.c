@@ -2,6 +2,7 @@
  * the single-thread host reference, with the film's peak memory per pixel. */
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include "bench.h"
 #include "film_internal.h"
 
@@ -63,16 +64,37 @@ static clr_film make_film(clr_context ctx, int type, int use_table) {
   return film_create(ctx, &d, &film) == CLR_SUCCESS ? film : NULL;
 }
 
-/* The film's memory: its sums per pixel and the accumulation's scratch (bounded by the chunk). */
+/* The film's memory: its sums per pixel and the accumulation's scratch (bounded by the chunk);
+ * and the host threads it binned with. */
 typedef struct film_memory {
   double sums_bytes_per_pixel, scratch_mib;
+  int bin_threads;
 } film_memory;
 
-/* Samples per second of one path; *mem gets the film's peak memory. */
+/* This process's CPU time (every thread's, PoCL's workers included) in seconds. */
+static double process_cpu_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* CLR_BENCH_FILM_THREADS, when set, the film's host binning threads (0 = automatic). */
+static int bench_bin_threads(void) {
+  const char *env = getenv("CLR_BENCH_FILM_THREADS");
+  return env ? atoi(env) : 0;
+}
+
+/* Samples per second of one path; *mem gets the film's peak memory, *cpu_ns the process's CPU
+ * nanoseconds per sample over all its runs (the warm-up included; less disturbed by load than
+ * samples/s). */
 static double rate(clr_context ctx, int type, int use_table, int path, size_t count, int reps,
-                   const clr_film_sample *samples, film_memory *mem) {
+                   const clr_film_sample *samples, film_memory *mem, double *cpu_ns) {
   run r = {make_film(ctx, type, use_table), samples, NULL, count, path == 2};
   if (!r.film) return -1;
+  if (film_set_bin_threads(r.film, bench_bin_threads()) != CLR_SUCCESS) {
+    film_release(r.film);
+    return -1;
+  }
   if (path == 1) {
     cl_int err;
     r.buffer = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
@@ -82,10 +104,13 @@ static double rate(clr_context ctx, int type, int use_table, int path, size_t co
       return -1;
     }
   }
+  double cpu0 = process_cpu_s();
   double t = bench_median(reps, run_once, &r);
+  *cpu_ns = 1e9 * (process_cpu_s() - cpu0) / ((double)count * (reps + 1));
   if (mem) {
     mem->sums_bytes_per_pixel = (double)clr_film_sums_bytes(r.film) / ((double)FILM_W * FILM_H);
     mem->scratch_mib = (double)clr_film_scratch_bytes(r.film) / (1024.0 * 1024.0);
+    mem->bin_threads = clr_film_host_threads(r.film);
   }
   if (r.buffer) clReleaseMemObject(r.buffer);
   film_release(r.film);
@@ -127,11 +152,12 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     clr_context_release(host_ctx);
     return;
   }
-  double baseline[FILTER_COUNT][2];
+  double baseline[FILTER_COUNT][2], baseline_cpu_ns[FILTER_COUNT][2];
   for (int t = 0; t < FILTER_COUNT; ++t)
     for (int m = 0; m < 2; ++m)
       baseline[t][m] = case_selected(filter_types[t], m)
-                           ? rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL)
+                           ? rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL,
+                                  &baseline_cpu_ns[t][m])
                            : -1;
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "film");
@@ -139,8 +165,9 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     for (int t = 0; t < FILTER_COUNT; ++t)
       for (int m = 0; m < 2; ++m)
         for (int path = 0; path < 2 && case_selected(filter_types[t], m); ++path) {
-          film_memory mem = {0, 0};
-          double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &mem);
+          film_memory mem = {0, 0, 0};
+          double cpu_ns = 0;
+          double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &mem, &cpu_ns);
           printf("{\"bench\":\"film\",");
           bench_json_device(ctx);
           printf(
@@ -153,10 +180,12 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
             bench_json_escape(stdout, clr_last_error_message());
           } else {
             printf(
-                ",\"samples_per_s\":%.4g,\"film_bytes_per_pixel\":%.1f,\"scratch_mib\":%.1f,"
+                ",\"samples_per_s\":%.4g,\"cpu_ns_per_sample\":%.1f,\"bin_threads\":%d,"
+                "\"film_bytes_per_pixel\":%.1f,\"scratch_mib\":%.1f,"
                 "\"baseline\":\"host reference, 1 thread\",\"baseline_samples_per_s\":%.4g,"
-                "\"ratio\":%.2f",
-                v, mem.sums_bytes_per_pixel, mem.scratch_mib, baseline[t][m],
+                "\"baseline_cpu_ns_per_sample\":%.1f,\"ratio\":%.2f",
+                v, cpu_ns, mem.bin_threads, mem.sums_bytes_per_pixel, mem.scratch_mib,
+                baseline[t][m], baseline_cpu_ns[t][m],
                 baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
           }
           printf("}\n");

@@ -185,26 +185,33 @@ static void *add_rows(void *arg) {
   return NULL;
 }
 
-/* Blocks of at least this many pixels are added by two threads (each pixel by one). */
-#define ADD_BLOCK_SPLIT_PIXELS (1 << 16)
+/* Each thread of clr_film_add_block adds at least this many pixels (each pixel by one thread). */
+#define ADD_BLOCK_PART_PIXELS (1 << 15)
 
 void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads) {
   const clr_film_params *p = &film->params;
   const int32_t y0 = block.y0 > p->pixel_y0 ? block.y0 : p->pixel_y0;
   const int32_t y1 = block.y1 < p->pixel_y1 ? block.y1 : p->pixel_y1;
   if (y0 >= y1 || block.x0 >= block.x1) return;
-  add_rows_job jobs[2] = {{film, block, sums, y0, y1}, {film, block, sums, y1, y1}};
-  pthread_t helper;
-  int started = 0;
-  if (threads > 1 && (int64_t)(y1 - y0) * (block.x1 - block.x0) >= ADD_BLOCK_SPLIT_PIXELS) {
-    jobs[0].y_end = jobs[1].y_begin = y0 + (y1 - y0) / 2;
-    started = pthread_create(&helper, NULL, add_rows, &jobs[1]) == 0;
-  }
+  int64_t parts = (int64_t)(y1 - y0) * (block.x1 - block.x0) / ADD_BLOCK_PART_PIXELS;
+  int n = threads < 1 ? 1 : threads > CLR_FILM_BIN_THREADS_MAX ? CLR_FILM_BIN_THREADS_MAX : threads;
+  if (parts < n) n = parts < 1 ? 1 : (int)parts;
+  if (n > y1 - y0) n = y1 - y0;
+  add_rows_job jobs[CLR_FILM_BIN_THREADS_MAX];
+  pthread_t helpers[CLR_FILM_BIN_THREADS_MAX];
+  int started[CLR_FILM_BIN_THREADS_MAX] = {0};
+  for (int i = 0; i < n; ++i)
+    jobs[i] = (add_rows_job){film, block, sums, y0 + (int32_t)((int64_t)(y1 - y0) * i / n),
+                             y0 + (int32_t)((int64_t)(y1 - y0) * (i + 1) / n)};
+  for (int i = 1; i < n; ++i)
+    started[i] = pthread_create(&helpers[i], NULL, add_rows, &jobs[i]) == 0;
   add_rows(&jobs[0]);
-  if (started)
-    pthread_join(helper, NULL);
-  else
-    add_rows(&jobs[1]);
+  for (int i = 1; i < n; ++i) {
+    if (started[i])
+      pthread_join(helpers[i], NULL);
+    else
+      add_rows(&jobs[i]);
+  }
 }
 
 /* The splat sums are allocated by the first splat (most renders never splat): the film holds

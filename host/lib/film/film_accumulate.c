@@ -8,10 +8,13 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "clr_internal.h"
 #include "film_funcs.h"
 #include "film_internal.h"
 
+/* Binning passes stay out of line, so profiles name them. */
+#define CLR_PROFILE_NOINLINE __attribute__((noinline))
 #define KEY_NONE 0xffffffffu
 /* Keys count bins from this many pixels left of / above the pixel bounds: a binned sample's x0
  * is at least pixel_x0 - (x1 - x0) >= pixel_x0 - (2 * CLR_FILM_MAX_FILTER_RADIUS + 1). */
@@ -78,47 +81,67 @@ static void raise_reach(int32_t *reach, clr_film film, int axis, float d, int32_
   if (last - x0 + 1 > *reach) *reach = last - x0 + 1;
 }
 
+/* A part's pass-1 bounds, reach and counts, kept in locals (no aliasing with the keys and
+ * counts the loop stores). */
+typedef struct key_stats {
+  int32_t bx0, by0, bx1, by1, reach_x, reach_y;
+  size_t binned;
+  uint64_t accepted, dropped, outside;
+} key_stats;
+
 /* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
  * pixel) and binned values, counts them per bin row, records their bounds and the largest
  * reach. */
-static void key_part(bin_part *t) {
+CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
   clr_film film = t->film;
   const clr_film_params *p = &film->params;
-  uint32_t *keys = film->bins.keys;
+  uint32_t *restrict keys = film->bins.keys;
+  float *restrict values = film->bins.values;
+  uint32_t *restrict rows = t->rows;
   const int32_t kx0 = p->pixel_x0 - KEY_MARGIN, ky0 = p->pixel_y0 - KEY_MARGIN;
-  memset(t->rows, 0, key_rows(p) * sizeof *t->rows);
-  t->bx0 = t->by0 = INT32_MAX;
-  t->bx1 = t->by1 = INT32_MIN;
-  t->reach_x = t->reach_y = 1;
+  memset(rows, 0, key_rows(p) * sizeof *rows);
+  key_stats k = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, 1, 1, 0, 0, 0, 0};
   for (size_t i = t->begin; i < t->end; ++i) {
     clr_film_prepared s = {0};
     clr_i32 status = prepare(film, &t->samples[i], &s);
-    t->accepted += status == CLR_FILM_SAMPLE_OK;
-    t->dropped += status == CLR_FILM_SAMPLE_DROPPED;
-    t->outside += status == CLR_FILM_SAMPLE_OUTSIDE;
-    keys[i] = KEY_NONE;
-    if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) continue;
+    k.accepted += status == CLR_FILM_SAMPLE_OK;
+    k.dropped += status == CLR_FILM_SAMPLE_DROPPED;
+    k.outside += status == CLR_FILM_SAMPLE_OUTSIDE;
+    if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) {
+      keys[i] = KEY_NONE;
+      continue;
+    }
     keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
-    float *v = film->bins.values + i * CLR_FILM_BINNED_FLOATS;
+    float *v = values + i * CLR_FILM_BINNED_FLOATS;
     v[0] = s.dx;
     v[1] = s.dy;
     v[2] = s.r;
     v[3] = s.g;
     v[4] = s.b;
     v[5] = s.w;
-    ++t->rows[s.y0 - ky0];
-    t->bx0 = s.x0 < t->bx0 ? s.x0 : t->bx0;
-    t->bx1 = s.x0 > t->bx1 ? s.x0 : t->bx1;
-    t->by0 = s.y0 < t->by0 ? s.y0 : t->by0;
-    t->by1 = s.y0 > t->by1 ? s.y0 : t->by1;
-    if (s.x1 - s.x0 + 1 > t->reach_x) raise_reach(&t->reach_x, film, 0, s.dx, s.x0, s.x1);
-    if (s.y1 - s.y0 + 1 > t->reach_y) raise_reach(&t->reach_y, film, 1, s.dy, s.y0, s.y1);
-    ++t->binned;
+    ++rows[s.y0 - ky0];
+    k.bx0 = s.x0 < k.bx0 ? s.x0 : k.bx0;
+    k.bx1 = s.x0 > k.bx1 ? s.x0 : k.bx1;
+    k.by0 = s.y0 < k.by0 ? s.y0 : k.by0;
+    k.by1 = s.y0 > k.by1 ? s.y0 : k.by1;
+    if (s.x1 - s.x0 + 1 > k.reach_x) raise_reach(&k.reach_x, film, 0, s.dx, s.x0, s.x1);
+    if (s.y1 - s.y0 + 1 > k.reach_y) raise_reach(&k.reach_y, film, 1, s.dy, s.y0, s.y1);
+    ++k.binned;
   }
+  t->bx0 = k.bx0;
+  t->by0 = k.by0;
+  t->bx1 = k.bx1;
+  t->by1 = k.by1;
+  t->reach_x = k.reach_x;
+  t->reach_y = k.reach_y;
+  t->binned = k.binned;
+  t->accepted = k.accepted;
+  t->dropped = k.dropped;
+  t->outside = k.outside;
 }
 
 /* Pass 2: moves the part's keyed samples to their bin row's range of bins.rowed (stable). */
-static void row_part(bin_part *t) {
+CLR_PROFILE_NOINLINE static void row_part(bin_part *t) {
   clr_film film = t->film;
   const uint32_t *keys = film->bins.keys;
   const float *values = film->bins.values;
@@ -135,7 +158,7 @@ static void row_part(bin_part *t) {
 
 /* Pass 3: sorts each of the part's grid rows by bin column (stable) into dst
  * (CLR_FILM_BINNED_FLOATS per sample) and fills the rows' bin starts. */
-static void column_part(bin_part *t) {
+CLR_PROFILE_NOINLINE static void column_part(bin_part *t) {
   clr_film_bins *b = &t->film->bins;
   const clr_film_grid *g = t->grid;
   const size_t bins_x = (size_t)g->bins_x;
@@ -160,7 +183,7 @@ static void column_part(bin_part *t) {
 
 /* A chunk's parts, from bin_chunk to scatter_chunk. */
 typedef struct bin_set {
-  bin_part parts[CLR_FILM_BIN_THREADS];
+  bin_part parts[CLR_FILM_BIN_THREADS_MAX];
   int count;
 } bin_set;
 
@@ -178,8 +201,8 @@ static void *run_part(void *arg) {
 /* Runs `pass` on every part: the last on this thread, the others on helper threads (on this
  * thread too when a thread cannot start). The parts write disjoint memory. */
 static void run_parts(bin_part *parts, int n, int pass) {
-  pthread_t threads[CLR_FILM_BIN_THREADS];
-  int started[CLR_FILM_BIN_THREADS] = {0};
+  pthread_t threads[CLR_FILM_BIN_THREADS_MAX];
+  int started[CLR_FILM_BIN_THREADS_MAX] = {0};
   for (int i = 0; i < n; ++i) parts[i].pass = pass;
   for (int i = 0; i + 1 < n; ++i)
     started[i] = pthread_create(&threads[i], NULL, run_part, &parts[i]) == 0;
@@ -229,7 +252,7 @@ static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_
   return binned;
 }
 
-/* Bins samples[0..count) with `threads` threads (1..CLR_FILM_BIN_THREADS; the result does not
+/* Bins samples[0..count) with `threads` threads (1..CLR_FILM_BIN_THREADS_MAX; the result does not
  * depend on it), a stable sort by bin row then by bin column: checks and counts the samples,
  * fills *g, moves them to their bin rows (bins.rowed) and sets every row's first bin start, for
  * scatter_chunk; *binned gets the number of binned samples. Caller holds the lock. */
@@ -240,9 +263,11 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
   if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys) ||
       !grow((void **)&b->values, &b->values_cap, count * CLR_FILM_BINNED_FLOATS,
             sizeof *b->values) ||
-      !grow((void **)&b->cursor, &b->cursor_cap, rows * CLR_FILM_BIN_THREADS, sizeof *b->cursor))
+      !grow((void **)&b->cursor, &b->cursor_cap, rows * (size_t)threads, sizeof *b->cursor))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
-  int n = count < 8192 ? 1 : threads; /* threads cost ~50 us */
+  int n = threads; /* each part gets at least CLR_FILM_BIN_PART_MIN samples */
+  if ((size_t)n > count / CLR_FILM_BIN_PART_MIN) n = (int)(count / CLR_FILM_BIN_PART_MIN);
+  if (n < 1) n = 1;
   bin_part *parts = set->parts;
   memset(set, 0, sizeof *set);
   for (int i = 0; i < n; ++i) {
@@ -260,7 +285,7 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
   size_t nbins = (size_t)g->bins_x * (size_t)g->bins_y;
   if (!grow((void **)&b->starts, &b->starts_cap, nbins + 1, sizeof *b->starts) ||
       !grow((void **)&b->rowed, &b->rowed_cap, *binned, sizeof *b->rowed) ||
-      !grow((void **)&b->columns, &b->columns_cap, ((size_t)g->bins_x + 1) * CLR_FILM_BIN_THREADS,
+      !grow((void **)&b->columns, &b->columns_cap, ((size_t)g->bins_x + 1) * (size_t)n,
             sizeof *b->columns))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for %zu bins",
                     nbins);
@@ -362,9 +387,18 @@ static clr_result upload_bins(clr_film film, bin_set *set, const clr_film_grid *
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(binned)");
   scatter_chunk(set, dst);
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, d->binned, dst, 0, NULL, NULL));
+  clr_film_bins *b = &film->bins;
   CLR_CL_CHECK(film->ctx,
                clEnqueueWriteBuffer(q, d->starts, CL_FALSE, 0, (nbins + 1) * sizeof(uint32_t),
-                                    film->bins.starts, 0, NULL, NULL));
+                                    b->starts, 0, NULL, NULL));
+  /* The next chunk bins into the other array while this write may be pending; the one after
+   * finds it done (its sums were waited for, later in the same in-order queue). */
+  uint32_t *sent = b->starts;
+  size_t sent_cap = b->starts_cap;
+  b->starts = b->starts_sent;
+  b->starts_cap = b->starts_sent_cap;
+  b->starts_sent = sent;
+  b->starts_sent_cap = sent_cap;
   return CLR_SUCCESS;
 }
 
@@ -446,8 +480,8 @@ static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
 }
 
 /* Runs the gather over the grid's output region (clr_film_gather8 with `lanes`); *out maps its
- * sums. */
-static clr_result gather(clr_film film, const clr_film_grid *g, int lanes,
+ * sums, at once when `blocking`, else once out->ready completes. */
+static clr_result gather(clr_film film, const clr_film_grid *g, int lanes, int blocking,
                          clr_film_chunk_sums *out) {
   clr_film_device *d = &film->dev;
   cl_command_queue q = clr_context_cl_queue(film->ctx);
@@ -471,12 +505,37 @@ static clr_result gather(clr_film film, const clr_film_grid *g, int lanes,
   else
     CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(q, k, 2, NULL, global, local, 0, NULL, NULL));
   cl_int err = CL_SUCCESS;
-  float *sums = clEnqueueMapBuffer(q, d->sums, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  cl_event ready = NULL;
+  float *sums = clEnqueueMapBuffer(q, d->sums, blocking ? CL_TRUE : CL_FALSE, CL_MAP_READ, 0, bytes,
+                                   0, NULL, blocking ? NULL : &ready, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(sums)");
+  out->ready = ready;
   out->block = (clr_bounds2i){g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
   out->sums = sums;
   out->mapped = 1;
   return CLR_SUCCESS;
+}
+
+/* As set, else the online CPUs, at most 8 (2 on the 2-core machine the figures were measured
+ * on). */
+int clr_film_host_threads(clr_film film) {
+  if (film->bin_threads) return film->bin_threads;
+  long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+  return cpus < 1 ? 1 : cpus > 8 ? 8 : (int)cpus;
+}
+
+/* Uploads a binned chunk (bin_chunk) and enqueues its kernels; *out maps its sums (see
+ * gather). */
+static clr_result launch_chunk(clr_film film, bin_set *set, clr_film_grid *g, size_t binned,
+                               int blocking, clr_film_chunk_sums *out) {
+  int lanes = use_lanes(film, g);
+  if (lanes) {
+    CLR_CHECK(ensure_lane_kernels(film));
+    g->weighed_floats = CLR_FILM_WEIGHED8_FLOATS;
+  }
+  CLR_CHECK(upload_bins(film, set, g, binned));
+  CLR_CHECK(weigh(film, g, binned, lanes));
+  return gather(film, g, lanes, blocking, out);
 }
 
 static clr_result device_chunk(clr_film film, const clr_film_sample *samples, size_t count,
@@ -485,16 +544,51 @@ static clr_result device_chunk(clr_film film, const clr_film_sample *samples, si
   size_t binned = 0;
   bin_set set;
   CLR_CHECK(ensure_kernel(film));
-  CLR_CHECK(bin_chunk(film, samples, count, CLR_FILM_BIN_THREADS, &set, &g, &binned));
+  CLR_CHECK(bin_chunk(film, samples, count, clr_film_host_threads(film), &set, &g, &binned));
   if (!binned) return CLR_SUCCESS;
-  int lanes = use_lanes(film, &g);
-  if (lanes) {
-    CLR_CHECK(ensure_lane_kernels(film));
-    g.weighed_floats = CLR_FILM_WEIGHED8_FLOATS;
+  return launch_chunk(film, &set, &g, binned, 1, out);
+}
+
+/* Waits for a launched chunk's sums, adds them into the film's double sums and releases them;
+ * *pending is empty after. */
+static clr_result finish_chunk(clr_film film, clr_film_chunk_sums *pending) {
+  clr_result r = CLR_SUCCESS;
+  if (pending->ready) {
+    cl_int err = clWaitForEvents(1, &pending->ready);
+    cl_int status = CL_COMPLETE;
+    if (err == CL_SUCCESS)
+      err = clGetEventInfo(pending->ready, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status,
+                           &status, NULL);
+    clReleaseEvent(pending->ready);
+    pending->ready = NULL;
+    if (err != CL_SUCCESS || status < 0)
+      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples: chunk sums failed: %s (%d)",
+                   clr_cl_error_name(err != CL_SUCCESS ? err : status),
+                   (int)(err != CL_SUCCESS ? err : status));
   }
-  CLR_CHECK(upload_bins(film, &set, &g, binned));
-  CLR_CHECK(weigh(film, &g, binned, lanes));
-  return gather(film, &g, lanes, out);
+  if (r == CLR_SUCCESS && pending->sums)
+    clr_film_add_block(film, pending->block, pending->sums, clr_film_host_threads(film));
+  clr_result released = clr_film_chunk_sums_release(film, pending);
+  memset(pending, 0, sizeof *pending);
+  return r != CLR_SUCCESS ? r : released;
+}
+
+clr_result clr_film_accumulate_overlapped(clr_film film, const clr_film_sample *samples,
+                                          size_t count) {
+  clr_film_chunk_sums pending = {0};
+  clr_result r = ensure_kernel(film);
+  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
+    size_t n = count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
+    clr_film_grid g;
+    size_t binned = 0;
+    bin_set set;
+    r = bin_chunk(film, samples + at, n, clr_film_host_threads(film), &set, &g, &binned);
+    clr_result done = finish_chunk(film, &pending); /* the previous chunk's, in chunk order */
+    if (r == CLR_SUCCESS) r = done;
+    if (r == CLR_SUCCESS && binned) r = launch_chunk(film, &set, &g, binned, 0, &pending);
+  }
+  clr_result done = finish_chunk(film, &pending);
+  return r != CLR_SUCCESS ? r : done;
 }
 
 /* Host reference of one chunk: the same binning; each binned sample, in bin order, adds to every
@@ -569,6 +663,18 @@ clr_result film_set_group_size(clr_film film, size_t group_size) {
   return CLR_SUCCESS;
 }
 
+clr_result film_set_bin_threads(clr_film film, int threads) {
+  if (!film) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "film_set_bin_threads: film is NULL");
+  if (threads < 0 || threads > CLR_FILM_BIN_THREADS_MAX)
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "film_set_bin_threads: threads = %d (must be 0..%d)", threads,
+                    CLR_FILM_BIN_THREADS_MAX);
+  pthread_mutex_lock(&film->lock);
+  film->bin_threads = threads;
+  pthread_mutex_unlock(&film->lock);
+  return CLR_SUCCESS;
+}
+
 size_t clr_film_sums_bytes(clr_film film) {
   return film->pixel_count * (film->splat_rgb ? 7 : 4) * sizeof(double) + sizeof film->table;
 }
@@ -577,10 +683,11 @@ size_t clr_film_scratch_bytes(clr_film film) {
   const clr_film_device *d = &film->dev;
   const clr_film_bins *b = &film->bins;
   size_t bytes = d->binned_bytes + d->weighed_bytes + d->starts_bytes + d->sums_bytes;
-  bytes += b->keys_cap * sizeof *b->keys + b->values_cap * sizeof *b->values +
-           b->rowed_cap * sizeof(row_entry) +
-           (b->starts_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
-           b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
+  bytes +=
+      b->keys_cap * sizeof *b->keys + b->values_cap * sizeof *b->values +
+      b->rowed_cap * sizeof(row_entry) +
+      (b->starts_cap + b->starts_sent_cap + b->cursor_cap + b->columns_cap) * sizeof(uint32_t) +
+      b->binned_cap * sizeof *b->binned + b->sums_cap * sizeof *b->sums;
   return bytes;
 }
 
@@ -598,6 +705,7 @@ void clr_film_accumulate_release(clr_film film) {
   free(b->keys);
   free(b->values);
   free(b->starts);
+  free(b->starts_sent);
   free(b->cursor);
   free(b->rowed);
   free(b->columns);

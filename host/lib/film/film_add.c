@@ -26,7 +26,7 @@ static clr_result add_chunk(clr_film film, const clr_film_sample *samples, size_
   clr_film_chunk_sums chunk;
   clr_result r = clr_film_accumulate_chunk(film, samples, count, reference, &chunk);
   if (r == CLR_SUCCESS && chunk.sums)
-    clr_film_add_block(film, chunk.block, chunk.sums, reference ? 1 : 2); /* reference: 1 thread */
+    clr_film_add_block(film, chunk.block, chunk.sums, reference ? 1 : clr_film_host_threads(film));
   clr_result released = clr_film_chunk_sums_release(film, &chunk);
   return r != CLR_SUCCESS ? r : released;
 }
@@ -37,8 +37,11 @@ static clr_result add_host_samples(clr_film film, const clr_film_sample *samples
   CLR_CHECK(check_add_args(film, samples, count, fn));
   pthread_mutex_lock(&film->lock);
   clr_result r = CLR_SUCCESS;
-  for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
-    r = add_chunk(film, samples + at, chunk_length(count, at), reference);
+  if (!reference && film->ctx)
+    r = clr_film_accumulate_overlapped(film, samples, count);
+  else
+    for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES)
+      r = add_chunk(film, samples + at, chunk_length(count, at), reference);
   pthread_mutex_unlock(&film->lock);
   return r;
 }

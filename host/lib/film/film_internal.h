@@ -21,8 +21,11 @@ typedef struct clr_film_device {
   size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
 
-/* Threads of the host binning (a chunk is split into this many consecutive parts). */
-#define CLR_FILM_BIN_THREADS 2
+/* Most threads of the host binning (a chunk is split into up to this many consecutive parts;
+ * the binned order does not depend on their number). */
+#define CLR_FILM_BIN_THREADS_MAX 16
+/* Fewest samples per binning part (a thread costs ~50 us). */
+#define CLR_FILM_BIN_PART_MIN 4096
 
 /* Host scratch of the binning (stable counting sorts by bin row, then by bin column), grown on
  * demand. */
@@ -30,12 +33,14 @@ typedef struct clr_film_bins {
   uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
   float *values;    /* per chunk sample: its binned values (CLR_FILM_BINNED_FLOATS), when keyed */
   uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
-  uint32_t *cursor; /* per part and bin row: count, then fill position */
+  uint32_t *starts_sent;   /* the previous chunk's starts, source of a write that may be pending */
+  uint32_t *cursor;        /* per part and bin row: count, then fill position */
   struct row_entry *rowed; /* binned samples sorted by bin row only, with their bin column */
   uint32_t *columns;       /* per part and bin column: fill position of the row sort */
   float *binned;           /* host copy of the binned samples (reference path) */
   float *sums;             /* host per-pixel sums (reference path) */
-  size_t keys_cap, values_cap, starts_cap, cursor_cap, rowed_cap, columns_cap, binned_cap, sums_cap;
+  size_t keys_cap, values_cap, starts_cap, starts_sent_cap, cursor_cap, rowed_cap, columns_cap,
+      binned_cap, sums_cap;
 } clr_film_bins;
 
 struct clr_film_t {
@@ -57,11 +62,12 @@ struct clr_film_t {
   clr_film_device dev;
   clr_film_bins bins;
   size_t group_size_override; /* 0: automatic (tests set it) */
+  int bin_threads;            /* host binning threads, 1..CLR_FILM_BIN_THREADS_MAX */
 };
 
 /* Adds per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`, which may
- * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with two
- * threads for large blocks when `threads` > 1 (the same bits). Caller holds the lock. */
+ * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with up to
+ * `threads` threads (bands of rows) for large blocks (the same bits). Caller holds the lock. */
 void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads);
 
 /* One chunk's per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`),
@@ -70,7 +76,8 @@ void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, in
 typedef struct clr_film_chunk_sums {
   clr_bounds2i block;
   const float *sums;
-  int mapped; /* sums map the device's sum buffer */
+  int mapped;     /* sums map the device's sum buffer */
+  cl_event ready; /* NULL, or the event after which sums may be read */
 } clr_film_chunk_sums;
 
 /* Accumulates up to CLR_FILM_CHUNK_SAMPLES samples in the canonical order with the kernels, or
@@ -78,6 +85,12 @@ typedef struct clr_film_chunk_sums {
 clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                                      int reference, clr_film_chunk_sums *out);
 clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums);
+/* film_add_samples' device path: the chunks of samples[0..count) through the kernels into the
+ * film's double sums, in chunk order (the same bits as chunk by chunk), with each chunk's checks
+ * and first two binning passes running while the device runs the previous chunk's kernels.
+ * Caller holds the film's lock; the film has a context. */
+clr_result clr_film_accumulate_overlapped(clr_film film, const clr_film_sample *samples,
+                                          size_t count);
 
 /* Host reference of film_add_samples: the same chunks, checks, binning and per-pixel float sums in
  * the canonical order, computed by the C build of kernels/film_funcs.h (one thread). */
@@ -85,6 +98,11 @@ clr_result film_add_samples_reference(clr_film film, const clr_film_sample *samp
 /* Forces the gather kernel's work-group size in work-items, each a run of tile_size pixels
  * (1..CLR_FILM_GROUP_MAX; 0 = automatic). */
 clr_result film_set_group_size(clr_film film, size_t group_size);
+/* Sets the host binning's thread count (1..CLR_FILM_BIN_THREADS_MAX; 0 = automatic: the online
+ * CPUs, at most 8). The film's sums do not depend on it. */
+clr_result film_set_bin_threads(clr_film film, int threads);
+/* The threads film_add_samples bins and adds chunk sums with (as set, else automatic). */
+int clr_film_host_threads(clr_film film);
 /* Bytes the film holds (the scratch only grows, so these are also the peaks): its sums (32 bytes
  * per pixel, 56 once splatted) and the accumulation's host and device scratch, bounded by
  * CLR_FILM_CHUNK_SAMPLES and the chunk's pixel footprint. */
