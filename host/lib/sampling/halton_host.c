@@ -12,7 +12,7 @@
 static int record_of(int d) { return d == 1 ? CLR_HALTON_BASE3_RECORD : d; }
 
 static uint64_t argument_limit(int d, uint64_t index_limit, clr_u32 scale1) {
-  uint64_t limit = d == 1 ? (index_limit + scale1 - 1u) / scale1 : index_limit;
+  uint64_t limit = d == 1 ? index_limit / scale1 + (index_limit % scale1 != 0) : index_limit;
   uint64_t most = (uint64_t)1 << CLR_HALTON_PAIR_ARGUMENT_BITS;
   return limit < most ? limit : most;
 }

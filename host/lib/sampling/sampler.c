@@ -609,6 +609,7 @@ static int pbrt_tiles(const clr_sampler_params *p, int *tx0, int *ty0, int *wide
 static const clr_halton_host_pairs *halton_pairs(clr_sampler s, const clr_sampler_params *p,
                                                  const clr_request_slot *slots) {
   int dims = clr_halton_layout_dimensions(slots, p->request_count);
+  if (dims > CLR_HALTON_PRIMES) dims = CLR_HALTON_PRIMES; /* past them: no tables */
   uint64_t elements = 1;
   for (int r = 0; r < p->request_count; ++r)
     if ((uint64_t)slots[r].array_size > elements) elements = (uint64_t)slots[r].array_size;
@@ -750,7 +751,7 @@ static int32_t slot_values(const clr_request_slot *sl) {
 /* Values [first, end) of the vectors of points[0 .. n) (n <= AT_BLOCK; global samplers) into
  * out[i * (end - first) + k]: the same calls as clr_global_sample_vector, for the requests r0...
  * that the range overlaps, value by value over the points (each dimension's tables stay in
- * cache). */
+ * cache); halton with `pairs`: their values from clr_halton_host_values (the same bits). */
 static void global_values_at(const clr_sampler_params *p, const clr_request_slot *slots, int32_t r0,
                              const clr_halton_host_pairs *pairs, const clr_sample_point *points,
                              int32_t n, int32_t first, int32_t end, float *out) {
