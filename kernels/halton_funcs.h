@@ -104,12 +104,19 @@ CLR_HALTON_INLINE clr_u32 clr_reverse_nibble(clr_u32 x) {
 /* One serial chain (r shifted each step): no OR-reduction tree for the SLP vectoriser to turn
  * into llvm.vector.reduce.or, which Oclgrind cannot run either. */
 CLR_HALTON_INLINE clr_u32 clr_reverse_bits32(clr_u32 n) {
+#if CLR_DEVICE
   clr_u32 r = 0u;
   for (clr_u32 i = 0u; i < 8u; ++i) {
     r = (r << 4u) | clr_reverse_nibble(n & 15u);
     n >>= 4u;
   }
   return r;
+#else /* the host: bytes (bswap), then nibbles, bit pairs and bits swapped */
+  n = __builtin_bswap32(n);
+  n = ((n >> 4u) & 0x0F0F0F0Fu) | ((n & 0x0F0F0F0Fu) << 4u);
+  n = ((n >> 2u) & 0x33333333u) | ((n & 0x33333333u) << 2u);
+  return ((n >> 1u) & 0x55555555u) | ((n & 0x55555555u) << 1u);
+#endif
 }
 
 /* a > b ? a - b : 0 for a, b < 2^31, in signed arithmetic: the unsigned form is the idiom
@@ -207,6 +214,39 @@ CLR_HALTON_INLINE float clr_scrambled_radical_inverse32(CLR_GLOBAL const clr_hal
     a = next;
   }
   float v = pr->inv_base_pow[digits] * ((float)reversed + pr->scramble_tail);
+  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+}
+
+/* Significant base-b digits of x < base^top, from a pair table's powers base^0..base^top (the
+ * header's nonzero entries 8..15): how many of them x reaches. */
+CLR_HALTON_INLINE clr_u32 clr_halton_pair_digits(CLR_GLOBAL const clr_u16 *pt, clr_u32 x) {
+  clr_u32 c = 0u;
+  for (int k = 0; k < CLR_HALTON_PAIR_ROW && pt[8 + k] != 0u; ++k) c += x >= pt[8 + k] ? 1u : 0u;
+  return c;
+}
+
+/* clr_scrambled_radical_inverse32(pr, perms, a) for a below the limit of the record's pair table
+ * `pt` (layout: CLR_HALTON_PAIR_HEADER), one value: the scalar form of clr_halton_pair8 in
+ * global_sampler_simd.h. a = hi * B + lo; lo's entry is its m digits below a nonzero hi, else its
+ * significant ones; hi's entry its significant digits (none for 0); reversed = lo's value *
+ * base^(hi's count) + hi's, below 2^31, with at most 14 digits. Same integers and float
+ * operations as the chunk loop, so the same bits. */
+CLR_HALTON_INLINE float clr_halton_pair_value(CLR_GLOBAL const clr_halton_prime *pr,
+                                              CLR_GLOBAL const clr_u16 *pt, clr_u32 a) {
+  clr_u32 chunk = pt[0], magic = (clr_u32)pt[1] | (clr_u32)pt[2] << 16u, count_shift = pt[5];
+  clr_u32 hi = (clr_u32)(((clr_u64)a * magic) >> pt[3]);
+  clr_u32 lo = a - hi * chunk;
+  clr_u32 low = pt[CLR_HALTON_PAIR_HEADER + (hi == 0u ? chunk : 0u) + lo];
+  clr_u32 high = pt[CLR_HALTON_PAIR_HEADER + chunk + hi];
+  clr_u32 count = high >> count_shift, digits = (low >> count_shift) + count;
+  if (count_shift == CLR_HALTON_PAIR_DERIVED_COUNTS) {
+    clr_u32 c = clr_halton_pair_digits(pt, hi != 0u ? hi : a);
+    count = hi != 0u ? c : 0u;
+    digits = c + (hi != 0u ? (clr_u32)pt[4] : 0u);
+  }
+  clr_u32 value_mask = (1u << count_shift) - 1u;
+  clr_u32 reversed = (low & value_mask) * pt[8u + count] + (high & value_mask);
+  float v = pr->inv_base_pow[digits] * ((float)(clr_i32)reversed + pr->scramble_tail);
   return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
 }
 

@@ -10,6 +10,8 @@
 #include <time.h>
 #include <cmocka.h>
 #include "clrender.h"
+#include "global_sampler_funcs.h"
+#include "halton_host.h"
 #include "halton_tables.h"
 
 /* ---- references written the plain way pbrt-v3 does it (64-bit division, float ops) ---- */
@@ -385,28 +387,8 @@ static void test_pair_lane_rows(void **state) {
   assert_true(tested >= 20);
 }
 
-/* A pair table read the way clr_halton_pair8 reads it (scalar): a = hi * B + lo, the counts
- * stored beside the values or, with CLR_HALTON_PAIR_DERIVED_COUNTS, counted against the header's
- * powers base^0..base^top. */
-static float pair_table_value(const clr_halton_prime *pr, const clr_u16 *t, clr_u32 a) {
-  clr_u32 chunk = t[0], magic = t[1] | (clr_u32)t[2] << 16, shift = t[3], m = t[4], cs = t[5];
-  clr_u32 hi = (clr_u32)(((clr_u64)a * magic) >> shift), lo = a - hi * chunk;
-  clr_u32 low = t[CLR_HALTON_PAIR_HEADER + (hi == 0 ? chunk : 0) + lo];
-  clr_u32 high = t[CLR_HALTON_PAIR_HEADER + chunk + hi];
-  clr_u32 mask = (1u << cs) - 1u, count = high >> cs, digits = (low >> cs) + count;
-  if (cs == CLR_HALTON_PAIR_DERIVED_COUNTS) {
-    clr_u32 x = hi ? hi : a, c = 0;
-    for (int k = 0; k < 8 && t[8 + k] != 0; ++k) c += x >= t[8 + k];
-    count = hi ? c : 0;
-    digits = c + (hi ? m : 0);
-  }
-  clr_u32 reversed = (low & mask) * t[8 + count] + (high & mask);
-  assert_true(reversed < (1u << 31) && digits <= 14);
-  float v = pr->inv_base_pow[digits] * ((float)(clr_i32)reversed + pr->scramble_tail);
-  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
-}
-
-/* Every record's pair table against pbrt-v3's scrambled radical inverse, for arguments of a 512^2
+/* Every record's pair table, read by clr_halton_pair_value (the scalar form of the kernel's
+ * clr_halton_pair8), against pbrt-v3's scrambled radical inverse, for arguments of a 512^2
  * film (index stride 31104) at 16 and 64 spp: every 7th argument, the tables' last ones and the
  * ends of each hi (a zero hi, one digit, two digits). At 16 spp the bases 131-181 (dimensions
  * 31-41, the path tracer's 41-value layout ends at dimension 40) and 191-251 have two-digit top
@@ -436,11 +418,11 @@ static void test_pair_tables_decode(void **state) {
       const clr_u64 edges[] = {0, 1, c - 1, c, c * b - 1, c * b, c * b * b - 1, limits[l] - 1};
       for (size_t e = 0; e < sizeof edges / sizeof edges[0]; ++e)
         if (edges[e] < limits[l])
-          assert_float_bits_equal(pair_table_value(p, t, (clr_u32)edges[e]),
+          assert_float_bits_equal(clr_halton_pair_value(p, t, (clr_u32)edges[e]),
                                   ref_scrambled(b, perm, edges[e]));
       clr_u32 step = (r >= 31 && r <= 53) ? 7u : 997u;
       for (clr_u32 a = r % 7; a < limits[l]; a += step)
-        assert_float_bits_equal(pair_table_value(p, t, a), ref_scrambled(b, perm, a));
+        assert_float_bits_equal(clr_halton_pair_value(p, t, a), ref_scrambled(b, perm, a));
       free(t);
     }
     /* 16 spp: all but the 72 bases 257-701 (two-digit top parts above 16 bits), 23 with derived
@@ -654,6 +636,174 @@ static void test_sampler_values(void **state) {
                           clr_scrambled_radical_inverse(&pr[2], perms, 12345));
 }
 
+/* ---- the host's fast values (host/lib/sampling/halton_host.c) ---- */
+
+/* The host's bit reversal (byte swap and masks) against one bit at a time. */
+static void test_reverse_bits_host(void **state) {
+  (void)state;
+  clr_pcg32 rng = clr_pcg32_sequence(29);
+  for (int i = 0; i < 100000; ++i) {
+    clr_u32 n = i < 64 ? (i < 32 ? 1u << i : ~(1u << (i - 32))) : clr_pcg32_next(&rng);
+    clr_u32 want = 0;
+    for (int b = 0; b < 32; ++b) want |= ((n >> b) & 1u) << (31 - b);
+    assert_int_equal(clr_reverse_bits32(n), want);
+  }
+  assert_int_equal(clr_reverse_bits32(0u), 0u);
+  assert_int_equal(clr_reverse_bits32(0xFFFFFFFFu), 0xFFFFFFFFu);
+}
+
+/* Indices of test_host_values_match_reference: the ends of the tables' limits, of 2^28 (where
+ * pair tables end) and of 2^32, random ones below the limit and random 64-bit ones. */
+static int host_test_indices(clr_u64 limit, clr_pcg32 *rng, clr_u64 *out) {
+  const clr_u64 edges[] = {0,
+                           1,
+                           2,
+                           limit - 1,
+                           limit,
+                           limit + 1,
+                           ((clr_u64)1 << 28) - 1,
+                           (clr_u64)1 << 28,
+                           0xFFFFFFFFull,
+                           (clr_u64)1 << 32,
+                           UINT64_MAX};
+  int n = 0;
+  for (size_t e = 0; e < sizeof edges / sizeof edges[0]; ++e) out[n++] = edges[e];
+  for (int i = 0; i < 160; ++i) out[n++] = (((clr_u64)clr_pcg32_next(rng) << 32) | i) % limit;
+  for (int i = 0; i < 20; ++i) out[n++] = random_u64(rng) >> (clr_pcg32_next(rng) % 64);
+  return n;
+}
+
+/* The host's fast values (clr_halton_host_values: pair tables where the argument is below the
+ * record's limit, else the chunk loop) against clr_halton_sampler_value and, for the scrambled
+ * dimensions, pbrt-v3's plain form: every dimension of sets of 10, 41, 300 and 1000 dimensions
+ * (the last past the tables' entry budget and with bases 257-701, which get no table at 16 spp),
+ * the dimensions past the primes (1000, 1001: the stand-in), for films of 512^2 (index stride
+ * 31104), 7x5 and 1280x720 at 1, 16, 64 and 8192 spp, with and without sample_pixel_center. */
+static void test_host_values_match_reference(void **state) {
+  (void)state;
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  const int films[][2] = {{512, 512}, {7, 5}, {1280, 720}};
+  const int spps[] = {1, 16, 64, 8192};
+  const int dim_sets[] = {10, 41, 300, 1000};
+  clr_pcg32 rng = clr_pcg32_sequence(31);
+  enum { MOST = 200 };
+  clr_u64 index[MOST];
+  float got[2 * MOST];
+  int tabled_most = 0, untabled_most = 0;
+  for (int f = 0; f < 3; ++f)
+    for (int k = 0; k < 4; ++k)
+      for (int ds = 0; ds < 4; ++ds) {
+        if (ds == 3 && (f != 0 || k == 3)) continue; /* 1000 dimensions: 512^2 at 1, 16, 64 spp */
+        clr_sampler_params p = halton_params(0, 0, films[f][0], films[f][1]);
+        clr_u64 limit = (clr_u64)p.halton_stride * (clr_u64)spps[k];
+        clr_halton_host_pairs *hp =
+            clr_halton_host_pairs_create(dim_sets[ds], limit, (clr_u32)p.halton_scale[1]);
+        assert_non_null(hp);
+        assert_int_not_equal(hp->limit[CLR_HALTON_BASE3_RECORD], 0);
+        if (spps[k] <= 64) assert_int_not_equal(hp->limit[2], 0);
+        int tabled = 0;
+        for (int r = 0; r < CLR_HALTON_PRIME_RECORDS; ++r) tabled += hp->limit[r] != 0;
+        if (ds == 3) {
+          tabled_most = tabled;
+          untabled_most = dim_sets[ds] - tabled;
+        }
+        int n = host_test_indices(limit, &rng, index);
+        for (int center = 0; center < 2; ++center) {
+          p.sample_pixel_center = center;
+          for (int dim = 0; dim < dim_sets[ds] + 2; ++dim) {
+            int d = dim < dim_sets[ds] ? dim : 1000 + (dim - dim_sets[ds]);
+            if (dim >= 60 && dim < dim_sets[ds] && dim % 7 != 0) continue; /* time */
+            clr_halton_host_values(hp, &p, d, index, n, got, 2); /* stride 2: every other slot */
+            for (int i = 0; i < n; ++i) {
+              float want = clr_halton_sampler_value(&p, pr, perms, index[i], d);
+              if (float_bits(got[2 * i]) != float_bits(want))
+                fail_msg("film %d spp %d dims %d: index 0x%llx dim %d: host %a reference %a", f,
+                         spps[k], dim_sets[ds], (unsigned long long)index[i], d, got[2 * i], want);
+              if (d >= 2 && d < CLR_HALTON_PRIMES)
+                assert_float_bits_equal(
+                    got[2 * i], ref_scrambled(pr[d].base, perms + pr[d].perm_offset, index[i]));
+            }
+          }
+        }
+        clr_halton_host_pairs_free(hp);
+      }
+  /* 1000 dimensions at 64 spp: the budget and the two-digit top parts leave some without tables */
+  assert_true(tabled_most > 100 && untabled_most > 50);
+}
+
+/* Slots of a global sampler's layout (clr_request_slot) for the host batch test. */
+static int host_test_slots(clr_request_slot *slots) {
+  const int dims[] = {2, 1, 2, 1, 2, 2, 1, 2};
+  const int arrays[] = {0, 0, 3, 2, 0, 0, 0, 0};
+  const int sources[] = {0, 2, 3, 5, 6, 30, 39, 290};
+  int value = 0;
+  for (int r = 0; r < 8; ++r) {
+    memset(&slots[r], 0, sizeof slots[r]);
+    slots[r].dims = dims[r];
+    slots[r].array_size = arrays[r];
+    slots[r].first_value = value;
+    slots[r].source = sources[r];
+    value += dims[r] * (arrays[r] ? arrays[r] : 1);
+  }
+  return value;
+}
+
+/* clr_halton_host_batch (the host reference's halton batches) against clr_global_sample_vector
+ * item by item: values and indices, a layout with arrays, dimensions 30-40 (derived digit counts)
+ * and 290-291 (bases past the two-part limits), batches across pixels, spp 16 (whole pixels,
+ * samples 3-15), spp 4096 near its end and 2^18 near its end (indices past 2^32), pixel centres. */
+static void test_host_batch_matches_vectors(void **state) {
+  (void)state;
+  clr_request_slot slots[8];
+  int per_sample = host_test_slots(slots);
+  struct {
+    int spp, first, count, x0, y0, w, h, center;
+  } cases[] = {
+      {16, 0, 16, 0, 0, 5, 3, 0},         {16, 3, 13, 300, 301, 4, 2, 0},
+      {4096, 4090, 6, 300, 301, 3, 2, 0}, {1 << 18, (1 << 18) - 4, 4, 511, 0, 1, 3, 0},
+      {16, 0, 16, 100, 7, 2, 2, 1},
+  };
+  const clr_halton_tables *t = clr_halton_tables_covering(clr_halton_layout_dimensions(slots, 8));
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    clr_sampler_params p = halton_params(0, 0, 512, 512);
+    p.batch_x0 = cases[c].x0;
+    p.batch_y0 = cases[c].y0;
+    p.batch_width = cases[c].w;
+    p.batch_height = cases[c].h;
+    p.first_sample = cases[c].first;
+    p.sample_count = cases[c].count;
+    p.values_per_sample = per_sample;
+    p.request_count = 8;
+    p.spp = cases[c].spp;
+    p.sample_pixel_center = cases[c].center;
+    size_t items = (size_t)cases[c].w * cases[c].h * cases[c].count;
+    clr_halton_host_pairs *hp = clr_halton_host_pairs_create(
+        clr_halton_layout_dimensions(slots, 8),
+        (clr_u64)p.halton_stride * (clr_u64)cases[c].spp * 3u, (clr_u32)p.halton_scale[1]);
+    assert_non_null(hp);
+    float *got = malloc(items * per_sample * sizeof(float));
+    float *want = malloc(items * per_sample * sizeof(float));
+    clr_u64 *got_index = malloc(items * sizeof(clr_u64));
+    assert_true(got && want && got_index);
+    clr_halton_host_batch(hp, &p, slots, got, got_index);
+    for (size_t i = 0; i < items; ++i) {
+      clr_u64 index = 0;
+      clr_global_sample_vector(&p, slots, NULL, NULL, NULL, t->primes, t->permutations, (clr_i32)i,
+                               want + i * per_sample, &index);
+      assert_int_equal(got_index[i], index);
+    }
+    assert_memory_equal(got, want, items * per_sample * sizeof(float));
+    if (c == 3) assert_true(got_index[0] > UINT32_MAX);
+    clr_halton_host_batch(hp, &p, slots, got, NULL); /* indices not asked */
+    assert_memory_equal(got, want, items * per_sample * sizeof(float));
+    free(got);
+    free(want);
+    free(got_index);
+    clr_halton_host_pairs_free(hp);
+  }
+}
+
 /* ---- device ---- */
 
 static const char *device_source =
@@ -687,6 +837,12 @@ static const char *device_source =
     "  clr_sampler_params p = *params;\n"
     "  ulong index = clr_halton_sampler_index(&p, pixel % width, pixel / width, s);\n"
     "  out[i] = clr_halton_sampler_value(&p, primes, perms, index, d);\n"
+    "}\n"
+    "__kernel void pair_values(__global const clr_halton_prime *primes, int record,\n"
+    "                     __global const ushort *table, __global const uint *args,\n"
+    "                     __global float *out) {\n"
+    "  size_t i = get_global_id(0);\n"
+    "  out[i] = clr_halton_pair_value(primes + record, table, args[i]);\n"
     "}\n";
 
 typedef struct device_fixture {
@@ -784,6 +940,70 @@ static void test_device_matches_host(void **state) {
   device_teardown(&f);
 }
 
+/* clr_halton_pair_value built as OpenCL C gives the host's bits and pbrt-v3's: records with
+ * stored and derived digit counts (dimension 40), the unscrambled base 3 and base 7919, at a
+ * 512^2 film's 16 spp (arguments below 31104 * 16, their ends and those of each top part). */
+static void test_device_pair_values(void **state) {
+  (void)state;
+  clr_sampler_params p = halton_params(0, 0, 512, 512);
+  device_fixture f;
+  device_setup(&f, &p, "");
+  cl_context cl = clr_context_cl_context(f.ctx);
+  cl_command_queue q = clr_context_cl_queue(f.ctx);
+  const clr_halton_prime *pr = clr_halton_primes();
+  const clr_u16 *perms = clr_halton_permutations(NULL);
+  const cl_int records[] = {2, 3, 40, 500, CLR_HALTON_PRIMES - 1, CLR_HALTON_BASE3_RECORD};
+  const clr_u32 limit = 31104u * 16u;
+  enum { N = 4096 };
+  static clr_u32 args[N];
+  static float out[N];
+  int derived = 0;
+  for (size_t r = 0; r < sizeof records / sizeof records[0]; ++r) {
+    const clr_halton_prime *rec = &pr[records[r]];
+    clr_halton_pair_shape shape = clr_halton_pair_shape_for(rec, limit);
+    assert_int_not_equal(shape.digits, 0);
+    size_t entries = clr_halton_pair_entries(rec, shape);
+    clr_u16 *t = calloc(entries, sizeof *t);
+    assert_non_null(t);
+    clr_halton_pair_table(rec, perms, shape, t);
+    derived += t[5] == CLR_HALTON_PAIR_DERIVED_COUNTS;
+    clr_u32 c = t[0];
+    const clr_u32 edges[] = {0, 1, c - 1, c, c + 1, c * rec->base - 1, c * rec->base, limit - 1};
+    for (int i = 0; i < N; ++i)
+      args[i] = i < 8 ? (edges[i] < limit ? edges[i] : limit - 1) : (clr_u32)(i * 121u) % limit;
+    cl_mem table = make_buffer(cl, entries * sizeof *t, t);
+    cl_mem in = make_buffer(cl, sizeof args, args);
+    cl_mem res = make_buffer(cl, sizeof out, NULL);
+    cl_int err = 0;
+    cl_kernel k = clCreateKernel(f.program, "pair_values", &err);
+    assert_int_equal(err, CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(k, 0, sizeof(cl_mem), &f.primes), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(k, 1, sizeof records[r], &records[r]), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(k, 2, sizeof(cl_mem), &table), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(k, 3, sizeof(cl_mem), &in), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(k, 4, sizeof(cl_mem), &res), CL_SUCCESS);
+    size_t global = N;
+    assert_int_equal(clEnqueueNDRangeKernel(q, k, 1, NULL, &global, NULL, 0, NULL, NULL),
+                     CL_SUCCESS);
+    assert_int_equal(clEnqueueReadBuffer(q, res, CL_TRUE, 0, sizeof out, out, 0, NULL, NULL),
+                     CL_SUCCESS);
+    for (int i = 0; i < N; ++i) {
+      float want = ref_scrambled(rec->base, perms + rec->perm_offset, args[i]);
+      assert_float_bits_equal(clr_halton_pair_value(rec, t, args[i]), want);
+      if (float_bits(out[i]) != float_bits(want))
+        fail_msg("record %d argument %u: device %a, pbrt-v3 %a", (int)records[r], args[i], out[i],
+                 want);
+    }
+    clReleaseKernel(k);
+    clReleaseMemObject(table);
+    clReleaseMemObject(in);
+    clReleaseMemObject(res);
+    free(t);
+  }
+  assert_int_equal(derived, 1);
+  device_teardown(&f);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_primes),
@@ -797,6 +1017,9 @@ int main(void) {
       cmocka_unit_test(test_chunked_path),
       cmocka_unit_test(test_pair_lane_rows),
       cmocka_unit_test(test_pair_tables_decode),
+      cmocka_unit_test(test_reverse_bits_host),
+      cmocka_unit_test(test_host_values_match_reference),
+      cmocka_unit_test(test_host_batch_matches_vectors),
       cmocka_unit_test(test_inverse_radical_inverse),
       cmocka_unit_test(test_index_matches_pbrt_form),
       cmocka_unit_test(test_setup),
@@ -804,6 +1027,7 @@ int main(void) {
       cmocka_unit_test(test_stratification),
       cmocka_unit_test(test_sampler_values),
       cmocka_unit_test(test_device_matches_host),
+      cmocka_unit_test(test_device_pair_values),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,6 +2,7 @@
  * family, and sample generation on the device or with the host reference. */
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +11,7 @@
 #include "clrender/sampler.h"
 #include "film_geometry.h"
 #include "global_sampler_funcs.h"
+#include "halton_host.h"
 #include "halton_tables.h"
 #include "pbrt_v4_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
@@ -29,8 +31,10 @@ struct clr_sampler_t {
   clr_sampler_desc desc;
   clr_sampler_params base; /* everything but the batch fields */
   clr_bounds2i pixel_bounds, sample_bounds, index_bounds;
-  clr_sampler_device *device; /* kernels and buffers on ctx (NULL without a context) */
-  float *pmj_pixels;          /* pmj02bn: GetPixel2D table (clr_pmj02_pixel_table) */
+  clr_sampler_device *device;   /* kernels and buffers on ctx (NULL without a context) */
+  float *pmj_pixels;            /* pmj02bn: GetPixel2D table (clr_pmj02_pixel_table) */
+  pthread_mutex_t pairs_lock;   /* guards pairs */
+  clr_halton_host_pairs *pairs; /* halton: the host's pair tables (halton_pairs), or NULL */
 };
 
 static const char *const sampler_names[CLR_SAMPLER_TYPE_COUNT] = {
@@ -380,6 +384,7 @@ clr_result clr_sampler_create(clr_context ctx, const clr_sampler_desc *desc, clr
     }
     clr_context_retain(ctx);
   }
+  pthread_mutex_init(&s->pairs_lock, NULL);
   s->ctx = ctx;
   *out = s;
   return CLR_SUCCESS;
@@ -394,6 +399,8 @@ void clr_sampler_release(clr_sampler s) {
   clr_sampler_device_release(s->device);
   clr_context_release(s->ctx);
   free(s->pmj_pixels);
+  clr_halton_host_pairs_free(s->pairs);
+  pthread_mutex_destroy(&s->pairs_lock);
   free(s);
 }
 
@@ -613,6 +620,34 @@ static int pbrt_tiles(const clr_sampler_params *p, int *tx0, int *ty0, int *wide
   return *wide * *high;
 }
 
+/* The host's pair tables for a halton layout (its dimensions; indices below stride x spp x the
+ * largest array), built on first need and kept by the sampler (older sets too: other threads may
+ * still read them); NULL when out of memory (the chunk loop then serves every value). */
+static const clr_halton_host_pairs *halton_pairs(clr_sampler s, const clr_sampler_params *p,
+                                                 const clr_request_slot *slots) {
+  int dims = clr_halton_layout_dimensions(slots, p->request_count);
+  if (dims > CLR_HALTON_PRIMES) dims = CLR_HALTON_PRIMES; /* past them: no tables */
+  uint64_t elements = 1;
+  for (int r = 0; r < p->request_count; ++r)
+    if ((uint64_t)slots[r].array_size > elements) elements = (uint64_t)slots[r].array_size;
+  uint64_t limit = (uint64_t)s->base.halton_stride * (uint64_t)s->base.spp;
+  limit = limit > UINT64_MAX / elements ? UINT64_MAX : limit * elements;
+  pthread_mutex_lock(&s->pairs_lock);
+  clr_halton_host_pairs *hp = s->pairs;
+  if (!hp || hp->dimensions < dims || hp->index_limit < limit) {
+    clr_halton_host_pairs *made = clr_halton_host_pairs_create(
+        hp && hp->dimensions > dims ? hp->dimensions : dims,
+        hp && hp->index_limit > limit ? hp->index_limit : limit, (clr_u32)s->base.halton_scale[1]);
+    if (made) {
+      made->older = hp;
+      s->pairs = made;
+    }
+    hp = made ? made : hp && hp->dimensions >= dims ? hp : NULL;
+  }
+  pthread_mutex_unlock(&s->pairs_lock);
+  return hp;
+}
+
 clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch *batch,
                                           const clr_sample_output *out) {
   clr_clear_error();
@@ -630,6 +665,7 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
   float *owned = NULL;
   if (!values) values = owned = malloc(items * (size_t)p.values_per_sample * sizeof(float));
   if (!values) return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "reference: out of memory");
+  const clr_halton_host_pairs *pairs = NULL;
   if (p.v4_sampler) {
     clr_v4_tables t = {clr_sobol_matrices32,
                        &clr_vdc_sobol_matrices[0][0],
@@ -641,6 +677,8 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
       clr_v4_sample_vector(&p, slots, &t, (clr_i32)i, values + i * (size_t)p.values_per_sample);
     if (out->host_indices)
       for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
+  } else if (p.type == CLR_SAMPLER_TYPE_HALTON && (pairs = halton_pairs(s, &p, slots)) != NULL) {
+    clr_halton_host_batch(pairs, &p, slots, values, out->host_indices);
   } else if (clr_sampler_has_global_index(s)) {
     const clr_halton_prime *primes = NULL;
     const clr_u16 *perms = NULL;
@@ -730,20 +768,20 @@ static int32_t slot_values(const clr_request_slot *sl) {
 /* Values [first, end) of the vectors of points[0 .. n) (n <= AT_BLOCK; global samplers) into
  * out[i * (end - first) + k]: the same calls as clr_global_sample_vector, for the requests r0...
  * that the range overlaps, value by value over the points (each dimension's tables stay in
- * cache). */
+ * cache); halton with `pairs`: their values from clr_halton_host_values (the same bits). */
 static void global_values_at(const clr_sampler_params *p, const clr_request_slot *slots, int32_t r0,
-                             const clr_sample_point *points, int32_t n, int32_t first, int32_t end,
-                             float *out) {
+                             const clr_halton_host_pairs *pairs, const clr_sample_point *points,
+                             int32_t n, int32_t first, int32_t end, float *out) {
   const clr_halton_prime *primes = NULL;
   const clr_u16 *perms = NULL;
-  if (p->type == CLR_SAMPLER_TYPE_HALTON) {
+  if (p->type == CLR_SAMPLER_TYPE_HALTON && !pairs) {
     const clr_halton_tables *t =
         clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
     primes = t->primes;
     perms = t->permutations;
   }
   const clr_u64 *vdc = &clr_vdc_sobol_matrices[0][0], *vdc_inv = &clr_vdc_sobol_matrices_inv[0][0];
-  clr_u64 index[AT_BLOCK];
+  clr_u64 index[AT_BLOCK], element[AT_BLOCK];
   size_t stride = (size_t)(end - first);
   for (int32_t i = 0; i < n; ++i)
     index[i] =
@@ -755,6 +793,14 @@ static void global_values_at(const clr_sampler_params *p, const clr_request_slot
       for (int32_t c = 0; c < sl->dims; ++c) {
         int32_t v = sl->first_value + j * sl->dims + c;
         if (v < first || v >= end) continue;
+        if (pairs) {
+          for (int32_t i = 0; sl->array_size && i < n; ++i)
+            element[i] = clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y,
+                                          (clr_i64)points[i].sample * sl->array_size + j);
+          clr_halton_host_values(pairs, p, sl->source + c, sl->array_size ? element : index, n,
+                                 out + (v - first), stride);
+          continue;
+        }
         for (int32_t i = 0; i < n; ++i) {
           const clr_sample_point *pt = &points[i];
           clr_u64 at = sl->array_size ? clr_global_index(p, vdc, vdc_inv, pt->x, pt->y,
@@ -801,8 +847,11 @@ clr_result clr_sampler_generate_at(clr_sampler s, const clr_sample_request *requ
   CLR_CHECK(prepare_batch(s, &b, &p, slots));
   int32_t r0 = 0, end = first_value + value_count;
   while (r0 < request_count && slots[r0].first_value + slot_values(&slots[r0]) <= first_value) ++r0;
+  const clr_halton_host_pairs *pairs =
+      p.type == CLR_SAMPLER_TYPE_HALTON && count > 0 && value_count > 0 ? halton_pairs(s, &p, slots)
+                                                                        : NULL;
   for (int32_t i = 0; i < count && value_count > 0; i += AT_BLOCK)
-    global_values_at(&p, slots, r0, points + i, count - i < AT_BLOCK ? count - i : AT_BLOCK,
+    global_values_at(&p, slots, r0, pairs, points + i, count - i < AT_BLOCK ? count - i : AT_BLOCK,
                      first_value, end, values + (size_t)i * (size_t)value_count);
   return CLR_SUCCESS;
 }
