@@ -1149,6 +1149,7 @@ static int path_samples_light(const clr_integrator *it, const clr_surface *sf, i
 static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const int *idx, int n, int wave) {
   clr_light_distribution *d = it->light_spatial;
+  const clr_voxel_grid *grid = d ? clr_light_distribution_grid(d) : NULL;
   for (int k = 0; k < n; ++k) {
     int i = idx[k];
     s->cdfs[i] = NULL;
@@ -1157,8 +1158,8 @@ static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
     const clr_ray_differential *rd = wave == 0 && s->diffs ? &s->diffs[i] : NULL;
     clr_render_scene_surface_differential(sc, &s->rays[k], rd, &s->hits[k], &s->surfaces[i]);
     if (d && path_samples_light(it, &s->surfaces[i], s->bounces[i])) {
-      s->voxels[i] = clr_light_distribution_voxel(d, s->surfaces[i].p);
-      clr_light_distribution_prefetch(d, s->voxels[i]);
+      s->voxels[i] = clr_voxel_grid_index(grid, s->surfaces[i].p);
+      clr_voxel_grid_prefetch(grid, s->voxels[i]);
     }
   }
   if (!d) return;
