@@ -108,26 +108,33 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
   static float wo[N][3], u[N][2];
   static int light[N];
   static int32_t entry[N];
-  /* sample k of light k % nk, grouped by light: group g holds samples g, g + nk, ... */
+  /* sample k of light k % nk; triangle lights' grouped by light: group g holds samples g,
+   * g + nk, ... */
   int32_t first[8], next = 0;
-  for (int g = 0; g < nk; ++g) {
+  for (int g = 0; g < nk && kind == CLR_WAVE_LIGHT_TRIANGLE; ++g) {
     int32_t count = (N - g + nk - 1) / nk;
-    first[g] = kind == CLR_WAVE_LIGHT_TRIANGLE
-                   ? clr_light_wave_group(&w, count, &tris[lights[g]])
-                   : clr_light_wave_group_point(&w, count, &points[lights[g]]);
+    first[g] = clr_light_wave_group(&w, count, &tris[lights[g]]);
     assert_int_equal(first[g], next);
     next += count;
   }
-  assert_int_equal(w.n, N);
   for (int k = 0; k < N; ++k) {
     make_surface(k, &surfaces[k]);
     random_unit(wo[k]);
     make_u(k, u[k]);
     light[k] = lights[k % nk];
-    entry[k] = first[k % nk] + k / nk;
-    clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k]);
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE) {
+      entry[k] = first[k % nk] + k / nk;
+      clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k]);
+    } else {
+      entry[k] = clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
+      assert_int_equal(entry[k], k);
+    }
   }
-  clr_light_wave_sample(&w);
+  assert_int_equal(w.n, N);
+  if (kind == CLR_WAVE_LIGHT_TRIANGLE)
+    clr_light_wave_sample(&w);
+  else
+    clr_light_wave_sample_points(&w);
   int used = 0, unlit = 0;
   for (int k = 0; k < N; ++k) {
     const clr_surface *sf = &surfaces[k];

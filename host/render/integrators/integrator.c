@@ -596,8 +596,8 @@ static clr_result reserve_groups(clr_integrator_scratch *s, int nlights, int njo
 }
 
 /* The jobs whose light samples the light waves compute (Lambertian surfaces, plain triangle
- * and point lights), grouped by light (a counting sort: sizes, first entries, entries), put and
- * sampled; each such job's light_entry is its entry. */
+ * and point lights), put and sampled; triangle lights' grouped by light (a counting sort: sizes,
+ * first entries, entries; light_entry holds -2 - group meanwhile), point lights' in job order. */
 static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scratch *s,
                                   direct_job *jobs, int njobs, const float *wo_all) {
   clr_light_wave *tris = &s->lights, *points = &s->points;
@@ -607,10 +607,14 @@ static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scrat
   int32_t ngroups = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
+    const clr_surface *sf = &s->surfaces[jb->sample];
+    int kind = it->light_wave_kind && clr_surface_is_lambertian(sf) ? it->light_wave_kind[jb->light]
+                                                                    : CLR_WAVE_LIGHT_NONE;
     jb->light_entry = -1;
-    if (!it->light_wave_kind || it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_NONE ||
-        !clr_surface_is_lambertian(&s->surfaces[jb->sample]))
-      continue;
+    if (kind == CLR_WAVE_LIGHT_POINT)
+      jb->light_entry = clr_light_wave_push_point(points, sf, wo_all + 3 * jb->sample,
+                                                  &it->light_points[jb->light]);
+    if (kind != CLR_WAVE_LIGHT_TRIANGLE) continue;
     int32_t g = s->light_group[jb->light];
     if (g < 0) {
       g = s->light_group[jb->light] = ngroups++;
@@ -618,26 +622,22 @@ static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scrat
       s->group_next[g] = 0;
     }
     s->group_next[g]++;
-    jb->light_entry = g;
+    jb->light_entry = -2 - g;
   }
   for (int32_t g = 0; g < ngroups; ++g) {
     int light = s->group_light[g];
-    int32_t count = s->group_next[g];
-    s->group_next[g] = it->light_wave_kind[light] == CLR_WAVE_LIGHT_TRIANGLE
-                           ? clr_light_wave_group(tris, count, &it->light_triangles[light])
-                           : clr_light_wave_group_point(points, count, &it->light_points[light]);
+    s->group_next[g] = clr_light_wave_group(tris, s->group_next[g], &it->light_triangles[light]);
     s->light_group[light] = -1;
   }
-  for (int j = 0; j < njobs; ++j) {
+  for (int j = 0; ngroups && j < njobs; ++j) {
     direct_job *jb = &jobs[j];
-    if (jb->light_entry < 0) continue;
-    int32_t k = s->group_next[jb->light_entry]++;
-    clr_light_wave *w = it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_TRIANGLE ? tris : points;
-    clr_light_wave_put(w, k, &s->surfaces[jb->sample], wo_all + 3 * jb->sample, jb->u_light);
+    if (jb->light_entry > -2) continue;
+    int32_t k = s->group_next[-2 - jb->light_entry]++;
+    clr_light_wave_put(tris, k, &s->surfaces[jb->sample], wo_all + 3 * jb->sample, jb->u_light);
     jb->light_entry = k;
   }
   clr_light_wave_sample(tris);
-  clr_light_wave_sample(points);
+  clr_light_wave_sample_points(points);
   return CLR_SUCCESS;
 }
 

@@ -8,7 +8,7 @@
 #include "render_error.h"
 #include "wave_block.h"
 
-#define WAVE_FLOATS 37 /* float arrays in clr_light_wave */
+#define WAVE_FLOATS 40 /* float arrays in clr_light_wave */
 #define WAVE_INTS 2    /* and int32_t ones */
 
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
@@ -18,11 +18,9 @@ clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
   float *block = clr_wave_block_alloc(n, WAVE_FLOATS + WAVE_INTS, &cap);
   int32_t *first = block ? malloc(cap * sizeof *first) : NULL;
   const clr_light_triangle **tri = first ? malloc(cap * sizeof *tri) : NULL;
-  const clr_light_point **point = tri ? malloc(cap * sizeof *point) : NULL;
-  if (!point) {
+  if (!tri) {
     free(block);
     free(first);
-    free(tri);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light wave of %d entries", (int)n);
   }
   clr_light_wave_free(w);
@@ -33,7 +31,7 @@ clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
       &w->pt[1],     &w->pt[2],     &w->wi[0],     &w->wi[1],      &w->wi[2],      &w->light_pdf,
       &w->fcos,      &w->dist2,     &w->bsdf_pdf,  &w->contrib[0], &w->contrib[1], &w->contrib[2],
       &w->origin[0], &w->origin[1], &w->origin[2], &w->dir[0],     &w->dir[1],     &w->dir[2],
-      &w->tfar};
+      &w->tfar,      &w->le[0],     &w->le[1],     &w->le[2]};
   for (int a = 0; a < WAVE_FLOATS; ++a) *arrays[a] = block + (size_t)a * cap;
   int32_t *ints = (int32_t *)(block + (size_t)WAVE_FLOATS * cap);
   w->emits = ints;
@@ -41,7 +39,6 @@ clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
   w->block = block;
   w->group_first = first;
   w->group_tri = tri;
-  w->group_point = point;
   w->cap = (int32_t)cap;
   return CLR_SUCCESS;
 }
@@ -50,11 +47,9 @@ void clr_light_wave_free(clr_light_wave *w) {
   free(w->block);
   free(w->group_first);
   free(w->group_tri);
-  free(w->group_point);
   w->block = NULL;
   w->group_first = NULL;
   w->group_tri = NULL;
-  w->group_point = NULL;
   w->cap = w->n = w->ngroups = 0;
 }
 
@@ -62,16 +57,6 @@ int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_t
   int32_t g = w->ngroups++, first = w->n;
   w->group_first[g] = first;
   w->group_tri[g] = t;
-  w->group_point[g] = NULL;
-  w->n += count;
-  return first;
-}
-
-int32_t clr_light_wave_group_point(clr_light_wave *w, int32_t count, const clr_light_point *l) {
-  int32_t g = w->ngroups++, first = w->n;
-  w->group_first[g] = first;
-  w->group_tri[g] = NULL;
-  w->group_point[g] = l;
   w->n += count;
   return first;
 }
@@ -120,13 +105,13 @@ static void wave_light_li(int32_t n, const float *restrict t0, const float *rest
 
 /* lights.c sample_li on a point light: wi toward it, the squared distance, pdf 1 (0 when p is
  * the light's position). */
-static void wave_point_li(int32_t n, const float t[3], const float *restrict p0,
+static void wave_point_li(int32_t n, const float *restrict t0, const float *restrict t1,
+                          const float *restrict t2, const float *restrict p0,
                           const float *restrict p1, const float *restrict p2, float *restrict w0,
                           float *restrict w1, float *restrict w2, float *restrict dist2,
                           float *restrict pdf) {
-  const float t0 = t[0], t1 = t[1], t2 = t[2];
   for (int32_t k = 0; k < n; ++k) {
-    float d0 = t0 - p0[k], d1 = t1 - p1[k], d2 = t2 - p2[k];
+    float d0 = t0[k] - p0[k], d1 = t1[k] - p1[k], d2 = t2[k] - p2[k];
     float dd = d0 * d0 + d1 * d1 + d2 * d2;
     float len = sqrtf(dd); /* rs_normalize recomputes dd: the same bits */
     float div = len > 0.0f ? len : 1.0f;
@@ -188,15 +173,15 @@ static void wave_contributions(int32_t n, const float *restrict kd0, const float
  * when the pdf, Li and the BSDF value are not zero. */
 static void wave_point_contributions(int32_t n, const float *restrict kd0,
                                      const float *restrict kd1, const float *restrict kd2,
-                                     const float intensity[3], const float *restrict dist2,
+                                     const float *restrict i0, const float *restrict i1,
+                                     const float *restrict i2, const float *restrict dist2,
                                      const float *restrict fcos, const float *restrict light_pdf,
                                      int32_t *restrict use, float *restrict c0, float *restrict c1,
                                      float *restrict c2) {
-  const float i0 = intensity[0], i1 = intensity[1], i2 = intensity[2];
   for (int32_t k = 0; k < n; ++k) {
     float fc = fcos[k], lp = light_pdf[k];
     float f0 = kd0[k] * fc, f1 = kd1[k] * fc, f2 = kd2[k] * fc;
-    float l0 = i0 / dist2[k], l1 = i1 / dist2[k], l2 = i2 / dist2[k];
+    float l0 = i0[k] / dist2[k], l1 = i1[k] / dist2[k], l2 = i2[k] / dist2[k];
     int li = (l0 != 0.0f) | (l1 != 0.0f) | (l2 != 0.0f);
     int f = (fc > 0.0f) & ((f0 != 0.0f) | (f1 != 0.0f) | (f2 != 0.0f));
     use[k] = (lp > 0.0f) & li & f;
@@ -256,28 +241,26 @@ static void sample_triangle_group(clr_light_wave *w, int32_t a, int32_t n,
                      w->contrib[1] + a, w->contrib[2] + a);
 }
 
-static void sample_point_group(clr_light_wave *w, int32_t a, int32_t n, const clr_light_point *l) {
-  for (int c = 0; c < 3; ++c)
-    for (int32_t k = a; k < a + n; ++k) w->pt[c][k] = l->pos[c];
-  wave_point_li(n, l->pos, w->p[0] + a, w->p[1] + a, w->p[2] + a, w->wi[0] + a, w->wi[1] + a,
-                w->wi[2] + a, w->dist2 + a, w->light_pdf + a);
-  wave_lambert_eval(n, w->wo[0] + a, w->wo[1] + a, w->wo[2] + a, w->wi[0] + a, w->wi[1] + a,
-                    w->wi[2] + a, w->ng[0] + a, w->ng[1] + a, w->ng[2] + a, w->ns[0] + a,
-                    w->ns[1] + a, w->ns[2] + a, w->fcos + a, w->bsdf_pdf + a);
-  wave_point_contributions(n, w->kd[0] + a, w->kd[1] + a, w->kd[2] + a, l->intensity, w->dist2 + a,
-                           w->fcos + a, w->light_pdf + a, w->use + a, w->contrib[0] + a,
-                           w->contrib[1] + a, w->contrib[2] + a);
-}
-
 void clr_light_wave_sample(clr_light_wave *w) {
   for (int32_t g = 0; g < w->ngroups; ++g) {
-    int32_t a = w->group_first[g], n = group_end(w, g) - a;
-    if (w->group_tri[g])
-      sample_triangle_group(w, a, n, w->group_tri[g]);
-    else
-      sample_point_group(w, a, n, w->group_point[g]);
+    int32_t a = w->group_first[g];
+    sample_triangle_group(w, a, group_end(w, g) - a, w->group_tri[g]);
   }
   wave_shadow_rays(w->n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0],
                    w->pt[1], w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0],
                    w->dir[1], w->dir[2], w->tfar);
+}
+
+void clr_light_wave_sample_points(clr_light_wave *w) {
+  int32_t n = w->n;
+  wave_point_li(n, w->pt[0], w->pt[1], w->pt[2], w->p[0], w->p[1], w->p[2], w->wi[0], w->wi[1],
+                w->wi[2], w->dist2, w->light_pdf);
+  wave_lambert_eval(n, w->wo[0], w->wo[1], w->wo[2], w->wi[0], w->wi[1], w->wi[2], w->ng[0],
+                    w->ng[1], w->ng[2], w->ns[0], w->ns[1], w->ns[2], w->fcos, w->bsdf_pdf);
+  wave_point_contributions(n, w->kd[0], w->kd[1], w->kd[2], w->le[0], w->le[1], w->le[2], w->dist2,
+                           w->fcos, w->light_pdf, w->use, w->contrib[0], w->contrib[1],
+                           w->contrib[2]);
+  wave_shadow_rays(n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0], w->pt[1],
+                   w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0], w->dir[1],
+                   w->dir[2], w->tfar);
 }

@@ -17,19 +17,19 @@ typedef enum {
   CLR_WAVE_LIGHT_POINT
 } clr_wave_light_kind;
 
-/* A wave holds samples of triangle lights or of point lights (pbrt-v3 PointLight::Sample_Li:
- * pt the light's position, le its I, no MIS weight), not both, grouped by light: the light's
- * fields are the loops' constants. */
+/* A wave holds samples of triangle lights, grouped by light (the light's fields are the loops'
+ * constants), or of point lights (pbrt-v3 PointLight::Sample_Li: pt the light's position, le its
+ * I, no MIS weight), in push order, not both. */
 typedef struct clr_light_wave {
   int32_t n, cap, ngroups;
-  /* group g: entries group_first[g] .. group_first[g + 1] (n for the last) of one light */
+  /* triangle group g: entries group_first[g] .. group_first[g + 1] (n for the last) of one light */
   int32_t *group_first;
   const clr_light_triangle **group_tri;
-  const clr_light_point **group_point;
   /* inputs: sample values, the surface's p, ng, ns, Kd and wo */
   float *u0, *u1, *p[3], *ng[3], *ns[3], *kd[3], *wo[3];
   /* the point on the light, wi, the light's pdf, the Lambertian f |cos| / Kd and pdf */
   float *pt[3], *wi[3], *light_pdf, *fcos, *bsdf_pdf, *dist2;
+  float *le[3];   /* point lights: each entry's I */
   int32_t *emits; /* the light sends Li toward the surface */
   /* outputs: whether the sample contributes (then its shadow ray is traced), f Li w / pdf, the
    * shadow ray's origin, direction and tfar */
@@ -42,13 +42,11 @@ typedef struct clr_light_wave {
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n);
 void clr_light_wave_free(clr_light_wave *w);
 
-/* Adds a group of count entries (count > 0) sampling triangle light t (point light l);
- * returns its first entry, to fill with clr_light_wave_put. */
+/* Adds a group of count entries (count > 0) sampling triangle light t; returns its first
+ * entry, to fill with clr_light_wave_put. */
 int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_triangle *t);
-int32_t clr_light_wave_group_point(clr_light_wave *w, int32_t count, const clr_light_point *l);
 
-/* Entry k: a sample u (unused for point lights) of its group's light from surface s seen
- * from wo. */
+/* Entry k of a triangle group: a sample u of its light from surface s seen from wo. */
 static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_surface *s,
                                       const float wo[3], const float u[2]) {
   w->u0[k] = u[0];
@@ -62,7 +60,25 @@ static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_su
   }
 }
 
-/* use, contrib and the shadow rays of entries 0 .. n, group by group. */
+/* Appends a sample of point light l from surface s seen from wo; returns its index. */
+static inline int32_t clr_light_wave_push_point(clr_light_wave *w, const clr_surface *s,
+                                                const float wo[3], const clr_light_point *l) {
+  int32_t k = w->n++;
+  for (int a = 0; a < 3; ++a) {
+    w->p[a][k] = s->p[a];
+    w->ng[a][k] = s->ng[a];
+    w->ns[a][k] = s->ns[a];
+    w->kd[a][k] = s->kd[a];
+    w->wo[a][k] = wo[a];
+    w->pt[a][k] = l->pos[a];
+    w->le[a][k] = l->intensity[a];
+  }
+  return k;
+}
+
+/* use, contrib and the shadow rays of entries 0 .. n of triangle lights, group by group. */
 void clr_light_wave_sample(clr_light_wave *w);
+/* The same for point lights. */
+void clr_light_wave_sample_points(clr_light_wave *w);
 
 #endif
