@@ -107,16 +107,30 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
   static clr_surface surfaces[N];
   static float wo[N][3], u[N][2];
   static int light[N];
+  static int32_t entry[N];
+  /* sample k of light k % nk; triangle lights' grouped by light: group g holds samples g,
+   * g + nk, ... */
+  int32_t first[8], next = 0;
+  for (int g = 0; g < nk && kind == CLR_WAVE_LIGHT_TRIANGLE; ++g) {
+    int32_t count = (N - g + nk - 1) / nk;
+    first[g] = clr_light_wave_group(&w, count, &tris[lights[g]]);
+    assert_int_equal(first[g], next);
+    next += count;
+  }
   for (int k = 0; k < N; ++k) {
     make_surface(k, &surfaces[k]);
     random_unit(wo[k]);
     make_u(k, u[k]);
     light[k] = lights[k % nk];
-    int32_t e = kind == CLR_WAVE_LIGHT_TRIANGLE
-                    ? clr_light_wave_push(&w, &surfaces[k], wo[k], u[k], &tris[light[k]])
-                    : clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
-    assert_int_equal(e, k);
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE) {
+      entry[k] = first[k % nk] + k / nk;
+      clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k]);
+    } else {
+      entry[k] = clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
+      assert_int_equal(entry[k], k);
+    }
   }
+  assert_int_equal(w.n, N);
   if (kind == CLR_WAVE_LIGHT_TRIANGLE)
     clr_light_wave_sample(&w);
   else
@@ -140,20 +154,20 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
         use = 1;
       }
     }
-    if (w.use[k] != use)
-      fail_msg("entry %d (light %d): wave use %d, scalar %d", k, light[k], w.use[k], use);
+    if (w.use[entry[k]] != use)
+      fail_msg("entry %d (light %d): wave use %d, scalar %d", k, light[k], w.use[entry[k]], use);
     used += use;
     unlit += !(ls.pdf > 0.0f);
     if (!use) continue;
-    float got_c[3] = {w.contrib[0][k], w.contrib[1][k], w.contrib[2][k]};
-    float got_o[3] = {w.origin[0][k], w.origin[1][k], w.origin[2][k]};
-    float got_d[3] = {w.dir[0][k], w.dir[1][k], w.dir[2][k]};
+    float got_c[3] = {w.contrib[0][entry[k]], w.contrib[1][entry[k]], w.contrib[2][entry[k]]};
+    float got_o[3] = {w.origin[0][entry[k]], w.origin[1][entry[k]], w.origin[2][entry[k]]};
+    float got_d[3] = {w.dir[0][entry[k]], w.dir[1][entry[k]], w.dir[2][entry[k]]};
     float o[3] = {ls.shadow.ox, ls.shadow.oy, ls.shadow.oz};
     float d[3] = {ls.shadow.dx, ls.shadow.dy, ls.shadow.dz};
     if (!same(got_c, contrib, 3) || !same(got_o, o, 3) || !same(got_d, d, 3) ||
-        !same(&w.tfar[k], &ls.shadow.tfar, 1))
+        !same(&w.tfar[entry[k]], &ls.shadow.tfar, 1))
       fail_msg("entry %d (light %d): wave contrib (%a %a %a) tfar %a, scalar (%a %a %a) %a", k,
-               light[k], got_c[0], got_c[1], got_c[2], w.tfar[k], contrib[0], contrib[1],
+               light[k], got_c[0], got_c[1], got_c[2], w.tfar[entry[k]], contrib[0], contrib[1],
                contrib[2], ls.shadow.tfar);
     assert_true(ls.shadow.tnear == 0.0f);
   }

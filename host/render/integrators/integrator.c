@@ -254,7 +254,10 @@ struct clr_integrator_scratch {
   clr_light_wave lights;    /* and its triangle-light samples at Lambertian surfaces */
   clr_light_wave points;    /* and its point-light ones */
   clr_shape_wave shapes;    /* and its MIS rays' triangle-light shape tests */
-  size_t ray_cap, ray2_cap, job_cap, sample_cap;
+  /* the light waves' groups: each light's group in this wave (-1: none), each group's light and
+   * next entry */
+  int32_t *light_group, *group_light, *group_next;
+  size_t ray_cap, ray2_cap, job_cap, sample_cap, light_group_cap, group_cap;
 };
 
 clr_integrator_scratch *clr_integrator_scratch_create(void) {
@@ -280,6 +283,9 @@ void clr_integrator_scratch_free(clr_integrator_scratch *s) {
   clr_light_wave_free(&s->lights);
   clr_light_wave_free(&s->points);
   clr_shape_wave_free(&s->shapes);
+  free(s->light_group);
+  free(s->group_light);
+  free(s->group_next);
   free(s);
 }
 
@@ -588,25 +594,59 @@ static void light_wave_result(const clr_light_wave *lv, int32_t e, float time, c
   for (int k = 0; k < 3; ++k) contrib[k] = lv->contrib[k][e];
 }
 
-/* The jobs whose light samples the light wave computes (Lambertian surfaces, plain triangle
- * lights), pushed and sampled. */
+/* Room for the light waves' groups of njobs jobs among nlights lights. */
+static clr_result reserve_groups(clr_integrator_scratch *s, int nlights, int njobs) {
+  size_t c0 = s->light_group_cap, c1 = s->group_cap, c2 = c1;
+  if (grow((void **)&s->light_group, &c0, (size_t)nlights, sizeof(int32_t)) ||
+      grow((void **)&s->group_light, &c1, (size_t)njobs, sizeof(int32_t)) ||
+      grow((void **)&s->group_next, &c2, (size_t)njobs, sizeof(int32_t)))
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "integrator scratch");
+  for (size_t i = s->light_group_cap; i < c0; ++i) s->light_group[i] = -1;
+  s->light_group_cap = c0;
+  s->group_cap = c1;
+  return CLR_SUCCESS;
+}
+
+/* The jobs whose light samples the light waves compute (Lambertian surfaces, plain triangle
+ * and point lights), put and sampled; triangle lights' grouped by light (a counting sort: sizes,
+ * first entries, entries; light_entry holds -2 - group meanwhile), point lights' in job order. */
 static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scratch *s,
                                   direct_job *jobs, int njobs, const float *wo_all) {
   clr_light_wave *tris = &s->lights, *points = &s->points;
   CLR_CHECK(clr_light_wave_reserve(tris, njobs));
   CLR_CHECK(clr_light_wave_reserve(points, njobs));
+  CLR_CHECK(reserve_groups(s, it->light_count, njobs));
+  int32_t ngroups = 0;
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
     const clr_surface *sf = &s->surfaces[jb->sample];
-    const float *wo = wo_all + 3 * jb->sample;
     int kind = it->light_wave_kind && clr_surface_is_lambertian(sf) ? it->light_wave_kind[jb->light]
                                                                     : CLR_WAVE_LIGHT_NONE;
     jb->light_entry = -1;
-    if (kind == CLR_WAVE_LIGHT_TRIANGLE)
-      jb->light_entry =
-          clr_light_wave_push(tris, sf, wo, jb->u_light, &it->light_triangles[jb->light]);
-    else if (kind == CLR_WAVE_LIGHT_POINT)
-      jb->light_entry = clr_light_wave_push_point(points, sf, wo, &it->light_points[jb->light]);
+    if (kind == CLR_WAVE_LIGHT_POINT)
+      jb->light_entry = clr_light_wave_push_point(points, sf, wo_all + 3 * jb->sample,
+                                                  &it->light_points[jb->light]);
+    if (kind != CLR_WAVE_LIGHT_TRIANGLE) continue;
+    int32_t g = s->light_group[jb->light];
+    if (g < 0) {
+      g = s->light_group[jb->light] = ngroups++;
+      s->group_light[g] = jb->light;
+      s->group_next[g] = 0;
+    }
+    s->group_next[g]++;
+    jb->light_entry = -2 - g;
+  }
+  for (int32_t g = 0; g < ngroups; ++g) {
+    int light = s->group_light[g];
+    s->group_next[g] = clr_light_wave_group(tris, s->group_next[g], &it->light_triangles[light]);
+    s->light_group[light] = -1;
+  }
+  for (int j = 0; ngroups && j < njobs; ++j) {
+    direct_job *jb = &jobs[j];
+    if (jb->light_entry > -2) continue;
+    int32_t k = s->group_next[-2 - jb->light_entry]++;
+    clr_light_wave_put(tris, k, &s->surfaces[jb->sample], wo_all + 3 * jb->sample, jb->u_light);
+    jb->light_entry = k;
   }
   clr_light_wave_sample(tris);
   clr_light_wave_sample_points(points);
@@ -1161,6 +1201,7 @@ static int path_samples_light(const clr_integrator *it, const clr_surface *sf, i
 static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const int *idx, int n, int wave) {
   clr_light_distribution *d = it->light_spatial;
+  const clr_voxel_grid *grid = d ? clr_light_distribution_grid(d) : NULL;
   for (int k = 0; k < n; ++k) {
     int i = idx[k];
     s->cdfs[i] = NULL;
@@ -1169,8 +1210,8 @@ static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
     const clr_ray_differential *rd = wave == 0 && s->diffs ? &s->diffs[i] : NULL;
     clr_render_scene_surface_differential(sc, &s->rays[k], rd, &s->hits[k], &s->surfaces[i]);
     if (d && path_samples_light(it, &s->surfaces[i], s->bounces[i])) {
-      s->voxels[i] = clr_light_distribution_voxel(d, s->surfaces[i].p);
-      clr_light_distribution_prefetch(d, s->voxels[i]);
+      s->voxels[i] = clr_voxel_grid_index(grid, s->surfaces[i].p);
+      clr_voxel_grid_prefetch(grid, s->voxels[i]);
     }
   }
   if (!d) return;

@@ -26,6 +26,7 @@ struct clr_light_distribution {
   int nlights;
   int n[3];
   float lo[3], hi[3];
+  clr_voxel_grid grid;
   float halton[POINTS][5]; /* the 128 Halton points (bases 2, 3, 5, 7, 11) every voxel uses */
   fixed_points **fixed;    /* per light, or NULL (then sampled per voxel) */
   _Atomic(float *) *voxels;
@@ -109,6 +110,8 @@ clr_result clr_light_distribution_create(const clr_render_scene *scene,
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light distribution");
   }
   for (size_t i = 0; i < count; ++i) atomic_init(&d->voxels[i], NULL);
+  clr_voxel_grid_init(&d->grid, d->lo, d->hi, d->n);
+  d->grid.slots = (const void *)d->voxels;
   static const int bases[5] = {2, 3, 5, 7, 11};
   for (unsigned s = 0; s < POINTS; ++s)
     for (int b = 0; b < 5; ++b) d->halton[s][b] = radical_inverse(bases[b], s);
@@ -202,20 +205,34 @@ static float *compute(const clr_light_distribution *d, const int v[3]) {
   return cdf;
 }
 
+void clr_voxel_grid_init(clr_voxel_grid *g, const float lo[3], const float hi[3], const int n[3]) {
+  for (int i = 0; i < 4; ++i) {
+    g->lo[i] = 0.0f;
+    g->extent[i] = g->cells[i] = 1.0f;
+    g->last[i] = 0.0f;
+  }
+  for (int i = 0; i < 3; ++i) {
+    g->lo[i] = lo[i];
+    g->extent[i] = hi[i] > lo[i] ? hi[i] - lo[i] : 1.0f;
+    g->cells[i] = (float)n[i];
+    g->last[i] = (float)(n[i] - 1);
+  }
+  g->n0 = (size_t)n[0];
+  g->n1 = (size_t)n[1];
+  g->slots = NULL;
+}
+
+const clr_voxel_grid *clr_light_distribution_grid(const clr_light_distribution *d) {
+  return &d->grid;
+}
+
 /* The index in d->voxels of the voxel holding p. */
 size_t clr_light_distribution_voxel(const clr_light_distribution *d, const float p[3]) {
-  int v[3];
-  for (int i = 0; i < 3; ++i) {
-    float o = p[i] - d->lo[i];
-    if (d->hi[i] > d->lo[i]) o /= d->hi[i] - d->lo[i];
-    float f = o * (float)d->n[i];
-    v[i] = !(f > 0.0f) ? 0 : f >= (float)(d->n[i] - 1) ? d->n[i] - 1 : (int)f;
-  }
-  return ((size_t)v[2] * (size_t)d->n[1] + (size_t)v[1]) * (size_t)d->n[0] + (size_t)v[0];
+  return clr_voxel_grid_index(&d->grid, p);
 }
 
 void clr_light_distribution_prefetch(const clr_light_distribution *d, size_t index) {
-  __builtin_prefetch(&d->voxels[index]);
+  clr_voxel_grid_prefetch(&d->grid, index);
 }
 
 const float *clr_light_distribution_lookup(clr_light_distribution *d, const float p[3]) {

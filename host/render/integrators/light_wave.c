@@ -8,57 +8,71 @@
 #include "render_error.h"
 #include "wave_block.h"
 
-#define WAVE_FLOATS 53 /* float arrays in clr_light_wave */
-#define WAVE_INTS 3    /* and int32_t ones */
+#define WAVE_FLOATS 40 /* float arrays in clr_light_wave */
+#define WAVE_INTS 2    /* and int32_t ones */
 
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
-  w->n = 0;
+  w->n = w->ngroups = 0;
   if (n <= w->cap) return CLR_SUCCESS;
   size_t cap;
   float *block = clr_wave_block_alloc(n, WAVE_FLOATS + WAVE_INTS, &cap);
-  if (!block)
+  int32_t *first = block ? malloc(cap * sizeof *first) : NULL;
+  const clr_light_triangle **tri = first ? malloc(cap * sizeof *tri) : NULL;
+  if (!tri) {
+    free(block);
+    free(first);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "light wave of %d entries", (int)n);
+  }
   clr_light_wave_free(w);
   float **arrays[WAVE_FLOATS] = {
-      &w->u0,        &w->u1,         &w->p[0],       &w->p[1],       &w->p[2],      &w->ng[0],
-      &w->ng[1],     &w->ng[2],      &w->ns[0],      &w->ns[1],      &w->ns[2],     &w->kd[0],
-      &w->kd[1],     &w->kd[2],      &w->wo[0],      &w->wo[1],      &w->wo[2],     &w->v0[0],
-      &w->v0[1],     &w->v0[2],      &w->v1[0],      &w->v1[1],      &w->v1[2],     &w->v2[0],
-      &w->v2[1],     &w->v2[2],      &w->ln[0],      &w->ln[1],      &w->ln[2],     &w->inv_area,
-      &w->le[0],     &w->le[1],      &w->le[2],      &w->pt[0],      &w->pt[1],     &w->pt[2],
-      &w->wi[0],     &w->wi[1],      &w->wi[2],      &w->light_pdf,  &w->fcos,      &w->dist2,
-      &w->bsdf_pdf,  &w->contrib[0], &w->contrib[1], &w->contrib[2], &w->origin[0], &w->origin[1],
-      &w->origin[2], &w->dir[0],     &w->dir[1],     &w->dir[2],     &w->tfar};
+      &w->u0,        &w->u1,        &w->p[0],      &w->p[1],       &w->p[2],       &w->ng[0],
+      &w->ng[1],     &w->ng[2],     &w->ns[0],     &w->ns[1],      &w->ns[2],      &w->kd[0],
+      &w->kd[1],     &w->kd[2],     &w->wo[0],     &w->wo[1],      &w->wo[2],      &w->pt[0],
+      &w->pt[1],     &w->pt[2],     &w->wi[0],     &w->wi[1],      &w->wi[2],      &w->light_pdf,
+      &w->fcos,      &w->dist2,     &w->bsdf_pdf,  &w->contrib[0], &w->contrib[1], &w->contrib[2],
+      &w->origin[0], &w->origin[1], &w->origin[2], &w->dir[0],     &w->dir[1],     &w->dir[2],
+      &w->tfar,      &w->le[0],     &w->le[1],     &w->le[2]};
   for (int a = 0; a < WAVE_FLOATS; ++a) *arrays[a] = block + (size_t)a * cap;
   int32_t *ints = (int32_t *)(block + (size_t)WAVE_FLOATS * cap);
-  w->two_sided = ints;
-  w->emits = ints + cap;
-  w->use = ints + 2 * cap;
+  w->emits = ints;
+  w->use = ints + cap;
   w->block = block;
+  w->group_first = first;
+  w->group_tri = tri;
   w->cap = (int32_t)cap;
   return CLR_SUCCESS;
 }
 
 void clr_light_wave_free(clr_light_wave *w) {
   free(w->block);
+  free(w->group_first);
+  free(w->group_tri);
   w->block = NULL;
-  w->cap = w->n = 0;
+  w->group_first = NULL;
+  w->group_tri = NULL;
+  w->cap = w->n = w->ngroups = 0;
+}
+
+int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_triangle *t) {
+  int32_t g = w->ngroups++, first = w->n;
+  w->group_first[g] = first;
+  w->group_tri[g] = t;
+  w->n += count;
+  return first;
 }
 
 /* lights.c sample_emitter on a triangle: the point of barycentrics from u. */
 static void wave_triangle_points(int32_t n, const float *restrict u0, const float *restrict u1,
-                                 const float *restrict a0, const float *restrict a1,
-                                 const float *restrict a2, const float *restrict b0,
-                                 const float *restrict b1, const float *restrict b2,
-                                 const float *restrict c0, const float *restrict c1,
-                                 const float *restrict c2, float *restrict x, float *restrict y,
-                                 float *restrict z) {
+                                 const float a[3], const float b[3], const float c[3],
+                                 float *restrict x, float *restrict y, float *restrict z) {
+  const float a0 = a[0], a1 = a[1], a2 = a[2], b0 = b[0], b1 = b[1], b2 = b[2], c0 = c[0],
+              c1 = c[1], c2 = c[2];
   for (int32_t k = 0; k < n; ++k) {
     float su0 = sqrtf(u0[k]);
     float w0 = 1.0f - su0, w1 = u1[k] * su0, w2 = 1.0f - w0 - w1;
-    x[k] = w0 * a0[k] + w1 * b0[k] + w2 * c0[k];
-    y[k] = w0 * a1[k] + w1 * b1[k] + w2 * c1[k];
-    z[k] = w0 * a2[k] + w1 * b2[k] + w2 * c2[k];
+    x[k] = w0 * a0 + w1 * b0 + w2 * c0;
+    y[k] = w0 * a1 + w1 * b1 + w2 * c1;
+    z[k] = w0 * a2 + w1 * b2 + w2 * c2;
   }
 }
 
@@ -66,26 +80,26 @@ static void wave_triangle_points(int32_t n, const float *restrict u0, const floa
  * point is p itself, seen edge-on, or the pdf is not finite) and whether it emits toward p. */
 static void wave_light_li(int32_t n, const float *restrict t0, const float *restrict t1,
                           const float *restrict t2, const float *restrict p0,
-                          const float *restrict p1, const float *restrict p2,
-                          const float *restrict n0, const float *restrict n1,
-                          const float *restrict n2, const float *restrict inv_area,
-                          const int32_t *restrict two_sided, float *restrict w0, float *restrict w1,
+                          const float *restrict p1, const float *restrict p2, const float ln[3],
+                          float inv_area, int32_t two_sided, float *restrict w0, float *restrict w1,
                           float *restrict w2, float *restrict pdf, int32_t *restrict emits) {
+  const float n0 = ln[0], n1 = ln[1], n2 = ln[2];
+  const int32_t both = two_sided != 0;
   for (int32_t k = 0; k < n; ++k) {
     float d0 = t0[k] - p0[k], d1 = t1[k] - p1[k], d2 = t2[k] - p2[k];
     float dd = d0 * d0 + d1 * d1 + d2 * d2;
     int valid = dd > 0.0f;
     float dist = valid ? sqrtf(dd) : 1.0f;
     float x = d0 / dist, y = d1 / dist, z = d2 / dist;
-    float c = fabsf(n0[k] * x + n1[k] * y + n2[k] * z);
-    float q = inv_area[k] * dd / (c > 0.0f ? c : 1.0f);
+    float c = fabsf(n0 * x + n1 * y + n2 * z);
+    float q = inv_area * dd / (c > 0.0f ? c : 1.0f);
     q = c > 0.0f ? q : 0.0f;
     q = fabsf(q) <= FLT_MAX ? q : 0.0f; /* isfinite */
     w0[k] = x;
     w1[k] = y;
     w2[k] = z;
     pdf[k] = valid ? q : 0.0f;
-    emits[k] = (two_sided[k] != 0) | (n0[k] * -x + n1[k] * -y + n2[k] * -z > 0.0f);
+    emits[k] = both | (n0 * -x + n1 * -y + n2 * -z > 0.0f);
   }
 }
 
@@ -132,25 +146,26 @@ static void wave_lambert_eval(int32_t n, const float *restrict o0, const float *
 /* estimate_direct's light-sampling term: f Li w / pdf with the power heuristic w, used when the
  * light's pdf and Li and the BSDF value are not zero. */
 static void wave_contributions(int32_t n, const float *restrict kd0, const float *restrict kd1,
-                               const float *restrict kd2, const float *restrict le0,
-                               const float *restrict le1, const float *restrict le2,
+                               const float *restrict kd2, const float le[3],
                                const float *restrict fcos, const float *restrict bsdf_pdf,
                                const float *restrict light_pdf, const int32_t *restrict emits,
                                int32_t *restrict use, float *restrict c0, float *restrict c1,
                                float *restrict c2) {
+  const float le0 = le[0], le1 = le[1], le2 = le[2];
+  const int32_t lit = (le0 != 0.0f) | (le1 != 0.0f) | (le2 != 0.0f);
   for (int32_t k = 0; k < n; ++k) {
     float fc = fcos[k], lp = light_pdf[k], bp = bsdf_pdf[k];
     float f0 = kd0[k] * fc, f1 = kd1[k] * fc, f2 = kd2[k] * fc;
-    int li = (emits[k] != 0) & ((le0[k] != 0.0f) | (le1[k] != 0.0f) | (le2[k] != 0.0f));
+    int li = (emits[k] != 0) & lit;
     int f = (fc > 0.0f) & ((f0 != 0.0f) | (f1 != 0.0f) | (f2 != 0.0f));
     float l2 = lp * lp, b2 = bp * bp, sum = l2 + b2;
     float w = l2 / (sum > 0.0f ? sum : 1.0f);
     w = sum > 0.0f ? w : 0.0f;
     float div = lp > 0.0f ? lp : 1.0f;
     use[k] = (lp > 0.0f) & li & f;
-    c0[k] = f0 * le0[k] * w / div;
-    c1[k] = f1 * le1[k] * w / div;
-    c2[k] = f2 * le2[k] * w / div;
+    c0[k] = f0 * le0 * w / div;
+    c1[k] = f1 * le1 * w / div;
+    c2[k] = f2 * le2 * w / div;
   }
 }
 
@@ -206,21 +221,34 @@ static void wave_shadow_rays(int32_t n, const float *restrict p0, const float *r
   }
 }
 
+/* The entry after group g's last. */
+static int32_t group_end(const clr_light_wave *w, int32_t g) {
+  return g + 1 < w->ngroups ? w->group_first[g + 1] : w->n;
+}
+
+static void sample_triangle_group(clr_light_wave *w, int32_t a, int32_t n,
+                                  const clr_light_triangle *t) {
+  wave_triangle_points(n, w->u0 + a, w->u1 + a, t->p0, t->p1, t->p2, w->pt[0] + a, w->pt[1] + a,
+                       w->pt[2] + a);
+  wave_light_li(n, w->pt[0] + a, w->pt[1] + a, w->pt[2] + a, w->p[0] + a, w->p[1] + a, w->p[2] + a,
+                t->n, t->inv_area, t->two_sided, w->wi[0] + a, w->wi[1] + a, w->wi[2] + a,
+                w->light_pdf + a, w->emits + a);
+  wave_lambert_eval(n, w->wo[0] + a, w->wo[1] + a, w->wo[2] + a, w->wi[0] + a, w->wi[1] + a,
+                    w->wi[2] + a, w->ng[0] + a, w->ng[1] + a, w->ng[2] + a, w->ns[0] + a,
+                    w->ns[1] + a, w->ns[2] + a, w->fcos + a, w->bsdf_pdf + a);
+  wave_contributions(n, w->kd[0] + a, w->kd[1] + a, w->kd[2] + a, t->le, w->fcos + a,
+                     w->bsdf_pdf + a, w->light_pdf + a, w->emits + a, w->use + a, w->contrib[0] + a,
+                     w->contrib[1] + a, w->contrib[2] + a);
+}
+
 void clr_light_wave_sample(clr_light_wave *w) {
-  int32_t n = w->n;
-  wave_triangle_points(n, w->u0, w->u1, w->v0[0], w->v0[1], w->v0[2], w->v1[0], w->v1[1], w->v1[2],
-                       w->v2[0], w->v2[1], w->v2[2], w->pt[0], w->pt[1], w->pt[2]);
-  wave_light_li(n, w->pt[0], w->pt[1], w->pt[2], w->p[0], w->p[1], w->p[2], w->ln[0], w->ln[1],
-                w->ln[2], w->inv_area, w->two_sided, w->wi[0], w->wi[1], w->wi[2], w->light_pdf,
-                w->emits);
-  wave_lambert_eval(n, w->wo[0], w->wo[1], w->wo[2], w->wi[0], w->wi[1], w->wi[2], w->ng[0],
-                    w->ng[1], w->ng[2], w->ns[0], w->ns[1], w->ns[2], w->fcos, w->bsdf_pdf);
-  wave_contributions(n, w->kd[0], w->kd[1], w->kd[2], w->le[0], w->le[1], w->le[2], w->fcos,
-                     w->bsdf_pdf, w->light_pdf, w->emits, w->use, w->contrib[0], w->contrib[1],
-                     w->contrib[2]);
-  wave_shadow_rays(n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0], w->pt[1],
-                   w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0], w->dir[1],
-                   w->dir[2], w->tfar);
+  for (int32_t g = 0; g < w->ngroups; ++g) {
+    int32_t a = w->group_first[g];
+    sample_triangle_group(w, a, group_end(w, g) - a, w->group_tri[g]);
+  }
+  wave_shadow_rays(w->n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0],
+                   w->pt[1], w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0],
+                   w->dir[1], w->dir[2], w->tfar);
 }
 
 void clr_light_wave_sample_points(clr_light_wave *w) {

@@ -17,16 +17,19 @@ typedef enum {
   CLR_WAVE_LIGHT_POINT
 } clr_wave_light_kind;
 
-/* A wave holds samples of triangle lights or of point lights (pbrt-v3 PointLight::Sample_Li:
- * pt the light's position, le its I, no MIS weight), not both. */
+/* A wave holds samples of triangle lights, grouped by light (the light's fields are the loops'
+ * constants), or of point lights (pbrt-v3 PointLight::Sample_Li: pt the light's position, le its
+ * I, no MIS weight), in push order, not both. */
 typedef struct clr_light_wave {
-  int32_t n, cap;
-  /* inputs: sample values, the surface's p, ng, ns, Kd and wo, the light's triangle */
+  int32_t n, cap, ngroups;
+  /* triangle group g: entries group_first[g] .. group_first[g + 1] (n for the last) of one light */
+  int32_t *group_first;
+  const clr_light_triangle **group_tri;
+  /* inputs: sample values, the surface's p, ng, ns, Kd and wo */
   float *u0, *u1, *p[3], *ng[3], *ns[3], *kd[3], *wo[3];
-  float *v0[3], *v1[3], *v2[3], *ln[3], *inv_area, *le[3];
-  int32_t *two_sided;
   /* the point on the light, wi, the light's pdf, the Lambertian f |cos| / Kd and pdf */
   float *pt[3], *wi[3], *light_pdf, *fcos, *bsdf_pdf, *dist2;
+  float *le[3];   /* point lights: each entry's I */
   int32_t *emits; /* the light sends Li toward the surface */
   /* outputs: whether the sample contributes (then its shadow ray is traced), f Li w / pdf, the
    * shadow ray's origin, direction and tfar */
@@ -39,11 +42,13 @@ typedef struct clr_light_wave {
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n);
 void clr_light_wave_free(clr_light_wave *w);
 
-/* Appends a sample u of triangle light t from surface s seen from wo; returns its index. */
-static inline int32_t clr_light_wave_push(clr_light_wave *w, const clr_surface *s,
-                                          const float wo[3], const float u[2],
-                                          const clr_light_triangle *t) {
-  int32_t k = w->n++;
+/* Adds a group of count entries (count > 0) sampling triangle light t; returns its first
+ * entry, to fill with clr_light_wave_put. */
+int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_triangle *t);
+
+/* Entry k of a triangle group: a sample u of its light from surface s seen from wo. */
+static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_surface *s,
+                                      const float wo[3], const float u[2]) {
   w->u0[k] = u[0];
   w->u1[k] = u[1];
   for (int a = 0; a < 3; ++a) {
@@ -52,15 +57,7 @@ static inline int32_t clr_light_wave_push(clr_light_wave *w, const clr_surface *
     w->ns[a][k] = s->ns[a];
     w->kd[a][k] = s->kd[a];
     w->wo[a][k] = wo[a];
-    w->v0[a][k] = t->p0[a];
-    w->v1[a][k] = t->p1[a];
-    w->v2[a][k] = t->p2[a];
-    w->ln[a][k] = t->n[a];
-    w->le[a][k] = t->le[a];
   }
-  w->inv_area[k] = t->inv_area;
-  w->two_sided[k] = t->two_sided;
-  return k;
 }
 
 /* Appends a sample of point light l from surface s seen from wo; returns its index. */
@@ -79,7 +76,7 @@ static inline int32_t clr_light_wave_push_point(clr_light_wave *w, const clr_sur
   return k;
 }
 
-/* use, contrib and the shadow rays of entries 0 .. n of triangle lights. */
+/* use, contrib and the shadow rays of entries 0 .. n of triangle lights, group by group. */
 void clr_light_wave_sample(clr_light_wave *w);
 /* The same for point lights. */
 void clr_light_wave_sample_points(clr_light_wave *w);
