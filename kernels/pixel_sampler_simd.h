@@ -140,6 +140,19 @@ CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, 
   values[out[7] + offset] = v.s7;
 }
 
+/* Lane j's (x, y) to values[out[j] + offset], one 8-byte store per lane. */
+CLR_LANE_INLINE void clr_store_pairs8(__global float *values, const ulong *out, size_t offset,
+                                      float8 x, float8 y) {
+  vstore2((float2)(x.s0, y.s0), 0, values + out[0] + offset);
+  vstore2((float2)(x.s1, y.s1), 0, values + out[1] + offset);
+  vstore2((float2)(x.s2, y.s2), 0, values + out[2] + offset);
+  vstore2((float2)(x.s3, y.s3), 0, values + out[3] + offset);
+  vstore2((float2)(x.s4, y.s4), 0, values + out[4] + offset);
+  vstore2((float2)(x.s5, y.s5), 0, values + out[5] + offset);
+  vstore2((float2)(x.s6, y.s6), 0, values + out[6] + offset);
+  vstore2((float2)(x.s7, y.s7), 0, values + out[7] + offset);
+}
+
 /* clr_shuffle of `count` items of `dims` floats in scratch. */
 static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *state,
                                 __global const uint4 *bounded) {
@@ -179,11 +192,15 @@ static inline ulong8 clr_shuffle_perm8(int count, clr_pcg32x8 *state,
   return perm;
 }
 
+/* Nibble s of every lane: the item at position s. */
+CLR_LANE_INLINE uint8 clr_nibbles8(ulong8 perm, int s) {
+  return convert_uint8((perm >> (4ul * (ulong)s)) & 15ul);
+}
+
 /* Float c of the item at position s, read through the permutation. */
 CLR_LANE_INLINE float8 clr_perm_load8(__global const float *buf, ulong8 perm, int s, int dims,
                                       int c) {
-  uint8 item = convert_uint8((perm >> (4ul * (ulong)s)) & 15ul);
-  return clr_gather8(buf, clr_scratch_rows8(item, dims, c));
+  return clr_gather8(buf, clr_scratch_rows8(clr_nibbles8(perm, s), dims, c));
 }
 
 static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *state,
@@ -269,6 +286,15 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p,
       clr_shuffle8(buf, n, dims, rng, bounded);
     for (int k = 0; k < p->request_count; ++k) {
       if (!clr_slot_stores(&slots[k], dims, 0, d)) continue;
+      if (in_registers && dims == 2) {
+        for (int s = 0; s < p->sample_count; ++s) {
+          uint8 at = clr_scratch_rows8(clr_nibbles8(perm, p->first_sample + s), 2, 0);
+          clr_store_pairs8(values, out,
+                           (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value,
+                           clr_gather8(buf, at), clr_gather8(buf, at + (uint)CLR_PIXEL_LANES));
+        }
+        continue;
+      }
       for (int s = 0; s < p->sample_count; ++s)
         for (int c = 0; c < dims; ++c) {
           int at = p->first_sample + s;
