@@ -71,6 +71,23 @@ CLR_LANE_INLINE void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
   r->state_hi = acc_mult * r->state_hi + acc_plus * r->inc_hi;
 }
 
+/* mul_hi(a, m) per lane from 64-bit products of the even and odd lanes (PoCL's mul_hi(uint8)
+ * goes through 16-bit halves). */
+CLR_LANE_INLINE uint8 clr_mul_hi_x8(uint8 a, uint m) {
+  const ulong low_half = 0xFFFFFFFFul;
+  ulong4 pairs = as_ulong4(a);
+  ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
+  ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
+  return as_uint8(even | odd);
+}
+
+/* any(m) by OR-ing halves (PoCL's any() tests the lanes one by one with branches). */
+CLR_LANE_INLINE int clr_any8(int8 m) {
+  int4 m4 = m.lo | m.hi;
+  int2 m2 = m4.lo | m4.hi;
+  return (m2.x | m2.y) < 0;
+}
+
 /* clr_pcg32_bounded(b) in every lane: rejection redraws only the rejecting lanes; v % b by
  * Granlund-Montgomery multiplication (exact for every 32-bit v; no vector division).
  * bounded[b - 1] = (threshold (-b) % b, magic, shift1, shift2) from the host. */
@@ -79,13 +96,12 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const
   uint threshold = k.x;
   uint8 v = clr_pcg32x8_next(r);
   int8 rejected = v < threshold;
-  while (any(rejected)) {
+  while (threshold != 0u && clr_any8(rejected)) {
     uint8 w = clr_pcg32x8_next_masked(r, rejected);
     v = select(v, w, rejected);
     rejected = rejected & (v < threshold);
   }
-  ulong4 plo = convert_ulong4(v.lo) * (ulong)k.y, phi = convert_ulong4(v.hi) * (ulong)k.y;
-  uint8 t = (uint8)(convert_uint4(plo >> (ulong)32), convert_uint4(phi >> (ulong)32));
+  uint8 t = clr_mul_hi_x8(v, k.y);
   uint8 q = (t + ((v - t) >> k.z)) >> k.w;
   return v - q * b;
 }
@@ -124,9 +140,23 @@ CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, 
   values[out[7] + offset] = v.s7;
 }
 
+/* Lane j's (x, y) to values[out[j] + offset], one 8-byte store per lane. */
+CLR_LANE_INLINE void clr_store_pairs8(__global float *values, const ulong *out, size_t offset,
+                                      float8 x, float8 y) {
+  vstore2((float2)(x.s0, y.s0), 0, values + out[0] + offset);
+  vstore2((float2)(x.s1, y.s1), 0, values + out[1] + offset);
+  vstore2((float2)(x.s2, y.s2), 0, values + out[2] + offset);
+  vstore2((float2)(x.s3, y.s3), 0, values + out[3] + offset);
+  vstore2((float2)(x.s4, y.s4), 0, values + out[4] + offset);
+  vstore2((float2)(x.s5, y.s5), 0, values + out[5] + offset);
+  vstore2((float2)(x.s6, y.s6), 0, values + out[6] + offset);
+  vstore2((float2)(x.s7, y.s7), 0, values + out[7] + offset);
+}
+
 /* clr_shuffle of `count` items of `dims` floats in scratch. */
-static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *rng,
+static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pcg32x8 *state,
                                 __global const uint4 *bounded) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
   for (int i = 0; i < count; ++i) {
     uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
     for (int c = 0; c < dims; ++c) {
@@ -136,24 +166,65 @@ static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pc
       clr_scatter8(buf, at, t);
     }
   }
+  *state = r;
 }
 
-static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *rng, __global const uint4 *bounded) {
+/* Items of a shuffle of at most 16 items live as a permutation in registers: nibble s of lane j
+ * is the item at position s (the scratch rows stay where clr_stratified_sample_*8 put them). */
+#define CLR_PERM_MAX_ITEMS 16
+
+/* The identity permutation 0xFEDCBA9876543210 (positions past count are never touched). */
+#define CLR_PERM_IDENTITY 0xFEDCBA9876543210ul
+
+/* clr_shuffle of `count` <= 16 items: the same swaps, made on the permutation's nibbles. */
+static inline ulong8 clr_shuffle_perm8(int count, clr_pcg32x8 *state,
+                                       __global const uint4 *bounded) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
+  ulong8 perm = (ulong8)CLR_PERM_IDENTITY;
+  for (int i = 0; i < count; ++i) {
+    uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
+    ulong at_i = 4ul * (ulong)i;
+    ulong8 at_other = convert_ulong8(other) << 2ul;
+    ulong8 x = ((perm >> at_i) ^ (perm >> at_other)) & 15ul;
+    perm ^= (x << at_i) | (x << at_other);
+  }
+  *state = r;
+  return perm;
+}
+
+/* Nibble s of every lane: the item at position s. */
+CLR_LANE_INLINE uint8 clr_nibbles8(ulong8 perm, int s) {
+  return convert_uint8((perm >> (4ul * (ulong)s)) & 15ul);
+}
+
+/* Float c of the item at position s, read through the permutation. */
+CLR_LANE_INLINE float8 clr_perm_load8(__global const float *buf, ulong8 perm, int s, int dims,
+                                      int c) {
+  return clr_gather8(buf, clr_scratch_rows8(clr_nibbles8(perm, s), dims, c));
+}
+
+static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *state,
+                                      __global const uint4 *bounded) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
   for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
+  *state = r;
 }
 
 /* clr_stratified_sample_1d into scratch rows 0..n-1. */
 static inline void clr_stratified_sample_1d8(__global float *buf, int n, float inv_n, int jitter,
-                                             clr_pcg32x8 *rng) {
+                                             clr_pcg32x8 *state) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
   for (int i = 0; i < n; ++i) {
     float8 delta = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
     vstore8(clr_below_one_x8(((float)i + delta) * inv_n), i, buf);
   }
+  *state = r;
 }
 
 /* clr_stratified_sample_2d into scratch rows 0..2n-1. */
 static inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny, float inv_nx,
-                                             float inv_ny, int jitter, clr_pcg32x8 *rng) {
+                                             float inv_ny, int jitter, clr_pcg32x8 *state) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) {
       float8 jx = jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
@@ -162,11 +233,13 @@ static inline void clr_stratified_sample_2d8(__global float *buf, int nx, int ny
       vstore8(clr_below_one_x8(((float)x + jx) * inv_nx), i, buf);
       vstore8(clr_below_one_x8(((float)y + jy) * inv_ny), i + 1, buf);
     }
+  *state = r;
 }
 
 /* clr_latin_hypercube_2d into scratch rows 0..2n-1. */
 static inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv_n,
-                                           clr_pcg32x8 *rng, __global const uint4 *bounded) {
+                                           clr_pcg32x8 *state, __global const uint4 *bounded) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
   for (int i = 0; i < 2 * n; ++i)
     vstore8(clr_below_one_x8(((float)(i >> 1) + clr_pcg32x8_float(rng)) * inv_n), i, buf);
   for (int c = 0; c < 2; ++c)
@@ -177,6 +250,7 @@ static inline void clr_latin_hypercube_2d8(__global float *buf, int n, float inv
       vstore8(clr_gather8(buf, at), 2 * j + c, buf);
       clr_scatter8(buf, at, t);
     }
+  *state = r;
 }
 
 static inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng,
@@ -204,15 +278,32 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p,
     else
       clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples, p->inv_y_samples,
                                 p->jitter, rng);
-    clr_shuffle8(buf, n, dims, rng, bounded);
+    int in_registers = n <= CLR_PERM_MAX_ITEMS;
+    ulong8 perm = (ulong8)CLR_PERM_IDENTITY;
+    if (in_registers)
+      perm = clr_shuffle_perm8(n, rng, bounded);
+    else
+      clr_shuffle8(buf, n, dims, rng, bounded);
     for (int k = 0; k < p->request_count; ++k) {
       if (!clr_slot_stores(&slots[k], dims, 0, d)) continue;
+      if (in_registers && dims == 2) {
+        for (int s = 0; s < p->sample_count; ++s) {
+          uint8 at = clr_scratch_rows8(clr_nibbles8(perm, p->first_sample + s), 2, 0);
+          clr_store_pairs8(values, out,
+                           (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value,
+                           clr_gather8(buf, at), clr_gather8(buf, at + (uint)CLR_PIXEL_LANES));
+        }
+        continue;
+      }
       for (int s = 0; s < p->sample_count; ++s)
-        for (int c = 0; c < dims; ++c)
+        for (int c = 0; c < dims; ++c) {
+          int at = p->first_sample + s;
+          float8 v =
+              in_registers ? clr_perm_load8(buf, perm, at, dims, c) : vload8(at * dims + c, buf);
           clr_store_lanes8(
               values, out,
-              (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c),
-              vload8((p->first_sample + s) * dims + c, buf));
+              (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c), v);
+        }
     }
   }
 }

@@ -185,6 +185,48 @@ static void test_stratified_device_strata(void **state) {
   clr_sampler_release(s);
 }
 
+/* Stratified's SIMD kernel shuffles up to 16 strata as a permutation in registers and more in
+ * scratch: strata counts on both sides of 16, with and without jitter, whole pixels and a sample
+ * range (read through the permutation), bit-identical to the host reference. */
+static void test_stratified_strata_counts_match_reference(void **state) {
+  (void)state;
+  static const int strata[][3] = {{3, 3, 1}, {4, 4, 0}, {1, 7, 1}, {5, 5, 1}, {2, 9, 0}};
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  for (size_t t = 0; t < sizeof strata / sizeof strata[0]; ++t) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, CLR_SAMPLER_STRATIFIED);
+    d.x_samples = strata[t][0];
+    d.y_samples = strata[t][1];
+    d.jitter = strata[t][2];
+    d.film.x_resolution = 13;
+    d.film.y_resolution = 11;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    clr_bounds2i px = {0, 0, 13, 11};
+    int spp = clr_sampler_spp(s);
+    for (int range = 0; range < 2; ++range) {
+      int first = range ? 2 : 0, count = range ? spp - 3 : 0;
+      for (int layout = 0; layout < 2; ++layout) {
+        const clr_sample_request *req = layout ? with_arrays : camera10;
+        int nreq = layout ? n : 6;
+        generated dev = generate(s, px, first, count, req, nreq, 1);
+        generated ref = generate(s, px, first, count, req, nreq, 0);
+        assert_int_equal(dev.count, ref.count);
+        size_t bad = 0;
+        for (size_t i = 0; i < dev.count; ++i)
+          if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
+            fprintf(stderr, "%dx%d jitter %d first %d: value %zu device %.9g reference %.9g\n",
+                    strata[t][0], strata[t][1], strata[t][2], first, i, (double)dev.values[i],
+                    (double)ref.values[i]);
+        assert_int_equal(bad, 0);
+        free_generated(&dev);
+        free_generated(&ref);
+      }
+    }
+    clr_sampler_release(s);
+  }
+}
+
 /* Past Sobol's 1024 dimensions and Halton's 1000 primes values fall back to a hash: in range,
  * and not constant. */
 static void test_past_available_dimensions(void **state) {
@@ -435,6 +477,7 @@ int main(void) {
       cmocka_unit_test(test_device_matches_reference_with_arrays),
       cmocka_unit_test(test_order_independence),
       cmocka_unit_test(test_stratified_device_strata),
+      cmocka_unit_test(test_stratified_strata_counts_match_reference),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),
