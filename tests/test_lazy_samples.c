@@ -3,6 +3,7 @@
  * without arrays generates the first values of the whole layout, bad arguments are refused, and
  * a path render that fetches its deeper bounces' values is bit-identical to one generating every
  * vector whole. */
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -73,8 +74,22 @@ static float *device_values(clr_sampler s, clr_bounds2i px, const clr_sample_req
   return v;
 }
 
+/* got (npts points in the order of check_ranges, count values each) against values [first,
+ * first + count) of the whole layout's items. */
+static void expect_whole(const float *got, const float *whole, int npts, int32_t per_sample,
+                         int32_t first, int32_t count, const char *how) {
+  for (int i = 0; i < npts; ++i) {
+    int item = (int)(((int64_t)i * 7) % npts);
+    const float *want = whole + (size_t)item * (size_t)per_sample + first;
+    if (memcmp(got + (size_t)i * (size_t)count, want, (size_t)count * sizeof(float)) != 0)
+      fail_msg("%s: point %d values [%d, %d) differ from the whole layout's", how, i, first,
+               first + count);
+  }
+}
+
 /* Every value range [first, first + count) of a few bounces and single values, for the points of
- * px (in a shuffled order), equals the device's whole-layout values bit for bit. */
+ * px (in a shuffled order), equals the device's whole-layout values bit for bit, through
+ * clr_sampler_generate_at and through a prepared clr_sample_fetch. */
 static void check_ranges(clr_sampler s, const clr_sample_request *req, int nreq,
                          const int32_t (*ranges)[2], int nranges) {
   clr_bounds2i px = clr_sampler_sample_bounds(s);
@@ -96,19 +111,28 @@ static void check_ranges(clr_sampler s, const clr_sample_request *req, int nreq,
     pts[i].sample = item % spp;
   }
   assert_int_not_equal(npts % 7, 0);
+  clr_sample_fetch fetch = NULL;
+  assert_int_equal(clr_sample_fetch_create(s, req, nreq, &fetch), CLR_SUCCESS);
+  assert_non_null(fetch);
   for (int r = 0; r < nranges; ++r) {
     int32_t first = ranges[r][0], count = ranges[r][1];
     assert_true(first + count <= per_sample);
     assert_int_equal(clr_sampler_generate_at(s, req, nreq, pts, npts, first, count, got),
                      CLR_SUCCESS);
-    for (int i = 0; i < npts; ++i) {
-      int item = (int)(((int64_t)i * 7) % npts);
-      const float *want = whole + (size_t)item * (size_t)per_sample + first;
-      if (memcmp(got + (size_t)i * (size_t)count, want, (size_t)count * sizeof(float)) != 0)
-        fail_msg("point %d values [%d, %d) differ from the whole layout's", i, first,
-                 first + count);
+    expect_whole(got, whole, npts, per_sample, first, count, "generate_at");
+    memset(got, 0xff, (size_t)npts * (size_t)count * sizeof *got); /* NaNs: every float written */
+    assert_int_equal(clr_sample_fetch_values(fetch, pts, npts, first, count, got), CLR_SUCCESS);
+    expect_whole(got, whole, npts, per_sample, first, count, "fetch");
+    /* a few points at a time, as the path tracer's waves ask */
+    for (int i = 0; i < npts; i += 12) {
+      int n = npts - i < 12 ? npts - i : 12;
+      assert_int_equal(
+          clr_sample_fetch_values(fetch, pts + i, n, first, count, got + (size_t)i * (size_t)count),
+          CLR_SUCCESS);
     }
+    expect_whole(got, whole, npts, per_sample, first, count, "fetch by 12");
   }
+  clr_sample_fetch_release(fetch);
   free(pts);
   free(got);
   free(whole);
@@ -334,11 +358,114 @@ static void test_lazy_option_refused(void **state) {
   clr_scene_desc_free(desc);
 }
 
+/* Two threads fetching through one handle at the same time get the values of
+ * clr_sampler_generate_at (the handle is shared read only). */
+typedef struct fetch_thread {
+  clr_sample_fetch fetch;
+  const clr_sample_point *pts;
+  int npts;
+  int32_t first, count;
+  float *got;
+  clr_result r;
+} fetch_thread;
+
+static void *fetch_thread_main(void *arg) {
+  fetch_thread *t = arg;
+  t->r = CLR_SUCCESS;
+  for (int rep = 0; rep < 20 && t->r == CLR_SUCCESS; ++rep)
+    for (int i = 0; i < t->npts && t->r == CLR_SUCCESS; i += 8)
+      t->r = clr_sample_fetch_values(t->fetch, t->pts + i, t->npts - i < 8 ? t->npts - i : 8,
+                                     t->first, t->count, t->got + (size_t)i * (size_t)t->count);
+  return NULL;
+}
+
+static void test_fetch_shared_by_threads(void **state) {
+  (void)state;
+  clr_sampler_type types[] = {CLR_SAMPLER_HALTON, CLR_SAMPLER_SOBOL};
+  for (int k = 0; k < 2; ++k) {
+    clr_sampler s = make_sampler(types[k], CLR_SEEDING_PIXEL);
+    clr_bounds2i sb = clr_sampler_sample_bounds(s);
+    enum { NPTS = 100 };
+    clr_sample_point pts[NPTS];
+    for (int i = 0; i < NPTS; ++i) {
+      pts[i].x = sb.x0 + (i * 13) % (sb.x1 - sb.x0);
+      pts[i].y = sb.y0 + (i * 5) % (sb.y1 - sb.y0);
+      pts[i].sample = (i * 3) % 16;
+    }
+    clr_sample_fetch fetch = NULL;
+    assert_int_equal(clr_sample_fetch_create(s, path6, PATH6_REQUESTS, &fetch), CLR_SUCCESS);
+    static float got[2][NPTS * 16], want[2][NPTS * 16];
+    fetch_thread t[2] = {{fetch, pts, NPTS, 12, 7, got[0], CLR_SUCCESS},
+                         {fetch, pts, NPTS, 33, 16, got[1], CLR_SUCCESS}};
+    pthread_t th[2];
+    for (int i = 0; i < 2; ++i)
+      assert_int_equal(pthread_create(&th[i], NULL, fetch_thread_main, &t[i]), 0);
+    for (int i = 0; i < 2; ++i) pthread_join(th[i], NULL);
+    for (int i = 0; i < 2; ++i) {
+      assert_int_equal(t[i].r, CLR_SUCCESS);
+      assert_int_equal(clr_sampler_generate_at(s, path6, PATH6_REQUESTS, pts, NPTS, t[i].first,
+                                               t[i].count, want[i]),
+                       CLR_SUCCESS);
+      assert_memory_equal(got[i], want[i], (size_t)NPTS * (size_t)t[i].count * sizeof(float));
+    }
+    clr_sample_fetch_release(fetch);
+    clr_sampler_release(s); /* the handle held its own reference until now */
+  }
+}
+
+static void test_fetch_bad_arguments(void **state) {
+  (void)state;
+  clr_sampler s = make_sampler(CLR_SAMPLER_SOBOL, CLR_SEEDING_PIXEL);
+  clr_bounds2i sb = clr_sampler_sample_bounds(s);
+  clr_sample_point ok = {sb.x0, sb.y0, 15}, pt;
+  float v[PATH6_VALUES];
+  clr_sample_fetch f = (clr_sample_fetch)&ok; /* set to NULL on failure */
+  assert_int_equal(clr_sample_fetch_create(NULL, path6, PATH6_REQUESTS, &f),
+                   CLR_ERROR_NULL_POINTER);
+  assert_null(f);
+  assert_non_null(strstr(clr_last_error_message(), "sampler"));
+  assert_int_equal(clr_sample_fetch_create(s, path6, PATH6_REQUESTS, NULL), CLR_ERROR_NULL_POINTER);
+  assert_non_null(strstr(clr_last_error_message(), "out"));
+  assert_int_equal(clr_sample_fetch_create(s, NULL, 3, &f), CLR_ERROR_NULL_POINTER);
+  assert_null(f);
+  clr_sampler z = make_sampler(CLR_SAMPLER_ZSOBOL, CLR_SEEDING_PIXEL);
+  assert_int_equal(clr_sample_fetch_create(z, path6, PATH6_REQUESTS, &f),
+                   CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(clr_last_error_message(), "zsobol"));
+  clr_sampler_release(z);
+  assert_int_equal(clr_sample_fetch_create(s, path6, PATH6_REQUESTS, &f), CLR_SUCCESS);
+  assert_int_equal(clr_sample_fetch_values(f, &ok, 1, 0, PATH6_VALUES, v), CLR_SUCCESS);
+  assert_int_equal(clr_sample_fetch_values(NULL, &ok, 1, 0, 1, v), CLR_ERROR_NULL_POINTER);
+  assert_non_null(strstr(clr_last_error_message(), "fetch"));
+  assert_int_equal(clr_sample_fetch_values(f, NULL, 1, 0, 1, v), CLR_ERROR_NULL_POINTER);
+  assert_non_null(strstr(clr_last_error_message(), "points"));
+  assert_int_equal(clr_sample_fetch_values(f, &ok, 1, 0, 1, NULL), CLR_ERROR_NULL_POINTER);
+  assert_non_null(strstr(clr_last_error_message(), "values"));
+  assert_int_equal(clr_sample_fetch_values(f, NULL, 0, 0, 1, NULL), CLR_SUCCESS);
+  pt = ok;
+  pt.x = sb.x1;
+  assert_int_equal(clr_sample_fetch_values(f, &pt, 1, 0, 1, v), CLR_ERROR_INVALID_PIXEL_RANGE);
+  assert_non_null(strstr(clr_last_error_message(), "clr_sample_fetch_values: points[0]"));
+  pt = ok;
+  pt.sample = 16;
+  assert_int_equal(clr_sample_fetch_values(f, &pt, 1, 0, 1, v), CLR_ERROR_INVALID_SPP);
+  assert_non_null(strstr(clr_last_error_message(), "sample 16"));
+  assert_int_equal(clr_sample_fetch_values(f, &ok, 1, 40, 10, v), CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(clr_last_error_message(), "layout's 49 values"));
+  assert_int_equal(clr_sample_fetch_values(f, &ok, 1, -1, 1, v), CLR_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(clr_sample_fetch_values(f, &ok, -1, 0, 1, v), CLR_ERROR_INVALID_ARGUMENT);
+  clr_sample_fetch_release(f);
+  clr_sample_fetch_release(NULL);
+  clr_sampler_release(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_generate_at_equals_whole_layout),
       cmocka_unit_test(test_prefix_layout_same_values),
       cmocka_unit_test(test_generate_at_bad_arguments),
+      cmocka_unit_test(test_fetch_shared_by_threads),
+      cmocka_unit_test(test_fetch_bad_arguments),
       cmocka_unit_test(test_lazy_render_identical),
       cmocka_unit_test(test_lazy_option_refused),
   };

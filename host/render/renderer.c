@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L /* pthread_getcpuclockid */
 /* Render loop: tiles over the sample bounds; the main thread generates each tile's sample
  * vectors on the OpenCL device and merges finished film tiles strictly in tile order, worker
  * threads trace and shade tiles and filter their samples into film tiles. The image is thus
@@ -45,6 +46,13 @@ void clr_render_stats_init(clr_render_stats *s) {
 static double now_seconds(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU seconds of a clock (CLOCK_PROCESS_CPUTIME_ID, CLOCK_THREAD_CPUTIME_ID, a thread's). */
+static double cpu_seconds(clockid_t clock) {
+  struct timespec ts;
+  if (clock_gettime(clock, &ts) != 0) return 0.0;
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -311,11 +319,16 @@ typedef struct render_job {
   const clr_integrator *integrator;
   clr_sampler sampler;
   int lazy; /* bands may hold a prefix of the layout (lazy_allowed), 2: always the same */
-  /* choose_prefix's figures: samples shaded and their vertices per bounce, and the costs of a
-   * generated and of a fetched value (the main thread's and the workers' seconds) */
+  /* choose_prefix's figures: samples shaded and their vertices per bounce, and the CPU costs of
+   * generated values (the process's CPU seconds during generation less the workers') and of
+   * fetched values (the workers' thread CPU seconds in sampled fetches, values of those calls) */
   uint64_t seen_samples, seen_vertices[CLR_COUNTED_BOUNCES];
-  double gen_value_s, fetch_value_s;
-  uint64_t gen_values, fetched_values;
+  double gen_value_s, fetch_cpu_s;
+  uint64_t gen_values, fetch_cpu_values;
+  double fetch_value_s;     /* the workers' wall seconds in fetches (--stats) */
+  clr_sample_fetch fetch;   /* the layout prepared for fetches (lazy), or NULL */
+  clockid_t *worker_clocks; /* the workers' CPU clocks, for the generation's CPU */
+  int nworker_clocks;
   clr_film film;
   int spp;                  /* samples per pixel of this pass */
   int first_sample;         /* the pass's first sample index */
@@ -352,7 +365,9 @@ typedef struct worker_buffers {
   clr_sample_point points[CHUNK_SAMPLES]; /* the chunk's pixels and samples */
   const render_job *job;                  /* for fetch_values */
   double fetch_s;                         /* in fetch_values */
-  uint64_t fetched;                       /* values fetched */
+  uint64_t calls;                         /* fetch_values calls, the CPU-timed ones sampled */
+  double fetch_cpu_s, clock_cost_s;       /* the sampled calls' CPU; one pair of clock reads */
+  uint64_t fetch_cpu_values;              /* values of the sampled calls */
 } worker_buffers;
 
 static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
@@ -366,14 +381,20 @@ static uint64_t sample_key(uint32_t seed, int px, int py, int s) {
 static clr_result fetch_values(void *user, const int32_t *samples, int32_t n, int32_t first_value,
                                int32_t value_count, float *out) {
   worker_buffers *b = user;
-  const clr_integrator *it = b->job->integrator;
   clr_sample_point pts[CHUNK_SAMPLES];
-  for (int32_t j = 0; j < n; ++j) pts[j] = b->points[samples[j]];
   double t0 = now_seconds();
-  clr_result r = clr_sampler_generate_at(b->job->sampler, it->requests, it->request_count, pts, n,
-                                         first_value, value_count, out);
+  /* one call in 16, chosen by a hash (not a stride that could follow the bounces' cycle), is
+   * timed in thread CPU: a clock read is a system call (~0.3-1.7 us here) */
+  int timed = (clr_mix64(++b->calls) & 15) == 0;
+  double c0 = timed ? cpu_seconds(CLOCK_THREAD_CPUTIME_ID) : 0.0;
+  for (int32_t j = 0; j < n; ++j) pts[j] = b->points[samples[j]];
+  clr_result r = clr_sample_fetch_values(b->job->fetch, pts, n, first_value, value_count, out);
+  if (timed) {
+    double c = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - c0 - b->clock_cost_s;
+    b->fetch_cpu_s += c > 0.0 ? c : 0.0;
+    b->fetch_cpu_values += (uint64_t)n * (uint64_t)value_count;
+  }
   b->fetch_s += now_seconds() - t0;
-  b->fetched += (uint64_t)n * (uint64_t)value_count;
   return r;
 }
 
@@ -468,20 +489,35 @@ static double report_tile_figures(render_job *job, clr_integrator_counters *c, w
   job->seen_samples += c->samples;
   for (int k = 0; k < CLR_COUNTED_BOUNCES; ++k) job->seen_vertices[k] += c->bounce_vertices[k];
   job->fetch_value_s += b->fetch_s;
-  job->fetched_values += b->fetched;
+  job->fetch_cpu_s += b->fetch_cpu_s;
+  job->fetch_cpu_values += b->fetch_cpu_values;
   double fetch = b->fetch_s;
   c->samples = 0;
   memset(c->bounce_vertices, 0, sizeof c->bounce_vertices);
-  b->fetch_s = 0.0;
-  b->fetched = 0;
+  b->fetch_s = b->fetch_cpu_s = 0.0;
+  b->fetch_cpu_values = 0;
   return fetch;
+}
+
+/* The thread CPU seconds of a pair of back-to-back clock reads (least of 8), taken off each
+ * timed fetch. */
+static double thread_clock_cost(void) {
+  double least = 1.0;
+  for (int i = 0; i < 8; ++i) {
+    double a = cpu_seconds(CLOCK_THREAD_CPUTIME_ID), d = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - a;
+    if (d < least) least = d;
+  }
+  return least;
 }
 
 static void *worker_main(void *arg) {
   render_job *job = arg;
   clr_integrator_scratch *scratch = clr_integrator_scratch_create();
   worker_buffers *buffers = calloc(1, sizeof *buffers);
-  if (buffers) buffers->job = job;
+  if (buffers) {
+    buffers->job = job;
+    buffers->clock_cost_s = thread_clock_cost();
+  }
   clr_integrator_counters counters;
   memset(&counters, 0, sizeof counters);
   double busy = 0.0, recon = 0.0, fetch = 0.0;
@@ -601,6 +637,13 @@ static clr_result generate_values(const render_job *job, clr_sampler sampler,
   return CLR_SUCCESS;
 }
 
+/* The workers' CPU seconds so far (their thread clocks). */
+static double workers_cpu_seconds(const render_job *job) {
+  double sum = 0.0;
+  for (int i = 0; i < job->nworker_clocks; ++i) sum += cpu_seconds(job->worker_clocks[i]);
+  return sum;
+}
+
 /* Generates band `index` of the grid into band slot `bi` with the layout's prefix holding
  * `bounces` path bounces (or the whole layout), its tiles at tiles[pos...]; returns its tile
  * count in *count. */
@@ -634,9 +677,12 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   batch->first_sample = job->first_sample;
   batch->sample_count = job->spp;
   batch->request_count = band->requests;
-  double t0 = now_seconds();
+  /* PoCL's threads run the kernel beside the workers: its CPU is the process's less theirs */
+  double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), w0 = workers_cpu_seconds(job);
   CLR_CHECK(generate_values(job, sampler, batch, px, band->stride, band->values));
-  job->gen_value_s += now_seconds() - t0;
+  double gen = workers_cpu_seconds(job) - w0;
+  gen = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0 - gen;
+  job->gen_value_s += gen > 0.0 ? gen : 0.0;
   job->gen_values += (uint64_t)need;
   band->pixels = px;
   for (int k = 0; k < n; ++k) {
@@ -678,9 +724,9 @@ static int32_t choose_prefix(const render_job *job) {
   int32_t all = job->integrator->path_bounces_in_layout;
   if (!job->lazy) return all;
   if (job->lazy == 2) return 1;
-  if (!job->seen_samples || !job->gen_values || !job->fetched_values) return 1;
+  if (!job->seen_samples || !job->gen_values || !job->fetch_cpu_values) return 1;
   double ratio = (job->gen_value_s / (double)job->gen_values) /
-                 (job->fetch_value_s / (double)job->fetched_values);
+                 (job->fetch_cpu_s / (double)job->fetch_cpu_values);
   for (int32_t b = 1; b < all; ++b) {
     uint64_t v = job->seen_vertices[b < CLR_COUNTED_BOUNCES ? b : CLR_COUNTED_BOUNCES - 1];
     if ((double)v < ratio * (double)job->seen_samples) return b;
@@ -779,6 +825,14 @@ static clr_result finish_distributed_frame(render_job *job, clr_result r, double
 }
 
 /* Runs the tile pipeline; *partial set when cancelled. */
+/* The integrator's layout prepared once for the workers' fetches (lazy sample vectors). */
+static clr_result prepare_fetch(render_job *job) {
+  job->fetch = NULL;
+  if (!job->lazy) return CLR_SUCCESS;
+  const clr_integrator *it = job->integrator;
+  return clr_sample_fetch_create(job->sampler, it->requests, it->request_count, &job->fetch);
+}
+
 static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
@@ -800,11 +854,22 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   job->tiles = calloc((size_t)(g.ntiles ? g.ntiles : 1), sizeof *job->tiles);
   job->bands = calloc((size_t)job->nbands, sizeof *job->bands);
   pthread_t *threads = calloc((size_t)nthreads, sizeof *threads);
-  if (!job->tiles || !job->bands || !threads) {
+  job->worker_clocks = calloc((size_t)nthreads, sizeof *job->worker_clocks);
+  job->nworker_clocks = 0;
+  if (!job->tiles || !job->bands || !threads || !job->worker_clocks) {
     free(job->tiles);
     free(job->bands);
     free(threads);
+    free(job->worker_clocks);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "render tiles");
+  }
+  clr_result rf = prepare_fetch(job);
+  if (rf != CLR_SUCCESS) {
+    free(job->tiles);
+    free(job->bands);
+    free(threads);
+    free(job->worker_clocks);
+    return rf;
   }
   if (job->dist) {
     clr_result rb = clr_dist_begin_frame(job->dist, bands_per_row(&g) * g.nty, g.ntiles);
@@ -812,6 +877,9 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
       free(job->tiles);
       free(job->bands);
       free(threads);
+      free(job->worker_clocks);
+      clr_sample_fetch_release(job->fetch);
+      job->fetch = NULL;
       return rb;
     }
   }
@@ -821,6 +889,9 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   int started = 0;
   for (; started < nthreads; ++started)
     if (pthread_create(&threads[started], NULL, worker_main, job) != 0) break;
+  for (int i = 0; i < started; ++i) /* no band yet: the workers wait, nobody reads the clocks */
+    if (pthread_getcpuclockid(threads[i], &job->worker_clocks[job->nworker_clocks]) == 0)
+      ++job->nworker_clocks;
   clr_result r = started ? run_pipeline(job, sampler, &g, o, st)
                          : clr_set_last_error(CLR_ERROR_INTERNAL, "pthread_create failed");
   if (!started) job->stop = 1;
@@ -836,6 +907,11 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
   free(job->tiles);
   free(job->bands);
   free(threads);
+  free(job->worker_clocks);
+  job->worker_clocks = NULL;
+  job->nworker_clocks = 0;
+  clr_sample_fetch_release(job->fetch);
+  job->fetch = NULL;
   return r;
 }
 

@@ -211,6 +211,23 @@ CLR_API clr_result clr_sampler_generate_at(clr_sampler sampler, const clr_sample
                                            int32_t count, int32_t first_value, int32_t value_count,
                                            float *values);
 
+/* A layout prepared for repeated fetches (clr_sampler_generate_at without the per-call layout
+ * checks, slot setup and table lookup): create once per layout, fetch from any number of threads
+ * at the same time (the handle is read only after creation; no lock), release when done. The
+ * handle retains its sampler. clr_sample_fetch_create fails as clr_sampler_generate_at does for
+ * the sampler or the layout (NULL sampler or out, a sampler without a global index, a bad
+ * request), naming the argument; *out is NULL then. */
+typedef struct clr_sample_fetch_t *clr_sample_fetch;
+CLR_API clr_result clr_sample_fetch_create(clr_sampler sampler, const clr_sample_request *requests,
+                                           int32_t request_count, clr_sample_fetch *out);
+/* The same floats as clr_sampler_generate_at(sampler, requests, request_count, points, count,
+ * first_value, value_count, values) with the handle's sampler and layout; each point and the
+ * value range are still checked (errors name them). */
+CLR_API clr_result clr_sample_fetch_values(clr_sample_fetch fetch, const clr_sample_point *points,
+                                           int32_t count, int32_t first_value, int32_t value_count,
+                                           float *values);
+CLR_API void clr_sample_fetch_release(clr_sample_fetch fetch);
+
 #ifdef __cplusplus
 }
 #endif

@@ -741,19 +741,18 @@ clr_result clr_sampler_generate(clr_sampler s, const clr_sample_batch *batch,
   return clr_sampler_device_generate(s->device, &p, slots, s->pmj_pixels, out);
 }
 
-/* clr_sampler_generate_at's checks of one point: inside the sample bounds and the spp. */
-static clr_result check_point(clr_sampler s, const clr_sample_point *pt, int32_t i) {
+/* The checks of one point of call `fn`: inside the sample bounds and the spp. */
+static clr_result check_point(clr_sampler s, const char *fn, const clr_sample_point *pt,
+                              int32_t i) {
   const clr_bounds2i ib = s->index_bounds;
   if (pt->x < ib.x0 || pt->x >= ib.x1 || pt->y < ib.y0 || pt->y >= ib.y1)
     return clr_fail(s->ctx, CLR_ERROR_INVALID_PIXEL_RANGE,
-                    "clr_sampler_generate_at: points[%d] pixel (%d, %d) outside the sample "
-                    "bounds [%d,%d)x[%d,%d)",
+                    "%s: points[%d] pixel (%d, %d) outside the sample bounds [%d,%d)x[%d,%d)", fn,
                     (int)i, (int)pt->x, (int)pt->y, (int)ib.x0, (int)ib.x1, (int)ib.y0, (int)ib.y1);
   if (pt->sample < 0 || pt->sample >= s->base.spp)
     return clr_fail(s->ctx, CLR_ERROR_INVALID_SPP,
-                    "clr_sampler_generate_at: points[%d] sample %d outside the %d samples per "
-                    "pixel",
-                    (int)i, (int)pt->sample, (int)s->base.spp);
+                    "%s: points[%d] sample %d outside the %d samples per pixel", fn, (int)i,
+                    (int)pt->sample, (int)s->base.spp);
   return CLR_SUCCESS;
 }
 
@@ -813,28 +812,25 @@ static void global_values_at(const clr_sampler_params *p, const clr_request_slot
   }
 }
 
-clr_result clr_sampler_generate_at(clr_sampler s, const clr_sample_request *requests,
-                                   int32_t request_count, const clr_sample_point *points,
-                                   int32_t count, int32_t first_value, int32_t value_count,
-                                   float *values) {
-  clr_clear_error();
-  if (!s || (count > 0 && (!points || (value_count > 0 && !values))))
-    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate_at: NULL argument");
+/* A layout's checked slots for fetching (clr_sample_fetch_create, clr_sampler_generate_at). */
+struct clr_sample_fetch_t {
+  clr_sampler sampler; /* retained */
+  clr_sampler_params p;
+  clr_request_slot slots[CLR_MAX_REQUESTS];
+  int32_t per_sample;
+  const clr_halton_host_pairs *pairs; /* halton: the sampler's pair tables (halton_pairs) */
+};
+
+/* The layout's checks and slots, without the handle's allocation. */
+static clr_result fetch_prepare(clr_sampler s, const char *fn, const clr_sample_request *requests,
+                                int32_t request_count, struct clr_sample_fetch_t *f) {
   if (!clr_sampler_has_global_index(s))
     return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_sampler_generate_at: the %s sampler has no global index (only pbrt-v3's "
-                    "halton and sobol)",
+                    "%s: the %s sampler has no global index (only pbrt-v3's halton and sobol)", fn,
                     clr_sampler_type_name(s->desc.type));
-  int32_t per_sample = 0, film_request = 0;
-  CLR_CHECK(layout_values(requests, request_count, 0, &per_sample, &film_request));
-  if (count < 0 || first_value < 0 || value_count < 0 ||
-      (int64_t)first_value + value_count > per_sample)
-    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
-                    "clr_sampler_generate_at: %d points, values [%d, %d + %d) outside the "
-                    "layout's %d values",
-                    (int)count, (int)first_value, (int)first_value, (int)value_count,
-                    (int)per_sample);
-  for (int32_t i = 0; i < count; ++i) CLR_CHECK(check_point(s, &points[i], i));
+  int32_t film_request = 0;
+  f->per_sample = 0;
+  CLR_CHECK(layout_values(requests, request_count, 0, &f->per_sample, &film_request));
   clr_sample_batch b; /* a one-sample batch gives the slots and the layout's checks */
   clr_sample_batch_init(&b);
   b.requests = requests;
@@ -842,16 +838,87 @@ clr_result clr_sampler_generate_at(clr_sampler s, const clr_sample_request *requ
   b.pixels = (clr_bounds2i){s->index_bounds.x0, s->index_bounds.y0, s->index_bounds.x0 + 1,
                             s->index_bounds.y0 + 1};
   b.sample_count = 1;
-  clr_sampler_params p;
-  clr_request_slot slots[CLR_MAX_REQUESTS];
-  CLR_CHECK(prepare_batch(s, &b, &p, slots));
-  int32_t r0 = 0, end = first_value + value_count;
-  while (r0 < request_count && slots[r0].first_value + slot_values(&slots[r0]) <= first_value) ++r0;
-  const clr_halton_host_pairs *pairs =
-      p.type == CLR_SAMPLER_TYPE_HALTON && count > 0 && value_count > 0 ? halton_pairs(s, &p, slots)
-                                                                        : NULL;
-  for (int32_t i = 0; i < count && value_count > 0; i += AT_BLOCK)
-    global_values_at(&p, slots, r0, pairs, points + i, count - i < AT_BLOCK ? count - i : AT_BLOCK,
-                     first_value, end, values + (size_t)i * (size_t)value_count);
+  CLR_CHECK(prepare_batch(s, &b, &f->p, f->slots));
+  f->sampler = s;
+  f->pairs = NULL;
   return CLR_SUCCESS;
+}
+
+/* Values [first_value, + value_count) of `count` points through a prepared layout; halton with
+ * `own_pairs`: the pair tables looked up now (else f's, read only: handles are shared). */
+static clr_result fetch_run(const struct clr_sample_fetch_t *f, const char *fn, int own_pairs,
+                            const clr_sample_point *points, int32_t count, int32_t first_value,
+                            int32_t value_count, float *values) {
+  clr_sampler s = f->sampler;
+  if (count < 0 || first_value < 0 || value_count < 0 ||
+      (int64_t)first_value + value_count > f->per_sample)
+    return clr_fail(s->ctx, CLR_ERROR_INVALID_ARGUMENT,
+                    "%s: %d points, values [%d, %d + %d) outside the layout's %d values", fn,
+                    (int)count, (int)first_value, (int)first_value, (int)value_count,
+                    (int)f->per_sample);
+  for (int32_t i = 0; i < count; ++i) CLR_CHECK(check_point(s, fn, &points[i], i));
+  if (count == 0 || value_count == 0) return CLR_SUCCESS;
+  const clr_request_slot *slots = f->slots;
+  int32_t r0 = 0, end = first_value + value_count;
+  while (r0 < f->p.request_count && slots[r0].first_value + slot_values(&slots[r0]) <= first_value)
+    ++r0;
+  const clr_halton_host_pairs *pairs = f->pairs;
+  if (own_pairs && f->p.type == CLR_SAMPLER_TYPE_HALTON) pairs = halton_pairs(s, &f->p, slots);
+  for (int32_t i = 0; i < count; i += AT_BLOCK)
+    global_values_at(&f->p, slots, r0, pairs, points + i,
+                     count - i < AT_BLOCK ? count - i : AT_BLOCK, first_value, end,
+                     values + (size_t)i * (size_t)value_count);
+  return CLR_SUCCESS;
+}
+
+clr_result clr_sampler_generate_at(clr_sampler s, const clr_sample_request *requests,
+                                   int32_t request_count, const clr_sample_point *points,
+                                   int32_t count, int32_t first_value, int32_t value_count,
+                                   float *values) {
+  static const char fn[] = "clr_sampler_generate_at";
+  clr_clear_error();
+  if (!s || (count > 0 && (!points || (value_count > 0 && !values))))
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sampler_generate_at: NULL argument");
+  struct clr_sample_fetch_t f;
+  CLR_CHECK(fetch_prepare(s, fn, requests, request_count, &f));
+  return fetch_run(&f, fn, 1, points, count, first_value, value_count, values);
+}
+
+clr_result clr_sample_fetch_create(clr_sampler s, const clr_sample_request *requests,
+                                   int32_t request_count, clr_sample_fetch *out) {
+  static const char fn[] = "clr_sample_fetch_create";
+  clr_clear_error();
+  if (!out) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sample_fetch_create: NULL out");
+  *out = NULL;
+  if (!s) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sample_fetch_create: NULL sampler");
+  struct clr_sample_fetch_t *f = malloc(sizeof *f);
+  if (!f) return clr_fail(s->ctx, CLR_ERROR_OUT_OF_MEMORY, "clr_sample_fetch_create: handle");
+  clr_result r = fetch_prepare(s, fn, requests, request_count, f);
+  if (r != CLR_SUCCESS) {
+    free(f);
+    return r;
+  }
+  if (f->p.type == CLR_SAMPLER_TYPE_HALTON) f->pairs = halton_pairs(s, &f->p, f->slots);
+  clr_sampler_retain(s);
+  *out = f;
+  return CLR_SUCCESS;
+}
+
+clr_result clr_sample_fetch_values(clr_sample_fetch f, const clr_sample_point *points,
+                                   int32_t count, int32_t first_value, int32_t value_count,
+                                   float *values) {
+  clr_clear_error();
+  if (!f || (count > 0 && (!points || (value_count > 0 && !values))))
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_sample_fetch_values: NULL %s",
+                    !f        ? "fetch"
+                    : !points ? "points"
+                              : "values");
+  return fetch_run(f, "clr_sample_fetch_values", 0, points, count, first_value, value_count,
+                   values);
+}
+
+void clr_sample_fetch_release(clr_sample_fetch f) {
+  if (!f) return;
+  clr_sampler_release(f->sampler);
+  free(f);
 }
