@@ -329,6 +329,7 @@ typedef struct render_job {
   int next_band;                /* the next band to claim when alone */
   clr_film_tile *early;         /* the first early_count tiles, shaded during the device setup */
   int early_count;
+  const atomic_int *early_stop; /* early start: set when the device is ready (the tile stops) */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -422,7 +423,8 @@ static clr_result shade_run(render_job *job, const sample_band *band, worker_buf
   return CLR_SUCCESS;
 }
 
-/* Traces, shades and filters one tile's samples (read from its band) into a new film tile. */
+/* Traces, shades and filters one tile's samples (read from its band) into a new film tile (none
+ * when the early start stopped). */
 static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b,
                              clr_integrator_scratch *scratch, clr_integrator_counters *counters,
                              double *recon_s) {
@@ -450,6 +452,7 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
       size_t run = (size_t)(xe - x) * spp;
       for (size_t base = 0; base < run; base += CHUNK_SAMPLES) {
         int n = (int)(run - base < CHUNK_SAMPLES ? run - base : CHUNK_SAMPLES);
+        if (job->early_stop && atomic_load(job->early_stop)) return CLR_SUCCESS; /* no tile */
         CLR_CHECK(shade_run(job, band, b, scratch, counters, x + (int)(base / spp), py,
                             (int)(base % spp), n, band->values + (first + base) * vps,
                             b->fs + filled + base));
@@ -1151,11 +1154,11 @@ typedef struct scene_build_job {
   double early_seconds;
 } scene_build_job;
 
-/* Whether the early start goes on to tile k of n of the band: the device is not ready, or the
- * tile is forced (the first band and the second's first half: the device then meets a band
+/* Whether the early start goes on to tile k of n of the band: 1 while the device is not ready,
+ * 2 for a forced tile (the first band and the second's first half: the device then meets a band
  * partly shaded). */
 static int early_goes_on(scene_build_job *b, int band, int k, int n) {
-  if (b->early == 2 && (band == 0 || (band == 1 && 2 * k < n))) return 1;
+  if (b->early == 2 && (band == 0 || (band == 1 && 2 * k < n))) return 2;
   return !atomic_load(&b->ready);
 }
 
@@ -1186,14 +1189,19 @@ static clr_result shade_bands_early(scene_build_job *b, render_job *job) {
     r = generate_band(job, job->sampler, &batch, &g, band, pos, 0,
                       job->integrator->path_bounces_in_layout, &n);
     for (int k = 0; r == CLR_SUCCESS && k < n && early_goes_on(b, band, k, n); ++k, ++pos) {
+      job->early_stop = early_goes_on(b, band, k, n) == 2 ? NULL : &b->ready;
+      clr_integrator_counters before = counters;
       double t0 = now_seconds();
       r = shade_tile(job, &job->tiles[pos], wb, scratch, &counters, &recon);
       busy += now_seconds() - t0;
-      if (r == CLR_SUCCESS)
-        job->early[job->early_count++] = job->tiles[pos].film_tile;
-      else
-        film_tile_release(job->tiles[pos].film_tile);
+      clr_film_tile tile = job->tiles[pos].film_tile;
+      if (!tile) counters.rays = before.rays; /* the device traces the stopped tile's rays */
       job->tiles[pos].film_tile = NULL;
+      if (r == CLR_SUCCESS && tile)
+        job->early[job->early_count++] = tile;
+      else
+        film_tile_release(tile);
+      if (!tile) break; /* stopped inside the tile: the device shades it */
     }
   }
   job->trace_s = counters.trace_seconds;
