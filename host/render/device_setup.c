@@ -31,7 +31,7 @@ int clr_device_is_host(const char *device) { return device && strcmp(device, "ho
 /* The host reference: no context, a host film and sampler (nothing loads OpenCL). */
 static clr_result setup_host(clr_device_setup *s, const clr_film_desc *film_desc,
                              const clr_sampler_desc *sampler_desc) {
-  clr_result r = film_desc ? film_create(NULL, film_desc, &s->film) : CLR_SUCCESS;
+  clr_result r = film_create(NULL, film_desc, &s->film);
   if (r == CLR_SUCCESS) r = clr_sampler_create(NULL, sampler_desc, &s->sampler);
   if (r == CLR_SUCCESS) r = warm_sampler(s->sampler, 1);
   return r;
@@ -47,7 +47,7 @@ static clr_result setup(clr_device_setup *s, const clr_context_desc *context_des
     r = clr_kernel_shape_from_name(kernels, &shape);
     if (r == CLR_SUCCESS) r = clr_context_set_kernel_shape(s->ctx, shape);
   }
-  if (r == CLR_SUCCESS && film_desc) r = film_create(s->ctx, film_desc, &s->film);
+  if (r == CLR_SUCCESS) r = film_create(s->ctx, film_desc, &s->film);
   if (r == CLR_SUCCESS) r = clr_sampler_create(s->ctx, sampler_desc, &s->sampler);
   if (r == CLR_SUCCESS) r = warm_sampler(s->sampler, 0);
   return r;
@@ -81,7 +81,7 @@ static void *helper_main(void *arg) {
 clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *context_desc,
                                 const char *kernels, const clr_film_desc *film_desc,
                                 const clr_sampler_desc *sampler_desc, clr_setup_work_fn work,
-                                void *user, atomic_int *ready) {
+                                void *user) {
   memset(s, 0, sizeof *s);
   helper job, tables;
   memset(&job, 0, sizeof job);
@@ -97,7 +97,6 @@ clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *con
   clr_result r = setup(s, context_desc, kernels, film_desc, sampler_desc);
   char message[1024] = "";
   if (r != CLR_SUCCESS) snprintf(message, sizeof message, "%s", clr_last_error_message());
-  if (ready) atomic_store(ready, 1);
   if (job.started)
     pthread_join(job.thread, NULL);
   else

@@ -4,7 +4,6 @@
 #ifndef CLR_DEVICE_SETUP_H
 #define CLR_DEVICE_SETUP_H
 
-#include <stdatomic.h>
 #include "clrender/film.h"
 #include "clrender/sampler.h"
 
@@ -17,17 +16,15 @@ typedef struct clr_device_setup {
 /* Work done on the helper thread; reports failures through the last-error message. */
 typedef clr_result (*clr_setup_work_fn)(void *user);
 
-/* Creates the context (kernel shape `kernels` unless NULL), film (unless film_desc is NULL) and
- * sampler on the calling thread
+/* Creates the context (kernel shape `kernels` unless NULL), film and sampler on the calling thread
  * (PoCL's LLVM leaves per-thread state, an alternate signal stack, that must not meet a thread's
  * exit) and builds the sampler's program, while work(user) runs on a helper thread. The work's
  * failure is reported first, with its message, as when the two ran one after the other; on any
- * failure nothing is left in *s. `ready` (unless NULL) is set to 1 once the setup has ended
- * (succeeded or failed), before the work is joined, so that the work can stop early. */
+ * failure nothing is left in *s. */
 clr_result clr_device_setup_run(clr_device_setup *s, const clr_context_desc *context_desc,
                                 const char *kernels, const clr_film_desc *film_desc,
                                 const clr_sampler_desc *sampler_desc, clr_setup_work_fn work,
-                                void *user, atomic_int *ready);
+                                void *user);
 /* Whether `device` (a --device value) names the host reference ("host"): then the setup makes
  * no context (ctx stays NULL), a host film and a host sampler, and the render draws its samples
  * from the host reference generator (the device's bits) without loading OpenCL. */

@@ -18,7 +18,6 @@ extern "C" {
 typedef int (*clr_render_progress_fn)(void *user, int32_t tiles_done, int32_t tiles_total);
 
 enum { CLR_LAZY_SAMPLES_AUTO = 0, CLR_LAZY_SAMPLES_OFF = 1, CLR_LAZY_SAMPLES_ALWAYS = 2 };
-enum { CLR_EARLY_START_AUTO = 0, CLR_EARLY_START_OFF = 1, CLR_EARLY_START_ALWAYS = 2 };
 
 typedef struct clr_render_options {
   size_t struct_size;   /* sizeof(clr_render_options), set by clr_render_options_init */
@@ -67,12 +66,6 @@ typedef struct clr_render_options {
    * (default): per band, by the measured costs and path survival; _OFF: every vector whole;
    * _ALWAYS: the first bounce up front, deeper ones fetched (tests). */
   int32_t lazy_samples;
-  /* A single-pass render on an OpenCL device may shade its first bands with the host reference's
-   * samples (the device's bits: the image is identical) while the device is set up.
-   * CLR_EARLY_START_AUTO (default): with halton, whose host generator is fast enough, until the
-   * device is ready; _OFF: never; _ALWAYS: at least the first band and the second's first half,
-   * any sampler (tests). */
-  int32_t early_start;
 } clr_render_options;
 
 typedef struct clr_render_stats {

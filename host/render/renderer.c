@@ -327,9 +327,6 @@ typedef struct render_job {
   clr_dist *dist;               /* MPI ranks sharing the frame, or NULL */
   const clr_adaptive *adaptive; /* pixels still sampled (--noise-threshold), or NULL: all */
   int next_band;                /* the next band to claim when alone */
-  clr_film_tile *early;         /* the first early_count tiles, shaded during the device setup */
-  int early_count;
-  const atomic_int *early_stop; /* early start: set when the device is ready (the tile stops) */
   tile_info *tiles;
   sample_band *bands;
   int nbands;
@@ -423,8 +420,7 @@ static clr_result shade_run(render_job *job, const sample_band *band, worker_buf
   return CLR_SUCCESS;
 }
 
-/* Traces, shades and filters one tile's samples (read from its band) into a new film tile (none
- * when the early start stopped). */
+/* Traces, shades and filters one tile's samples (read from its band) into a new film tile. */
 static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b,
                              clr_integrator_scratch *scratch, clr_integrator_counters *counters,
                              double *recon_s) {
@@ -452,7 +448,6 @@ static clr_result shade_tile(render_job *job, tile_info *tile, worker_buffers *b
       size_t run = (size_t)(xe - x) * spp;
       for (size_t base = 0; base < run; base += CHUNK_SAMPLES) {
         int n = (int)(run - base < CHUNK_SAMPLES ? run - base : CHUNK_SAMPLES);
-        if (job->early_stop && atomic_load(job->early_stop)) return CLR_SUCCESS; /* no tile */
         CLR_CHECK(shade_run(job, band, b, scratch, counters, x + (int)(base / spp), py,
                             (int)(base % spp), n, band->values + (first + base) * vps,
                             b->fs + filled + base));
@@ -640,8 +635,7 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   batch->sample_count = job->spp;
   batch->request_count = band->requests;
   double t0 = now_seconds();
-  if (first + n > job->early_count) /* else every tile was shaded early */
-    CLR_CHECK(generate_values(job, sampler, batch, px, band->stride, band->values));
+  CLR_CHECK(generate_values(job, sampler, batch, px, band->stride, band->values));
   job->gen_value_s += now_seconds() - t0;
   job->gen_values += (uint64_t)need;
   band->pixels = px;
@@ -694,22 +688,6 @@ static int32_t choose_prefix(const render_job *job) {
   return all;
 }
 
-/* Tiles [pos, pos + n) of band slot bi that were shaded early are done (under the mutex; early
- * tiles are a prefix of the tile order, so no worker is past them). */
-static void take_early_tiles(render_job *job, int pos, int n, int bi) {
-  for (int t = pos; t < pos + n; ++t) {
-    tile_info *tile = &job->tiles[t];
-    if (tile->index >= job->early_count) continue;
-    tile->film_tile = job->early[tile->index];
-    job->early[tile->index] = NULL;
-    tile->result = CLR_SUCCESS;
-    tile->state = TILE_DONE;
-    if (--job->bands[bi].unfinished == 0) job->bands[bi].in_use = 0;
-  }
-  while (job->next_take < pos + n && job->tiles[job->next_take].state == TILE_DONE)
-    job->next_take++;
-}
-
 /* Main thread: generates bands ahead of the workers and merges finished tiles in claim order
  * (tile order when alone). */
 static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_grid *g,
@@ -745,7 +723,6 @@ static clr_result run_pipeline(render_job *job, clr_sampler sampler, const tile_
       }
       job->bands[bi].unfinished = n;
       for (int t = next_gen; t < next_gen + n; ++t) job->tiles[t].state = TILE_READY;
-      take_early_tiles(job, next_gen, n, bi);
       next_gen += n;
       job->ready_end = next_gen;
       pthread_cond_broadcast(&job->cond);
@@ -801,35 +778,22 @@ static clr_result finish_distributed_frame(render_job *job, clr_result r, double
   return r;
 }
 
-/* The frame's tile grid and bands. */
-static void make_grid(const render_job *job, const clr_render_options *o, tile_grid *g) {
-  g->bounds = job->region;
-  g->size = o->tile_size > 0 ? o->tile_size : 16;
-  g->ntx = (g->bounds.x1 - g->bounds.x0 + g->size - 1) / g->size;
-  g->nty = (g->bounds.y1 - g->bounds.y0 + g->size - 1) / g->size;
-  g->ntiles = g->ntx * g->nty;
-  size_t tile_values = (size_t)g->size * (size_t)g->size * (size_t)job->spp *
-                       (size_t)job->integrator->values_per_sample;
-  size_t fit = BATCH_VALUES_BUDGET / (tile_values ? tile_values : 1);
-  g->band_tiles = fit < 1 ? 1 : fit > (size_t)g->ntx ? g->ntx : (int)fit;
-}
-
-/* Releases the early tiles no band took. */
-static void free_early(render_job *job) {
-  for (int i = 0; i < job->early_count; ++i)
-    if (job->early[i]) film_tile_release(job->early[i]);
-  free(job->early);
-  job->early = NULL;
-  job->early_count = 0;
-}
-
 /* Runs the tile pipeline; *partial set when cancelled. */
 static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
+  (void)sampler;
   job->next_take = job->ready_end = job->busy = job->stop = job->next_band = 0;
   st->tiles_done = 0;
-  make_grid(job, o, &g);
+  g.bounds = job->region;
+  g.size = o->tile_size > 0 ? o->tile_size : 16;
+  g.ntx = (g.bounds.x1 - g.bounds.x0 + g.size - 1) / g.size;
+  g.nty = (g.bounds.y1 - g.bounds.y0 + g.size - 1) / g.size;
+  g.ntiles = g.ntx * g.nty;
+  size_t tile_values = (size_t)g.size * (size_t)g.size * (size_t)job->spp *
+                       (size_t)job->integrator->values_per_sample;
+  size_t fit = BATCH_VALUES_BUDGET / (tile_values ? tile_values : 1);
+  g.band_tiles = fit < 1 ? 1 : fit > (size_t)g.ntx ? g.ntx : (int)fit;
   st->tiles_total = g.ntiles;
   /* one band being generated, enough being shaded to keep every worker busy */
   job->nbands = 2 + (nthreads + g.band_tiles - 1) / g.band_tiles;
@@ -865,7 +829,6 @@ static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_r
     if (job->tiles[i].film_tile) film_tile_release(job->tiles[i].film_tile);
   st->partial = st->tiles_done < g.ntiles;
   if (job->dist) r = finish_distributed_frame(job, r, now_seconds() - t_loop, st);
-  free_early(job);
   for (int i = 0; i < job->nbands; ++i) free(job->bands[i].values);
   if (o->progress && st->tiles_done < g.ntiles) fputc('\n', stderr);
   pthread_cond_destroy(&job->cond);
@@ -1102,37 +1065,7 @@ static int lazy_allowed(const render_job *job, const clr_render_options *o) {
   return o->lazy_samples == CLR_LAZY_SAMPLES_ALWAYS ? 2 : 1;
 }
 
-/* The render's job over the scene, integrator, film and sampler (the main render's and the early
- * start's: the same fields). */
-static void job_init(render_job *job, const clr_render_scene *scene, const clr_integrator *integ,
-                     clr_film film, clr_sampler sampler, const clr_sampler_desc *sd,
-                     const clr_camera_layout *camera, const clr_render_options *o) {
-  memset(job, 0, sizeof *job);
-  job->scene = scene;
-  job->integrator = integ;
-  job->film = film;
-  job->spp = clr_sampler_spp(sampler);
-  job->seed = o->seed;
-  job->camera = *camera;
-  clr_camera_layout_skip(&job->camera, integ->camera_offset, integ->time_offset,
-                         integ->lens_offset);
-  job->region = render_region(sampler, sd);
-  job->sampler = sampler;
-  job->lazy = lazy_allowed(job, o);
-}
-
-/* Whether the first bands may be shaded during the device setup (2: at least the first band):
- * a single-pass render alone on an OpenCL device, with a sampler whose host reference is fast
- * (halton: README, Fixed cost); lazy path vectors are checked once the integrator is made. */
-static int early_allowed(const clr_render_options *o, const clr_sampler_desc *sd) {
-  if (o->early_start == CLR_EARLY_START_OFF || pass_mode(o) || clr_dist_world() ||
-      o->reference_samples || clr_device_is_host(o->device))
-    return 0;
-  if (o->early_start == CLR_EARLY_START_ALWAYS) return 2;
-  return sd->type == CLR_SAMPLER_HALTON;
-}
-
-/* The scene and its integrator, built beside the device setup, then the early start. */
+/* The scene and its integrator, built beside the device setup. */
 typedef struct scene_build_job {
   const clr_scene_desc *d;
   clr_warn_fn warn;
@@ -1142,101 +1075,7 @@ typedef struct scene_build_job {
   clr_render_scene *scene; /* NULL unless both were made */
   clr_integrator integ;
   double seconds;
-  /* the early start: early_allowed's answer, the render's inputs, the device setup's end */
-  int early;
-  const clr_render_options *o;
-  const clr_sampler_desc *sd;
-  const clr_camera_layout *camera;
-  clr_film film;
-  int32_t x_resolution, y_resolution;
-  atomic_int ready;
-  render_job early_job; /* early, early_count and the shading figures */
-  double early_seconds;
 } scene_build_job;
-
-/* Whether the early start goes on to tile k of n of the band: 1 while the device is not ready,
- * 2 for a forced tile (the first band and the second's first half: the device then meets a band
- * partly shaded). */
-static int early_goes_on(scene_build_job *b, int band, int k, int n) {
-  if (b->early == 2 && (band == 0 || (band == 1 && 2 * k < n))) return 2;
-  return !atomic_load(&b->ready);
-}
-
-/* Shades bands from the first, with the host reference's samples (the device's bits), into the
- * early tiles until the device setup ends; tile by tile, so that the device waits little. */
-static clr_result shade_bands_early(scene_build_job *b, render_job *job) {
-  tile_grid g;
-  make_grid(job, b->o, &g);
-  job->nbands = 1;
-  job->tiles = calloc((size_t)(g.ntiles ? g.ntiles : 1), sizeof *job->tiles);
-  job->bands = calloc(1, sizeof *job->bands);
-  job->early = calloc((size_t)(g.ntiles ? g.ntiles : 1), sizeof *job->early);
-  worker_buffers *wb = calloc(1, sizeof *wb);
-  clr_integrator_scratch *scratch = clr_integrator_scratch_create();
-  clr_result r = CLR_SUCCESS;
-  if (!job->tiles || !job->bands || !job->early || !wb || !scratch)
-    r = clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "early start");
-  clr_integrator_counters counters;
-  memset(&counters, 0, sizeof counters);
-  clr_sample_batch batch;
-  clr_sample_batch_init(&batch);
-  batch.requests = job->integrator->requests;
-  double busy = 0.0, recon = 0.0;
-  int total = bands_per_row(&g) * g.nty, pos = 0;
-  for (int band = 0; r == CLR_SUCCESS && band < total && early_goes_on(b, band, 0, 1); ++band) {
-    wb->job = job;
-    int n = 0;
-    r = generate_band(job, job->sampler, &batch, &g, band, pos, 0,
-                      job->integrator->path_bounces_in_layout, &n);
-    for (int k = 0; r == CLR_SUCCESS && k < n && early_goes_on(b, band, k, n); ++k, ++pos) {
-      job->early_stop = early_goes_on(b, band, k, n) == 2 ? NULL : &b->ready;
-      clr_integrator_counters before = counters;
-      double t0 = now_seconds();
-      r = shade_tile(job, &job->tiles[pos], wb, scratch, &counters, &recon);
-      busy += now_seconds() - t0;
-      clr_film_tile tile = job->tiles[pos].film_tile;
-      if (!tile) counters.rays = before.rays; /* the device traces the stopped tile's rays */
-      job->tiles[pos].film_tile = NULL;
-      if (r == CLR_SUCCESS && tile)
-        job->early[job->early_count++] = tile;
-      else
-        film_tile_release(tile);
-      if (!tile) break; /* stopped inside the tile: the device shades it */
-    }
-  }
-  job->trace_s = counters.trace_seconds;
-  job->recon_s = recon;
-  job->shade_s = busy - counters.trace_seconds - recon;
-  job->rays = counters.rays;
-  if (job->bands) free(job->bands[0].values);
-  free(job->bands);
-  free(job->tiles);
-  job->bands = NULL;
-  job->tiles = NULL;
-  if (wb) free(wb->fs);
-  free(wb);
-  clr_integrator_scratch_free(scratch);
-  if (r != CLR_SUCCESS) free_early(job);
-  return r;
-}
-
-/* The early start on the scene-build thread: a host sampler (the device's bits) and the job. */
-static clr_result shade_early(scene_build_job *b) {
-  clr_sampler sampler = NULL;
-  CLR_CHECK(clr_sampler_create(NULL, b->sd, &sampler));
-  render_job *job = &b->early_job;
-  job_init(job, b->scene, &b->integ, b->film, sampler, b->sd, b->camera, b->o);
-  job->host_samples = 1;
-  clr_result r = CLR_SUCCESS;
-  if (!job->lazy) r = clr_render_scene_set_film(b->scene, b->x_resolution, b->y_resolution);
-  if (!job->lazy && r == CLR_SUCCESS) {
-    clr_render_scene_set_samples_per_pixel(b->scene, job->spp);
-    r = shade_bands_early(b, job);
-  }
-  job->sampler = NULL;
-  clr_sampler_release(sampler);
-  return r;
-}
 
 static clr_result build_scene(void *user) {
   scene_build_job *b = user;
@@ -1249,17 +1088,9 @@ static clr_result build_scene(void *user) {
     clr_render_scene_free(scene);
     return r;
   }
-  b->seconds = now_seconds() - t0;
   b->scene = scene;
-  if (!b->early || !early_goes_on(b, 0, 0, 1)) return CLR_SUCCESS;
-  r = shade_early(b);
-  b->early_seconds = now_seconds() - t0 - b->seconds;
-  if (r != CLR_SUCCESS) { /* as a failed build: nothing is left */
-    clr_integrator_free(&b->integ);
-    clr_render_scene_free(scene);
-    b->scene = NULL;
-  }
-  return r;
+  b->seconds = now_seconds() - t0;
+  return CLR_SUCCESS;
 }
 
 clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *opts,
@@ -1275,10 +1106,6 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
                               "clr_render_options.lazy_samples %d (auto 0, off 1, always 2)",
                               (int)o->lazy_samples);
-  if (o->early_start < CLR_EARLY_START_AUTO || o->early_start > CLR_EARLY_START_ALWAYS)
-    return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
-                              "clr_render_options.early_start %d (auto 0, off 1, always 2)",
-                              (int)o->early_start);
   clr_render_stats local;
   clr_render_stats_init(&local);
   clr_render_stats *st = &local;
@@ -1312,8 +1139,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   }
 
   /* The scene is built on a helper thread while this one sets up the OpenCL side
-   * (device_setup.c); then the helper shades the first bands until the device is ready. The film
-   * is the host's (the render adds host tiles), made first for the early tiles. */
+   * (device_setup.c). */
   clr_context_desc cdesc;
   clr_context_desc_init(&cdesc);
   cdesc.device = o->device;
@@ -1343,36 +1169,24 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   build.wu = wu;
   build.sampler_type = sdesc.type;
   build.pbrt_v4 = camera.pbrt_v4;
-  build.early = early_allowed(o, &sdesc);
-  build.o = o;
-  build.sd = &sdesc;
-  build.camera = &camera;
-  build.x_resolution = settings.x_resolution;
-  build.y_resolution = settings.y_resolution;
-  atomic_init(&build.ready, 0);
-  clr_film film = NULL;
-  CLR_CHECK(film_create(NULL, &fd, &film));
-  build.film = film;
   clr_device_setup device;
   double t0 = now_seconds();
-  r = clr_device_setup_run(&device, &cdesc, o->kernels, NULL, &sdesc, build_scene, &build,
-                           &build.ready);
+  r = clr_device_setup_run(&device, &cdesc, o->kernels, &fd, &sdesc, build_scene, &build);
   if (r != CLR_SUCCESS) {
     if (build.scene) { /* the scene was built; the device failed */
-      free_early(&build.early_job);
       clr_integrator_free(&build.integ);
       clr_render_scene_free(build.scene);
     }
-    film_release(film);
     return r;
   }
   clr_render_scene *scene = build.scene;
   clr_integrator integ = build.integ;
   if (!o->quiet) clr_scene_desc_report_unused(d, warn, wu);
   st->seconds_build = build.seconds;
-  st->seconds_device_wait = now_seconds() - t0 - build.seconds - build.early_seconds;
+  st->seconds_device_wait = now_seconds() - t0 - build.seconds;
   clr_context ctx = device.ctx;
   clr_sampler sampler = device.sampler;
+  clr_film film = device.film;
   if (r == CLR_SUCCESS) warn_spp_rounding(d, o, &sdesc, clr_sampler_spp(sampler), warn, wu);
   if (r == CLR_SUCCESS)
     r = clr_render_scene_set_film(scene, settings.x_resolution, settings.y_resolution);
@@ -1382,18 +1196,19 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
   memset(&oi, 0, sizeof oi);
   if (r == CLR_SUCCESS) {
     render_job job;
-    job_init(&job, scene, &integ, film, sampler, &sdesc, &camera, o);
+    memset(&job, 0, sizeof job);
+    job.scene = scene;
+    job.integrator = &integ;
+    job.film = film;
+    job.spp = clr_sampler_spp(sampler);
+    job.seed = o->seed;
     job.host_samples = o->reference_samples != 0 || !ctx; /* --device host */
+    job.camera = camera;
+    clr_camera_layout_skip(&job.camera, integ.camera_offset, integ.time_offset, integ.lens_offset);
+    job.region = render_region(sampler, &sdesc);
     job.dist = clr_dist_world();
-    const render_job *early = &build.early_job; /* its tiles and their figures */
-    job.early = early->early;
-    job.early_count = early->early_count;
-    build.early_job.early = NULL;
-    build.early_job.early_count = 0;
-    job.trace_s = early->trace_s;
-    job.shade_s = early->shade_s;
-    job.recon_s = early->recon_s;
-    job.rays = early->rays;
+    job.sampler = sampler;
+    job.lazy = lazy_allowed(&job, o);
     st->spp = st->spp_target = job.spp;
     st->passes = 1;
     st->threads = nthreads;
@@ -1445,9 +1260,7 @@ clr_result clr_render_desc(const clr_scene_desc *d, const clr_render_options *op
     st->seconds_sample_generation += job.fetch_value_s; /* the workers' fetches, over threads */
     st->seconds_reconstruction = job.recon_s;
     st->rays = job.rays;
-    free_early(&job); /* the render ended before taking them */
   }
-  free_early(&build.early_job);
   clr_render_image im;
   memset(&im, 0, sizeof im);
   int root = clr_dist_rank(clr_dist_world()) == 0; /* the other ranks sent rank 0 their tiles */
