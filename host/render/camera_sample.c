@@ -71,6 +71,15 @@ static void store_sample(const clr_camera_samples *out, int k, const clr_camera_
   out->lens_v[k] = cs->lens_v;
 }
 
+/* out[k] = the k-th vector's value at offset, or fill where offset < 0 (a skipped request). */
+static void gather_or_fill(const float *v, size_t stride, int offset, float fill, int n,
+                           float *out) {
+  if (offset < 0)
+    for (int k = 0; k < n; ++k) out[k] = fill;
+  else
+    for (int k = 0; k < n; ++k) out[k] = v[(size_t)k * stride + (size_t)offset];
+}
+
 /* pbrt-v3's layout: film = pixel + offset, taken there; one pixel's samples at a time. */
 static void v3_samples(const clr_camera_layout *l, const float *v, size_t stride, int px, int py,
                        int s, int spp, int n, const clr_camera_samples *out) {
@@ -84,12 +93,9 @@ static void v3_samples(const clr_camera_layout *l, const float *v, size_t stride
       out->film_y[k] = out->pixel_y[k] = fy + vk[1];
     }
   }
-  for (int k = 0; k < n; ++k) {
-    const float *vk = v + (size_t)k * stride;
-    out->time[k] = l->time_value < 0 ? 0.0f : vk[l->time_value];
-    out->lens_u[k] = l->lens_value < 0 ? 0.5f : vk[l->lens_value];
-    out->lens_v[k] = l->lens_value < 0 ? 0.5f : vk[l->lens_value + 1];
-  }
+  gather_or_fill(v, stride, l->time_value, 0.0f, n, out->time);
+  gather_or_fill(v, stride, l->lens_value, 0.5f, n, out->lens_u);
+  gather_or_fill(v, stride, l->lens_value < 0 ? -1 : l->lens_value + 1, 0.5f, n, out->lens_v);
 }
 
 void clr_camera_samples_from_values(const clr_camera_layout *l, const float *v, size_t stride,
