@@ -60,3 +60,58 @@ void clr_camera_sample_from_values(const clr_camera_layout *l, const float *v, i
   cs->lens_u = l->lens_value < 0 ? 0.5f : v[l->lens_value];
   cs->lens_v = l->lens_value < 0 ? 0.5f : v[l->lens_value + 1];
 }
+
+static void store_sample(const clr_camera_samples *out, int k, const clr_camera_sample *cs) {
+  out->film_x[k] = cs->film_x;
+  out->film_y[k] = cs->film_y;
+  out->pixel_x[k] = cs->pixel_x;
+  out->pixel_y[k] = cs->pixel_y;
+  out->time[k] = cs->time;
+  out->lens_u[k] = cs->lens_u;
+  out->lens_v[k] = cs->lens_v;
+}
+
+/* out[k] = the k-th vector's value at offset, or fill where offset < 0 (a skipped request). */
+static void gather_or_fill(const float *v, size_t stride, int offset, float fill, int n,
+                           float *out) {
+  if (offset < 0)
+    for (int k = 0; k < n; ++k) out[k] = fill;
+  else
+    for (int k = 0; k < n; ++k) out[k] = v[(size_t)k * stride + (size_t)offset];
+}
+
+/* pbrt-v3's layout: film = pixel + offset, taken there; one pixel's samples at a time. */
+static void v3_samples(const clr_camera_layout *l, const float *v, size_t stride, int px, int py,
+                       int s, int spp, int n, const clr_camera_samples *out) {
+  float fy = (float)py;
+  for (int k = 0; k < n; ++px, s = 0) {
+    int end = k + (spp - s < n - k ? spp - s : n - k);
+    float fx = (float)px;
+    for (; k < end; ++k) {
+      const float *vk = v + (size_t)k * stride;
+      out->film_x[k] = out->pixel_x[k] = fx + vk[0];
+      out->film_y[k] = out->pixel_y[k] = fy + vk[1];
+    }
+  }
+  gather_or_fill(v, stride, l->time_value, 0.0f, n, out->time);
+  gather_or_fill(v, stride, l->lens_value, 0.5f, n, out->lens_u);
+  gather_or_fill(v, stride, l->lens_value < 0 ? -1 : l->lens_value + 1, 0.5f, n, out->lens_v);
+}
+
+void clr_camera_samples_from_values(const clr_camera_layout *l, const float *v, size_t stride,
+                                    int px, int py, int s, int spp, int n,
+                                    const clr_camera_samples *out) {
+  if (!l->pbrt_v4) {
+    v3_samples(l, v, stride, px, py, s, spp, n, out);
+    return;
+  }
+  for (int k = 0; k < n; ++k) {
+    clr_camera_sample cs;
+    clr_camera_sample_from_values(l, v + (size_t)k * stride, px, py, &cs);
+    store_sample(out, k, &cs);
+    if (++s == spp) {
+      s = 0;
+      ++px;
+    }
+  }
+}

@@ -3,6 +3,7 @@
 #ifndef CLR_CAMERA_SAMPLE_H
 #define CLR_CAMERA_SAMPLE_H
 
+#include <stddef.h>
 #include "clrender/filter.h"
 #include "clrender/sampler.h"
 
@@ -41,5 +42,17 @@ void clr_camera_layout_skip(clr_camera_layout *layout, int camera_offset, int ti
  * float operations in its order. */
 void clr_camera_sample_from_values(const clr_camera_layout *layout, const float *v, int px, int py,
                                    clr_camera_sample *cs);
+
+/* Camera samples as structure of arrays (each array holds a wave's n entries). */
+typedef struct clr_camera_samples {
+  float *film_x, *film_y, *pixel_x, *pixel_y, *time, *lens_u, *lens_v;
+} clr_camera_samples;
+
+/* The camera samples of n consecutive sample vectors of pixel row py (stride floats apart, v at
+ * the first one's camera values), the first at column px, sample s of spp: each entry as
+ * clr_camera_sample_from_values makes it, the same bits. */
+void clr_camera_samples_from_values(const clr_camera_layout *layout, const float *v, size_t stride,
+                                    int px, int py, int s, int spp, int n,
+                                    const clr_camera_samples *out);
 
 #endif

@@ -406,14 +406,14 @@ static clr_result shade_run(render_job *job, const sample_band *band, worker_buf
                             clr_film_sample *fs) {
   const clr_integrator *it = job->integrator;
   int spp = job->spp;
+  float cam[7][CHUNK_SAMPLES];
+  clr_camera_samples cs = {cam[0], cam[1], cam[2], cam[3], cam[4], cam[5], cam[6]};
+  clr_camera_samples_from_values(&job->camera, values + it->camera_offset, (size_t)band->stride,
+                                 px0, py, s0, spp, n, &cs);
+  clr_render_scene_camera_rays(job->scene, &cs, n, b->rays, b->diffs, b->weights);
   for (int k = 0, px = px0, s = s0; k < n; ++k) {
-    const float *v = values + (size_t)k * (size_t)band->stride;
-    clr_camera_sample cs;
-    clr_camera_sample_from_values(&job->camera, v + it->camera_offset, px, py, &cs);
-    fs[k].x = cs.pixel_x;
-    fs[k].y = cs.pixel_y;
-    b->weights[k] = clr_render_scene_camera_ray(job->scene, cs.film_x, cs.film_y, cs.time,
-                                                cs.lens_u, cs.lens_v, &b->rays[k], &b->diffs[k]);
+    fs[k].x = cs.pixel_x[k];
+    fs[k].y = cs.pixel_y[k];
     b->keys[k] = sample_key(job->seed, px, py, job->first_sample + s);
     b->points[k].x = px;
     b->points[k].y = py;

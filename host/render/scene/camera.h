@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include "clrender/result.h"
 #include "animated_transform.h"
+#include "camera_sample.h"
 #include "ray_differential.h"
 #include "scene_desc.h"
 #include "tracer.h"
@@ -35,5 +36,12 @@ clr_result rs_camera_set_film(rs_camera *cam, int32_t x_resolution, int32_t y_re
  * differential_scale (the orthographic thin lens focuses them as its main ray). */
 float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time, float lens_u,
                     float lens_v, clr_ray *ray, clr_ray_differential *rd);
+
+/* The rays of n camera samples (structure of arrays): rays[k], rd[k] (when rd) and weights[k]
+ * as rs_camera_ray makes them for sample k, the same bits; the pinhole's in waves of
+ * RS_CAMERA_WAVE without a call per ray. */
+#define RS_CAMERA_WAVE 64
+void rs_camera_rays(const rs_camera *cam, const clr_camera_samples *samples, int n, clr_ray *rays,
+                    clr_ray_differential *rd, float *weights);
 
 #endif

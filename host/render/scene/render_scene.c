@@ -122,6 +122,13 @@ float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, f
                        scene->needs_differentials ? rd : NULL);
 }
 
+void clr_render_scene_camera_rays(const clr_render_scene *scene, const clr_camera_samples *samples,
+                                  int n, clr_ray *rays, clr_ray_differential *rd, float *weights) {
+  if (rd)
+    for (int k = 0; k < n; ++k) rd[k].has = 0;
+  rs_camera_rays(&scene->camera, samples, n, rays, scene->needs_differentials ? rd : NULL, weights);
+}
+
 void clr_render_scene_camera_reads(const clr_render_scene *s, int *time, int *lens) {
   int moves = s->camera.motion.animated;
   for (int k = 0; k < s->shape_count && !moves; ++k) moves = s->shapes[k].moving;

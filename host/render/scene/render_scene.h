@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include "clrender/result.h"
 #include "bsdf_lobes.h"
+#include "camera_sample.h"
 #include "lights.h"
 #include "ray_differential.h"
 #include "scene_desc.h"
@@ -51,6 +52,11 @@ void clr_render_scene_set_samples_per_pixel(clr_render_scene *scene, int32_t spp
 float clr_render_scene_camera_ray(const clr_render_scene *scene, float film_x, float film_y,
                                   float time, float lens_u, float lens_v, clr_ray *ray,
                                   clr_ray_differential *rd);
+
+/* clr_render_scene_camera_ray of n camera samples (structure of arrays): rays[k], rd[k] and
+ * weights[k], the same bits; rd may be NULL. */
+void clr_render_scene_camera_rays(const clr_render_scene *scene, const clr_camera_samples *samples,
+                                  int n, clr_ray *rays, clr_ray_differential *rd, float *weights);
 
 /* Which camera sample values the scene's rays depend on: *time when the camera or a shape or an
  * instance moves (a ray's time places them), *lens when the camera has a lens radius. Where 0,
