@@ -568,6 +568,60 @@ static void test_sphere_occlusion_matches_hits(void **state) {
   }
 }
 
+/* With clr_tracer_set_sphere_uv(0) a whole and a partial sphere's hits keep their t, normal and
+ * ids bit for bit (the partial sphere's clipping still reads phi), and carry u = v = 0. */
+static void test_sphere_uv_off_keeps_hits(void **state) {
+  (void)state;
+  float s[16], tr[16], m[16];
+  identity(s);
+  s[0] = 1.5f, s[5] = 0.75f, s[10] = 1.0f;
+  translate(tr, 0.5f, -1.0f, 2.0f);
+  mul(tr, s, m);
+  enum { N = 4000 };
+  clr_ray *rays = calloc(N, sizeof *rays);
+  clr_hit *hits[2] = {calloc(N, sizeof(clr_hit)), calloc(N, sizeof(clr_hit))};
+  assert_true(rays && hits[0] && hits[1]);
+  for (int i = 0; i < N; ++i) {
+    double o[3] = {0.5 + 8 * rnd() - 4, -1.0 + 8 * rnd() - 4, 2.0 + 8 * rnd() - 4};
+    double target[3] = {0.5 + 3 * rnd() - 1.5, -1.0 + 3 * rnd() - 1.5, 2.0 + 3 * rnd() - 1.5};
+    rays[i] = make_ray((float)o[0], (float)o[1], (float)o[2], (float)(target[0] - o[0]),
+                       (float)(target[1] - o[1]), (float)(target[2] - o[2]), 0.0f, INFINITY);
+  }
+  for (int partial = 0; partial < 2; ++partial) {
+    int hit_count = 0;
+    for (int with_uv = 0; with_uv < 2; ++with_uv) {
+      clr_tracer t;
+      assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
+      assert_int_equal(clr_tracer_set_sphere_uv(t, with_uv), CLR_SUCCESS);
+      if (partial)
+        assert_int_equal(clr_tracer_add_partial_sphere(t, 0, m, 2.0f, -1.2f, 1.5f, 250.0f, 3, NULL),
+                         CLR_SUCCESS);
+      else
+        assert_int_equal(clr_tracer_add_sphere(t, 0, m, 2.0f, 3, NULL), CLR_SUCCESS);
+      assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
+      assert_int_equal(clr_tracer_intersect(t, rays, hits[with_uv], N), CLR_SUCCESS);
+      clr_tracer_release(t);
+    }
+    for (int i = 0; i < N; ++i) {
+      clr_hit *a = &hits[0][i], *b = &hits[1][i];
+      assert_int_equal(a->geom_id, b->geom_id);
+      if (a->geom_id == CLR_TRACER_INVALID_ID) continue;
+      ++hit_count;
+      assert_true(a->u == 0.0f && a->v == 0.0f);
+      assert_true(b->u >= 0.0f && b->u <= 1.0f && b->v >= 0.0f && b->v <= 1.0f);
+      if (memcmp(&a->t, &b->t, sizeof a->t) || memcmp(a->ng, b->ng, sizeof a->ng) ||
+          a->user_id != b->user_id || a->prim_id != b->prim_id)
+        fail_msg("%s sphere, ray %d: t %a / %a", partial ? "partial" : "whole", i, (double)a->t,
+                 (double)b->t);
+    }
+    assert_true(hit_count > N / 10);
+  }
+  assert_int_equal(clr_tracer_set_sphere_uv(NULL, 0), CLR_ERROR_NULL_POINTER);
+  free(rays);
+  free(hits[0]);
+  free(hits[1]);
+}
+
 typedef struct thread_job {
   clr_tracer tracer;
   const clr_ray *rays;
@@ -816,6 +870,7 @@ int main(void) {
       cmocka_unit_test(test_packets_equal_single),
       cmocka_unit_test(test_occlusion_tfar),
       cmocka_unit_test(test_sphere_occlusion_matches_hits),
+      cmocka_unit_test(test_sphere_uv_off_keeps_hits),
       cmocka_unit_test(test_threads),
       cmocka_unit_test(test_motion_instance),
       cmocka_unit_test(test_bad_input),

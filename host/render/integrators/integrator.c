@@ -538,9 +538,11 @@ static int is_black(const float c[3]) { return c[0] == 0.0f && c[1] == 0.0f && c
 /* ---------- primary hits (material "none" surfaces are skipped) ---------- */
 
 /* Intersects rays[0..count) (in scratch->rays2) and fills surfaces; hit[i].geom_id says miss.
- * diffs (or NULL): the rays' differentials, lost past a material "none" as in pbrt-v3. */
+ * diffs (or NULL): the rays' differentials, lost past a material "none" as in pbrt-v3. geometry:
+ * only what AO reads (clr_render_scene_surface_geometry). */
 static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch *s, int count,
-                              const clr_ray_differential *diffs, clr_integrator_counters *c) {
+                              const clr_ray_differential *diffs, int geometry,
+                              clr_integrator_counters *c) {
   int pending = count;
   for (int i = 0; i < count; ++i) s->owner[i] = i;
   for (int round = 0; pending > 0 && round < MAX_NULL_SURFACES; ++round) {
@@ -552,8 +554,11 @@ static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch
       int i = s->owner[k];
       s->surfaces[i].has_material = -1; /* miss marker */
       if (h[k].geom_id == CLR_TRACER_INVALID_ID) continue;
-      clr_render_scene_surface_differential(sc, &s->rays[k], round == 0 && diffs ? &diffs[i] : NULL,
-                                            &h[k], &s->surfaces[i]);
+      if (geometry)
+        clr_render_scene_surface_geometry(sc, &s->rays[k], &h[k], &s->surfaces[i]);
+      else
+        clr_render_scene_surface_differential(
+            sc, &s->rays[k], round == 0 && diffs ? &diffs[i] : NULL, &h[k], &s->surfaces[i]);
       if (!s->surfaces[i].has_material) {
         float d[3] = {s->rays[k].dx, s->rays[k].dy, s->rays[k].dz};
         clr_render_scene_spawn_ray(&s->surfaces[i], d, &s->rays2[i]);
@@ -789,7 +794,7 @@ static int choose_light(const clr_integrator *it, const float *cdf, float u, flo
 static clr_result li_ao(const clr_integrator *it, const clr_render_scene *sc,
                         clr_integrator_scratch *s, const float *values, int count, float *L,
                         clr_integrator_counters *c) {
-  intersect_visible(sc, s, count, NULL, c);
+  intersect_visible(sc, s, count, NULL, 1, c);
   int n = it->ao_samples;
   CLR_CHECK(reserve_rays(s, (size_t)count * (size_t)n));
   /* directions first, with each one's Dot(wi,n)/(pdf n) term, then one occlusion query; the
@@ -1073,7 +1078,7 @@ static clr_result li_direct(const clr_integrator *it, const clr_render_scene *sc
     if (r == CLR_SUCCESS) r = reserve_rays(s, (size_t)n);
     if (r == CLR_SUCCESS) r = reserve_jobs(s, (size_t)n * per + 1);
     if (r != CLR_SUCCESS) break;
-    intersect_visible(sc, s, n, cur, c);
+    intersect_visible(sc, s, n, cur, 0, c);
     r = direct_wave(it, sc, s, values, keys, n, map, depth, Lk, cont, next, cur, cur ? nextd : NULL,
                     factor, c);
     if (r != CLR_SUCCESS) break;

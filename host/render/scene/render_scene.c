@@ -39,6 +39,7 @@ struct clr_render_scene {
   float world_center[3];
   float world_lo[3], world_hi[3]; /* pbrt-v3 Scene::WorldBound */
   int needs_differentials;        /* some shape's surface uses ray differentials */
+  int reads_uv;                   /* some texture (only these read a surface's (u, v)) exists */
 };
 
 static void rs_xform_m16(const clr_transform *t, float out[16]) {
@@ -770,7 +771,10 @@ clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, voi
   clr_result r = clr_tracer_create(&s->tracer);
   if (r == CLR_SUCCESS) r = rs_camera_build(&s->camera, d, warn, wu);
   if (r == CLR_SUCCESS) r = rs_textures_build(&s->textures, d, warn, wu);
+  s->reads_uv = s->textures.count > 0;
   if (r == CLR_SUCCESS) r = build_materials(s, d);
+  /* sphere hits' (u, v) go unread: surfaces take them from the point (sphere_surface) */
+  if (r == CLR_SUCCESS) r = clr_tracer_set_sphere_uv(s->tracer, 0);
   if (r == CLR_SUCCESS) r = build_shapes(s, d, warn, wu, object_group);
   if (r == CLR_SUCCESS) r = build_instances(s, d, object_group);
   if (r == CLR_SUCCESS) {
@@ -862,8 +866,25 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
   }
 }
 
+/* pbrt-v3 Sphere's (u, v) at object point po (over the clipped ranges of a partial sphere). */
+static void sphere_uv(const rs_shape *sh, const float po[3], float uv[2]) {
+  float phi = atan2f(po[1], po[0]);
+  if (phi < 0.0f) phi += 2.0f * RS_PI;
+  float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / sh->radius));
+  uv[0] = phi / (2.0f * RS_PI);
+  uv[1] = 1.0f - acosf(ct) / RS_PI;
+  if (sh->partial) {
+    float tz0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmin / sh->radius)));
+    float tz1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmax / sh->radius)));
+    uv[0] = phi / sh->phimax;
+    uv[1] = (acosf(ct) - tz0) / (tz1 - tz0);
+  }
+}
+
+/* uv (phi, theta) only when want_uv, else 0, 0 (nothing else depends on them). */
 static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const clr_ray *ray,
-                           const clr_hit *hit, float p[3], float n[3], float uv[2], float dpdu[3]) {
+                           const clr_hit *hit, int want_uv, float p[3], float n[3], float uv[2],
+                           float dpdu[3]) {
   float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
                  ray->oz + hit->t * ray->dz};
   float po[3];
@@ -873,17 +894,10 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
   if (len > 0.0f)
     for (int i = 0; i < 3; ++i) po[i] *= sh->radius / len;
   if (po[0] == 0.0f && po[1] == 0.0f) po[0] = 1e-5f * sh->radius;
-  float phi = atan2f(po[1], po[0]);
-  if (phi < 0.0f) phi += 2.0f * RS_PI;
-  float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / sh->radius));
-  uv[0] = phi / (2.0f * RS_PI);
-  uv[1] = 1.0f - acosf(ct) / RS_PI;
+  uv[0] = uv[1] = 0.0f;
+  if (want_uv) sphere_uv(sh, po, uv);
   float du_o[3] = {-2.0f * RS_PI * po[1], 2.0f * RS_PI * po[0], 0.0f};
-  if (sh->partial) { /* pbrt-v3's (u, v) over the clipped ranges */
-    float tz0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmin / sh->radius)));
-    float tz1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmax / sh->radius)));
-    uv[0] = phi / sh->phimax;
-    uv[1] = (acosf(ct) - tz0) / (tz1 - tz0);
+  if (sh->partial) {
     du_o[0] = -sh->phimax * po[1];
     du_o[1] = sh->phimax * po[0];
   }
@@ -1097,23 +1111,24 @@ void clr_render_scene_surface(const clr_render_scene *s, const clr_ray *ray, con
   clr_render_scene_surface_differential(s, ray, NULL, hit, out);
 }
 
-void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_ray *ray,
-                                           const clr_ray_differential *rd, const clr_hit *hit,
-                                           clr_surface *out) {
-  const rs_shape *sh = &s->shapes[hit->user_id];
+/* A hit's point, normal n (oriented as the shape's), shading normal ns (when *has_ns), (u, v) (0, 0
+ * for a sphere unless want_uv) and dpdu, all in world space; the instance's (or moving shape's)
+ * transform, or NULL, is returned (*moved holds it when it moves). */
+static const clr_transform *hit_geometry(const clr_render_scene *s, const rs_shape *sh,
+                                         const clr_ray *ray, const clr_hit *hit, int want_uv,
+                                         clr_transform *moved, float p[3], float n[3], float ns[3],
+                                         int *has_ns, float uv[2], float dpdu[3]) {
   const clr_transform *inst = NULL;
-  clr_transform moved;
   uint32_t inst_user = CLR_TRACER_INVALID_ID;
   if (hit->inst_id != CLR_TRACER_INVALID_ID &&
       clr_tracer_instance_info(s->tracer, hit->inst_id, NULL, &inst_user) == CLR_SUCCESS &&
       inst_user < (uint32_t)s->instance_count)
     inst = &s->instances[inst_user].start;
   int moves = sh->moving || (inst && s->instances[inst_user].moving);
-  if (moves && moving_transform(s, hit, &moved)) inst = &moved;
-  float p[3], n[3], ns[3], uv[2], dpdu[3];
-  int has_ns = 0;
+  if (moves && moving_transform(s, hit, moved)) inst = moved;
+  *has_ns = 0;
   if (sh->type == RS_SHAPE_MESH) {
-    mesh_surface(sh, hit, p, n, ns, &has_ns, uv, dpdu);
+    mesh_surface(sh, hit, p, n, ns, has_ns, uv, dpdu);
     if (inst) {
       float q[3];
       clr_transform_point(inst, p, q);
@@ -1123,9 +1138,9 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
       rs_normalize(n);
       clr_transform_vector(inst, dpdu, q);
       memcpy(dpdu, q, sizeof q);
-      if (has_ns) {
+      if (*has_ns) {
         clr_transform_normal(inst, ns, q);
-        memcpy(ns, q, sizeof q);
+        memcpy(ns, q, 3 * sizeof *ns);
       }
     }
   } else if (sh->type == RS_SHAPE_DISK) {
@@ -1139,8 +1154,43 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
     if (sh->flip_normal) negate(n);
   } else {
     clr_transform o2w = inst ? clr_transform_compose(inst, own_transform(sh)) : *own_transform(sh);
-    sphere_surface(sh, &o2w, ray, hit, p, n, uv, dpdu);
+    sphere_surface(sh, &o2w, ray, hit, want_uv, p, n, uv, dpdu);
   }
+  return inst;
+}
+
+/* The geometric normal facing the side the ray came from. */
+static void facing_normal(const clr_ray *ray, const float n[3], float ng[3]) {
+  float wo[3] = {-ray->dx, -ray->dy, -ray->dz};
+  memcpy(ng, n, 3 * sizeof *ng);
+  if (rs_dot(ng, wo) < 0.0f) negate(ng);
+}
+
+void clr_render_scene_surface_geometry(const clr_render_scene *s, const clr_ray *ray,
+                                       const clr_hit *hit, clr_surface *out) {
+  const rs_shape *sh = &s->shapes[hit->user_id];
+  if (sh->has_material && sh->bump.texture >= 0) { /* a bump map may turn dpdu */
+    clr_render_scene_surface_differential(s, ray, NULL, hit, out);
+    return;
+  }
+  clr_transform moved;
+  float ns[3];
+  int has_ns;
+  hit_geometry(s, sh, ray, hit, 0, &moved, out->p, out->n_geom, ns, &has_ns, out->uv, out->dpdu);
+  facing_normal(ray, out->n_geom, out->ng);
+  out->has_material = sh->has_material;
+  out->time = ray->time;
+}
+
+void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_ray *ray,
+                                           const clr_ray_differential *rd, const clr_hit *hit,
+                                           clr_surface *out) {
+  const rs_shape *sh = &s->shapes[hit->user_id];
+  clr_transform moved;
+  float p[3], n[3], ns[3], uv[2], dpdu[3];
+  int has_ns;
+  const clr_transform *inst =
+      hit_geometry(s, sh, ray, hit, s->reads_uv, &moved, p, n, ns, &has_ns, uv, dpdu);
   rs_tex_ctx tc = rs_tex_ctx_at(uv, p);
   int bump = sh->has_material && sh->bump.texture >= 0;
   float geo_dpdv[3];
@@ -1168,8 +1218,7 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
   memcpy(out->uv, uv, sizeof uv);
   memcpy(out->dpdu, dpdu, sizeof dpdu);
   float wo[3] = {-ray->dx, -ray->dy, -ray->dz};
-  memcpy(out->ng, n, sizeof n);
-  if (rs_dot(out->ng, wo) < 0.0f) negate(out->ng);
+  facing_normal(ray, n, out->ng);
   if (has_ns) {
     rs_normalize(ns);
     memcpy(out->ns, ns, sizeof ns);

@@ -106,6 +106,11 @@ void clr_render_scene_surface_differential(const clr_render_scene *scene, const 
                                            const clr_ray_differential *rd, const clr_hit *hit,
                                            clr_surface *s);
 
+/* What AO reads of the surface (pbrt-v3 AOIntegrator: p, ng, n_geom, dpdu, has_material, time),
+ * equal to clr_render_scene_surface's; the other fields are left as they were. */
+void clr_render_scene_surface_geometry(const clr_render_scene *scene, const clr_ray *ray,
+                                       const clr_hit *hit, clr_surface *s);
+
 /* --- lights --- */
 int32_t clr_render_scene_light_count(const clr_render_scene *scene);
 

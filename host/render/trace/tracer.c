@@ -27,6 +27,7 @@ typedef struct sphere_shape { /* Embree's user data for one sphere: a stable hea
   affine object_to_group;
   double radius;
   int partial; /* pbrt-v3 zmin/zmax/phimax clip the sphere */
+  int uv;      /* hits carry (u, v) (else 0, 0: no atan2 and acos for them) */
   double zmin, zmax, phimax, theta_zmin, theta_zmax;
 } sphere_shape;
 
@@ -66,6 +67,7 @@ struct clr_tracer_t {
   group *groups;
   int32_t group_count, group_capacity;
   int committed;
+  int sphere_uv; /* spheres added now get hits with (u, v) (clr_tracer_set_sphere_uv) */
   pthread_mutex_t error_lock; /* guards the message recorded by the error callback */
   char error_message[256];
 };
@@ -194,8 +196,10 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
     double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
     if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
-    phi = atan2(p[1], p[0]);
-    if (phi < 0.0) phi += 2.0 * PI_D;
+    if (s->partial || s->uv) { /* phi only clips and makes u */
+      phi = atan2(p[1], p[0]);
+      if (phi < 0.0) phi += 2.0 * PI_D;
+    }
     /* pbrt-v3 Sphere::Intersect: a clipped first root tries the second */
     if (s->partial && ((s->zmin > -s->radius && p[2] < s->zmin) ||
                        (s->zmax < s->radius && p[2] > s->zmax) || phi > s->phimax))
@@ -205,7 +209,9 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
   if (!found || !hit) return found;
   double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
   hit->t = (float)t;
-  if (s->partial) {
+  if (!s->uv) {
+    hit->u = hit->v = 0.0f;
+  } else if (s->partial) {
     hit->u = (float)(phi / s->phimax);
     hit->v = (float)((acos(cos_theta) - s->theta_zmin) / (s->theta_zmax - s->theta_zmin));
   } else {
@@ -468,6 +474,7 @@ clr_result clr_tracer_create(clr_tracer *out) {
   *out = NULL;
   struct clr_tracer_t *t = calloc(1, sizeof *t);
   if (!t) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "clr_tracer_create: out of memory");
+  t->sphere_uv = 1;
   if (pthread_mutex_init(&t->error_lock, NULL) != 0) {
     free(t);
     return clr_set_last_error(CLR_ERROR_INTERNAL, "clr_tracer_create: pthread_mutex_init failed");
@@ -655,6 +662,13 @@ static clr_result attach_user(struct clr_tracer_t *t, int32_t g, geom_record *re
   return attach(t, g, geom, record, geom_id);
 }
 
+clr_result clr_tracer_set_sphere_uv(clr_tracer t, int with_uv) {
+  if (!t)
+    return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_set_sphere_uv: tracer is NULL");
+  t->sphere_uv = with_uv != 0;
+  return CLR_SUCCESS;
+}
+
 clr_result clr_tracer_add_sphere(clr_tracer t, int32_t g, const float object_to_group[16],
                                  float radius, uint32_t user_id, uint32_t *geom_id) {
   return clr_tracer_add_partial_sphere(t, g, object_to_group, radius, -radius, radius, 360.0f,
@@ -680,6 +694,7 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float ob
     double pm = fmin(fmax((double)phimax_deg, 0.0), 360.0) * PI_D / 180.0;
     sphere_shape *sp = record.sphere;
     sp->partial = !(z0 <= -r && z1 >= r && pm >= 2.0 * PI_D);
+    sp->uv = t->sphere_uv;
     sp->zmin = z0;
     sp->zmax = z1;
     sp->phimax = pm;

@@ -55,6 +55,12 @@ clr_result clr_tracer_new_group(clr_tracer tracer, int32_t *group_id);
 clr_result clr_tracer_add_mesh(clr_tracer tracer, int32_t group, const clr_mesh *mesh,
                                uint32_t user_id, uint32_t *geom_id);
 
+/* Whether the spheres added from now on give their hits (u, v) (the default, 1). With 0 their
+ * hits carry u = v = 0 and skip the atan2 and acos (the t, normal and the partial spheres' clipping
+ * are unchanged): for callers that never read a sphere hit's (u, v) (clr_tracer_mesh_interpolate
+ * does). */
+clr_result clr_tracer_set_sphere_uv(clr_tracer tracer, int with_uv);
+
 /* Adds pbrt-v3's full sphere of `radius` around the origin of object space, placed in the group
  * by the row-major affine 4x4 `object_to_group` (any invertible affine map: scaled, rotated,
  * sheared; bottom row must be 0 0 0 1). Intersected exactly (double-precision quadratic in
