@@ -19,6 +19,7 @@
 #define CLR_GLOBAL_SAMPLER_SIMD_H
 
 #include "global_sampler_funcs.h"
+#include "lane_math.h"
 
 #define CLR_LANES 8
 
@@ -26,16 +27,6 @@
 
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
-
-/* (a * m) >> 32 per lane in four 64-bit products of even and of odd lanes (AVX2: two vpmuludq
- * and no repacking; the library's mul_hi goes through 16-bit halves). */
-CLR_SIMD_INLINE uint8 clr_mul_hi8(uint8 a, uint m) {
-  const ulong low_half = 0xFFFFFFFFul;
-  ulong4 pairs = as_ulong4(a);
-  ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
-  ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
-  return as_uint8(even | odd);
-}
 
 /* (a * m) >> shift per lane for a < 2^31 and shift >= 31: mul_hi(2a, m) >> (shift - 31). */
 CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {

@@ -10,6 +10,7 @@
 #define CLR_PIXEL_SAMPLER_SIMD_H
 
 #include "pixel_sampler_funcs.h"
+#include "lane_math.h"
 
 #define CLR_PIXEL_LANES 8
 
@@ -71,16 +72,6 @@ CLR_LANE_INLINE void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
   r->state_hi = acc_mult * r->state_hi + acc_plus * r->inc_hi;
 }
 
-/* mul_hi(a, m) per lane from 64-bit products of the even and odd lanes (PoCL's mul_hi(uint8)
- * goes through 16-bit halves). */
-CLR_LANE_INLINE uint8 clr_mul_hi_x8(uint8 a, uint m) {
-  const ulong low_half = 0xFFFFFFFFul;
-  ulong4 pairs = as_ulong4(a);
-  ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
-  ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
-  return as_uint8(even | odd);
-}
-
 /* any(m) by OR-ing halves (PoCL's any() tests the lanes one by one with branches). */
 CLR_LANE_INLINE int clr_any8(int8 m) {
   int4 m4 = m.lo | m.hi;
@@ -101,7 +92,7 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const
     v = select(v, w, rejected);
     rejected = rejected & (v < threshold);
   }
-  uint8 t = clr_mul_hi_x8(v, k.y);
+  uint8 t = clr_mul_hi8(v, k.y);
   uint8 q = (t + ((v - t) >> k.z)) >> k.w;
   return v - q * b;
 }

@@ -12,6 +12,7 @@
 #include "global_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
 #include "pbrt_v4_sampler_funcs.h"
+#include "lane_math.h"
 
 #ifdef CLR_SAMPLER_V4
 /* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1), one shape for SIMD and
