@@ -14,6 +14,7 @@
 #include "camera_sample.h"
 #include "scene_parser.h"
 #include "scene_test_util.h"
+#include "camera_layout_test_util.h"
 
 #define N 203 /* three waves and a part */
 #define XRES 48
@@ -170,19 +171,6 @@ static void test_orthographic(void **state) {
       "[2]\nWorldBegin\nWorldEnd\n",
       &cam);
   assert_wave_matches(&cam);
-}
-
-static clr_camera_layout layout_for(clr_sampler_type sampler, clr_seeding seeding,
-                                    clr_filter_type filter, float radius) {
-  clr_sampler_desc sd;
-  clr_sampler_desc_init(&sd, sampler);
-  sd.seeding = seeding;
-  clr_filter_desc fd;
-  clr_filter_desc_init(&fd, filter);
-  if (radius > 0.0f) fd.radius[0] = fd.radius[1] = radius;
-  clr_camera_layout l;
-  clr_camera_layout_init(&l, &sd, &fd);
-  return l;
 }
 
 /* One layout's wave samples against clr_camera_sample_from_values for runs of n samples from

@@ -18,18 +18,7 @@
 #include "film_funcs.h"
 #include "film_internal.h"
 
-static clr_context ctx;
-
-static int setup(void **state) {
-  (void)state;
-  return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  clr_context_release(ctx);
-  return 0;
-}
+#include "context_fixture.h"
 
 /* One film configuration. */
 typedef struct config {

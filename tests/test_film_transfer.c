@@ -14,18 +14,7 @@
 #include "clrender.h"
 #include "clrender/film.h"
 
-static clr_context ctx;
-
-static int setup(void **state) {
-  (void)state;
-  return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  clr_context_release(ctx);
-  return 0;
-}
+#include "context_fixture.h"
 
 static clr_film make_film(int xres, int yres, float radius) {
   clr_film_desc d;

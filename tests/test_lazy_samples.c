@@ -16,18 +16,7 @@
 #include "renderer.h"
 #include "scene_parser.h"
 
-static clr_context ctx;
-
-static int setup(void **state) {
-  (void)state;
-  return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  clr_context_release(ctx);
-  return 0;
-}
+#include "context_fixture.h"
 
 /* The path tracer's layout at maxdepth 6: the camera (2, 1, 2), bounces 0-3 (1, 2, 2, 2) and
  * bounces 4-5 with Russian roulette's 1D: 5 + 4 * 7 + 2 * 8 = 49 values. */

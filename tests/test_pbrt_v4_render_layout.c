@@ -18,6 +18,7 @@
 #include "render_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "camera_layout_test_util.h"
 
 static const char *path_scene =
     "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [50]\n"
@@ -96,19 +97,6 @@ static void test_layout_requests(void **state) {
     clr_integrator_free(&v4);
     parsed_free(&p);
   }
-}
-
-static clr_camera_layout layout_for(clr_sampler_type sampler, clr_seeding seeding,
-                                    clr_filter_type filter, float radius) {
-  clr_sampler_desc sd;
-  clr_sampler_desc_init(&sd, sampler);
-  sd.seeding = seeding;
-  clr_filter_desc fd;
-  clr_filter_desc_init(&fd, filter);
-  if (radius > 0.0f) fd.radius[0] = fd.radius[1] = radius;
-  clr_camera_layout l;
-  clr_camera_layout_init(&l, &sd, &fd);
-  return l;
 }
 
 /* pbrt-v4's GetCameraSample with its default box filter (radius 0.5): pPixel + Lerp(u, -0.5,

@@ -10,18 +10,7 @@
 #include <cmocka.h>
 #include "clrender.h"
 
-static clr_context ctx;
-
-static int setup(void **state) {
-  (void)state;
-  return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  clr_context_release(ctx);
-  return 0;
-}
+#include "context_fixture.h"
 
 /* Camera (2,1,2) then an integrator's 1D, 2D, 2D: 10 values. */
 static const clr_sample_request camera10[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}, {2, 0}, {2, 0}};

@@ -15,18 +15,7 @@
 #define SKIP CLR_SAMPLE_REQUEST_SKIPPED
 #define NREQ 13
 
-static clr_context ctx;
-
-static int setup(void **state) {
-  (void)state;
-  return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  clr_context_release(ctx);
-  return 0;
-}
+#include "context_fixture.h"
 
 /* Camera (film, time, lens), arrays of both kinds, singles past stratified's 4 dimensions (RNG
  * fallbacks of the pixel samplers): 40 values. */
