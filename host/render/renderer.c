@@ -43,18 +43,15 @@ void clr_render_stats_init(clr_render_stats *s) {
   s->struct_size = sizeof *s;
 }
 
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* CPU seconds of a clock (CLOCK_PROCESS_CPUTIME_ID, CLOCK_THREAD_CPUTIME_ID, a thread's). */
-static double cpu_seconds(clockid_t clock) {
+/* Seconds of a clock (CLOCK_MONOTONIC, CLOCK_PROCESS_CPUTIME_ID, CLOCK_THREAD_CPUTIME_ID, a
+ * thread's); 0 when it can't be read. */
+static double clock_seconds(clockid_t clock) {
   struct timespec ts;
   if (clock_gettime(clock, &ts) != 0) return 0.0;
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+static double now_seconds(void) { return clock_seconds(CLOCK_MONOTONIC); }
 
 typedef struct warn_sink {
   int quiet;
@@ -386,11 +383,11 @@ static clr_result fetch_values(void *user, const int32_t *samples, int32_t n, in
   /* one call in 16, chosen by a hash (not a stride that could follow the bounces' cycle), is
    * timed in thread CPU: a clock read is a system call (~0.3-1.7 us here) */
   int timed = (clr_mix64(++b->calls) & 15) == 0;
-  double c0 = timed ? cpu_seconds(CLOCK_THREAD_CPUTIME_ID) : 0.0;
+  double c0 = timed ? clock_seconds(CLOCK_THREAD_CPUTIME_ID) : 0.0;
   for (int32_t j = 0; j < n; ++j) pts[j] = b->points[samples[j]];
   clr_result r = clr_sample_fetch_values(b->job->fetch, pts, n, first_value, value_count, out);
   if (timed) {
-    double c = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - c0 - b->clock_cost_s;
+    double c = clock_seconds(CLOCK_THREAD_CPUTIME_ID) - c0 - b->clock_cost_s;
     b->fetch_cpu_s += c > 0.0 ? c : 0.0;
     b->fetch_cpu_values += (uint64_t)n * (uint64_t)value_count;
   }
@@ -504,7 +501,8 @@ static double report_tile_figures(render_job *job, clr_integrator_counters *c, w
 static double thread_clock_cost(void) {
   double least = 1.0;
   for (int i = 0; i < 8; ++i) {
-    double a = cpu_seconds(CLOCK_THREAD_CPUTIME_ID), d = cpu_seconds(CLOCK_THREAD_CPUTIME_ID) - a;
+    double a = clock_seconds(CLOCK_THREAD_CPUTIME_ID),
+           d = clock_seconds(CLOCK_THREAD_CPUTIME_ID) - a;
     if (d < least) least = d;
   }
   return least;
@@ -638,9 +636,9 @@ static clr_result generate_values(const render_job *job, clr_sampler sampler,
 }
 
 /* The workers' CPU seconds so far (their thread clocks). */
-static double workers_cpu_seconds(const render_job *job) {
+static double workers_clock_seconds(const render_job *job) {
   double sum = 0.0;
-  for (int i = 0; i < job->nworker_clocks; ++i) sum += cpu_seconds(job->worker_clocks[i]);
+  for (int i = 0; i < job->nworker_clocks; ++i) sum += clock_seconds(job->worker_clocks[i]);
   return sum;
 }
 
@@ -678,10 +676,10 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   batch->sample_count = job->spp;
   batch->request_count = band->requests;
   /* PoCL's threads run the kernel beside the workers: its CPU is the process's less theirs */
-  double p0 = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID), w0 = workers_cpu_seconds(job);
+  double p0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID), w0 = workers_clock_seconds(job);
   CLR_CHECK(generate_values(job, sampler, batch, px, band->stride, band->values));
-  double gen = workers_cpu_seconds(job) - w0;
-  gen = cpu_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0 - gen;
+  double gen = workers_clock_seconds(job) - w0;
+  gen = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0 - gen;
   job->gen_value_s += gen > 0.0 ? gen : 0.0;
   job->gen_values += (uint64_t)need;
   band->pixels = px;
@@ -824,7 +822,6 @@ static clr_result finish_distributed_frame(render_job *job, clr_result r, double
   return r;
 }
 
-/* Runs the tile pipeline; *partial set when cancelled. */
 /* The integrator's layout prepared once for the workers' fetches (lazy sample vectors). */
 static clr_result prepare_fetch(render_job *job) {
   job->fetch = NULL;
@@ -833,6 +830,7 @@ static clr_result prepare_fetch(render_job *job) {
   return clr_sample_fetch_create(job->sampler, it->requests, it->request_count, &job->fetch);
 }
 
+/* Runs the tile pipeline; *partial set when cancelled. */
 static clr_result render_tiles(render_job *job, clr_sampler sampler, const clr_render_options *o,
                                int nthreads, clr_render_stats *st) {
   tile_grid g;
