@@ -25,10 +25,12 @@ exported=$(wc -l < "$work/exports.txt")
 [ "$exported" -ge 40 ] || fail "only $exported exported symbols"
 bad=$(grep -Ev '^(clr_|film_)' "$work/exports.txt" || true)
 [ -z "$bad" ] || fail "non-public symbols exported: $bad"
-for internal in clr_fail clr_exr_read clr_png_read clr_film_add_block clr_context_program; do
+for internal in clr_fail clr_exr_read clr_png_read clr_film_add_block clr_context_program \
+  film_set_bin_threads clr_halton_host_batch; do
   ! grep -qx "$internal" "$work/exports.txt" || fail "internal $internal exported"
 done
-for public in film_add_samples clr_sampler_create clr_version clr_image_read; do
+for public in film_add_samples clr_sampler_create clr_version clr_image_read \
+  clr_sample_fetch_create clr_sample_fetch_values clr_sample_fetch_release; do
   grep -qx "$public" "$work/exports.txt" || fail "public $public not exported"
 done
 
