@@ -273,7 +273,7 @@ static void test_sphere_light_noise(void **state) {
           "%.4f\n",
           e, sqrt(e2 / n2) / (ref_sum / n2), m);
   /* regression bounds (measured 0.223 and 0.992 with cone sampling; against pbrt-v3, the 96x64
-   * version tests/data/scenes/v3_spherelight.pbrt has pbrt-v3's error, see the README) */
+   * version tests/data/scenes/v3_spherelight.pbrt has pbrt-v3's error, see docs/rendering.md) */
   assert_true(e < 0.26);
   assert_true(fabs(m - 1.0) < 0.02);
   free(ref.rgb);

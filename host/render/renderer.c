@@ -286,7 +286,7 @@ static clr_result check_scene_values(const clr_scene_desc *d, const clr_render_o
  * those of the band's pixel rectangle (row-major pixels, samples, values). */
 /* Floats per batch, at least one tile. The bands (2 + threads / tiles per band of them, each also
  * mirrored in a device buffer) held 32 MiB each before; at 4 MiB the sample generation time is
- * unchanged (README, Benchmarks). */
+ * unchanged (docs/performance.md). */
 #define BATCH_VALUES_BUDGET ((size_t)1 << 20)
 
 enum { TILE_PENDING, TILE_READY, TILE_BUSY, TILE_DONE, TILE_MERGED };
