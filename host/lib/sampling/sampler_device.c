@@ -633,6 +633,25 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   return launch(ctx, k, items, name);
 }
 
+/* Whether the values go straight into out->host_values: no device buffer given and a device
+ * sharing the host's memory (PoCL writes them in place of a copy from its own buffer). */
+static int in_host_values(clr_context ctx, const clr_sample_output *out) {
+  return out->host_values && !out->device_values && clr_context_unified_memory(ctx);
+}
+
+/* The in-place values' map and unmap: the host then reads them (OpenCL's rule for
+ * CL_MEM_USE_HOST_PTR; no copy where the device wrote host_values itself). */
+static clr_result sync_host_values(clr_context ctx, cl_command_queue q, cl_mem values,
+                                   size_t bytes) {
+  cl_int err = CL_SUCCESS;
+  void *at = clEnqueueMapBuffer(q, values, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  if (err != CL_SUCCESS)
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clEnqueueMapBuffer(sample values) failed: %s (%d)",
+                    clr_cl_error_name(err), (int)err);
+  CLR_CL_CHECK(ctx, clEnqueueUnmapMemObject(q, values, at, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
 static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_params *p,
                                   const clr_request_slot *slots, const float *pmj_pixels,
                                   const clr_sample_output *out, cl_mem *temp) {
@@ -649,7 +668,9 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
                       have, value_bytes);
   } else {
     cl_int err = CL_SUCCESS;
-    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY, value_bytes, NULL, &err);
+    cl_mem_flags in_place = in_host_values(ctx, out) ? CL_MEM_USE_HOST_PTR : 0;
+    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY | in_place, value_bytes,
+                           in_place ? out->host_values : NULL, &err);
     if (err != CL_SUCCESS) {
       *temp = NULL;
       return clr_fail(ctx, CLR_ERROR_OPENCL,
@@ -672,7 +693,9 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
     if (out->host_indices)
       for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
   }
-  if (out->host_values)
+  if (in_host_values(ctx, out))
+    CLR_CHECK(sync_host_values(ctx, q, values, value_bytes));
+  else if (out->host_values)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, values, CL_TRUE, 0, value_bytes, out->host_values, 0,
                                           NULL, NULL));
   if (out->host_indices && global)
