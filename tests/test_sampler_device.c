@@ -460,6 +460,32 @@ static void test_device_buffer_output(void **state) {
   clr_sampler_release(s);
 }
 
+/* Halton launches alternating between layouts (the whole one, prefixes of it, one with arrays,
+ * another spp's pixels): each equals the reference, whether its pair tables are built or reused
+ * from an earlier launch's. */
+static void test_halton_alternating_layouts(void **state) {
+  (void)state;
+  clr_sampler s = make_sampler(CLR_SAMPLER_HALTON, CLR_SEEDING_PIXEL, 40);
+  const struct {
+    const clr_sample_request *req;
+    int nreq, first, count;
+  } launches[] = {{with_arrays, 13, 0, 0}, {with_arrays, 5, 0, 0}, {camera10, 6, 0, 0},
+                  {with_arrays, 13, 0, 0}, {with_arrays, 9, 3, 5}, {with_arrays, 5, 0, 0},
+                  {with_arrays, 13, 2, 9}, {camera10, 6, 0, 0}};
+  for (size_t k = 0; k < sizeof launches / sizeof launches[0]; ++k) {
+    clr_bounds2i px = {(int)k, 3, (int)k + 6, 7};
+    generated dev =
+        generate(s, px, launches[k].first, launches[k].count, launches[k].req, launches[k].nreq, 1);
+    generated ref =
+        generate(s, px, launches[k].first, launches[k].count, launches[k].req, launches[k].nreq, 0);
+    if (memcmp(dev.values, ref.values, dev.count * sizeof(float)) != 0)
+      fail_msg("launch %zu: values differ from the reference", k);
+    free_generated(&dev);
+    free_generated(&ref);
+  }
+  clr_sampler_release(s);
+}
+
 /* Host output (written in place on host-unified devices such as PoCL's): the reference's values
  * at addresses 4, 8 and 64 bytes past an aligned block, the floats around them untouched, and
  * twice into the same memory (a second batch overwrites the first's values in full). */
@@ -510,6 +536,7 @@ int main(void) {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_device_buffer_output),
       cmocka_unit_test(test_host_output_in_place),
+      cmocka_unit_test(test_halton_alternating_layouts),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

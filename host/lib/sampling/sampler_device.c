@@ -37,6 +37,18 @@ typedef struct grow_buffer {
   size_t bytes;
 } grow_buffer;
 
+/* One record's pair table with its lane rows as build_pair_tables last made it, and its key. */
+typedef struct cached_pair_table {
+  const clr_halton_tables *tables;
+  clr_halton_pair_shape shape;
+  clr_u32 step;
+  size_t rows, entries; /* entries: the table's and its rows' */
+  clr_u16 *table;       /* NULL: none */
+} cached_pair_table;
+
+/* Entries the cached tables hold at most together (8 MiB). */
+#define PAIR_CACHE_BUDGET ((size_t)1 << 22)
+
 struct clr_sampler_device {
   clr_context ctx;
   pthread_mutex_t lock;
@@ -58,6 +70,9 @@ struct clr_sampler_device {
   clr_halton_pair_shape pair_shapes[CLR_HALTON_PRIME_RECORDS];
   clr_u16 *pair_host;
   size_t pair_capacity;
+  /* each record's last built table (a new plan, e.g. a shorter layout prefix, reuses it) */
+  cached_pair_table pair_cache[CLR_HALTON_PRIME_RECORDS];
+  size_t pair_cache_entries; /* at most PAIR_CACHE_BUDGET */
 };
 
 clr_result clr_sampler_device_create(clr_context ctx, clr_sampler_device **out) {
@@ -88,6 +103,7 @@ void clr_sampler_device_release(clr_sampler_device *d) {
   pthread_mutex_destroy(&d->lock);
   free(d->bounded_host);
   free(d->pair_host);
+  for (int r = 0; r < CLR_HALTON_PRIME_RECORDS; ++r) free(d->pair_cache[r].table);
   free(d);
 }
 
@@ -267,6 +283,28 @@ static clr_u32 lane_step(const clr_u32 *steps, int record) {
  * ROW_BUDGET entries: past the caches a row costs more than the lane-by-lane lookups it saves. */
 #define ROW_BUDGET ((size_t)1 << 15)
 
+/* Record's table (with `rows` lane row entries for lanes `step` apart; `entries` in all) from
+ * d's cache, built there unless its key matches; NULL when the cache cannot hold it (the caller
+ * builds it in place). */
+static const clr_u16 *cached_table(clr_sampler_device *d, const clr_halton_tables *t, int record,
+                                   clr_halton_pair_shape shape, clr_u32 step, size_t rows,
+                                   size_t entries) {
+  cached_pair_table *c = &d->pair_cache[record];
+  if (c->table && c->tables == t && c->shape.digits == shape.digits &&
+      c->shape.tops == shape.tops && c->step == step && c->rows == rows && c->entries == entries)
+    return c->table;
+  size_t others = d->pair_cache_entries - (c->table ? c->entries : 0);
+  if (others + entries > PAIR_CACHE_BUDGET) return NULL;
+  clr_u16 *table = realloc(c->table, sizeof(clr_u16) * entries);
+  if (!table) return NULL;
+  const clr_halton_prime *pr = &t->primes[record];
+  clr_halton_pair_table(pr, t->permutations, shape, table);
+  if (rows) clr_halton_pair_rows(pr, shape, step, table);
+  *c = (cached_pair_table){t, shape, step, rows, entries, table};
+  d->pair_cache_entries = others + entries;
+  return table;
+}
+
 /* Builds the launch's pair tables into d->pair_host (count tables, `size` entries), with lane
  * rows for work-items whose 8 lanes are consecutive samples of one pixel. */
 static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tables *t, int count,
@@ -279,11 +317,19 @@ static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tabl
   }
   size_t at = 0;
   for (int j = 0; j < count; ++j) {
-    const clr_halton_prime *pr = &t->primes[d->pair_records[j]];
-    clr_u32 step = lane_step(d->pair_steps, d->pair_records[j]);
-    clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
-    if (d->pair_rows[j]) clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
-    at += clr_halton_pair_entries(pr, d->pair_shapes[j]) + d->pair_rows[j];
+    int record = d->pair_records[j];
+    const clr_halton_prime *pr = &t->primes[record];
+    clr_u32 step = lane_step(d->pair_steps, record);
+    size_t entries = clr_halton_pair_entries(pr, d->pair_shapes[j]) + d->pair_rows[j];
+    const clr_u16 *cached =
+        cached_table(d, t, record, d->pair_shapes[j], step, d->pair_rows[j], entries);
+    if (cached) {
+      memcpy(d->pair_host + at, cached, sizeof(clr_u16) * entries);
+    } else {
+      clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
+      if (d->pair_rows[j]) clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
+    }
+    at += entries;
   }
   return CLR_SUCCESS;
 }
