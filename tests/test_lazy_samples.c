@@ -63,12 +63,12 @@ static float *device_values(clr_sampler s, clr_bounds2i px, const clr_sample_req
   return v;
 }
 
-/* got (npts points in the order of check_ranges, count values each) against values [first,
+/* got (npts points, items[i]'s the i-th, count values each) against values [first,
  * first + count) of the whole layout's items. */
-static void expect_whole(const float *got, const float *whole, int npts, int32_t per_sample,
-                         int32_t first, int32_t count, const char *how) {
+static void expect_whole(const float *got, const float *whole, const int *items, int npts,
+                         int32_t per_sample, int32_t first, int32_t count, const char *how) {
   for (int i = 0; i < npts; ++i) {
-    int item = (int)(((int64_t)i * 7) % npts);
+    int item = items[i];
     const float *want = whole + (size_t)item * (size_t)per_sample + first;
     if (memcmp(got + (size_t)i * (size_t)count, want, (size_t)count * sizeof(float)) != 0)
       fail_msg("%s: point %d values [%d, %d) differ from the whole layout's", how, i, first,
@@ -76,8 +76,17 @@ static void expect_whole(const float *got, const float *whole, int npts, int32_t
   }
 }
 
+/* Point orders over w x h pixels of spp samples: 0, i -> (i * 7) mod npts (every item once, out
+ * of order); 1, pixel by pixel along rows, 2, down columns, each pixel's samples in reverse (runs
+ * of one pixel, as the renderer's chunks ask; consecutive runs share y or x). */
+static int point_item(int order, int i, int w, int h, int spp) {
+  if (order == 0) return (int)(((int64_t)i * 7) % (w * h * spp));
+  int run = i / spp, pixel = order == 1 ? run : run % h * w + run / h;
+  return pixel * spp + (spp - 1 - i % spp);
+}
+
 /* Every value range [first, first + count) of a few bounces and single values, for the points of
- * px (in a shuffled order), equals the device's whole-layout values bit for bit, through
+ * px (in each point order), equals the device's whole-layout values bit for bit, through
  * clr_sampler_generate_at and through a prepared clr_sample_fetch. */
 static void check_ranges(clr_sampler s, const clr_sample_request *req, int nreq,
                          const int32_t (*ranges)[2], int nranges) {
@@ -90,39 +99,44 @@ static void check_ranges(clr_sampler s, const clr_sample_request *req, int nreq,
   float *whole = device_values(s, px, req, nreq, &per_sample);
   int spp = clr_sampler_spp(s), w = px.x1 - px.x0, npts = w * (px.y1 - px.y0) * spp;
   clr_sample_point *pts = malloc((size_t)npts * sizeof *pts);
+  int *items = malloc((size_t)npts * sizeof *items);
   float *got = malloc((size_t)npts * (size_t)per_sample * sizeof *got);
   assert_non_null(pts);
+  assert_non_null(items);
   assert_non_null(got);
-  for (int i = 0; i < npts; ++i) { /* i -> (i * 7) mod npts: every item once, out of order */
-    int item = (int)(((int64_t)i * 7) % npts), pixel = item / spp;
-    pts[i].x = px.x0 + pixel % w;
-    pts[i].y = px.y0 + pixel / w;
-    pts[i].sample = item % spp;
-  }
   assert_int_not_equal(npts % 7, 0);
   clr_sample_fetch fetch = NULL;
   assert_int_equal(clr_sample_fetch_create(s, req, nreq, &fetch), CLR_SUCCESS);
   assert_non_null(fetch);
-  for (int r = 0; r < nranges; ++r) {
-    int32_t first = ranges[r][0], count = ranges[r][1];
-    assert_true(first + count <= per_sample);
-    assert_int_equal(clr_sampler_generate_at(s, req, nreq, pts, npts, first, count, got),
-                     CLR_SUCCESS);
-    expect_whole(got, whole, npts, per_sample, first, count, "generate_at");
-    memset(got, 0xff, (size_t)npts * (size_t)count * sizeof *got); /* NaNs: every float written */
-    assert_int_equal(clr_sample_fetch_values(fetch, pts, npts, first, count, got), CLR_SUCCESS);
-    expect_whole(got, whole, npts, per_sample, first, count, "fetch");
-    /* a few points at a time, as the path tracer's waves ask */
-    for (int i = 0; i < npts; i += 12) {
-      int n = npts - i < 12 ? npts - i : 12;
-      assert_int_equal(
-          clr_sample_fetch_values(fetch, pts + i, n, first, count, got + (size_t)i * (size_t)count),
-          CLR_SUCCESS);
+  for (int order = 0; order < 3; ++order) {
+    for (int i = 0; i < npts; ++i) {
+      int item = items[i] = point_item(order, i, w, px.y1 - px.y0, spp), pixel = item / spp;
+      pts[i].x = px.x0 + pixel % w;
+      pts[i].y = px.y0 + pixel / w;
+      pts[i].sample = item % spp;
     }
-    expect_whole(got, whole, npts, per_sample, first, count, "fetch by 12");
+    for (int r = 0; r < nranges; ++r) {
+      int32_t first = ranges[r][0], count = ranges[r][1];
+      assert_true(first + count <= per_sample);
+      assert_int_equal(clr_sampler_generate_at(s, req, nreq, pts, npts, first, count, got),
+                       CLR_SUCCESS);
+      expect_whole(got, whole, items, npts, per_sample, first, count, "generate_at");
+      memset(got, 0xff, (size_t)npts * (size_t)count * sizeof *got); /* NaNs: all written */
+      assert_int_equal(clr_sample_fetch_values(fetch, pts, npts, first, count, got), CLR_SUCCESS);
+      expect_whole(got, whole, items, npts, per_sample, first, count, "fetch");
+      /* a few points at a time, as the path tracer's waves ask */
+      for (int i = 0; i < npts; i += 12) {
+        int n = npts - i < 12 ? npts - i : 12;
+        assert_int_equal(clr_sample_fetch_values(fetch, pts + i, n, first, count,
+                                                 got + (size_t)i * (size_t)count),
+                         CLR_SUCCESS);
+      }
+      expect_whole(got, whole, items, npts, per_sample, first, count, "fetch by 12");
+    }
   }
   clr_sample_fetch_release(fetch);
   free(pts);
+  free(items);
   free(got);
   free(whole);
 }

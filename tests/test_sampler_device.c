@@ -460,6 +460,68 @@ static void test_device_buffer_output(void **state) {
   clr_sampler_release(s);
 }
 
+/* Halton launches alternating between layouts (the whole one, prefixes of it, one with arrays,
+ * another spp's pixels): each equals the reference, whether its pair tables are built or reused
+ * from an earlier launch's. */
+static void test_halton_alternating_layouts(void **state) {
+  (void)state;
+  clr_sampler s = make_sampler(CLR_SAMPLER_HALTON, CLR_SEEDING_PIXEL, 40);
+  const struct {
+    const clr_sample_request *req;
+    int nreq, first, count;
+  } launches[] = {{with_arrays, 13, 0, 0}, {with_arrays, 5, 0, 0}, {camera10, 6, 0, 0},
+                  {with_arrays, 13, 0, 0}, {with_arrays, 9, 3, 5}, {with_arrays, 5, 0, 0},
+                  {with_arrays, 13, 2, 9}, {camera10, 6, 0, 0}};
+  for (size_t k = 0; k < sizeof launches / sizeof launches[0]; ++k) {
+    clr_bounds2i px = {(int)k, 3, (int)k + 6, 7};
+    generated dev =
+        generate(s, px, launches[k].first, launches[k].count, launches[k].req, launches[k].nreq, 1);
+    generated ref =
+        generate(s, px, launches[k].first, launches[k].count, launches[k].req, launches[k].nreq, 0);
+    if (memcmp(dev.values, ref.values, dev.count * sizeof(float)) != 0)
+      fail_msg("launch %zu: values differ from the reference", k);
+    free_generated(&dev);
+    free_generated(&ref);
+  }
+  clr_sampler_release(s);
+}
+
+/* Host output (written in place on host-unified devices such as PoCL's): the reference's values
+ * at addresses 4, 8 and 64 bytes past an aligned block, the floats around them untouched, and
+ * twice into the same memory (a second batch overwrites the first's values in full). */
+static void test_host_output_in_place(void **state) {
+  (void)state;
+  clr_sampler s = make_sampler(CLR_SAMPLER_SOBOL, CLR_SEEDING_PIXEL, 16);
+  clr_bounds2i px = {1, 2, 6, 5}, other = {7, 3, 12, 6};
+  generated ref = generate(s, px, 0, 0, camera10, 6, 0);
+  generated ref_other = generate(s, other, 0, 0, camera10, 6, 0);
+  const size_t offsets[] = {1, 2, 16};
+  float *block = malloc((ref.count + 32) * sizeof(float));
+  assert_non_null(block);
+  for (size_t k = 0; k < sizeof offsets / sizeof offsets[0]; ++k) {
+    for (size_t i = 0; i < ref.count + 32; ++i) block[i] = -1.0f;
+    clr_sample_batch b;
+    clr_sample_batch_init(&b);
+    b.requests = camera10;
+    b.request_count = 6;
+    clr_sample_output out;
+    clr_sample_output_init(&out);
+    out.host_values = block + offsets[k];
+    b.pixels = other;
+    assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_SUCCESS);
+    assert_memory_equal(block + offsets[k], ref_other.values, ref.count * sizeof(float));
+    b.pixels = px;
+    assert_int_equal(clr_sampler_generate(s, &b, &out), CLR_SUCCESS);
+    assert_memory_equal(block + offsets[k], ref.values, ref.count * sizeof(float));
+    for (size_t i = 0; i < offsets[k]; ++i) assert_true(block[i] == -1.0f);
+    for (size_t i = offsets[k] + ref.count; i < ref.count + 32; ++i) assert_true(block[i] == -1.0f);
+  }
+  free(block);
+  free_generated(&ref);
+  free_generated(&ref_other);
+  clr_sampler_release(s);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_device_matches_reference),
@@ -473,6 +535,8 @@ int main(void) {
       cmocka_unit_test(test_halton_film_scales_match_reference),
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_device_buffer_output),
+      cmocka_unit_test(test_host_output_in_place),
+      cmocka_unit_test(test_halton_alternating_layouts),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -385,6 +385,8 @@ int clr_context_portable(clr_context ctx) {
   return clr_context_kernel_shape(ctx) == CLR_KERNELS_PORTABLE;
 }
 
+int clr_context_unified_memory(clr_context ctx) { return ctx ? ctx->unified_memory : 0; }
+
 cl_ulong clr_context_local_mem(clr_context ctx) { return ctx ? ctx->local_mem : 0; }
 
 size_t clr_context_group_size(clr_context ctx, cl_kernel kernel, size_t wanted) {

@@ -61,6 +61,42 @@ void clr_halton_host_pairs_free(clr_halton_host_pairs *hp) {
   }
 }
 
+/* clr_halton_pair_value of a table whose entries hold their digit counts (not
+ * CLR_HALTON_PAIR_DERIVED_COUNTS), with the header read once: the same integers and float
+ * operations, so the same bits. */
+typedef struct pair_reader {
+  const clr_u16 *low_entries, *top_entries, *powers;
+  const float *inv_base_pow;
+  float scramble_tail;
+  clr_u32 chunk, magic, shift, count_shift, value_mask;
+} pair_reader;
+
+static pair_reader pair_reader_of(const clr_halton_prime *pr, const clr_u16 *pt) {
+  pair_reader r;
+  r.chunk = pt[0];
+  r.magic = (clr_u32)pt[1] | (clr_u32)pt[2] << 16u;
+  r.shift = pt[3];
+  r.count_shift = pt[5];
+  r.value_mask = (1u << r.count_shift) - 1u;
+  r.powers = pt + 8;
+  r.low_entries = pt + CLR_HALTON_PAIR_HEADER;
+  r.top_entries = r.low_entries + r.chunk;
+  r.inv_base_pow = pr->inv_base_pow;
+  r.scramble_tail = pr->scramble_tail;
+  return r;
+}
+
+static inline float pair_read(const pair_reader *r, clr_u32 a) {
+  clr_u32 hi = (clr_u32)(((clr_u64)a * r->magic) >> r->shift);
+  clr_u32 lo = a - hi * r->chunk;
+  clr_u32 low = (hi == 0u ? r->top_entries : r->low_entries)[lo];
+  clr_u32 high = r->top_entries[hi];
+  clr_u32 count = high >> r->count_shift, digits = (low >> r->count_shift) + count;
+  clr_u32 reversed = (low & r->value_mask) * r->powers[count] + (high & r->value_mask);
+  float v = r->inv_base_pow[digits] * ((float)(clr_i32)reversed + r->scramble_tail);
+  return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
+}
+
 /* One dimension's values from its pair table where the argument is below `limit`. base3: the
  * arguments are index / scale[1] (dimension 1). */
 static void pair_values(const clr_halton_host_pairs *hp, const clr_sampler_params *p, int record,
@@ -69,10 +105,13 @@ static void pair_values(const clr_halton_host_pairs *hp, const clr_sampler_param
   const clr_u16 *pt = hp->entries + hp->offset[record], *perms = hp->tables->permutations;
   clr_u64 limit = hp->limit[record];
   clr_i32 dim = base3 ? 1 : record;
+  const pair_reader r = pair_reader_of(pr, pt);
+  const int derived = r.count_shift == CLR_HALTON_PAIR_DERIVED_COUNTS;
   for (clr_i32 i = 0; i < n; ++i) {
     clr_u64 a = base3 ? clr_halton_drop_base3_digits(p, index[i]) : index[i];
-    out[(size_t)i * stride] = a < limit ? clr_halton_pair_value(pr, pt, (clr_u32)a)
-                                        : clr_halton_sampler_value(p, primes, perms, index[i], dim);
+    out[(size_t)i * stride] = a >= limit ? clr_halton_sampler_value(p, primes, perms, index[i], dim)
+                              : derived  ? clr_halton_pair_value(pr, pt, (clr_u32)a)
+                                         : pair_read(&r, (clr_u32)a);
   }
 }
 

@@ -764,6 +764,28 @@ static int32_t slot_values(const clr_request_slot *sl) {
 /* Points per block of global_values_at: their indices on the stack. */
 #define AT_BLOCK 256
 
+/* index[i] = clr_global_index of points[i]'s sample number sample * scale + offset; halton:
+ * a pixel's offset (sample number 0) once per run of points in that pixel, plus the sample
+ * number times the stride (clr_halton_sampler_index's sum, so the same index). */
+static void point_indices(const clr_sampler_params *p, const clr_u64 *vdc, const clr_u64 *vdc_inv,
+                          const clr_sample_point *points, int32_t n, int32_t scale, int32_t offset,
+                          clr_u64 *index) {
+  if (p->type != CLR_SAMPLER_TYPE_HALTON) {
+    for (int32_t i = 0; i < n; ++i)
+      index[i] = clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y,
+                                  (clr_i64)points[i].sample * scale + offset);
+    return;
+  }
+  const clr_u64 stride = (clr_u64)(clr_u32)p->halton_stride;
+  clr_u64 pixel_offset = 0;
+  for (int32_t i = 0; i < n; ++i) {
+    const clr_sample_point *pt = &points[i];
+    if (i == 0 || pt->x != points[i - 1].x || pt->y != points[i - 1].y)
+      pixel_offset = clr_halton_sampler_index(p, pt->x, pt->y, 0);
+    index[i] = pixel_offset + (clr_u64)((clr_i64)pt->sample * scale + offset) * stride;
+  }
+}
+
 /* Values [first, end) of the vectors of points[0 .. n) (n <= AT_BLOCK; global samplers) into
  * out[i * (end - first) + k]: the same calls as clr_global_sample_vector, for the requests r0...
  * that the range overlaps, value by value over the points (each dimension's tables stay in
@@ -782,9 +804,7 @@ static void global_values_at(const clr_sampler_params *p, const clr_request_slot
   const clr_u64 *vdc = &clr_vdc_sobol_matrices[0][0], *vdc_inv = &clr_vdc_sobol_matrices_inv[0][0];
   clr_u64 index[AT_BLOCK], element[AT_BLOCK];
   size_t stride = (size_t)(end - first);
-  for (int32_t i = 0; i < n; ++i)
-    index[i] =
-        clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y, (clr_i64)points[i].sample);
+  point_indices(p, vdc, vdc_inv, points, n, 1, 0, index);
   for (int32_t r = r0; r < p->request_count && slots[r].first_value < end; ++r) {
     const clr_request_slot *sl = &slots[r];
     int32_t elements = sl->skipped ? 0 : sl->array_size ? sl->array_size : 1;
@@ -793,9 +813,7 @@ static void global_values_at(const clr_sampler_params *p, const clr_request_slot
         int32_t v = sl->first_value + j * sl->dims + c;
         if (v < first || v >= end) continue;
         if (pairs) {
-          for (int32_t i = 0; sl->array_size && i < n; ++i)
-            element[i] = clr_global_index(p, vdc, vdc_inv, points[i].x, points[i].y,
-                                          (clr_i64)points[i].sample * sl->array_size + j);
+          if (sl->array_size) point_indices(p, vdc, vdc_inv, points, n, sl->array_size, j, element);
           clr_halton_host_values(pairs, p, sl->source + c, sl->array_size ? element : index, n,
                                  out + (v - first), stride);
           continue;

@@ -37,6 +37,18 @@ typedef struct grow_buffer {
   size_t bytes;
 } grow_buffer;
 
+/* One record's pair table with its lane rows as build_pair_tables last made it, and its key. */
+typedef struct cached_pair_table {
+  const clr_halton_tables *tables;
+  clr_halton_pair_shape shape;
+  clr_u32 step;
+  size_t rows, entries; /* entries: the table's and its rows' */
+  clr_u16 *table;       /* NULL: none */
+} cached_pair_table;
+
+/* Entries the cached tables hold at most together (8 MiB). */
+#define PAIR_CACHE_BUDGET ((size_t)1 << 22)
+
 struct clr_sampler_device {
   clr_context ctx;
   pthread_mutex_t lock;
@@ -58,6 +70,9 @@ struct clr_sampler_device {
   clr_halton_pair_shape pair_shapes[CLR_HALTON_PRIME_RECORDS];
   clr_u16 *pair_host;
   size_t pair_capacity;
+  /* each record's last built table (a new plan, e.g. a shorter layout prefix, reuses it) */
+  cached_pair_table pair_cache[CLR_HALTON_PRIME_RECORDS];
+  size_t pair_cache_entries; /* at most PAIR_CACHE_BUDGET */
 };
 
 clr_result clr_sampler_device_create(clr_context ctx, clr_sampler_device **out) {
@@ -88,6 +103,7 @@ void clr_sampler_device_release(clr_sampler_device *d) {
   pthread_mutex_destroy(&d->lock);
   free(d->bounded_host);
   free(d->pair_host);
+  for (int r = 0; r < CLR_HALTON_PRIME_RECORDS; ++r) free(d->pair_cache[r].table);
   free(d);
 }
 
@@ -267,6 +283,28 @@ static clr_u32 lane_step(const clr_u32 *steps, int record) {
  * ROW_BUDGET entries: past the caches a row costs more than the lane-by-lane lookups it saves. */
 #define ROW_BUDGET ((size_t)1 << 15)
 
+/* Record's table (with `rows` lane row entries for lanes `step` apart; `entries` in all) from
+ * d's cache, built there unless its key matches; NULL when the cache cannot hold it (the caller
+ * builds it in place). */
+static const clr_u16 *cached_table(clr_sampler_device *d, const clr_halton_tables *t, int record,
+                                   clr_halton_pair_shape shape, clr_u32 step, size_t rows,
+                                   size_t entries) {
+  cached_pair_table *c = &d->pair_cache[record];
+  if (c->table && c->tables == t && c->shape.digits == shape.digits &&
+      c->shape.tops == shape.tops && c->step == step && c->rows == rows && c->entries == entries)
+    return c->table;
+  size_t others = d->pair_cache_entries - (c->table ? c->entries : 0);
+  if (others + entries > PAIR_CACHE_BUDGET) return NULL;
+  clr_u16 *table = realloc(c->table, sizeof(clr_u16) * entries);
+  if (!table) return NULL;
+  const clr_halton_prime *pr = &t->primes[record];
+  clr_halton_pair_table(pr, t->permutations, shape, table);
+  if (rows) clr_halton_pair_rows(pr, shape, step, table);
+  *c = (cached_pair_table){t, shape, step, rows, entries, table};
+  d->pair_cache_entries = others + entries;
+  return table;
+}
+
 /* Builds the launch's pair tables into d->pair_host (count tables, `size` entries), with lane
  * rows for work-items whose 8 lanes are consecutive samples of one pixel. */
 static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tables *t, int count,
@@ -279,11 +317,19 @@ static clr_result build_pair_tables(clr_sampler_device *d, const clr_halton_tabl
   }
   size_t at = 0;
   for (int j = 0; j < count; ++j) {
-    const clr_halton_prime *pr = &t->primes[d->pair_records[j]];
-    clr_u32 step = lane_step(d->pair_steps, d->pair_records[j]);
-    clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
-    if (d->pair_rows[j]) clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
-    at += clr_halton_pair_entries(pr, d->pair_shapes[j]) + d->pair_rows[j];
+    int record = d->pair_records[j];
+    const clr_halton_prime *pr = &t->primes[record];
+    clr_u32 step = lane_step(d->pair_steps, record);
+    size_t entries = clr_halton_pair_entries(pr, d->pair_shapes[j]) + d->pair_rows[j];
+    const clr_u16 *cached =
+        cached_table(d, t, record, d->pair_shapes[j], step, d->pair_rows[j], entries);
+    if (cached) {
+      memcpy(d->pair_host + at, cached, sizeof(clr_u16) * entries);
+    } else {
+      clr_halton_pair_table(pr, t->permutations, d->pair_shapes[j], d->pair_host + at);
+      if (d->pair_rows[j]) clr_halton_pair_rows(pr, d->pair_shapes[j], step, d->pair_host + at);
+    }
+    at += entries;
   }
   return CLR_SUCCESS;
 }
@@ -633,6 +679,25 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   return launch(ctx, k, items, name);
 }
 
+/* Whether the values go straight into out->host_values: no device buffer given and a device
+ * sharing the host's memory (PoCL writes them in place of a copy from its own buffer). */
+static int in_host_values(clr_context ctx, const clr_sample_output *out) {
+  return out->host_values && !out->device_values && clr_context_unified_memory(ctx);
+}
+
+/* The in-place values' map and unmap: the host then reads them (OpenCL's rule for
+ * CL_MEM_USE_HOST_PTR; no copy where the device wrote host_values itself). */
+static clr_result sync_host_values(clr_context ctx, cl_command_queue q, cl_mem values,
+                                   size_t bytes) {
+  cl_int err = CL_SUCCESS;
+  void *at = clEnqueueMapBuffer(q, values, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  if (err != CL_SUCCESS)
+    return clr_fail(ctx, CLR_ERROR_OPENCL, "clEnqueueMapBuffer(sample values) failed: %s (%d)",
+                    clr_cl_error_name(err), (int)err);
+  CLR_CL_CHECK(ctx, clEnqueueUnmapMemObject(q, values, at, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
 static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_params *p,
                                   const clr_request_slot *slots, const float *pmj_pixels,
                                   const clr_sample_output *out, cl_mem *temp) {
@@ -649,7 +714,9 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
                       have, value_bytes);
   } else {
     cl_int err = CL_SUCCESS;
-    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY, value_bytes, NULL, &err);
+    cl_mem_flags in_place = in_host_values(ctx, out) ? CL_MEM_USE_HOST_PTR : 0;
+    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY | in_place, value_bytes,
+                           in_place ? out->host_values : NULL, &err);
     if (err != CL_SUCCESS) {
       *temp = NULL;
       return clr_fail(ctx, CLR_ERROR_OPENCL,
@@ -672,7 +739,9 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
     if (out->host_indices)
       for (size_t i = 0; i < items; ++i) out->host_indices[i] = UINT64_MAX;
   }
-  if (out->host_values)
+  if (in_host_values(ctx, out))
+    CLR_CHECK(sync_host_values(ctx, q, values, value_bytes));
+  else if (out->host_values)
     CLR_CL_CHECK(ctx, clEnqueueReadBuffer(q, values, CL_TRUE, 0, value_bytes, out->host_values, 0,
                                           NULL, NULL));
   if (out->host_indices && global)

@@ -1228,6 +1228,17 @@ static void path_surfaces(const clr_integrator *it, const clr_render_scene *sc,
   }
 }
 
+/* The nv values of one vertex's bounce: fixed-size copies for the two counts
+ * path_bounce_values gives (inlined, not a libc call per vertex). */
+static void copy_bounce_values(float *to, const float *from, int32_t nv) {
+  if (nv == CLR_PATH_VALUES_PER_BOUNCE)
+    memcpy(to, from, CLR_PATH_VALUES_PER_BOUNCE * sizeof *to);
+  else if (nv == CLR_PATH_VALUES_PER_BOUNCE - 1)
+    memcpy(to, from, (CLR_PATH_VALUES_PER_BOUNCE - 1) * sizeof *to);
+  else
+    memcpy(to, from, (size_t)nv * sizeof *to);
+}
+
 /* The values of the wave's vertices that sample (material surfaces below maxdepth) at bounces
  * past those the vectors hold, into deep (CLR_PATH_VALUES_PER_BOUNCE per sample); picked and
  * got: scratch of count entries and count * CLR_PATH_VALUES_PER_BOUNCE floats. */
@@ -1246,8 +1257,8 @@ static clr_result fetch_deep_values(const clr_integrator *it, const clr_integrat
     int32_t nv = path_bounce_values(bounce);
     CLR_CHECK(sv->fetch(sv->fetch_user, picked, m, path_bounce_offset(it, bounce), nv, got));
     for (int32_t j = 0; j < m; ++j)
-      memcpy(deep + (size_t)picked[j] * CLR_PATH_VALUES_PER_BOUNCE, got + (size_t)j * nv,
-             (size_t)nv * sizeof *got);
+      copy_bounce_values(deep + (size_t)picked[j] * CLR_PATH_VALUES_PER_BOUNCE,
+                         got + (size_t)j * (size_t)nv, nv);
   }
   return CLR_SUCCESS;
 }
