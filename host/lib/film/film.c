@@ -81,7 +81,9 @@ static clr_result make_params(clr_context ctx, const clr_film_desc *d, const clr
 static double *zeroed_sums(size_t count) {
   double *sums = calloc(count, sizeof *sums);
   volatile unsigned char *bytes = (volatile unsigned char *)sums;
-  for (size_t i = 0; sums && i < count * sizeof *sums; i += 4096) bytes[i] = 0;
+  size_t size = count * sizeof *sums;
+  for (size_t i = 0; sums && i < size; i += 4096) bytes[i] = 0;
+  if (sums && size) bytes[size - 1] = 0; /* the last page, when the start is not page-aligned */
   return sums;
 }
 
