@@ -43,6 +43,9 @@ struct clr_sampler_device {
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
   grow_buffer plan, index_plan, indices, scratch, slots, bounded, pmj, pair;
+  /* Values read back into host memory, kept between calls: a buffer made per call costs the
+   * implementation fresh pages (page faults) in every batch, and their release a TLB shootdown */
+  grow_buffer host_out;
   cl_uint *bounded_host; /* 4 per bound b = 1..bounded_count (clr_pcg32x8_bounded) */
   int bounded_count;
   /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
@@ -81,8 +84,8 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan,  &d->index_plan, &d->indices, &d->scratch,
-                            &d->slots, &d->bounded,    &d->pmj,     &d->pair};
+  grow_buffer *buffers[] = {&d->plan,    &d->index_plan, &d->indices, &d->scratch, &d->slots,
+                            &d->bounded, &d->pmj,        &d->pair,    &d->host_out};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
@@ -635,7 +638,7 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
 
 static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_params *p,
                                   const clr_request_slot *slots, const float *pmj_pixels,
-                                  const clr_sample_output *out, cl_mem *temp) {
+                                  const clr_sample_output *out) {
   clr_context ctx = d->ctx;
   size_t items = batch_items(p);
   size_t value_bytes = items * (size_t)p->values_per_sample * sizeof(float);
@@ -648,15 +651,8 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
                       "clr_sampler_generate: device_values holds %zu bytes, the batch needs %zu",
                       have, value_bytes);
   } else {
-    cl_int err = CL_SUCCESS;
-    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY, value_bytes, NULL, &err);
-    if (err != CL_SUCCESS) {
-      *temp = NULL;
-      return clr_fail(ctx, CLR_ERROR_OPENCL,
-                      "clCreateBuffer(sample values, %zu bytes) failed: %s (%d)", value_bytes,
-                      clr_cl_error_name(err), (int)err);
-    }
-    values = *temp;
+    CLR_CHECK(grow(ctx, &d->host_out, value_bytes, CL_MEM_WRITE_ONLY, "sample values"));
+    values = d->host_out.mem;
   }
   cl_command_queue q = clr_context_cl_queue(ctx);
   int global =
@@ -684,13 +680,11 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
 clr_result clr_sampler_device_generate(clr_sampler_device *d, const clr_sampler_params *p,
                                        const clr_request_slot *slots, const float *pmj_pixels,
                                        const clr_sample_output *out) {
-  cl_mem temp = NULL;
   pthread_mutex_lock(&d->lock);
-  clr_result r = generate_locked(d, p, slots, pmj_pixels, out, &temp);
+  clr_result r = generate_locked(d, p, slots, pmj_pixels, out);
   /* Also after a failure: queued work may still read the plans and buffers. */
   cl_int err = clFinish(clr_context_cl_queue(d->ctx));
   pthread_mutex_unlock(&d->lock);
-  if (temp) clReleaseMemObject(temp);
   if (r == CLR_SUCCESS && err != CL_SUCCESS)
     r = clr_fail(d->ctx, CLR_ERROR_OPENCL, "clFinish failed: %s (%d)", clr_cl_error_name(err),
                  (int)err);
