@@ -1,6 +1,7 @@
 /* The EXR writer's own ZIP chunk compression (exr_zip.c): the same bytes as OpenEXRCore's encoder
  * for one-chunk images, a lossless round trip for any length, and whole multi-chunk images (half
- * and float channels, a crop, a short last chunk, helper threads) read back exactly. */
+ * and float channels, a crop, a short last chunk, helper threads) read back exactly; rows computed
+ * chunk by chunk (clr_exr_write_rows) make the same file as whole planes. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -204,11 +205,76 @@ static void test_multi_chunk_image_reads_back(void **state) {
   assert_int_equal(unlink(path), 0);
 }
 
+/* The rows callback of test_rows_write_same_file: rows of the planes of rows_image. */
+typedef struct rows_image {
+  const float *planes[4];
+  int32_t width, y0;
+  int calls;
+} rows_image;
+
+static void copy_rows(void *user, int32_t y, int32_t lines, float *const *rows) {
+  rows_image *im = user;
+  for (int c = 0; c < 4; ++c)
+    memcpy(rows[c], im->planes[c] + (size_t)(y - im->y0) * (size_t)im->width,
+           (size_t)lines * (size_t)im->width * sizeof(float));
+  __atomic_fetch_add(&im->calls, 1, __ATOMIC_RELAXED);
+}
+
+static char *read_all(const char *path, size_t *size) {
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  assert_int_equal(fseek(f, 0, SEEK_END), 0);
+  long n = ftell(f);
+  assert_true(n > 0);
+  rewind(f);
+  char *bytes = malloc((size_t)n);
+  assert_non_null(bytes);
+  assert_int_equal(fread(bytes, 1, (size_t)n, f), (size_t)n);
+  fclose(f);
+  *size = (size_t)n;
+  return bytes;
+}
+
+static void test_rows_write_same_file(void **state) {
+  (void)state;
+  enum { W = 29, H = 83 }; /* six chunks, the last of 3 lines */
+  clr_bounds2i dw = {1, 5, 1 + W, 5 + H};
+  static float planes[4][W * H];
+  uint32_t s = 4242u;
+  for (int c = 0; c < 4; ++c)
+    for (int i = 0; i < W * H; ++i) planes[c][i] = (float)(next_random(&s) % 4096u) * 0.125f - 7.0f;
+  clr_exr_channel ch[4] = {
+      {"weight", planes[0], 0}, {"G", planes[1], 1}, {"R", planes[2], 0}, {"B", planes[3], 1}};
+  clr_exr_attribute attr = {"note", CLR_EXR_ATTR_STRING, "rows", 0.f, 0};
+  char a[1024], b[1024];
+  snprintf(a, sizeof a, "%s/test_exr_zip_planes_%d.exr", CLR_BINARY_DIR, (int)getpid());
+  snprintf(b, sizeof b, "%s/test_exr_zip_rows_%d.exr", CLR_BINARY_DIR, (int)getpid());
+  assert_int_equal(clr_exr_write(a, 40, 90, dw, ch, 4, &attr, 1), CLR_SUCCESS);
+  rows_image im = {{planes[0], planes[1], planes[2], planes[3]}, W, 5, 0};
+  clr_exr_channel names[4] = {{"weight", NULL, 0}, {"G", NULL, 1}, {"R", NULL, 0}, {"B", NULL, 1}};
+  assert_int_equal(clr_exr_write_rows(b, 40, 90, dw, names, 4, copy_rows, &im, &attr, 1),
+                   CLR_SUCCESS);
+  assert_int_equal(im.calls, 6); /* once per chunk */
+  size_t na = 0, nb = 0;
+  char *fa = read_all(a, &na), *fb = read_all(b, &nb);
+  assert_int_equal(na, nb);
+  assert_memory_equal(fa, fb, na);
+  free(fa);
+  free(fb);
+  assert_int_equal(unlink(a), 0);
+  assert_int_equal(unlink(b), 0);
+  assert_int_equal(clr_exr_write_rows(b, 40, 90, dw, names, 4, NULL, &im, NULL, 0),
+                   CLR_ERROR_NULL_POINTER);
+  assert_int_equal(clr_exr_write(b, 40, 90, dw, names, 4, NULL, 0), CLR_ERROR_INVALID_ARGUMENT);
+  assert_int_equal(access(b, F_OK), -1); /* nothing written by the failures */
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_same_bytes_as_openexr),
       cmocka_unit_test(test_round_trip_any_length),
       cmocka_unit_test(test_multi_chunk_image_reads_back),
+      cmocka_unit_test(test_rows_write_same_file),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -266,6 +266,19 @@ clr_result film_add_splat(clr_film film, float x, float y, float r, float g, flo
   return CLR_SUCCESS;
 }
 
+void clr_film_resolve_pixel(clr_film film, size_t i, float splat_scale, float rgb[3]) {
+  double w = film->weight_sum[i];
+  for (int c = 0; c < 3; ++c) {
+    double v = film->rgb_sum[3 * i + c];
+    if (w != 0.0) {
+      v /= w;
+      if (!(v > 0.0)) v = 0.0;
+    }
+    if (film->splat_rgb) v += (double)splat_scale * film->splat_rgb[3 * i + c];
+    rgb[c] = (float)(v * (double)film->scale);
+  }
+}
+
 clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale) {
   if (!film || !rgb)
     return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_get_rgb: %s is NULL",
@@ -274,18 +287,8 @@ clr_result film_get_rgb(clr_film film, float *rgb, float splat_scale) {
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_get_rgb: splat_scale = %g",
                     (double)splat_scale);
   pthread_mutex_lock(&film->lock);
-  for (size_t i = 0; i < film->pixel_count; ++i) {
-    double w = film->weight_sum[i];
-    for (int c = 0; c < 3; ++c) {
-      double v = film->rgb_sum[3 * i + c];
-      if (w != 0.0) {
-        v /= w;
-        if (!(v > 0.0)) v = 0.0;
-      }
-      if (film->splat_rgb) v += (double)splat_scale * film->splat_rgb[3 * i + c];
-      rgb[3 * i + c] = (float)(v * (double)film->scale);
-    }
-  }
+  for (size_t i = 0; i < film->pixel_count; ++i)
+    clr_film_resolve_pixel(film, i, splat_scale, rgb + 3 * i);
   pthread_mutex_unlock(&film->lock);
   return CLR_SUCCESS;
 }

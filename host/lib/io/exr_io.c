@@ -101,8 +101,8 @@ static int job_fail(exr_job *job, clr_result code, const char *what) {
 
 static clr_result validate_write(const char *path, int32_t display_width, int32_t display_height,
                                  clr_bounds2i dw, const clr_exr_channel *channels,
-                                 int32_t channel_count, const clr_exr_attribute *attrs,
-                                 int32_t attr_count) {
+                                 int32_t channel_count, int computed,
+                                 const clr_exr_attribute *attrs, int32_t attr_count) {
   if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_write: path is NULL");
   if (display_width <= 0 || display_height <= 0)
     return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION,
@@ -120,7 +120,7 @@ static clr_result validate_write(const char *path, int32_t display_width, int32_
                     "clr_exr_write '%s': channel_count %d needs at least one channel", path,
                     (int)channel_count);
   for (int32_t c = 0; c < channel_count; ++c) {
-    if (!channels[c].name || !channels[c].name[0] || !channels[c].data)
+    if (!channels[c].name || !channels[c].name[0] || (!computed && !channels[c].data))
       return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                       "clr_exr_write '%s': channel %d has no name or no data", path, (int)c);
     for (int32_t d = 0; d < c; ++d)
@@ -161,8 +161,10 @@ typedef struct exr_planes {
   const void **data; /* float or half plane per channel */
   int32_t width;
   int32_t y0, y1;
-  int32_t *file_order; /* count entries, filled once the header is defined */
-  int32_t chunk_lines; /* scanlines of a whole chunk (the last may hold fewer) */
+  int32_t *file_order;  /* count entries, filled once the header is defined */
+  int32_t chunk_lines;  /* scanlines of a whole chunk (the last may hold fewer) */
+  clr_exr_rows_fn rows; /* when set, computes each chunk's rows instead of `data` */
+  void *rows_user;
 } exr_planes;
 
 /* zlib level of the ZIP chunks: the float sums barely compress past level 1, which costs a
@@ -223,16 +225,16 @@ static int find_file_order(exr_job *job, exr_context_t ctxt, exr_planes *p) {
   return 1;
 }
 
-/* Lays out lines [y, y + lines) as an EXR scanline chunk: per line, each file channel's row of
- * little-endian values. */
-static void pack_chunk(const exr_planes *p, int32_t y, int32_t lines, uint8_t *out) {
+/* Lays out `lines` lines as an EXR scanline chunk: per line, each file channel's row of
+ * little-endian values; src[k] points at the chunk's first row of the caller's channel k. */
+static void pack_chunk(const exr_planes *p, const uint8_t *const *src, int32_t lines,
+                       uint8_t *out) {
   int swap = !host_is_little_endian();
-  for (int32_t line = y; line < y + lines; ++line) {
-    size_t row = (size_t)(line - p->y0) * (size_t)p->width;
+  for (int32_t line = 0; line < lines; ++line) {
     for (int32_t c = 0; c < p->count; ++c) {
       int32_t k = p->file_order[c];
       size_t element = p->channels[k].half ? 2 : 4, bytes = element * (size_t)p->width;
-      memcpy(out, (const uint8_t *)p->data[k] + row * element, bytes);
+      memcpy(out, src[k] + (size_t)line * bytes, bytes);
       for (size_t i = 0; swap && i < bytes; i += element)
         for (size_t lo = i, hi = i + element - 1; lo < hi; ++lo, --hi) {
           uint8_t t = out[lo];
@@ -255,6 +257,9 @@ typedef struct exr_chunk_out {
 /* A thread's packing and compression buffers, sized for a whole chunk. */
 typedef struct chunk_coder {
   uint8_t *packed, *scratch;
+  const uint8_t **src; /* per caller channel: the chunk's first row */
+  float *rows;         /* computed rows (planes->rows): a whole chunk of every channel */
+  uint16_t *halves;    /* the half channels' rows, converted */
 } chunk_coder;
 
 static size_t chunk_bytes(const exr_planes *p, int32_t lines) {
@@ -263,14 +268,46 @@ static size_t chunk_bytes(const exr_planes *p, int32_t lines) {
   return line * (size_t)lines;
 }
 
+/* Points coder->src at chunk `out`'s rows: in the caller's planes, or computed by planes->rows
+ * into the coder's buffers (half channels converted). Returns 0 when out of memory. */
+static int chunk_sources(const exr_planes *p, chunk_coder *coder, const exr_chunk_out *out) {
+  size_t row = (size_t)p->width, plane = row * (size_t)p->chunk_lines;
+  if (!coder->src) coder->src = malloc((size_t)p->count * sizeof *coder->src);
+  if (!coder->src) return 0;
+  if (!p->rows) {
+    for (int32_t k = 0; k < p->count; ++k)
+      coder->src[k] = (const uint8_t *)p->data[k] +
+                      (size_t)(out->y - p->y0) * row * (p->channels[k].half ? 2u : 4u);
+    return 1;
+  }
+  if (!coder->rows) coder->rows = malloc((size_t)p->count * plane * sizeof *coder->rows);
+  if (!coder->halves) coder->halves = malloc((size_t)p->count * plane * sizeof *coder->halves);
+  float **rows = malloc((size_t)p->count * sizeof *rows);
+  if (!coder->rows || !coder->halves || !rows) {
+    free(rows);
+    return 0;
+  }
+  for (int32_t k = 0; k < p->count; ++k) rows[k] = coder->rows + (size_t)k * plane;
+  p->rows(p->rows_user, out->y, out->lines, rows);
+  for (int32_t k = 0; k < p->count; ++k) {
+    coder->src[k] = (const uint8_t *)rows[k];
+    if (!p->channels[k].half) continue;
+    uint16_t *h = coder->halves + (size_t)k * plane;
+    for (size_t i = 0; i < row * (size_t)out->lines; ++i) h[i] = clr_float_to_half(rows[k][i]);
+    coder->src[k] = (const uint8_t *)h;
+  }
+  free(rows);
+  return 1;
+}
+
 /* Packs and compresses chunk `out` (ready on success; 0 if memory or zlib failed). */
 static int compress_chunk(const exr_planes *p, chunk_coder *coder, exr_chunk_out *out) {
   size_t bytes = chunk_bytes(p, out->lines), whole = chunk_bytes(p, p->chunk_lines);
   if (!coder->packed) coder->packed = malloc(whole);
   if (!coder->scratch) coder->scratch = malloc(whole);
   out->data = malloc(clr_exr_zip_bound(bytes));
-  if (!coder->packed || !coder->scratch || !out->data) return 0;
-  pack_chunk(p, out->y, out->lines, coder->packed);
+  if (!coder->packed || !coder->scratch || !out->data || !chunk_sources(p, coder, out)) return 0;
+  pack_chunk(p, coder->src, out->lines, coder->packed);
   out->ready = clr_exr_zip_compress(coder->packed, bytes, CLR_EXR_ZIP_LEVEL, coder->scratch,
                                     out->data, &out->size);
   return out->ready;
@@ -279,6 +316,9 @@ static int compress_chunk(const exr_planes *p, chunk_coder *coder, exr_chunk_out
 static void free_coder(chunk_coder *coder) {
   free(coder->packed);
   free(coder->scratch);
+  free(coder->src);
+  free(coder->rows);
+  free(coder->halves);
 }
 
 typedef struct exr_encoders {
@@ -291,7 +331,7 @@ typedef struct exr_encoders {
  * could not. */
 static void *encode_chunks_main(void *arg) {
   exr_encoders *e = arg;
-  chunk_coder coder = {NULL, NULL};
+  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL};
   for (int i = e->first; i < e->count; i += e->step)
     if (!compress_chunk(e->planes, &coder, &e->chunks[i])) break;
   free_coder(&coder);
@@ -335,7 +375,7 @@ static int write_chunks(exr_job *job, exr_context_t ctxt, exr_planes *planes) {
     for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
     running = 0;
   }
-  chunk_coder coder = {NULL, NULL};
+  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL};
   for (int i = 0; running && i < count; i += running + 1) /* the caller's share */
     compress_chunk(planes, &coder, &chunks[i]);
   for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
@@ -375,12 +415,13 @@ static clr_result write_exr_stream(const char *path, clr_atomic_file *file, int3
   return job.result;
 }
 
-clr_result clr_exr_write(const char *path, int32_t display_width, int32_t display_height,
-                         clr_bounds2i data_window, const clr_exr_channel *channels,
-                         int32_t channel_count, const clr_exr_attribute *attrs,
-                         int32_t attr_count) {
+/* clr_exr_write, or clr_exr_write_rows when `rows` is set. */
+static clr_result write_exr(const char *path, int32_t display_width, int32_t display_height,
+                            clr_bounds2i data_window, const clr_exr_channel *channels,
+                            int32_t channel_count, clr_exr_rows_fn rows, void *rows_user,
+                            const clr_exr_attribute *attrs, int32_t attr_count) {
   CLR_CHECK(validate_write(path, display_width, display_height, data_window, channels,
-                           channel_count, attrs, attr_count));
+                           channel_count, rows != NULL, attrs, attr_count));
   int32_t width = data_window.x1 - data_window.x0;
   size_t pixels = (size_t)width * (size_t)(data_window.y1 - data_window.y0);
   const void **data = calloc((size_t)channel_count, sizeof *data);
@@ -389,7 +430,7 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
   clr_result result = CLR_SUCCESS;
   if (!data || !halves || !file_order)
     result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_exr_write '%s': out of memory", path);
-  for (int32_t c = 0; result == CLR_SUCCESS && c < channel_count; ++c) {
+  for (int32_t c = 0; result == CLR_SUCCESS && !rows && c < channel_count; ++c) {
     data[c] = channels[c].data;
     if (!channels[c].half) continue;
     halves[c] = malloc(pixels * sizeof(uint16_t));
@@ -403,8 +444,8 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
   clr_atomic_file file;
   if (result == CLR_SUCCESS) result = clr_atomic_file_open(&file, path);
   if (result == CLR_SUCCESS) {
-    exr_planes planes = {channels,       channel_count,  data,       width,
-                         data_window.y0, data_window.y1, file_order, 0};
+    exr_planes planes = {channels,       channel_count, data, width, data_window.y0,
+                         data_window.y1, file_order,    0,    rows,  rows_user};
     result = write_exr_stream(path, &file, display_width, display_height, data_window, &planes,
                               attrs, attr_count);
     if (result == CLR_SUCCESS)
@@ -417,6 +458,23 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
   free(data);
   free(file_order);
   return result;
+}
+
+clr_result clr_exr_write(const char *path, int32_t display_width, int32_t display_height,
+                         clr_bounds2i data_window, const clr_exr_channel *channels,
+                         int32_t channel_count, const clr_exr_attribute *attrs,
+                         int32_t attr_count) {
+  return write_exr(path, display_width, display_height, data_window, channels, channel_count, NULL,
+                   NULL, attrs, attr_count);
+}
+
+clr_result clr_exr_write_rows(const char *path, int32_t display_width, int32_t display_height,
+                              clr_bounds2i data_window, const clr_exr_channel *channels,
+                              int32_t channel_count, clr_exr_rows_fn rows, void *rows_user,
+                              const clr_exr_attribute *attrs, int32_t attr_count) {
+  if (!rows) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_write_rows: rows is NULL");
+  return write_exr(path, display_width, display_height, data_window, channels, channel_count, rows,
+                   rows_user, attrs, attr_count);
 }
 
 /* ---- reading ----------------------------------------------------------------------------- */
