@@ -260,6 +260,7 @@ typedef struct chunk_coder {
   const uint8_t **src; /* per caller channel: the chunk's first row */
   float *rows;         /* computed rows (planes->rows): a whole chunk of every channel */
   uint16_t *halves;    /* the half channels' rows, converted */
+  clr_exr_zip_stream *zip;
 } chunk_coder;
 
 static size_t chunk_bytes(const exr_planes *p, int32_t lines) {
@@ -308,8 +309,8 @@ static int compress_chunk(const exr_planes *p, chunk_coder *coder, exr_chunk_out
   out->data = malloc(clr_exr_zip_bound(bytes));
   if (!coder->packed || !coder->scratch || !out->data || !chunk_sources(p, coder, out)) return 0;
   pack_chunk(p, coder->src, out->lines, coder->packed);
-  out->ready = clr_exr_zip_compress(coder->packed, bytes, CLR_EXR_ZIP_LEVEL, coder->scratch,
-                                    out->data, &out->size);
+  out->ready = clr_exr_zip_compress(&coder->zip, coder->packed, bytes, CLR_EXR_ZIP_LEVEL,
+                                    coder->scratch, out->data, &out->size);
   return out->ready;
 }
 
@@ -319,6 +320,7 @@ static void free_coder(chunk_coder *coder) {
   free(coder->src);
   free(coder->rows);
   free(coder->halves);
+  clr_exr_zip_stream_free(coder->zip);
 }
 
 typedef struct exr_encoders {
@@ -331,7 +333,7 @@ typedef struct exr_encoders {
  * could not. */
 static void *encode_chunks_main(void *arg) {
   exr_encoders *e = arg;
-  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL};
+  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL, NULL};
   for (int i = e->first; i < e->count; i += e->step)
     if (!compress_chunk(e->planes, &coder, &e->chunks[i])) break;
   free_coder(&coder);
@@ -375,7 +377,7 @@ static int write_chunks(exr_job *job, exr_context_t ctxt, exr_planes *planes) {
     for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
     running = 0;
   }
-  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL};
+  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL, NULL};
   for (int i = 0; running && i < count; i += running + 1) /* the caller's share */
     compress_chunk(planes, &coder, &chunks[i]);
   for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
