@@ -69,6 +69,9 @@ struct clr_film_t {
  * reach past the pixel bounds: those pixels are skipped) into the film's double sums, with up to
  * `threads` threads (bands of rows) for large blocks (the same bits). Caller holds the lock. */
 void clr_film_add_block(clr_film film, clr_bounds2i block, const float *sums, int threads);
+/* Pixel i's RGB as film_get_rgb resolves it (i: row-major over the pixel bounds); the caller
+ * holds the film's lock. */
+void clr_film_resolve_pixel(clr_film film, size_t i, float splat_scale, float rgb[3]);
 
 /* One chunk's per-pixel float sums (CLR_FILM_SUM_FLOATS per pixel, row-major over `block`),
  * owned by the accumulator until clr_film_chunk_sums_release. sums is NULL when no sample of

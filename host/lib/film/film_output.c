@@ -1,6 +1,7 @@
 /* Film output: OpenEXR with metadata and mergeable sums, PNG previews, and merging of films
  * written with their sums. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,41 +42,27 @@ void clr_film_write_options_init(clr_film_write_options *o) {
   o->render_time_s = -1.0;
 }
 
-/* All planes of one output, freed together. */
-typedef struct film_planes {
-  float *rgb;             /* interleaved, from film_get_rgb */
-  float *plane[3];        /* R, G, B */
-  float *sum[SUM_PLANES]; /* high parts */
-  float *lo[SUM_PLANES];  /* residuals */
-} film_planes;
+/* What film_write's rows are computed from (the writer holds the film's lock). */
+typedef struct film_rows {
+  clr_film film;
+  float splat_scale;
+  int sums;
+} film_rows;
 
-static void free_planes(film_planes *p) {
-  free(p->rgb);
-  for (int i = 0; i < 3; ++i) free(p->plane[i]);
-  for (int i = 0; i < SUM_PLANES; ++i) {
-    free(p->sum[i]);
-    free(p->lo[i]);
-  }
-}
-
-static clr_result make_planes(clr_film film, float splat_scale, int sums, film_planes *p) {
-  size_t n = film->pixel_count;
-  memset(p, 0, sizeof *p);
-  p->rgb = malloc(n * 3 * sizeof(float));
-  int ok = p->rgb != NULL;
-  for (int i = 0; i < 3; ++i) ok &= (p->plane[i] = malloc(n * sizeof(float))) != NULL;
-  for (int i = 0; sums && i < SUM_PLANES; ++i) {
-    ok &= (p->sum[i] = malloc(n * sizeof(float))) != NULL;
-    ok &= (p->lo[i] = malloc(n * sizeof(float))) != NULL;
-  }
-  if (!ok) return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_write: out of memory");
-  CLR_CHECK(film_get_rgb(film, p->rgb, splat_scale));
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) p->plane[c][i] = p->rgb[3 * i + c];
-  if (!sums) return CLR_SUCCESS;
+/* Rows of R, G, B (film_get_rgb's values), then of each sum's float and its residual to the
+ * double (film_write's channel order), for pixel rows [y, y + lines). */
+static void fill_rows(void *user, int32_t y, int32_t lines, float *const *rows) {
+  const film_rows *f = user;
+  clr_film film = f->film;
   static const double no_splat[3] = {0.0, 0.0, 0.0}; /* a film that was never splatted */
-  pthread_mutex_lock(&film->lock);
-  for (size_t i = 0; i < n; ++i) {
+  size_t first = (size_t)(y - film->params.pixel_y0) * (size_t)film->width;
+  size_t n = (size_t)lines * (size_t)film->width;
+  for (size_t j = 0; j < n; ++j) {
+    size_t i = first + j;
+    float rgb[3];
+    clr_film_resolve_pixel(film, i, f->splat_scale, rgb);
+    for (int c = 0; c < 3; ++c) rows[c][j] = rgb[c];
+    if (!f->sums) continue;
     const double *splat = film->splat_rgb ? film->splat_rgb + 3 * i : no_splat;
     double v[SUM_PLANES] = {film->rgb_sum[3 * i],
                             film->rgb_sum[3 * i + 1],
@@ -85,12 +72,11 @@ static clr_result make_planes(clr_film film, float splat_scale, int sums, film_p
                             splat[1],
                             splat[2]};
     for (int k = 0; k < SUM_PLANES; ++k) {
-      p->sum[k][i] = (float)v[k];
-      p->lo[k][i] = (float)(v[k] - (double)p->sum[k][i]);
+      float high = (float)v[k];
+      rows[3 + 2 * k][j] = high;
+      rows[4 + 2 * k][j] = (float)(v[k] - (double)high);
     }
   }
-  pthread_mutex_unlock(&film->lock);
-  return CLR_SUCCESS;
 }
 
 #define MAX_ATTRS 48
@@ -159,37 +145,73 @@ clr_result film_write(clr_film film, const char *path, const clr_film_write_opti
   if (opts->metadata_count < 0 || opts->metadata_count > 16)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_write: metadata_count %d (0..16)",
                     (int)opts->metadata_count);
-  film_planes p;
-  clr_result r = make_planes(film, opts->splat_scale, opts->include_sums, &p);
-  if (r == CLR_SUCCESS) {
-    clr_exr_channel ch[3 + 2 * SUM_PLANES];
-    static const char *const rgb_names[3] = {"R", "G", "B"};
-    int n = 0;
-    for (int c = 0; c < 3; ++c) ch[n++] = (clr_exr_channel){rgb_names[c], p.plane[c], opts->half};
-    for (int k = 0; opts->include_sums && k < SUM_PLANES; ++k) {
-      ch[n++] = (clr_exr_channel){sum_names[k], p.sum[k], 0};
-      ch[n++] = (clr_exr_channel){sum_lo_names[k], p.lo[k], 0};
-    }
-    attr_list attrs;
-    memset(&attrs, 0, sizeof attrs);
-    film_attributes(film, opts, &attrs);
-    r = clr_exr_write(path, film->desc.x_resolution, film->desc.y_resolution, pixel_bounds(film),
-                      ch, n, attrs.a, attrs.n);
+  if (!isfinite(opts->splat_scale)) /* film_get_rgb's check */
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_get_rgb: splat_scale = %g",
+                    (double)opts->splat_scale);
+  clr_exr_channel ch[3 + 2 * SUM_PLANES];
+  static const char *const rgb_names[3] = {"R", "G", "B"};
+  int n = 0;
+  for (int c = 0; c < 3; ++c) ch[n++] = (clr_exr_channel){rgb_names[c], NULL, opts->half};
+  for (int k = 0; opts->include_sums && k < SUM_PLANES; ++k) {
+    ch[n++] = (clr_exr_channel){sum_names[k], NULL, 0};
+    ch[n++] = (clr_exr_channel){sum_lo_names[k], NULL, 0};
   }
-  free_planes(&p);
+  attr_list attrs;
+  memset(&attrs, 0, sizeof attrs);
+  film_attributes(film, opts, &attrs);
+  film_rows rows = {film, opts->splat_scale, opts->include_sums};
+  pthread_mutex_lock(&film->lock);
+  clr_result r = clr_exr_write_rows(path, film->desc.x_resolution, film->desc.y_resolution,
+                                    pixel_bounds(film), ch, n, fill_rows, &rows, attrs.a, attrs.n);
+  pthread_mutex_unlock(&film->lock);
   return r;
 }
+
+/* Pixels [first, end) of film_write_png's 8-bit sRGB values (the caller holds the film's lock). */
+typedef struct srgb_part {
+  clr_film film;
+  float splat_scale;
+  uint8_t *srgb;
+  size_t first, end;
+} srgb_part;
+
+static void *fill_srgb(void *arg) {
+  const srgb_part *part = arg;
+  for (size_t i = part->first; i < part->end; ++i) {
+    float rgb[3];
+    clr_film_resolve_pixel(part->film, i, part->splat_scale, rgb);
+    for (int c = 0; c < 3; ++c) part->srgb[3 * i + c] = clr_to_srgb8(rgb[c]);
+  }
+  return NULL;
+}
+
+/* Images of at least this many pixels convert on two threads (powf is most of the preview's time). */
+#define SRGB_SPLIT_PIXELS (1 << 15)
 
 clr_result film_write_png(clr_film film, const char *path, float splat_scale) {
   clr_clear_error();
   if (!film || !path)
     return clr_fail(film ? film->ctx : NULL, CLR_ERROR_NULL_POINTER, "film_write_png: %s is NULL",
                     film ? "path" : "film");
-  float *rgb = malloc(film->pixel_count * 3 * sizeof(float));
-  if (!rgb) return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_write_png: out of memory");
-  clr_result r = film_get_rgb(film, rgb, splat_scale);
-  if (r == CLR_SUCCESS) r = clr_png_write_srgb(path, film->width, film->height, rgb);
-  free(rgb);
+  if (!isfinite(splat_scale)) /* film_get_rgb's check */
+    return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT, "film_get_rgb: splat_scale = %g",
+                    (double)splat_scale);
+  uint8_t *srgb = malloc(film->pixel_count * 3);
+  if (!srgb) return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_write_png: out of memory");
+  size_t half = film->pixel_count >= SRGB_SPLIT_PIXELS ? film->pixel_count / 2 : 0;
+  srgb_part parts[2] = {{film, splat_scale, srgb, half, film->pixel_count},
+                        {film, splat_scale, srgb, 0, half}};
+  pthread_t helper;
+  pthread_mutex_lock(&film->lock);
+  int started = half && pthread_create(&helper, NULL, fill_srgb, &parts[1]) == 0;
+  fill_srgb(&parts[0]);
+  if (started)
+    pthread_join(helper, NULL);
+  else
+    fill_srgb(&parts[1]);
+  pthread_mutex_unlock(&film->lock);
+  clr_result r = clr_png_write_srgb8(path, film->width, film->height, srgb);
+  free(srgb);
   return r;
 }
 

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "atomic_file.h"
 #include "clr_internal.h"
+#include "exr_zip.h"
 #include "clrender/film.h"
 #include "input_file.h"
 
@@ -100,8 +101,8 @@ static int job_fail(exr_job *job, clr_result code, const char *what) {
 
 static clr_result validate_write(const char *path, int32_t display_width, int32_t display_height,
                                  clr_bounds2i dw, const clr_exr_channel *channels,
-                                 int32_t channel_count, const clr_exr_attribute *attrs,
-                                 int32_t attr_count) {
+                                 int32_t channel_count, int computed,
+                                 const clr_exr_attribute *attrs, int32_t attr_count) {
   if (!path) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_write: path is NULL");
   if (display_width <= 0 || display_height <= 0)
     return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION,
@@ -119,7 +120,7 @@ static clr_result validate_write(const char *path, int32_t display_width, int32_
                     "clr_exr_write '%s': channel_count %d needs at least one channel", path,
                     (int)channel_count);
   for (int32_t c = 0; c < channel_count; ++c) {
-    if (!channels[c].name || !channels[c].name[0] || !channels[c].data)
+    if (!channels[c].name || !channels[c].name[0] || (!computed && !channels[c].data))
       return clr_fail(NULL, CLR_ERROR_INVALID_ARGUMENT,
                       "clr_exr_write '%s': channel %d has no name or no data", path, (int)c);
     for (int32_t d = 0; d < c; ++d)
@@ -152,31 +153,19 @@ static int64_t write_to_atomic_file(exr_const_context_t ctxt, void *user, const 
   return (int64_t)size;
 }
 
-/* What one chunk's encoder reads: the file-typed plane of each of the caller's channels. */
+/* What the chunks are packed from: the file-typed plane of each of the caller's channels, and
+ * the caller's channel of each of the file's (sorted) channels. */
 typedef struct exr_planes {
   const clr_exr_channel *channels;
   int32_t count;
   const void **data; /* float or half plane per channel */
   int32_t width;
-  int32_t y0;
+  int32_t y0, y1;
+  int32_t *file_order;  /* count entries, filled once the header is defined */
+  int32_t chunk_lines;  /* scanlines of a whole chunk (the last may hold fewer) */
+  clr_exr_rows_fn rows; /* when set, computes each chunk's rows instead of `data` */
+  void *rows_user;
 } exr_planes;
-
-static int point_encoder_at_chunk(exr_job *job, exr_encode_pipeline_t *enc, const exr_planes *p) {
-  for (int c = 0; c < enc->channel_count; ++c) {
-    exr_coding_channel_info_t *ch = &enc->channels[c];
-    int32_t k = 0;
-    while (k < p->count && strcmp(p->channels[k].name, ch->channel_name) != 0) ++k;
-    if (k == p->count) return job_fail(job, CLR_ERROR_INTERNAL, "encoder channel not found");
-    int32_t bytes = p->channels[k].half ? 2 : 4;
-    size_t row = (size_t)(enc->chunk.start_y - p->y0) * (size_t)p->width;
-    ch->user_bytes_per_element = (int16_t)bytes;
-    ch->user_data_type = (uint16_t)(p->channels[k].half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT);
-    ch->user_pixel_stride = bytes;
-    ch->user_line_stride = bytes * p->width;
-    ch->encode_from_ptr = (const uint8_t *)p->data[k] + row * (size_t)bytes;
-  }
-  return 1;
-}
 
 /* zlib level of the ZIP chunks: the float sums barely compress past level 1, which costs a
  * quarter of the default level's time (profile of a 1-spp render's output). */
@@ -214,63 +203,140 @@ static int define_header(exr_job *job, exr_context_t ctxt, int32_t display_width
   return EXR_TRY(job, exr_write_header, ctxt);
 }
 
-/* Encodes one chunk with pipeline `enc` (initialised on first use, *started); the pipeline's
- * write_fn decides where the packed bytes go. */
-static int encode_chunk(exr_job *job, exr_context_t ctxt, const exr_planes *planes,
-                        exr_chunk_info_t *cinfo, exr_encode_pipeline_t *enc, int *started,
-                        exr_result_t (*write_fn)(exr_encode_pipeline_t *), void *user) {
-  int ok = *started ? EXR_TRY(job, exr_encoding_update, ctxt, 0, cinfo, enc)
-                    : (*started = EXR_TRY(job, exr_encoding_initialize, ctxt, 0, cinfo, enc));
-  ok = ok && point_encoder_at_chunk(job, enc, planes);
-  if (ok && !enc->convert_and_pack_fn)
-    ok = EXR_TRY(job, exr_encoding_choose_default_routines, ctxt, 0, enc);
-  if (ok && write_fn) { /* kept for an in-order write later: no waiting for earlier chunks */
-    enc->write_fn = write_fn;
-    enc->yield_until_ready_fn = NULL;
-  }
-  enc->encoding_user_data = user;
-  return ok && EXR_TRY(job, exr_encoding_run, ctxt, 0, enc);
+static int host_is_little_endian(void) {
+  const uint16_t one = 1;
+  uint8_t first;
+  memcpy(&first, &one, 1);
+  return first == 1;
 }
 
-/* A chunk compressed ahead by a helper thread, written in order by the caller. */
+/* Maps each of the file's channels (OpenEXR sorts them by name) to the caller's channel. */
+static int find_file_order(exr_job *job, exr_context_t ctxt, exr_planes *p) {
+  const exr_attr_chlist_t *list = NULL;
+  if (!EXR_TRY(job, exr_get_channels, ctxt, 0, &list)) return 0;
+  if (!list || list->num_channels != p->count)
+    return job_fail(job, CLR_ERROR_INTERNAL, "the header's channel list does not match");
+  for (int32_t c = 0; c < p->count; ++c) {
+    int32_t k = 0;
+    while (k < p->count && strcmp(p->channels[k].name, list->entries[c].name.str) != 0) ++k;
+    if (k == p->count) return job_fail(job, CLR_ERROR_INTERNAL, "header channel not found");
+    p->file_order[c] = k;
+  }
+  return 1;
+}
+
+/* Lays out `lines` lines as an EXR scanline chunk: per line, each file channel's row of
+ * little-endian values; src[k] points at the chunk's first row of the caller's channel k. */
+static void pack_chunk(const exr_planes *p, const uint8_t *const *src, int32_t lines,
+                       uint8_t *out) {
+  int swap = !host_is_little_endian();
+  for (int32_t line = 0; line < lines; ++line) {
+    for (int32_t c = 0; c < p->count; ++c) {
+      int32_t k = p->file_order[c];
+      size_t element = p->channels[k].half ? 2 : 4, bytes = element * (size_t)p->width;
+      memcpy(out, src[k] + (size_t)line * bytes, bytes);
+      for (size_t i = 0; swap && i < bytes; i += element)
+        for (size_t lo = i, hi = i + element - 1; lo < hi; ++lo, --hi) {
+          uint8_t t = out[lo];
+          out[lo] = out[hi];
+          out[hi] = t;
+        }
+      out += bytes;
+    }
+  }
+}
+
+/* One chunk, compressed ahead and written in file order. */
 typedef struct exr_chunk_out {
-  exr_chunk_info_t info;
-  void *data;
-  uint64_t size;
-  int ready; /* 0: the caller encodes it itself (and reports any error) */
+  int32_t y, lines;
+  uint8_t *data;
+  size_t size;
+  int ready; /* 0: not compressed (yet, or its coder ran out of memory) */
 } exr_chunk_out;
 
+/* A thread's packing and compression buffers, sized for a whole chunk. */
+typedef struct chunk_coder {
+  uint8_t *packed, *scratch;
+  const uint8_t **src; /* per caller channel: the chunk's first row */
+  float *rows;         /* computed rows (planes->rows): a whole chunk of every channel */
+  uint16_t *halves;    /* the half channels' rows, converted */
+  clr_exr_zip_stream *zip;
+} chunk_coder;
+
+static size_t chunk_bytes(const exr_planes *p, int32_t lines) {
+  size_t line = 0;
+  for (int32_t c = 0; c < p->count; ++c) line += (p->channels[c].half ? 2u : 4u) * (size_t)p->width;
+  return line * (size_t)lines;
+}
+
+/* Points coder->src at chunk `out`'s rows: in the caller's planes, or computed by planes->rows
+ * into the coder's buffers (half channels converted). Returns 0 when out of memory. */
+static int chunk_sources(const exr_planes *p, chunk_coder *coder, const exr_chunk_out *out) {
+  size_t row = (size_t)p->width, plane = row * (size_t)p->chunk_lines;
+  if (!coder->src) coder->src = malloc((size_t)p->count * sizeof *coder->src);
+  if (!coder->src) return 0;
+  if (!p->rows) {
+    for (int32_t k = 0; k < p->count; ++k)
+      coder->src[k] = (const uint8_t *)p->data[k] +
+                      (size_t)(out->y - p->y0) * row * (p->channels[k].half ? 2u : 4u);
+    return 1;
+  }
+  if (!coder->rows) coder->rows = malloc((size_t)p->count * plane * sizeof *coder->rows);
+  if (!coder->halves) coder->halves = malloc((size_t)p->count * plane * sizeof *coder->halves);
+  float **rows = malloc((size_t)p->count * sizeof *rows);
+  if (!coder->rows || !coder->halves || !rows) {
+    free(rows);
+    return 0;
+  }
+  for (int32_t k = 0; k < p->count; ++k) rows[k] = coder->rows + (size_t)k * plane;
+  p->rows(p->rows_user, out->y, out->lines, rows);
+  for (int32_t k = 0; k < p->count; ++k) {
+    coder->src[k] = (const uint8_t *)rows[k];
+    if (!p->channels[k].half) continue;
+    uint16_t *h = coder->halves + (size_t)k * plane;
+    for (size_t i = 0; i < row * (size_t)out->lines; ++i) h[i] = clr_float_to_half(rows[k][i]);
+    coder->src[k] = (const uint8_t *)h;
+  }
+  free(rows);
+  return 1;
+}
+
+/* Packs and compresses chunk `out` (ready on success; 0 if memory or zlib failed). */
+static int compress_chunk(const exr_planes *p, chunk_coder *coder, exr_chunk_out *out) {
+  size_t bytes = chunk_bytes(p, out->lines), whole = chunk_bytes(p, p->chunk_lines);
+  if (!coder->packed) coder->packed = malloc(whole);
+  if (!coder->scratch) coder->scratch = malloc(whole);
+  out->data = malloc(clr_exr_zip_bound(bytes));
+  if (!coder->packed || !coder->scratch || !out->data || !chunk_sources(p, coder, out)) return 0;
+  pack_chunk(p, coder->src, out->lines, coder->packed);
+  out->ready = clr_exr_zip_compress(&coder->zip, coder->packed, bytes, CLR_EXR_ZIP_LEVEL,
+                                    coder->scratch, out->data, &out->size);
+  return out->ready;
+}
+
+static void free_coder(chunk_coder *coder) {
+  free(coder->packed);
+  free(coder->scratch);
+  free(coder->src);
+  free(coder->rows);
+  free(coder->halves);
+  clr_exr_zip_stream_free(coder->zip);
+}
+
 typedef struct exr_encoders {
-  exr_context_t ctxt;
   const exr_planes *planes;
   exr_chunk_out *chunks;
   int count, first, step;
-  const char *path;
 } exr_encoders;
 
-static exr_result_t keep_chunk(exr_encode_pipeline_t *enc) {
-  exr_chunk_out *out = enc->encoding_user_data;
-  out->data = malloc(enc->compressed_bytes ? enc->compressed_bytes : 1);
-  if (!out->data) return EXR_ERR_OUT_OF_MEMORY;
-  memcpy(out->data, enc->compressed_buffer, enc->compressed_bytes);
-  out->size = enc->compressed_bytes;
-  out->ready = 1;
-  return EXR_ERR_SUCCESS;
-}
-
-/* A helper thread: compresses chunks first, first + step, ...; failures are left to the
- * caller, which encodes those chunks again and reports the error on its own thread. */
+/* A helper thread: compresses chunks first, first + step, ...; the caller compresses any it
+ * could not. */
 static void *encode_chunks_main(void *arg) {
   exr_encoders *e = arg;
-  exr_job job = {e->path, 0, CLR_SUCCESS, 0};
-  exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-  int started = 0;
+  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL, NULL};
   for (int i = e->first; i < e->count; i += e->step)
-    if (!encode_chunk(&job, e->ctxt, e->planes, &e->chunks[i].info, &enc, &started, keep_chunk,
-                      &e->chunks[i]))
-      break;
-  if (started) exr_encoding_destroy(e->ctxt, &enc);
-  clr_clear_error();
+    if (!compress_chunk(e->planes, &coder, &e->chunks[i])) break;
+  free_coder(&coder);
   return NULL;
 }
 
@@ -285,43 +351,48 @@ static int encode_helpers(int chunks) {
   return n;
 }
 
-/* Writes the chunks in file order; chunks first, first + step, ... of the helpers' share were
- * compressed by them, the rest (and any they failed) are encoded here. */
-static int write_chunks(exr_job *job, exr_context_t ctxt, const exr_planes *planes, int32_t y1) {
+/* Compresses the chunks (the helpers' share on their threads, the rest here) and writes them in
+ * file order. */
+static int write_chunks(exr_job *job, exr_context_t ctxt, exr_planes *planes) {
   int32_t lines = 0;
   if (!EXR_TRY(job, exr_get_scanlines_per_chunk, ctxt, 0, &lines)) return 0;
   if (lines <= 0) return job_fail(job, CLR_ERROR_OPENEXR, "bad scanlines per chunk");
-  int count = (int)(((int64_t)y1 - planes->y0 + lines - 1) / lines), ok = 1;
+  planes->chunk_lines = lines;
+  int count = (int)(((int64_t)planes->y1 - planes->y0 + lines - 1) / lines), ok = 1;
   exr_chunk_out *chunks = calloc((size_t)count, sizeof *chunks);
   if (!chunks) return job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "no memory for the chunk table");
-  for (int i = 0; ok && i < count; ++i)
-    ok = EXR_TRY(job, exr_write_scanline_chunk_info, ctxt, 0, planes->y0 + i * lines,
-                 &chunks[i].info);
-  int helpers = ok ? encode_helpers(count) : 0, running = 0;
+  for (int i = 0; i < count; ++i) {
+    chunks[i].y = planes->y0 + i * lines;
+    chunks[i].lines = planes->y1 - chunks[i].y < lines ? planes->y1 - chunks[i].y : lines;
+  }
+  int helpers = encode_helpers(count), running = 0;
   pthread_t threads[CLR_EXR_ENCODE_THREADS];
   exr_encoders work[CLR_EXR_ENCODE_THREADS];
   for (int t = 0; t < helpers; ++t) {
-    work[t] = (exr_encoders){ctxt, planes, chunks, count, t + 1, helpers + 1, job->path};
+    work[t] = (exr_encoders){planes, chunks, count, t + 1, helpers + 1};
     if (pthread_create(&threads[running], NULL, encode_chunks_main, &work[t]) != 0) break;
     ++running;
   }
-  if (running < helpers) { /* a thread failed to start: its chunks are encoded below */
+  if (running < helpers) { /* a thread failed to start: its chunks are compressed below */
     for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
     running = 0;
   }
-  exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-  int started = 0;
-  for (int i = 0; ok && running && i < count; i += running + 1) /* the caller's share */
-    ok = encode_chunk(job, ctxt, planes, &chunks[i].info, &enc, &started, keep_chunk, &chunks[i]);
+  chunk_coder coder = {NULL, NULL, NULL, NULL, NULL, NULL};
+  for (int i = 0; running && i < count; i += running + 1) /* the caller's share */
+    compress_chunk(planes, &coder, &chunks[i]);
   for (int t = 0; t < running; ++t) pthread_join(threads[t], NULL);
   for (int i = 0; ok && i < count; ++i) {
-    if (chunks[i].ready)
-      ok = EXR_TRY(job, exr_write_scanline_chunk, ctxt, 0, chunks[i].info.start_y, chunks[i].data,
+    if (!chunks[i].ready) {
+      free(chunks[i].data);
+      chunks[i].data = NULL;
+      if (!compress_chunk(planes, &coder, &chunks[i]))
+        ok = job_fail(job, CLR_ERROR_OUT_OF_MEMORY, "no memory to compress a chunk");
+    }
+    if (ok)
+      ok = EXR_TRY(job, exr_write_scanline_chunk, ctxt, 0, chunks[i].y, chunks[i].data,
                    chunks[i].size);
-    else
-      ok = encode_chunk(job, ctxt, planes, &chunks[i].info, &enc, &started, NULL, NULL);
   }
-  if (started && !EXR_TRY(job, exr_encoding_destroy, ctxt, &enc)) ok = 0;
+  free_coder(&coder);
   for (int i = 0; i < count; ++i) free(chunks[i].data);
   free(chunks);
   return ok;
@@ -329,9 +400,8 @@ static int write_chunks(exr_job *job, exr_context_t ctxt, const exr_planes *plan
 
 /* Writes the whole EXR stream into the open temporary file. */
 static clr_result write_exr_stream(const char *path, clr_atomic_file *file, int32_t display_width,
-                                   int32_t display_height, clr_bounds2i dw,
-                                   const exr_planes *planes, const clr_exr_attribute *attrs,
-                                   int32_t attr_count) {
+                                   int32_t display_height, clr_bounds2i dw, exr_planes *planes,
+                                   const clr_exr_attribute *attrs, int32_t attr_count) {
   exr_job job = {path, 0, CLR_SUCCESS, 0};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = capture_exr_error;
@@ -340,26 +410,29 @@ static clr_result write_exr_stream(const char *path, clr_atomic_file *file, int3
   exr_context_t ctxt = NULL;
   if (EXR_TRY(&job, exr_start_write, &ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init) &&
       define_header(&job, ctxt, display_width, display_height, dw, planes->channels, planes->count,
-                    attrs, attr_count))
-    write_chunks(&job, ctxt, planes, dw.y1);
+                    attrs, attr_count) &&
+      find_file_order(&job, ctxt, planes))
+    write_chunks(&job, ctxt, planes);
   if (ctxt) EXR_TRY(&job, exr_finish, &ctxt); /* writes the chunk offset table */
   return job.result;
 }
 
-clr_result clr_exr_write(const char *path, int32_t display_width, int32_t display_height,
-                         clr_bounds2i data_window, const clr_exr_channel *channels,
-                         int32_t channel_count, const clr_exr_attribute *attrs,
-                         int32_t attr_count) {
+/* clr_exr_write, or clr_exr_write_rows when `rows` is set. */
+static clr_result write_exr(const char *path, int32_t display_width, int32_t display_height,
+                            clr_bounds2i data_window, const clr_exr_channel *channels,
+                            int32_t channel_count, clr_exr_rows_fn rows, void *rows_user,
+                            const clr_exr_attribute *attrs, int32_t attr_count) {
   CLR_CHECK(validate_write(path, display_width, display_height, data_window, channels,
-                           channel_count, attrs, attr_count));
+                           channel_count, rows != NULL, attrs, attr_count));
   int32_t width = data_window.x1 - data_window.x0;
   size_t pixels = (size_t)width * (size_t)(data_window.y1 - data_window.y0);
   const void **data = calloc((size_t)channel_count, sizeof *data);
   uint16_t **halves = calloc((size_t)channel_count, sizeof *halves);
+  int32_t *file_order = calloc((size_t)channel_count, sizeof *file_order);
   clr_result result = CLR_SUCCESS;
-  if (!data || !halves)
+  if (!data || !halves || !file_order)
     result = clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_exr_write '%s': out of memory", path);
-  for (int32_t c = 0; result == CLR_SUCCESS && c < channel_count; ++c) {
+  for (int32_t c = 0; result == CLR_SUCCESS && !rows && c < channel_count; ++c) {
     data[c] = channels[c].data;
     if (!channels[c].half) continue;
     halves[c] = malloc(pixels * sizeof(uint16_t));
@@ -373,7 +446,8 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
   clr_atomic_file file;
   if (result == CLR_SUCCESS) result = clr_atomic_file_open(&file, path);
   if (result == CLR_SUCCESS) {
-    exr_planes planes = {channels, channel_count, data, width, data_window.y0};
+    exr_planes planes = {channels,       channel_count, data, width, data_window.y0,
+                         data_window.y1, file_order,    0,    rows,  rows_user};
     result = write_exr_stream(path, &file, display_width, display_height, data_window, &planes,
                               attrs, attr_count);
     if (result == CLR_SUCCESS)
@@ -384,7 +458,25 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
   for (int32_t c = 0; halves && c < channel_count; ++c) free(halves[c]);
   free(halves);
   free(data);
+  free(file_order);
   return result;
+}
+
+clr_result clr_exr_write(const char *path, int32_t display_width, int32_t display_height,
+                         clr_bounds2i data_window, const clr_exr_channel *channels,
+                         int32_t channel_count, const clr_exr_attribute *attrs,
+                         int32_t attr_count) {
+  return write_exr(path, display_width, display_height, data_window, channels, channel_count, NULL,
+                   NULL, attrs, attr_count);
+}
+
+clr_result clr_exr_write_rows(const char *path, int32_t display_width, int32_t display_height,
+                              clr_bounds2i data_window, const clr_exr_channel *channels,
+                              int32_t channel_count, clr_exr_rows_fn rows, void *rows_user,
+                              const clr_exr_attribute *attrs, int32_t attr_count) {
+  if (!rows) return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_exr_write_rows: rows is NULL");
+  return write_exr(path, display_width, display_height, data_window, channels, channel_count, rows,
+                   rows_user, attrs, attr_count);
 }
 
 /* ---- reading ----------------------------------------------------------------------------- */

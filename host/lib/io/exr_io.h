@@ -33,6 +33,18 @@ clr_result clr_exr_write(const char *path, int32_t display_width, int32_t displa
                          clr_bounds2i data_window, const clr_exr_channel *channels,
                          int32_t channel_count, const clr_exr_attribute *attrs, int32_t attr_count);
 
+/* Fills rows[c] with `lines` rows (data-window width floats each, row-major) of channel c (the
+ * caller's order) from data-window line y on; called once per chunk, from several threads at
+ * once. */
+typedef void (*clr_exr_rows_fn)(void *user, int32_t y, int32_t lines, float *const *rows);
+
+/* clr_exr_write with the values computed chunk by chunk by `rows` (channels' data unused): no
+ * whole-image planes, and the computing spread over the compressing threads. The same file. */
+clr_result clr_exr_write_rows(const char *path, int32_t display_width, int32_t display_height,
+                              clr_bounds2i data_window, const clr_exr_channel *channels,
+                              int32_t channel_count, clr_exr_rows_fn rows, void *rows_user,
+                              const clr_exr_attribute *attrs, int32_t attr_count);
+
 /* An EXR file read into float planes (half and uint channels converted to float). */
 typedef struct clr_exr_image {
   clr_bounds2i display_window; /* half-open */

@@ -49,6 +49,18 @@ clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, c
   if (!srgb)
     return clr_fail(NULL, CLR_ERROR_OUT_OF_MEMORY, "clr_png_write_srgb '%s': out of memory", path);
   for (size_t i = 0; i < bytes; ++i) srgb[i] = clr_to_srgb8(rgb[i]);
+  clr_result result = clr_png_write_srgb8(path, width, height, srgb);
+  free(srgb);
+  return result;
+}
+
+clr_result clr_png_write_srgb8(const char *path, int32_t width, int32_t height,
+                               const uint8_t *srgb) {
+  if (!path || !srgb)
+    return clr_fail(NULL, CLR_ERROR_NULL_POINTER, "clr_png_write_srgb8: NULL path or values");
+  if (!clr_rgb_bytes(width, height, 1))
+    return clr_fail(NULL, CLR_ERROR_INVALID_RESOLUTION, "clr_png_write_srgb '%s': bad size %dx%d",
+                    path, (int)width, (int)height);
   clr_atomic_file file;
   FILE *stream = NULL;
   clr_result result = clr_atomic_file_open(&file, path); /* leaves `file` abortable on failure */
@@ -70,7 +82,6 @@ clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, c
     result = clr_atomic_file_commit(&file);
   else
     clr_atomic_file_abort(&file); /* safe after a failed open too */
-  free(srgb);
   return result;
 }
 

@@ -18,6 +18,9 @@ size_t clr_rgb_bytes(int32_t width, int32_t height, size_t element);
  * The file appears at `path` only when complete (temporary file renamed); nothing is left behind
  * on failure. */
 clr_result clr_png_write_srgb(const char *path, int32_t width, int32_t height, const float *rgb);
+/* The same with the 8-bit sRGB values given (width * height * 3 bytes, clr_to_srgb8's). */
+clr_result clr_png_write_srgb8(const char *path, int32_t width, int32_t height,
+                               const uint8_t *srgb);
 
 /* Reads any PNG (gray, palette, alpha composited onto black, 16-bit) as interleaved linear RGB:
  * each 8-bit sRGB value v becomes InverseGammaCorrect(v / 255). *rgb is malloc'ed (free()). */

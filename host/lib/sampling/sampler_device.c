@@ -55,6 +55,9 @@ struct clr_sampler_device {
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
   grow_buffer plan, index_plan, indices, scratch, slots, bounded, pmj, pair;
+  /* Values read back into host memory, kept between calls: a buffer made per call costs the
+   * implementation fresh pages (page faults) in every batch, and their release a TLB shootdown */
+  grow_buffer host_out;
   cl_uint *bounded_host; /* 4 per bound b = 1..bounded_count (clr_pcg32x8_bounded) */
   int bounded_count;
   /* Host copies of the last launch's plans (read by non-blocking writes until the call ends). */
@@ -96,8 +99,8 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan,  &d->index_plan, &d->indices, &d->scratch,
-                            &d->slots, &d->bounded,    &d->pmj,     &d->pair};
+  grow_buffer *buffers[] = {&d->plan,    &d->index_plan, &d->indices, &d->scratch, &d->slots,
+                            &d->bounded, &d->pmj,        &d->pair,    &d->host_out};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
@@ -712,11 +715,11 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
       return clr_fail(ctx, CLR_ERROR_INVALID_ARGUMENT,
                       "clr_sampler_generate: device_values holds %zu bytes, the batch needs %zu",
                       have, value_bytes);
-  } else {
+  } else if (in_host_values(ctx, out)) {
+    /* host_values differs per call: a buffer over it for this call only */
     cl_int err = CL_SUCCESS;
-    cl_mem_flags in_place = in_host_values(ctx, out) ? CL_MEM_USE_HOST_PTR : 0;
-    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY | in_place, value_bytes,
-                           in_place ? out->host_values : NULL, &err);
+    *temp = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR,
+                           value_bytes, out->host_values, &err);
     if (err != CL_SUCCESS) {
       *temp = NULL;
       return clr_fail(ctx, CLR_ERROR_OPENCL,
@@ -724,6 +727,9 @@ static clr_result generate_locked(clr_sampler_device *d, const clr_sampler_param
                       clr_cl_error_name(err), (int)err);
     }
     values = *temp;
+  } else {
+    CLR_CHECK(grow(ctx, &d->host_out, value_bytes, CL_MEM_WRITE_ONLY, "sample values"));
+    values = d->host_out.mem;
   }
   cl_command_queue q = clr_context_cl_queue(ctx);
   int global =
