@@ -5,6 +5,7 @@ packages=(
   build-essential cmake pkg-config
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   libembree-dev libopenexr-dev libcmocka-dev libpng-dev
+  zlib1g-dev  # the EXR writer compresses its ZIP chunks with zlib itself (host/lib/io/exr_zip.c)
   openexr  # exrheader/exrmaketiled: independent EXR readers used by tests/test_image_io.c
   clang libclang-rt-14-dev  # libFuzzer + sanitizer runtimes: the fuzz targets (scripts/fuzz.sh)
   oclgrind  # second OpenCL implementation of tests/test_devices.c (registered privately there)
