@@ -15,6 +15,8 @@
 #include <unistd.h>
 #include <zlib.h>
 #include <cmocka.h>
+
+#include "read_file_test_util.h"
 #include "exr_io.h"
 #include "exr_zip.h"
 
@@ -238,21 +240,6 @@ static void copy_rows(void *user, int32_t y, int32_t lines, float *const *rows) 
   __atomic_fetch_add(&im->calls, 1, __ATOMIC_RELAXED);
 }
 
-static char *read_all(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  assert_int_equal(fseek(f, 0, SEEK_END), 0);
-  long n = ftell(f);
-  assert_true(n > 0);
-  rewind(f);
-  char *bytes = malloc((size_t)n);
-  assert_non_null(bytes);
-  assert_int_equal(fread(bytes, 1, (size_t)n, f), (size_t)n);
-  fclose(f);
-  *size = (size_t)n;
-  return bytes;
-}
-
 static void test_rows_write_same_file(void **state) {
   (void)state;
   enum { W = 29, H = 83 }; /* six chunks, the last of 3 lines */
@@ -273,12 +260,7 @@ static void test_rows_write_same_file(void **state) {
   assert_int_equal(clr_exr_write_rows(b, 40, 90, dw, names, 4, copy_rows, &im, &attr, 1),
                    CLR_SUCCESS);
   assert_int_equal(im.calls, 6); /* once per chunk */
-  size_t na = 0, nb = 0;
-  char *fa = read_all(a, &na), *fb = read_all(b, &nb);
-  assert_int_equal(na, nb);
-  assert_memory_equal(fa, fb, na);
-  free(fa);
-  free(fb);
+  assert_files_equal(a, b);
   assert_int_equal(unlink(a), 0);
   assert_int_equal(unlink(b), 0);
   assert_int_equal(clr_exr_write_rows(b, 40, 90, dw, names, 4, NULL, &im, NULL, 0),

@@ -12,24 +12,11 @@
 #include <string.h>
 #include <unistd.h>
 #include <cmocka.h>
+
+#include "read_file_test_util.h"
 #include "clrender.h"
 #include "clrender/film.h"
 #include "png_io.h"
-
-static char *read_all(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  assert_int_equal(fseek(f, 0, SEEK_END), 0);
-  long n = ftell(f);
-  assert_true(n > 0);
-  rewind(f);
-  char *bytes = malloc((size_t)n);
-  assert_non_null(bytes);
-  assert_int_equal(fread(bytes, 1, (size_t)n, f), (size_t)n);
-  fclose(f);
-  *size = (size_t)n;
-  return bytes;
-}
 
 static void check_film(int w, int h) {
   clr_film_desc d;
@@ -60,12 +47,7 @@ static void check_film(int w, int h) {
   snprintf(b, sizeof b, "%s/test_film_png_threads_b_%d.png", CLR_BINARY_DIR, (int)getpid());
   assert_int_equal(film_write_png(film, a, 0.5f), CLR_SUCCESS);
   assert_int_equal(clr_png_write_srgb(b, w, h, resolved), CLR_SUCCESS);
-  size_t na = 0, nb = 0;
-  char *fa = read_all(a, &na), *fb = read_all(b, &nb);
-  assert_int_equal(na, nb);
-  assert_memory_equal(fa, fb, na);
-  free(fa);
-  free(fb);
+  assert_files_equal(a, b);
   assert_int_equal(unlink(a), 0);
   assert_int_equal(unlink(b), 0);
   assert_int_equal(film_write_png(film, a, NAN), CLR_ERROR_INVALID_ARGUMENT);

@@ -13,6 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cmocka.h>
+
+#include "read_file_test_util.h"
 #include "atomic_file.h"
 #include "clrender/image.h"
 #include "exr_io.h"
@@ -68,21 +70,6 @@ static void write_bytes(const char *path, const void *data, size_t size) {
   assert_non_null(f);
   assert_int_equal(fwrite(data, 1, size, f), size);
   assert_int_equal(fclose(f), 0);
-}
-
-static void *read_bytes(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  assert_int_equal(fseek(f, 0, SEEK_END), 0);
-  long n = ftell(f);
-  assert_true(n > 0);
-  rewind(f);
-  void *data = malloc((size_t)n);
-  assert_non_null(data);
-  assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
-  fclose(f);
-  *size = (size_t)n;
-  return data;
 }
 
 static float pattern(int channel, int x, int y) {
@@ -292,7 +279,7 @@ static void test_exr_failures_leave_nothing(void **state) {
   const char *path = in_dir("keep.exr");
   assert_int_equal(clr_exr_write(path, 2, 2, all, &ch, 1, NULL, 0), CLR_SUCCESS);
   size_t before_size = 0, after_size = 0;
-  void *before = read_bytes(path, &before_size);
+  void *before = read_file_bytes(path, &before_size);
   clr_exr_attribute bad = {"channels", CLR_EXR_ATTR_STRING, "oops", 0.f, 0};
   float w[4] = {9.f, 9.f, 9.f, 9.f};
   clr_exr_channel ch2 = {"Y", w, 0};
@@ -300,7 +287,7 @@ static void test_exr_failures_leave_nothing(void **state) {
   assert_non_null(strstr(clr_last_error_message(), "exr_attr_set_string"));
   assert_non_null(strstr(clr_last_error_message(), path));
   assert_int_equal(count_dir_entries(dir), 1);
-  void *after = read_bytes(path, &after_size);
+  void *after = read_file_bytes(path, &after_size);
   assert_int_equal(before_size, after_size);
   assert_memory_equal(before, after, before_size);
   free(before);
@@ -339,7 +326,7 @@ static void test_exr_bad_files(void **state) {
       clr_exr_write(in_dir("full.exr"), w, h, (clr_bounds2i){0, 0, w, h}, channels, 2, NULL, 0),
       CLR_SUCCESS);
   size_t size = 0;
-  unsigned char *bytes = read_bytes(in_dir("full.exr"), &size);
+  unsigned char *bytes = read_file_bytes(in_dir("full.exr"), &size);
   const size_t cuts[] = {4, 40, 300, 330, size / 2, size - 5};
   for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; ++k) {
     write_bytes(in_dir("cut.exr"), bytes, cuts[k]);
@@ -442,7 +429,7 @@ static void test_png_failures(void **state) {
   for (int i = 0; i < 32 * 32 * 3; ++i) big[i] = (float)((i * 7919) % 1000) / 1000.f;
   assert_int_equal(clr_png_write_srgb(in_dir("full.png"), 32, 32, big), CLR_SUCCESS);
   size_t size = 0;
-  unsigned char *bytes = read_bytes(in_dir("full.png"), &size);
+  unsigned char *bytes = read_file_bytes(in_dir("full.png"), &size);
   const size_t cuts[] = {8, 20, 50, size / 2, size - 13};
   for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; ++k) {
     write_bytes(in_dir("cut.png"), bytes, cuts[k]);

@@ -14,6 +14,8 @@
 #include <sys/types.h>
 #include <unistd.h>
 #include <cmocka.h>
+
+#include "read_file_test_util.h"
 #include "clrender.h"
 #include "program_cache.h"
 
@@ -127,19 +129,6 @@ static void write_file(const char *path, const void *data, size_t n) {
   assert_int_equal(fclose(f), 0);
 }
 
-static unsigned char *read_file(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  fseek(f, 0, SEEK_SET);
-  unsigned char *data = malloc(*n);
-  assert_non_null(data);
-  assert_int_equal(fread(data, 1, *n, f), *n);
-  fclose(f);
-  return data;
-}
-
 static uint64_t fnv1a(const unsigned char *p, size_t n) {
   uint64_t h = 0xcbf29ce484222325ull;
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
@@ -152,7 +141,7 @@ static void damaged_entry(void (*edit)(unsigned char *data, size_t *n)) {
   char path[4096];
   entry_path(path, sizeof path);
   size_t n = 0;
-  unsigned char *data = read_file(path, &n);
+  unsigned char *data = read_file_bytes(path, &n);
   unsigned char *copy = malloc(n + 4096);
   assert_non_null(copy);
   memcpy(copy, data, n);
@@ -163,7 +152,7 @@ static void damaged_entry(void (*edit)(unsigned char *data, size_t *n)) {
   same_samples();
   assert_true(inode_of(path) != damaged); /* rebuilt from source and stored again, whole: */
   size_t m = 0;
-  unsigned char *again = read_file(path, &m);
+  unsigned char *again = read_file_bytes(path, &m);
   uint64_t sum = 0;
   memcpy(&sum, again + m - 8, 8);
   assert_true(sum == fnv1a(again, m - 8));
