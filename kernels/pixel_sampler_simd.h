@@ -26,14 +26,17 @@ CLR_LANE_INLINE float8 clr_below_one_x8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
+/* PCG32's XSH-RR output of 4 old states in the low halves of 64-bit lanes: the 32-bit xorshifted
+ * value doubled into both halves, so that a 64-bit right shift by rot leaves the right rotation
+ * in the low half. */
+CLR_LANE_INLINE ulong4 clr_pcg32x4_output(ulong4 s) {
+  uint8 xorshifted = as_uint8(((s >> (ulong)18) ^ s) >> (ulong)27);
+  return as_ulong4(xorshifted.s00224466) >> (s >> (ulong)59);
+}
+
 /* PCG32's XSH-RR output of the old states (clr_pcg32_next). */
 CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
-  uint8 xorshifted = (uint8)(convert_uint4(((lo >> (ulong)18) ^ lo) >> (ulong)27),
-                             convert_uint4(((hi >> (ulong)18) ^ hi) >> (ulong)27));
-  uint8 rot = (uint8)(convert_uint4(lo >> (ulong)59), convert_uint4(hi >> (ulong)59));
-  /* Right rotation by rot, as OpenCL's rotate (left by -rot mod 32): the shift-or idiom becomes
-   * llvm.fshr on vectors, which Oclgrind cannot run. */
-  return rotate(xorshifted, (0u - rot) & 31u);
+  return (uint8)(as_uint8(clr_pcg32x4_output(lo)).s0246, as_uint8(clr_pcg32x4_output(hi)).s0246);
 }
 
 CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
