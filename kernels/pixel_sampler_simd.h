@@ -39,18 +39,28 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
   return (uint8)(as_uint8(clr_pcg32x4_output(lo)).s0246, as_uint8(clr_pcg32x4_output(hi)).s0246);
 }
 
+/* s * CLR_PCG32_MULT + inc: the cross products' sum (mod 2^32) by one 32-bit multiply of both
+ * halves, the low product as one 32x32->64 multiply. */
+CLR_LANE_INLINE ulong4 clr_pcg32x4_step(ulong4 s, ulong4 inc) {
+  const uint mult_lo = (uint)CLR_PCG32_MULT, mult_hi = (uint)(CLR_PCG32_MULT >> 32);
+  uint8 products =
+      as_uint8(s) * (uint8)(mult_hi, mult_lo, mult_hi, mult_lo, mult_hi, mult_lo, mult_hi, mult_lo);
+  uint8 cross = products + products.s10325476;
+  return (s & 0xFFFFFFFFul) * (ulong)mult_lo + (as_ulong4(cross) << 32ul) + inc;
+}
+
 CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
   ulong4 lo = r->state_lo, hi = r->state_hi;
-  r->state_lo = lo * CLR_PCG32_MULT + r->inc_lo;
-  r->state_hi = hi * CLR_PCG32_MULT + r->inc_hi;
+  r->state_lo = clr_pcg32x4_step(lo, r->inc_lo);
+  r->state_hi = clr_pcg32x4_step(hi, r->inc_hi);
   return clr_pcg32x8_output(lo, hi);
 }
 
 /* Draws only in the lanes of `mask` (others keep their state; their result is meaningless). */
 CLR_LANE_INLINE uint8 clr_pcg32x8_next_masked(clr_pcg32x8 *r, int8 mask) {
   ulong4 lo = r->state_lo, hi = r->state_hi;
-  r->state_lo = select(lo, lo * CLR_PCG32_MULT + r->inc_lo, convert_long4(mask.lo));
-  r->state_hi = select(hi, hi * CLR_PCG32_MULT + r->inc_hi, convert_long4(mask.hi));
+  r->state_lo = select(lo, clr_pcg32x4_step(lo, r->inc_lo), convert_long4(mask.lo));
+  r->state_hi = select(hi, clr_pcg32x4_step(hi, r->inc_hi), convert_long4(mask.hi));
   return clr_pcg32x8_output(lo, hi);
 }
 
