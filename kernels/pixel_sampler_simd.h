@@ -92,12 +92,9 @@ CLR_LANE_INLINE int clr_any8(int8 m) {
   return (m2.x | m2.y) < 0;
 }
 
-/* clr_pcg32_bounded(b) in every lane: rejection redraws only the rejecting lanes; v % b by
- * Granlund-Montgomery multiplication (exact for every 32-bit v; no vector division).
- * bounded[b - 1] = (threshold (-b) % b, magic, shift1, shift2) from the host. */
-CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const uint4 *bounded) {
-  uint4 k = bounded[b - 1u];
-  uint threshold = k.x;
+/* A draw per lane, redrawn in the lanes where it is below `threshold` (UniformUInt32's rejection;
+ * only the rejecting lanes draw again). */
+CLR_LANE_INLINE uint8 clr_pcg32x8_accepted(clr_pcg32x8 *r, uint threshold) {
   uint8 v = clr_pcg32x8_next(r);
   int8 rejected = v < threshold;
   while (threshold != 0u && clr_any8(rejected)) {
@@ -105,9 +102,24 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const
     v = select(v, w, rejected);
     rejected = rejected & (v < threshold);
   }
+  return v;
+}
+
+/* clr_pcg32_bounded(b) in every lane: v % b by Granlund-Montgomery multiplication (exact for
+ * every 32-bit v; no vector division). bounded[b - 1] = (threshold (-b) % b, magic, shift1,
+ * shift2) from the host. */
+CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const uint4 *bounded) {
+  uint4 k = bounded[b - 1u];
+  uint8 v = clr_pcg32x8_accepted(r, k.x);
   uint8 t = clr_mul_hi8(v, k.y);
   uint8 q = (t + ((v - t) >> k.z)) >> k.w;
   return v - q * b;
+}
+
+/* clr_pcg32_bounded(b) for a b known when compiled (an unrolled loop's): the compiler folds the
+ * threshold and the remainder (a mask for powers of two, no test where the threshold is 0). */
+CLR_LANE_INLINE uint8 clr_pcg32x8_bounded_const(clr_pcg32x8 *r, uint b) {
+  return clr_pcg32x8_accepted(r, (0u - b) % b) % b;
 }
 
 /* Scratch rows: float c of item i (of `dims` floats) is row i * dims + c. */
@@ -181,16 +193,29 @@ static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pc
 #define CLR_PERM_IDENTITY 0xFEDCBA9876543210ul
 
 /* clr_shuffle of `count` <= 16 items: the same swaps, made on the permutation's nibbles. */
+/* Swaps position i (the same in every lane) with position other >= i of each lane. */
+CLR_LANE_INLINE ulong8 clr_perm_swap8(ulong8 perm, int i, uint8 other) {
+  ulong at_i = 4ul * (ulong)i;
+  ulong8 at_other = convert_ulong8(other) << 2ul;
+  ulong8 x = ((perm >> at_i) ^ (perm >> at_other)) & 15ul;
+  return perm ^ ((x << at_i) | (x << at_other));
+}
+
+/* clr_shuffle of `count` <= 16 items: the same swaps, made on the permutation's nibbles; 16 items
+ * (4x4 strata, 16 samples) unrolled, so that every bound is a constant. */
 static inline ulong8 clr_shuffle_perm8(int count, clr_pcg32x8 *state,
                                        __global const uint4 *bounded) {
   clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
   ulong8 perm = (ulong8)CLR_PERM_IDENTITY;
-  for (int i = 0; i < count; ++i) {
-    uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
-    ulong at_i = 4ul * (ulong)i;
-    ulong8 at_other = convert_ulong8(other) << 2ul;
-    ulong8 x = ((perm >> at_i) ^ (perm >> at_other)) & 15ul;
-    perm ^= (x << at_i) | (x << at_other);
+  if (count == CLR_PERM_MAX_ITEMS) {
+#pragma unroll
+    for (int i = 0; i < CLR_PERM_MAX_ITEMS; ++i)
+      perm = clr_perm_swap8(
+          perm, i, (uint)i + clr_pcg32x8_bounded_const(rng, (uint)(CLR_PERM_MAX_ITEMS - i)));
+  } else {
+    for (int i = 0; i < count; ++i)
+      perm =
+          clr_perm_swap8(perm, i, (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded));
   }
   *state = r;
   return perm;
@@ -207,10 +232,19 @@ CLR_LANE_INLINE float8 clr_perm_load8(__global const float *buf, ulong8 perm, in
   return clr_gather8(buf, clr_scratch_rows8(clr_nibbles8(perm, s), dims, c));
 }
 
+/* The draws of clr_shuffle8 of `count` items (16 unrolled: no remainders, and no output where
+ * the threshold is 0). */
 static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *state,
                                       __global const uint4 *bounded) {
   clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
-  for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
+  if (count == CLR_PERM_MAX_ITEMS) {
+#pragma unroll
+    for (int i = 0; i < CLR_PERM_MAX_ITEMS; ++i)
+      clr_pcg32x8_accepted(rng,
+                           (0u - (uint)(CLR_PERM_MAX_ITEMS - i)) % (uint)(CLR_PERM_MAX_ITEMS - i));
+  } else {
+    for (int i = 0; i < count; ++i) clr_pcg32x8_accepted(rng, bounded[count - i - 1].x);
+  }
   *state = r;
 }
 
