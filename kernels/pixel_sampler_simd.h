@@ -26,28 +26,41 @@ CLR_LANE_INLINE float8 clr_below_one_x8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
 }
 
+/* PCG32's XSH-RR output of 4 old states in the low halves of 64-bit lanes: the 32-bit xorshifted
+ * value doubled into both halves, so that a 64-bit right shift by rot leaves the right rotation
+ * in the low half. */
+CLR_LANE_INLINE ulong4 clr_pcg32x4_output(ulong4 s) {
+  uint8 xorshifted = as_uint8(((s >> (ulong)18) ^ s) >> (ulong)27);
+  return as_ulong4(xorshifted.s00224466) >> (s >> (ulong)59);
+}
+
 /* PCG32's XSH-RR output of the old states (clr_pcg32_next). */
 CLR_LANE_INLINE uint8 clr_pcg32x8_output(ulong4 lo, ulong4 hi) {
-  uint8 xorshifted = (uint8)(convert_uint4(((lo >> (ulong)18) ^ lo) >> (ulong)27),
-                             convert_uint4(((hi >> (ulong)18) ^ hi) >> (ulong)27));
-  uint8 rot = (uint8)(convert_uint4(lo >> (ulong)59), convert_uint4(hi >> (ulong)59));
-  /* Right rotation by rot, as OpenCL's rotate (left by -rot mod 32): the shift-or idiom becomes
-   * llvm.fshr on vectors, which Oclgrind cannot run. */
-  return rotate(xorshifted, (0u - rot) & 31u);
+  return (uint8)(as_uint8(clr_pcg32x4_output(lo)).s0246, as_uint8(clr_pcg32x4_output(hi)).s0246);
+}
+
+/* s * CLR_PCG32_MULT + inc: the cross products' sum (mod 2^32) by one 32-bit multiply of both
+ * halves, the low product as one 32x32->64 multiply. */
+CLR_LANE_INLINE ulong4 clr_pcg32x4_step(ulong4 s, ulong4 inc) {
+  const uint mult_lo = (uint)CLR_PCG32_MULT, mult_hi = (uint)(CLR_PCG32_MULT >> 32);
+  uint8 products =
+      as_uint8(s) * (uint8)(mult_hi, mult_lo, mult_hi, mult_lo, mult_hi, mult_lo, mult_hi, mult_lo);
+  uint8 cross = products + products.s10325476;
+  return (s & 0xFFFFFFFFul) * (ulong)mult_lo + (as_ulong4(cross) << 32ul) + inc;
 }
 
 CLR_LANE_INLINE uint8 clr_pcg32x8_next(clr_pcg32x8 *r) {
   ulong4 lo = r->state_lo, hi = r->state_hi;
-  r->state_lo = lo * CLR_PCG32_MULT + r->inc_lo;
-  r->state_hi = hi * CLR_PCG32_MULT + r->inc_hi;
+  r->state_lo = clr_pcg32x4_step(lo, r->inc_lo);
+  r->state_hi = clr_pcg32x4_step(hi, r->inc_hi);
   return clr_pcg32x8_output(lo, hi);
 }
 
 /* Draws only in the lanes of `mask` (others keep their state; their result is meaningless). */
 CLR_LANE_INLINE uint8 clr_pcg32x8_next_masked(clr_pcg32x8 *r, int8 mask) {
   ulong4 lo = r->state_lo, hi = r->state_hi;
-  r->state_lo = select(lo, lo * CLR_PCG32_MULT + r->inc_lo, convert_long4(mask.lo));
-  r->state_hi = select(hi, hi * CLR_PCG32_MULT + r->inc_hi, convert_long4(mask.hi));
+  r->state_lo = select(lo, clr_pcg32x4_step(lo, r->inc_lo), convert_long4(mask.lo));
+  r->state_hi = select(hi, clr_pcg32x4_step(hi, r->inc_hi), convert_long4(mask.hi));
   return clr_pcg32x8_output(lo, hi);
 }
 
@@ -79,12 +92,9 @@ CLR_LANE_INLINE int clr_any8(int8 m) {
   return (m2.x | m2.y) < 0;
 }
 
-/* clr_pcg32_bounded(b) in every lane: rejection redraws only the rejecting lanes; v % b by
- * Granlund-Montgomery multiplication (exact for every 32-bit v; no vector division).
- * bounded[b - 1] = (threshold (-b) % b, magic, shift1, shift2) from the host. */
-CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const uint4 *bounded) {
-  uint4 k = bounded[b - 1u];
-  uint threshold = k.x;
+/* A draw per lane, redrawn in the lanes where it is below `threshold` (UniformUInt32's rejection;
+ * only the rejecting lanes draw again). */
+CLR_LANE_INLINE uint8 clr_pcg32x8_accepted(clr_pcg32x8 *r, uint threshold) {
   uint8 v = clr_pcg32x8_next(r);
   int8 rejected = v < threshold;
   while (threshold != 0u && clr_any8(rejected)) {
@@ -92,9 +102,27 @@ CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const
     v = select(v, w, rejected);
     rejected = rejected & (v < threshold);
   }
+  return v;
+}
+
+/* clr_pcg32_bounded(b) in every lane: v % b by Granlund-Montgomery multiplication (exact for
+ * every 32-bit v; no vector division). bounded[b - 1] = (threshold (-b) % b, magic, shift1,
+ * shift2) from the host. */
+CLR_LANE_INLINE uint8 clr_pcg32x8_bounded(clr_pcg32x8 *r, uint b, __global const uint4 *bounded) {
+  uint4 k = bounded[b - 1u];
+  uint8 v = clr_pcg32x8_accepted(r, k.x);
   uint8 t = clr_mul_hi8(v, k.y);
   uint8 q = (t + ((v - t) >> k.z)) >> k.w;
   return v - q * b;
+}
+
+/* UniformUInt32's rejection threshold for the bound b. */
+CLR_LANE_INLINE uint clr_bounded_threshold(uint b) { return (0u - b) % b; }
+
+/* clr_pcg32_bounded(b) for a b known when compiled (an unrolled loop's): the compiler folds the
+ * threshold and the remainder (a mask for powers of two, no test where the threshold is 0). */
+CLR_LANE_INLINE uint8 clr_pcg32x8_bounded_const(clr_pcg32x8 *r, uint b) {
+  return clr_pcg32x8_accepted(r, clr_bounded_threshold(b)) % b;
 }
 
 /* Scratch rows: float c of item i (of `dims` floats) is row i * dims + c. */
@@ -167,37 +195,69 @@ static inline void clr_shuffle8(__global float *buf, int count, int dims, clr_pc
 /* The identity permutation 0xFEDCBA9876543210 (positions past count are never touched). */
 #define CLR_PERM_IDENTITY 0xFEDCBA9876543210ul
 
-/* clr_shuffle of `count` <= 16 items: the same swaps, made on the permutation's nibbles. */
-static inline ulong8 clr_shuffle_perm8(int count, clr_pcg32x8 *state,
-                                       __global const uint4 *bounded) {
+/* The lanes' permutations as two 4-lane halves, always by pointer: 512-bit vectors as values
+ * (ulong8 arguments, convert_ulong8) draw -Wpsabi warnings from PoCL's AVX2 build. */
+typedef struct clr_perm8 {
+  ulong4 lo, hi;
+} clr_perm8;
+
+/* Swaps position i (the same in every lane) with position other >= i of each lane. */
+CLR_LANE_INLINE ulong4 clr_perm_swap4(ulong4 perm, ulong at_i, uint4 other) {
+  ulong4 at_other = convert_ulong4(other) << 2ul;
+  ulong4 x = ((perm >> at_i) ^ (perm >> at_other)) & 15ul;
+  return perm ^ ((x << at_i) | (x << at_other));
+}
+
+CLR_LANE_INLINE void clr_perm_swap8(clr_perm8 *perm, int i, uint8 other) {
+  ulong at_i = 4ul * (ulong)i;
+  perm->lo = clr_perm_swap4(perm->lo, at_i, other.lo);
+  perm->hi = clr_perm_swap4(perm->hi, at_i, other.hi);
+}
+
+/* clr_shuffle of `count` <= 16 items into *perm: the same swaps, made on the permutation's
+ * nibbles; 16 items (4x4 strata, 16 samples) unrolled, so that every bound is a constant. */
+static inline void clr_shuffle_perm8(int count, clr_pcg32x8 *state, __global const uint4 *bounded,
+                                     clr_perm8 *perm) {
   clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
-  ulong8 perm = (ulong8)CLR_PERM_IDENTITY;
-  for (int i = 0; i < count; ++i) {
-    uint8 other = (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
-    ulong at_i = 4ul * (ulong)i;
-    ulong8 at_other = convert_ulong8(other) << 2ul;
-    ulong8 x = ((perm >> at_i) ^ (perm >> at_other)) & 15ul;
-    perm ^= (x << at_i) | (x << at_other);
+  clr_perm8 p;
+  p.lo = p.hi = (ulong4)CLR_PERM_IDENTITY;
+  if (count == CLR_PERM_MAX_ITEMS) {
+#pragma unroll
+    for (int i = 0; i < CLR_PERM_MAX_ITEMS; ++i)
+      clr_perm_swap8(&p, i,
+                     (uint)i + clr_pcg32x8_bounded_const(rng, (uint)(CLR_PERM_MAX_ITEMS - i)));
+  } else {
+    for (int i = 0; i < count; ++i)
+      clr_perm_swap8(&p, i, (uint)i + clr_pcg32x8_bounded(rng, (uint)(count - i), bounded));
   }
   *state = r;
-  return perm;
+  *perm = p;
 }
 
 /* Nibble s of every lane: the item at position s. */
-CLR_LANE_INLINE uint8 clr_nibbles8(ulong8 perm, int s) {
-  return convert_uint8((perm >> (4ul * (ulong)s)) & 15ul);
+CLR_LANE_INLINE uint8 clr_nibbles8(const clr_perm8 *perm, int s) {
+  ulong at = 4ul * (ulong)s;
+  return (uint8)(convert_uint4((perm->lo >> at) & 15ul), convert_uint4((perm->hi >> at) & 15ul));
 }
 
 /* Float c of the item at position s, read through the permutation. */
-CLR_LANE_INLINE float8 clr_perm_load8(__global const float *buf, ulong8 perm, int s, int dims,
-                                      int c) {
+CLR_LANE_INLINE float8 clr_perm_load8(__global const float *buf, const clr_perm8 *perm, int s,
+                                      int dims, int c) {
   return clr_gather8(buf, clr_scratch_rows8(clr_nibbles8(perm, s), dims, c));
 }
 
+/* The draws of clr_shuffle8 of `count` items (16 unrolled: no remainders, and no output where
+ * the threshold is 0). */
 static inline void clr_shuffle_draws8(int count, clr_pcg32x8 *state,
                                       __global const uint4 *bounded) {
   clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
-  for (int i = 0; i < count; ++i) clr_pcg32x8_bounded(rng, (uint)(count - i), bounded);
+  if (count == CLR_PERM_MAX_ITEMS) {
+#pragma unroll
+    for (int i = 0; i < CLR_PERM_MAX_ITEMS; ++i)
+      clr_pcg32x8_accepted(rng, clr_bounded_threshold((uint)(CLR_PERM_MAX_ITEMS - i)));
+  } else {
+    for (int i = 0; i < count; ++i) clr_pcg32x8_accepted(rng, bounded[count - i - 1].x);
+  }
   *state = r;
 }
 
@@ -270,16 +330,17 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p,
       clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples, p->inv_y_samples,
                                 p->jitter, rng);
     int in_registers = n <= CLR_PERM_MAX_ITEMS;
-    ulong8 perm = (ulong8)CLR_PERM_IDENTITY;
+    clr_perm8 perm;
+    perm.lo = perm.hi = (ulong4)CLR_PERM_IDENTITY;
     if (in_registers)
-      perm = clr_shuffle_perm8(n, rng, bounded);
+      clr_shuffle_perm8(n, rng, bounded, &perm);
     else
       clr_shuffle8(buf, n, dims, rng, bounded);
     for (int k = 0; k < p->request_count; ++k) {
       if (!clr_slot_stores(&slots[k], dims, 0, d)) continue;
       if (in_registers && dims == 2) {
         for (int s = 0; s < p->sample_count; ++s) {
-          uint8 at = clr_scratch_rows8(clr_nibbles8(perm, p->first_sample + s), 2, 0);
+          uint8 at = clr_scratch_rows8(clr_nibbles8(&perm, p->first_sample + s), 2, 0);
           clr_store_pairs8(values, out,
                            (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value,
                            clr_gather8(buf, at), clr_gather8(buf, at + (uint)CLR_PIXEL_LANES));
@@ -290,7 +351,7 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p,
         for (int c = 0; c < dims; ++c) {
           int at = p->first_sample + s;
           float8 v =
-              in_registers ? clr_perm_load8(buf, perm, at, dims, c) : vload8(at * dims + c, buf);
+              in_registers ? clr_perm_load8(buf, &perm, at, dims, c) : vload8(at * dims + c, buf);
           clr_store_lanes8(
               values, out,
               (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c), v);
