@@ -8,7 +8,9 @@
  *
  * Each (implementation, shape) runs as a child process of this program (`test_devices --child`)
  * with its own environment:
- *   - PoCL: the machine's default ICDs, CLRENDER_DEVICE naming PoCL's platform;
+ *   - PoCL: the machine's default ICDs, CLRENDER_DEVICE naming PoCL's platform, an empty kernel
+ *     cache of its own and no program binary cache, so every kernel compiles and a build warning
+ *     on its stderr fails the test;
  *   - Oclgrind: OCL_ICD_VENDORS pointing at a folder this test writes in the build tree with one
  *     .icd naming liboclgrind-rt-icd.so, so Oclgrind (which presents itself as a GPU) is never
  *     registered for anything else on the machine. Oclgrind exits 0 even when it finds invalid
@@ -17,8 +19,10 @@
  *     uninitialized-value plugin is not used: it stops at LLVM's `freeze` instruction.
  * Sizes are small: Oclgrind interprets every instruction. */
 #define _DEFAULT_SOURCE
+#define _XOPEN_SOURCE 700 /* nftw */
 #include <errno.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -444,6 +448,18 @@ static void assert_no_diagnostics(const char *what, const char *path) {
   assert_int_equal(len, 0);
 }
 
+static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw) {
+  (void)st, (void)flag, (void)ftw;
+  return remove(path);
+}
+
+/* An empty folder at `path` (a previous run's contents removed). */
+static void make_empty_dir(const char *path) {
+  if (access(path, F_OK) == 0)
+    assert_int_equal(nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS), 0);
+  assert_int_equal(mkdir(path, 0755), 0);
+}
+
 /* Writes the private ICD folder naming only Oclgrind into `icd_dir`. */
 static void write_oclgrind_icd(const char *icd_dir) {
   char icd[4300];
@@ -484,12 +500,21 @@ static void run_on(const char *implementation, const char *shape) {
     status = run_child_process(env, err_path, "--child");
     assert_no_diagnostics("Oclgrind log", log_path);
   } else {
+    /* Kernels compiled afresh (empty PoCL cache, no program binaries), so their build warnings
+     * reach stderr on every machine, not only where the caches are cold. */
+    char pocl_cache[4200];
+    snprintf(pocl_cache, sizeof pocl_cache, "%s/pocl-cache-%s", dir, shape);
+    make_empty_dir(pocl_cache);
     const char *env[] = {"CLRENDER_DEVICE",
                          "Portable Computing Language",
                          "CLR_TEST_EXPECT_DEVICE",
                          "Portable Computing Language",
                          "CLRENDER_KERNELS",
                          shape,
+                         "POCL_CACHE_DIR",
+                         pocl_cache,
+                         "CLRENDER_PROGRAM_CACHE",
+                         "0",
                          NULL};
     status = run_child_process(env, err_path, "--child");
   }
