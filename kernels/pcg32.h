@@ -55,9 +55,10 @@ CLR_INLINE float clr_pcg32_float(clr_pcg32 *r) {
   return f < CLR_ONE_MINUS_EPSILON ? f : CLR_ONE_MINUS_EPSILON;
 }
 
-/* RNG::Advance(delta): jump `delta` draws ahead in O(log delta). */
-CLR_INLINE void clr_pcg32_advance(clr_pcg32 *r, clr_u64 delta) {
-  clr_u64 cur_mult = CLR_PCG32_MULT, cur_plus = r->inc, acc_mult = 1u, acc_plus = 0u;
+/* RNG::Advance(delta)'s jump for increment inc, in O(log delta): `delta` draws ahead the state is
+ * mult * state + plus. */
+CLR_INLINE void clr_pcg32_advance_terms(clr_u64 delta, clr_u64 inc, clr_u64 *mult, clr_u64 *plus) {
+  clr_u64 cur_mult = CLR_PCG32_MULT, cur_plus = inc, acc_mult = 1u, acc_plus = 0u;
   while (delta > 0) {
     if (delta & 1u) {
       acc_mult *= cur_mult;
@@ -67,7 +68,15 @@ CLR_INLINE void clr_pcg32_advance(clr_pcg32 *r, clr_u64 delta) {
     cur_mult *= cur_mult;
     delta >>= 1u;
   }
-  r->state = acc_mult * r->state + acc_plus;
+  *mult = acc_mult;
+  *plus = acc_plus;
+}
+
+/* RNG::Advance(delta): jump `delta` draws ahead. */
+CLR_INLINE void clr_pcg32_advance(clr_pcg32 *r, clr_u64 delta) {
+  clr_u64 mult, plus;
+  clr_pcg32_advance_terms(delta, r->inc, &mult, &plus);
+  r->state = mult * r->state + plus;
 }
 
 /* A well-mixed 64-bit hash (splitmix64 finaliser), for per-pixel streams and fallbacks. */

@@ -71,18 +71,10 @@ CLR_LANE_INLINE float8 clr_pcg32x8_float(clr_pcg32x8 *r) {
 /* clr_pcg32_advance by the same delta in every lane. Its increment term is linear in inc, so it
  * is formed once for inc = 1 and multiplied by each lane's inc. */
 CLR_LANE_INLINE void clr_pcg32x8_advance(clr_pcg32x8 *r, ulong delta) {
-  ulong cur_mult = CLR_PCG32_MULT, cur_plus = 1u, acc_mult = 1u, acc_plus = 0u;
-  while (delta > 0) {
-    if (delta & 1u) {
-      acc_mult *= cur_mult;
-      acc_plus = acc_plus * cur_mult + cur_plus;
-    }
-    cur_plus = (cur_mult + 1u) * cur_plus;
-    cur_mult *= cur_mult;
-    delta >>= 1u;
-  }
-  r->state_lo = acc_mult * r->state_lo + acc_plus * r->inc_lo;
-  r->state_hi = acc_mult * r->state_hi + acc_plus * r->inc_hi;
+  clr_u64 mult, plus;
+  clr_pcg32_advance_terms(delta, 1u, &mult, &plus);
+  r->state_lo = mult * r->state_lo + plus * r->inc_lo;
+  r->state_hi = mult * r->state_hi + plus * r->inc_hi;
 }
 
 /* any(m) by OR-ing halves (PoCL's any() tests the lanes one by one with branches). */
@@ -369,9 +361,7 @@ static inline void clr_stratified_arrays8(const clr_sampler_params *p,
   int arrays = clr_slots_array_count(p, slots, dims);
   for (int a = 0; a < arrays; ++a) {
     int size = clr_slots_array_size(p, slots, dims, a);
-    float inv_size = 0.0f;
-    for (int k = 0; k < p->request_count; ++k)
-      if (clr_slot_is(&slots[k], dims, 1, a)) inv_size = slots[k].inv_array_size;
+    float inv_size = clr_slots_inv_array_size(p, slots, dims, a);
     int used = clr_slots_use(p, slots, dims, 1, a);
     for (int j = 0; j < p->spp; ++j) {
       int s = j - p->first_sample;

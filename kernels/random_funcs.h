@@ -46,6 +46,17 @@ CLR_INLINE clr_i32 clr_slots_array_size(const clr_sampler_params *p,
   return 0;
 }
 
+/* 1 / size of 1D or 2D array number `source`, rounded on the host (0 if no slot describes it);
+ * the last slot describing it gives it. */
+CLR_INLINE float clr_slots_inv_array_size(const clr_sampler_params *p,
+                                          CLR_GLOBAL const clr_request_slot *slots, clr_i32 dims,
+                                          clr_i32 source) {
+  float inv_size = 0.0f;
+  for (clr_i32 k = 0; k < p->request_count; ++k)
+    if (clr_slot_is(&slots[k], dims, 1, source)) inv_size = slots[k].inv_array_size;
+  return inv_size;
+}
+
 /* Largest array size over all slots (0 without arrays). */
 CLR_INLINE clr_i32 clr_slots_max_array_size(const clr_sampler_params *p,
                                             CLR_GLOBAL const clr_request_slot *slots) {

@@ -133,9 +133,7 @@ CLR_INLINE void clr_stratified_arrays(const clr_sampler_params *p,
   clr_i32 arrays = clr_slots_array_count(p, slots, dims);
   for (clr_i32 a = 0; a < arrays; ++a) {
     clr_i32 size = clr_slots_array_size(p, slots, dims, a);
-    float inv_size = 0.0f;
-    for (clr_i32 k = 0; k < p->request_count; ++k)
-      if (clr_slot_is(&slots[k], dims, 1, a)) inv_size = slots[k].inv_array_size;
+    float inv_size = clr_slots_inv_array_size(p, slots, dims, a);
     int used = out_pixel && clr_slots_use(p, slots, dims, 1, a);
     for (clr_i32 j = 0; j < p->spp; ++j) {
       clr_i32 s = j - p->first_sample;

@@ -441,6 +441,41 @@ static const clr_u32 *sobol_group_tables(void) {
   return sobol_groups;
 }
 
+/* The Sobol' generator matrices as 32-bit columns, shared by the context's kernels. */
+static clr_result share_sobol_matrices(clr_context ctx, cl_mem *matrices32) {
+  return clr_context_shared_buffer(ctx, "sobol_matrices32", clr_sobol_matrices32,
+                                   sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE,
+                                   matrices32);
+}
+
+/* The VdC Sobol' matrices and their inverses, shared by the context's kernels. */
+static clr_result share_vdc_matrices(clr_context ctx, cl_mem *vdc, cl_mem *vdc_inv) {
+  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
+                                      sizeof clr_vdc_sobol_matrices, vdc));
+  return clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
+                                   sizeof clr_vdc_sobol_matrices_inv, vdc_inv);
+}
+
+/* The Halton prime records and permutations covering the slots' dimensions, shared. */
+static clr_result share_halton_tables(clr_context ctx, const clr_sampler_params *p,
+                                      const clr_request_slot *slots, cl_mem *primes,
+                                      cl_mem *perms) {
+  const clr_halton_tables *t =
+      clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
+  CLR_CHECK(clr_context_shared_buffer(ctx, t->primes_key, t->primes,
+                                      sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS, primes));
+  return clr_context_shared_buffer(ctx, t->permutations_key, t->permutations,
+                                   sizeof(clr_u16) * t->entries, perms);
+}
+
+/* The batch's request slots, copied (the caller's may not outlive the enqueued write). */
+static clr_result upload_slots(clr_sampler_device *d, const clr_sampler_params *p,
+                               const clr_request_slot *slots) {
+  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
+  return upload(d->ctx, &d->slots, d->slots_copy,
+                sizeof(clr_request_slot) * (size_t)p->request_count, "request slots");
+}
+
 /* Portable shape: one work-item per batch item, the host reference's scalar functions. */
 static clr_result run_global_portable(clr_sampler_device *d, const clr_sampler_params *p,
                                       const clr_request_slot *slots, cl_mem values,
@@ -449,25 +484,12 @@ static clr_result run_global_portable(clr_sampler_device *d, const clr_sampler_p
   size_t items = batch_items(p);
   cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL, perms = NULL;
   if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
-    CLR_CHECK(clr_context_shared_buffer(
-        ctx, "sobol_matrices32", clr_sobol_matrices32,
-        sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &sobol32));
-    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
-                                        sizeof clr_vdc_sobol_matrices, &vdc));
-    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
-                                        sizeof clr_vdc_sobol_matrices_inv, &vdc_inv));
+    CLR_CHECK(share_sobol_matrices(ctx, &sobol32));
+    CLR_CHECK(share_vdc_matrices(ctx, &vdc, &vdc_inv));
   } else {
-    const clr_halton_tables *t =
-        clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
-    CLR_CHECK(clr_context_shared_buffer(ctx, t->primes_key, t->primes,
-                                        sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
-                                        &primes));
-    CLR_CHECK(clr_context_shared_buffer(ctx, t->permutations_key, t->permutations,
-                                        sizeof(clr_u16) * t->entries, &perms));
+    CLR_CHECK(share_halton_tables(ctx, p, slots, &primes, &perms));
   }
-  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
-  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
-                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  CLR_CHECK(upload_slots(d, p, slots));
   CLR_CHECK(grow(ctx, &d->indices, write_indices ? items * sizeof(cl_ulong) : 8, CL_MEM_READ_WRITE,
                  "sample indices"));
   char defines[64];
@@ -508,21 +530,10 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
           ctx, "sobol_groups", sobol_group_tables(),
           sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE, &tables[0]));
     else
-      CLR_CHECK(clr_context_shared_buffer(
-          ctx, "sobol_matrices32", clr_sobol_matrices32,
-          sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &tables[0]));
-    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
-                                        sizeof clr_vdc_sobol_matrices, &tables[1]));
-    CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
-                                        sizeof clr_vdc_sobol_matrices_inv, &tables[2]));
+      CLR_CHECK(share_sobol_matrices(ctx, &tables[0]));
+    CLR_CHECK(share_vdc_matrices(ctx, &tables[1], &tables[2]));
   } else {
-    const clr_halton_tables *t =
-        clr_halton_tables_covering(clr_halton_layout_dimensions(slots, p->request_count));
-    CLR_CHECK(clr_context_shared_buffer(ctx, t->primes_key, t->primes,
-                                        sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
-                                        &tables[0]));
-    CLR_CHECK(clr_context_shared_buffer(ctx, t->permutations_key, t->permutations,
-                                        sizeof(clr_u16) * t->entries, &tables[1]));
+    CLR_CHECK(share_halton_tables(ctx, p, slots, &tables[0], &tables[1]));
     int pairs = 0;
     if (index32)
       CLR_CHECK(halton_pair_tables(d, p, p->values_per_sample,
@@ -608,9 +619,7 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   size_t items = tiled ? (size_t)pbrt_tiles(p, &tx0, &ty0, &wide, &high)
                        : (pixels + (size_t)lanes - 1) / (size_t)lanes;
   size_t scratch_floats = (size_t)p->scratch_floats * (size_t)lanes;
-  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
-  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
-                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  CLR_CHECK(upload_slots(d, p, slots));
   /* The SIMD kernel's padding work-items repeat the last pixels with their own scratch. */
   size_t group = clr_context_group_size(ctx, k, GROUP_SIZE); /* as launch() */
   size_t padded = tiled || portable ? items : (items + group - 1) / group * group;
@@ -644,19 +653,12 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   clr_context ctx = d->ctx;
   size_t items = batch_items(p);
   cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL;
-  CLR_CHECK(clr_context_shared_buffer(
-      ctx, "sobol_matrices32", clr_sobol_matrices32,
-      sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_MATRIX_SIZE, &sobol32));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol", clr_vdc_sobol_matrices,
-                                      sizeof clr_vdc_sobol_matrices, &vdc));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "vdc_sobol_inv", clr_vdc_sobol_matrices_inv,
-                                      sizeof clr_vdc_sobol_matrices_inv, &vdc_inv));
+  CLR_CHECK(share_sobol_matrices(ctx, &sobol32));
+  CLR_CHECK(share_vdc_matrices(ctx, &vdc, &vdc_inv));
   CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
                                       sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
                                       &primes));
-  memcpy(d->slots_copy, slots, sizeof(clr_request_slot) * (size_t)p->request_count);
-  CLR_CHECK(upload(ctx, &d->slots, d->slots_copy,
-                   sizeof(clr_request_slot) * (size_t)p->request_count, "request slots"));
+  CLR_CHECK(upload_slots(d, p, slots));
   size_t pmj_bytes = pmj_pixels ? sizeof(float) * ((size_t)clr_v4_pmj02_pixel_floats(p) +
                                                    2 * CLR_PMJ02_SETS * (size_t)p->spp)
                                 : 0;

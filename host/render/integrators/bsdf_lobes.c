@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "bsdf_lobes.h"
+#include "local_frame.h"
 #include "microfacet.h"
 #include "vec3.h"
 
@@ -10,16 +11,6 @@
 
 /* ---------- trigonometry in the local frame ---------- */
 
-static float cos2_theta(const float w[3]) { return w[2] * w[2]; }
-static float sin2_theta(const float w[3]) { return fmaxf(0.0f, 1.0f - cos2_theta(w)); }
-static float cos_phi(const float w[3]) {
-  float s = sqrtf(sin2_theta(w));
-  return s == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, w[0] / s));
-}
-static float sin_phi(const float w[3]) {
-  float s = sqrtf(sin2_theta(w));
-  return s == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, w[1] / s));
-}
 static int same_hemisphere(const float a[3], const float b[3]) { return a[2] * b[2] > 0.0f; }
 static void normalize3(float v[3]) { rs_normalize(v); }
 

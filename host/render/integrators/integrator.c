@@ -328,24 +328,25 @@ static double now_seconds(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Counts a wave of n rays traced since t0, keeping the first error. */
+static void count_wave(clr_integrator_counters *c, clr_result e, double t0, size_t n) {
+  if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
+  c->trace_seconds += now_seconds() - t0;
+  c->rays += n;
+}
+
 static void trace(const clr_render_scene *sc, const clr_ray *r, clr_hit *h, size_t n,
                   clr_integrator_counters *c) {
   if (!n) return;
   double t0 = now_seconds();
-  clr_result e = clr_tracer_intersect(clr_render_scene_tracer(sc), r, h, (int32_t)n);
-  if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
-  c->trace_seconds += now_seconds() - t0;
-  c->rays += n;
+  count_wave(c, clr_tracer_intersect(clr_render_scene_tracer(sc), r, h, (int32_t)n), t0, n);
 }
 
 static void occlude(const clr_render_scene *sc, const clr_ray *r, uint8_t *o, size_t n,
                     clr_integrator_counters *c) {
   if (!n) return;
   double t0 = now_seconds();
-  clr_result e = clr_tracer_occluded(clr_render_scene_tracer(sc), r, o, (int32_t)n);
-  if (e != CLR_SUCCESS && c->error == CLR_SUCCESS) c->error = e;
-  c->trace_seconds += now_seconds() - t0;
-  c->rays += n;
+  count_wave(c, clr_tracer_occluded(clr_render_scene_tracer(sc), r, o, (int32_t)n), t0, n);
 }
 
 /* ---------- sampling helpers ---------- */

@@ -46,11 +46,9 @@ void clr_light_wave_free(clr_light_wave *w);
  * entry, to fill with clr_light_wave_put. */
 int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_triangle *t);
 
-/* Entry k of a triangle group: a sample u of its light from surface s seen from wo. */
-static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_surface *s,
-                                      const float wo[3], const float u[2]) {
-  w->u0[k] = u[0];
-  w->u1[k] = u[1];
+/* Entry k's shading point: surface s seen from wo. */
+static inline void clr_light_wave_put_surface(clr_light_wave *w, int32_t k, const clr_surface *s,
+                                              const float wo[3]) {
   for (int a = 0; a < 3; ++a) {
     w->p[a][k] = s->p[a];
     w->ng[a][k] = s->ng[a];
@@ -60,16 +58,20 @@ static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_su
   }
 }
 
+/* Entry k of a triangle group: a sample u of its light from surface s seen from wo. */
+static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_surface *s,
+                                      const float wo[3], const float u[2]) {
+  w->u0[k] = u[0];
+  w->u1[k] = u[1];
+  clr_light_wave_put_surface(w, k, s, wo);
+}
+
 /* Appends a sample of point light l from surface s seen from wo; returns its index. */
 static inline int32_t clr_light_wave_push_point(clr_light_wave *w, const clr_surface *s,
                                                 const float wo[3], const clr_light_point *l) {
   int32_t k = w->n++;
+  clr_light_wave_put_surface(w, k, s, wo);
   for (int a = 0; a < 3; ++a) {
-    w->p[a][k] = s->p[a];
-    w->ng[a][k] = s->ng[a];
-    w->ns[a][k] = s->ns[a];
-    w->kd[a][k] = s->kd[a];
-    w->wo[a][k] = wo[a];
     w->pt[a][k] = l->pos[a];
     w->le[a][k] = l->intensity[a];
   }

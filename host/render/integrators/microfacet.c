@@ -2,12 +2,9 @@
  * lobe, and the plastic and metal lobes of the fast path, transcribed in float. */
 #include <math.h>
 #include "microfacet.h"
+#include "local_frame.h"
 
 #define MF_PI 3.14159265358979323846f
-
-static float cos2_theta(const float w[3]) { return w[2] * w[2]; }
-static float sin2_theta(const float w[3]) { return fmaxf(0.0f, 1.0f - cos2_theta(w)); }
-static float tan2_theta(const float w[3]) { return sin2_theta(w) / cos2_theta(w); }
 
 float clr_tr_roughness_to_alpha(float roughness) {
   float r = fmaxf(roughness, 1e-3f), x = logf(r);
@@ -29,15 +26,6 @@ float clr_fr_dielectric(float cos_i, float eta_i, float eta_t) {
   float rparl = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
   float rperp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
   return (rparl * rparl + rperp * rperp) / 2.0f;
-}
-
-static float cos_phi(const float w[3]) {
-  float s = sqrtf(sin2_theta(w));
-  return s == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, w[0] / s));
-}
-static float sin_phi(const float w[3]) {
-  float s = sqrtf(sin2_theta(w));
-  return s == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, w[1] / s));
 }
 
 static float dot3(const float a[3], const float b[3]) {
@@ -136,17 +124,27 @@ void clr_tr_sample_wh(const float wo_in[3], const float u[2], float ax, float ay
     for (int k = 0; k < 3; ++k) wh[k] = -wh[k];
 }
 
-float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
-  float co = fabsf(wo[2]), ci = fabsf(wi[2]);
-  float wh[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
-  if (ci == 0.0f || co == 0.0f) return 0.0f;
-  if (wh[0] == 0.0f && wh[1] == 0.0f && wh[2] == 0.0f) return 0.0f;
+/* The unit half vector wh of wo and wi, and the cosine of wi with Faceforward(wh, (0,0,1));
+ * false where there is none (a grazing direction, or wi = -wo). */
+static inline int half_vector(const float wo[3], const float wi[3], float wh[3], float *cos_h) {
+  wh[0] = wi[0] + wo[0];
+  wh[1] = wi[1] + wo[1];
+  wh[2] = wi[2] + wo[2];
+  if (wi[2] == 0.0f || wo[2] == 0.0f) return 0;
+  if (wh[0] == 0.0f && wh[1] == 0.0f && wh[2] == 0.0f) return 0;
   float l = sqrtf(dot3(wh, wh));
   for (int i = 0; i < 3; ++i) wh[i] /= l;
   float ff[3] = {wh[0], wh[1], wh[2]};
   if (ff[2] < 0.0f)
-    for (int i = 0; i < 3; ++i) ff[i] = -ff[i]; /* Faceforward(wh, (0,0,1)) */
-  float F = clr_fr_dielectric(dot3(wi, ff), 1.5f, 1.0f);
+    for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
+  *cos_h = dot3(wi, ff);
+  return 1;
+}
+
+float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
+  float co = fabsf(wo[2]), ci = fabsf(wi[2]), wh[3], cos_h;
+  if (!half_vector(wo, wi, wh, &cos_h)) return 0.0f;
+  float F = clr_fr_dielectric(cos_h, 1.5f, 1.0f);
   return clr_tr_d(wh, alpha, alpha) * clr_tr_g(wo, wi, alpha, alpha) * F / (4.0f * ci * co);
 }
 
@@ -161,17 +159,9 @@ float clr_fr_conductor(float cos_i, float eta, float k) {
 }
 
 float clr_microfacet_dg(const float wo[3], const float wi[3], float alpha, float *cos_h) {
-  float co = fabsf(wo[2]), ci = fabsf(wi[2]);
-  float wh[3] = {wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]};
+  float co = fabsf(wo[2]), ci = fabsf(wi[2]), wh[3];
   *cos_h = 0.0f;
-  if (ci == 0.0f || co == 0.0f) return 0.0f;
-  if (wh[0] == 0.0f && wh[1] == 0.0f && wh[2] == 0.0f) return 0.0f;
-  float l = sqrtf(dot3(wh, wh));
-  for (int i = 0; i < 3; ++i) wh[i] /= l;
-  float ff[3] = {wh[0], wh[1], wh[2]};
-  if (ff[2] < 0.0f)
-    for (int i = 0; i < 3; ++i) ff[i] = -ff[i];
-  *cos_h = dot3(wi, ff);
+  if (!half_vector(wo, wi, wh, cos_h)) return 0.0f;
   return clr_tr_d(wh, alpha, alpha) * clr_tr_g(wo, wi, alpha, alpha) / (4.0f * ci * co);
 }
 

@@ -34,9 +34,13 @@ static void coordinate_system(const float v1[3], float v2[3], float v3[3]) {
   rs_cross(v1, v2, v3);
 }
 
+/* Adds l, which then owns its envmap (freed when l cannot be added). */
 static clr_result push_light(rs_light_set *set, const rs_light *l) {
   rs_light *n = realloc(set->items, (size_t)(set->count + 1) * sizeof *n);
-  if (!n) return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
+  if (!n) {
+    rs_envmap_free(l->envmap);
+    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "lights");
+  }
   set->items = n;
   set->items[set->count++] = *l;
   return CLR_SUCCESS;
@@ -67,11 +71,7 @@ static clr_result pattern_light(rs_light_set *set, rs_light *l, const clr_param_
   float aspect = 1.0f, average = 1.0f;
   if (map[0]) {
     char path[4096];
-    const char *slash = p->file && map[0] != '/' ? strrchr(p->file, '/') : NULL;
-    if (slash)
-      snprintf(path, sizeof path, "%.*s/%s", (int)(slash - p->file), p->file, map);
-    else
-      snprintf(path, sizeof path, "%s", map);
+    clr_params_resolve_path(p, map, path, sizeof path);
     const float one[3] = {1, 1, 1};
     clr_result r = rs_envmap_load(path, one, &l->envmap);
     if (r != CLR_SUCCESS)
@@ -92,9 +92,7 @@ static clr_result pattern_light(rs_light_set *set, rs_light *l, const clr_param_
     float tan_diag = l->proj_tan * sqrtf(1.0f + 1.0f / (aspect * aspect));
     l->power = luminance(l->colour) * average * 2.0f * RS_PI * (1.0f - cosf(atanf(tan_diag)));
   }
-  clr_result r = push_light(set, l);
-  if (r != CLR_SUCCESS) rs_envmap_free(l->envmap);
-  return r;
+  return push_light(set, l);
 }
 
 /* pbrt-v3 GonioPhotometricLight::Scale and ProjectionLight::Projection for the world direction
@@ -189,19 +187,12 @@ static clr_result build_light(rs_light_set *set, const clr_light_desc *ld, clr_w
     l.power = luminance(l.colour) * RS_PI * set->world_radius * set->world_radius;
     if (map[0]) {
       char path[4096];
-      const char *slash = p->file && map[0] != '/' ? strrchr(p->file, '/') : NULL;
-      if (slash)
-        snprintf(path, sizeof path, "%.*s/%s", (int)(slash - p->file), p->file, map);
-      else
-        snprintf(path, sizeof path, "%s", map);
+      clr_params_resolve_path(p, map, path, sizeof path);
       clr_result r = rs_envmap_load(path, l.colour, &l.envmap);
       if (r != CLR_SUCCESS)
         return clr_set_last_error(r, "%s:%d: infinite light \"mapname\" \"%s\": %s",
                                   p->file ? p->file : "?", p->line, path, clr_last_error_message());
       l.power = l.envmap->mean_y * RS_PI * set->world_radius * set->world_radius;
-      clr_result pr = push_light(set, &l);
-      if (pr != CLR_SUCCESS) rs_envmap_free(l.envmap);
-      return pr;
     }
   } else {
     if (warn) {

@@ -188,14 +188,6 @@ static void warn_fmt(clr_warn_fn warn, void *wu, const char *fmt, ...) {
   warn(wu, m);
 }
 
-static void resolve_path(const char *scene_file, const char *name, char *out, size_t n) {
-  const char *slash = scene_file ? strrchr(scene_file, '/') : NULL;
-  if (name[0] == '/' || !slash)
-    snprintf(out, n, "%s", name);
-  else
-    snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
-}
-
 static clr_result mesh_from_params(const clr_param_list *p, const char *what, clr_mesh *m) {
   int ni = 0, np = 0, nn = 0, nuv = 0;
   const int *ix = clr_params_find_ints(p, "indices", &ni);
@@ -232,7 +224,7 @@ static clr_result build_mesh(const clr_shape_desc *sd, int moving, clr_mesh *m, 
     if (!name[0])
       return clr_set_last_error(CLR_ERROR_SCENE, "%s: parameter \"filename\" is required", what);
     char path[4096];
-    resolve_path(p->file, name, path, sizeof path);
+    clr_params_resolve_path(p, name, path, sizeof path);
     r = clr_ply_read(path, m);
     if (r != CLR_SUCCESS) return clr_set_last_error(r, "%s: %s", what, clr_last_error_message());
   } else {
@@ -447,17 +439,26 @@ static clr_result add_motion(clr_render_scene *s, const clr_scene_desc *d,
   return clr_tracer_add_motion_instance(s->tracer, group, a.t, a.q, scale, user_id);
 }
 
+/* A mesh triangle's vertex (u, v): its "uv" values, or pbrt-v3's default (0,0), (1,0), (1,1). */
+static inline void triangle_uvs(const clr_mesh *m, const uint32_t *ix, float uv0[2], float uv1[2],
+                                float uv2[2]) {
+  if (!m->uv) {
+    uv0[0] = uv0[1] = uv1[1] = 0.0f;
+    uv1[0] = uv2[0] = uv2[1] = 1.0f;
+    return;
+  }
+  memcpy(uv0, m->uv + 2 * ix[0], 2 * sizeof *uv0);
+  memcpy(uv1, m->uv + 2 * ix[1], 2 * sizeof *uv1);
+  memcpy(uv2, m->uv + 2 * ix[2], 2 * sizeof *uv2);
+}
+
 /* A mesh triangle's unit normal (from its winding) and dpdu (from its uvs, or an axis-made
  * tangent where they are degenerate), as pbrt-v3's Triangle::Intersect computes them. */
 static void triangle_frame(const clr_mesh *m, int32_t prim, float n[3], float dpdu[3]) {
   const uint32_t *ix = m->indices + 3 * (size_t)prim;
   const float *p0 = m->p + 3 * ix[0], *p1 = m->p + 3 * ix[1], *p2 = m->p + 3 * ix[2];
-  float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
-  if (m->uv) {
-    memcpy(uv0, m->uv + 2 * ix[0], sizeof uv0);
-    memcpy(uv1, m->uv + 2 * ix[1], sizeof uv1);
-    memcpy(uv2, m->uv + 2 * ix[2], sizeof uv2);
-  }
+  float uv0[2], uv1[2], uv2[2];
+  triangle_uvs(m, ix, uv0, uv1, uv2);
   float dp02[3], dp12[3];
   for (int i = 0; i < 3; ++i) {
     dp02[i] = p0[i] - p2[i];
@@ -845,12 +846,8 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
               *p2 = sh->mesh.p + 3 * ix[2];
   float b1 = hit->u, b2 = hit->v, b0 = 1.0f - b1 - b2;
   for (int i = 0; i < 3; ++i) p[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
-  float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
-  if (sh->mesh.uv) {
-    memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
-    memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
-    memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
-  }
+  float uv0[2], uv1[2], uv2[2];
+  triangle_uvs(&sh->mesh, ix, uv0, uv1, uv2);
   for (int i = 0; i < 2; ++i) uv[i] = b0 * uv0[i] + b1 * uv1[i] + b2 * uv2[i];
   const float *frame = sh->tri_frames + 6 * (size_t)hit->prim_id;
   memcpy(n, frame, 3 * sizeof *n);
@@ -954,12 +951,8 @@ static void geometric_dpdv(const rs_shape *sh, const clr_transform *o2w, const c
     const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
     const float *p0 = sh->mesh.p + 3 * ix[0], *p1 = sh->mesh.p + 3 * ix[1],
                 *p2 = sh->mesh.p + 3 * ix[2];
-    float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
-    if (sh->mesh.uv) {
-      memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
-      memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
-      memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
-    }
+    float uv0[2], uv1[2], uv2[2];
+    triangle_uvs(&sh->mesh, ix, uv0, uv1, uv2);
     float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
           dv12 = uv1[1] - uv2[1], det = du02 * dv12 - dv02 * du12;
     if (fabsf(det) < 1e-8f) {
@@ -1024,12 +1017,8 @@ static void mesh_normal_partials(const rs_shape *sh, const clr_hit *hit, float d
   const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
   const float *n0 = sh->mesh.n + 3 * ix[0], *n1 = sh->mesh.n + 3 * ix[1],
               *n2 = sh->mesh.n + 3 * ix[2];
-  float uv0[2] = {0, 0}, uv1[2] = {1, 0}, uv2[2] = {1, 1};
-  if (sh->mesh.uv) {
-    memcpy(uv0, sh->mesh.uv + 2 * ix[0], sizeof uv0);
-    memcpy(uv1, sh->mesh.uv + 2 * ix[1], sizeof uv1);
-    memcpy(uv2, sh->mesh.uv + 2 * ix[2], sizeof uv2);
-  }
+  float uv0[2], uv1[2], uv2[2];
+  triangle_uvs(&sh->mesh, ix, uv0, uv1, uv2);
   float b1 = hit->u, b2 = hit->v, b0 = 1.0f - b1 - b2;
   float du02 = uv0[0] - uv2[0], dv02 = uv0[1] - uv2[1], du12 = uv1[0] - uv2[0],
         dv12 = uv1[1] - uv2[1], det = du02 * dv12 - dv02 * du12;

@@ -167,6 +167,14 @@ void clr_params_find_rgb(const clr_param_list *list, const char *name, const flo
   find_triple(list, name, CLR_PARAM_RGB, def, out);
 }
 
+void clr_params_resolve_path(const clr_param_list *list, const char *name, char *out, size_t size) {
+  const char *slash = list->file ? strrchr(list->file, '/') : NULL;
+  if (name[0] == '/' || !slash)
+    snprintf(out, size, "%s", name);
+  else
+    snprintf(out, size, "%.*s/%s", (int)(slash - list->file), list->file, name);
+}
+
 const char *clr_params_find_texture(const clr_param_list *list, const char *name, const char *def) {
   const clr_param *p = find_one(list, name, CLR_PARAM_TEXTURE);
   return p ? p->strings[0] : def;

@@ -90,6 +90,9 @@ void clr_params_find_point3(const clr_param_list *list, const char *name, const 
                             float out[3]);
 void clr_params_find_rgb(const clr_param_list *list, const char *name, const float def[3],
                          float out[3]);
+/* Path of the file `name` a parameter of the list gives: as given when absolute or when the
+ * list's scene file has no directory, else in that directory (pbrt-v3 ResolveFilename). */
+void clr_params_resolve_path(const clr_param_list *list, const char *name, char *out, size_t size);
 /* Texture name of a "texture" parameter, or def. */
 const char *clr_params_find_texture(const clr_param_list *list, const char *name, const char *def);
 /* Index (into clr_scene_desc.textures) of the texture of that kind referenced by parameter

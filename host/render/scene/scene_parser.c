@@ -500,6 +500,22 @@ static bool phase_allows(parser *p, const directive *d, location at) {
   return true;
 }
 
+/* Frees what parse_typed_params gave. */
+static void discard_typed(char *type, clr_param_list *params) {
+  free(type);
+  clr_params_free(params);
+}
+
+/* parse_typed_params, then the phase check: *kept is false (nothing left to free) where the
+ * directive is ignored here. */
+static clr_result parse_typed_directive(parser *p, const directive *d, location at, char **type,
+                                        clr_param_list *params, bool *kept) {
+  CLR_CHECK(parse_typed_params(p, d, at, type, params));
+  *kept = phase_allows(p, d, at);
+  if (!*kept) discard_typed(*type, params);
+  return CLR_SUCCESS;
+}
+
 static int find_binding(const parser *p, binding_kind kind, const char *name) {
   for (int i = p->binding_count - 1; i >= 0; --i)
     if (p->bindings[i].kind == kind && strcmp(p->bindings[i].name, name) == 0)
@@ -733,12 +749,9 @@ static clr_result d_include(parser *p, const directive *d, location at) {
 static clr_result set_option(parser *p, const directive *d, location at, clr_scene_option *o) {
   char *type;
   clr_param_list params;
-  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
-  if (!phase_allows(p, d, at)) {
-    free(type);
-    clr_params_free(&params);
-    return CLR_SUCCESS;
-  }
+  bool kept;
+  CLR_CHECK(parse_typed_directive(p, d, at, &type, &params, &kept));
+  if (!kept) return CLR_SUCCESS;
   free(o->type);
   clr_params_free(&o->params);
   o->type = type;
@@ -763,12 +776,9 @@ static clr_result d_integrator(parser *p, const directive *d, location at) {
 static clr_result d_camera(parser *p, const directive *d, location at) {
   char *type;
   clr_param_list params;
-  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
-  if (!phase_allows(p, d, at)) {
-    free(type);
-    clr_params_free(&params);
-    return CLR_SUCCESS;
-  }
+  bool kept;
+  CLR_CHECK(parse_typed_directive(p, d, at, &type, &params, &kept));
+  if (!kept) return CLR_SUCCESS;
   clr_camera_desc *c = &p->desc->camera;
   free(c->type);
   clr_params_free(&c->params);
@@ -832,8 +842,7 @@ static clr_result add_material(parser *p, char *name, char *type, clr_param_list
   if (clr_grow_array((void **)&s->materials, &s->material_capacity, s->material_count + 1,
                      sizeof *s->materials) != CLR_SUCCESS) {
     free(name);
-    free(type);
-    clr_params_free(params);
+    discard_typed(type, params);
     return out_of_memory(at);
   }
   resolve_textures(p, params);
@@ -845,12 +854,9 @@ static clr_result add_material(parser *p, char *name, char *type, clr_param_list
 static clr_result d_material(parser *p, const directive *d, location at) {
   char *type;
   clr_param_list params;
-  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
-  if (!phase_allows(p, d, at)) {
-    free(type);
-    clr_params_free(&params);
-    return CLR_SUCCESS;
-  }
+  bool kept;
+  CLR_CHECK(parse_typed_directive(p, d, at, &type, &params, &kept));
+  if (!kept) return CLR_SUCCESS;
   int index;
   CLR_CHECK(add_material(p, NULL, type, &params, at, &index));
   p->gs.material = index;
@@ -914,18 +920,14 @@ static clr_result d_texture(parser *p, const directive *d, location at) {
   free(kind);
   if (!keep) {
     free(name);
-    if (r == CLR_SUCCESS) {
-      free(type);
-      clr_params_free(&params);
-    }
+    if (r == CLR_SUCCESS) discard_typed(type, &params);
     return r;
   }
   clr_scene_desc *s = p->desc;
   if (clr_grow_array((void **)&s->textures, &s->texture_capacity, s->texture_count + 1,
                      sizeof *s->textures) != CLR_SUCCESS) {
     free(name);
-    free(type);
-    clr_params_free(&params);
+    discard_typed(type, &params);
     return out_of_memory(at);
   }
   resolve_textures(p, &params);
@@ -940,14 +942,14 @@ static clr_result d_texture(parser *p, const directive *d, location at) {
 static clr_result d_light_source(parser *p, const directive *d, location at) {
   char *type;
   clr_param_list params;
-  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
+  bool kept;
+  CLR_CHECK(parse_typed_directive(p, d, at, &type, &params, &kept));
+  if (!kept) return CLR_SUCCESS;
   clr_scene_desc *s = p->desc;
-  bool allowed = phase_allows(p, d, at);
-  if (!allowed || clr_grow_array((void **)&s->lights, &s->light_capacity, s->light_count + 1,
-                                 sizeof *s->lights) != CLR_SUCCESS) {
-    free(type);
-    clr_params_free(&params);
-    return allowed ? out_of_memory(at) : CLR_SUCCESS;
+  if (clr_grow_array((void **)&s->lights, &s->light_capacity, s->light_count + 1,
+                     sizeof *s->lights) != CLR_SUCCESS) {
+    discard_typed(type, &params);
+    return out_of_memory(at);
   }
   s->lights[s->light_count++] = (clr_light_desc){type, params, p->gs.ctm};
   return CLR_SUCCESS;
@@ -956,14 +958,14 @@ static clr_result d_light_source(parser *p, const directive *d, location at) {
 static clr_result d_area_light_source(parser *p, const directive *d, location at) {
   char *type;
   clr_param_list params;
-  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
+  bool kept;
+  CLR_CHECK(parse_typed_directive(p, d, at, &type, &params, &kept));
+  if (!kept) return CLR_SUCCESS;
   clr_scene_desc *s = p->desc;
-  bool allowed = phase_allows(p, d, at);
-  if (!allowed || clr_grow_array((void **)&s->area_lights, &s->area_light_capacity,
-                                 s->area_light_count + 1, sizeof *s->area_lights) != CLR_SUCCESS) {
-    free(type);
-    clr_params_free(&params);
-    return allowed ? out_of_memory(at) : CLR_SUCCESS;
+  if (clr_grow_array((void **)&s->area_lights, &s->area_light_capacity, s->area_light_count + 1,
+                     sizeof *s->area_lights) != CLR_SUCCESS) {
+    discard_typed(type, &params);
+    return out_of_memory(at);
   }
   p->gs.area_light = s->area_light_count;
   s->area_lights[s->area_light_count++] = (clr_area_light_desc){type, params};
@@ -982,18 +984,17 @@ static int shape_material(parser *p, location at) {
 static clr_result d_shape(parser *p, const directive *d, location at) {
   char *type;
   clr_param_list params;
-  CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
+  bool kept;
+  CLR_CHECK(parse_typed_directive(p, d, at, &type, &params, &kept));
+  if (!kept) return CLR_SUCCESS;
   clr_scene_desc *s = p->desc;
-  bool allowed = phase_allows(p, d, at);
   clr_object_desc *object = p->current_object >= 0 ? &s->objects[p->current_object] : NULL;
-  if (!allowed ||
-      clr_grow_array((void **)&s->shapes, &s->shape_capacity, s->shape_count + 1,
+  if (clr_grow_array((void **)&s->shapes, &s->shape_capacity, s->shape_count + 1,
                      sizeof *s->shapes) != CLR_SUCCESS ||
       (object && clr_grow_array((void **)&object->shapes, &object->shape_capacity,
                                 object->shape_count + 1, sizeof *object->shapes) != CLR_SUCCESS)) {
-    free(type);
-    clr_params_free(&params);
-    return allowed ? out_of_memory(at) : CLR_SUCCESS;
+    discard_typed(type, &params);
+    return out_of_memory(at);
   }
   int area_light = p->gs.area_light;
   if (object && area_light >= 0) {
@@ -1018,8 +1019,7 @@ static clr_result d_shape(parser *p, const directive *d, location at) {
         "%s:%d:%d: moving Shape \"%s\" (ActiveTransform) inside ObjectBegin '%s' is not "
         "supported: Embree's single instance level cannot move it within its instances",
         at.file, at.line, at.col, type, object->name);
-    free(type);
-    clr_params_free(&params);
+    discard_typed(type, &params);
     return r;
   }
   if (moving && area_light >= 0) { /* pbrt-v3's pbrtShape: "Ignoring currently set area light" */
@@ -1110,8 +1110,7 @@ static clr_result d_unsupported_typed(parser *p, const directive *d, location at
   char *type;
   clr_param_list params;
   CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
-  free(type);
-  clr_params_free(&params);
+  discard_typed(type, &params);
   warn_unsupported(p, d, at);
   return CLR_SUCCESS;
 }
@@ -1122,8 +1121,7 @@ static clr_result d_accelerator(parser *p, const directive *d, location at) {
   char *type;
   clr_param_list params;
   CLR_CHECK(parse_typed_params(p, d, at, &type, &params));
-  free(type);
-  clr_params_free(&params);
+  discard_typed(type, &params);
   return CLR_SUCCESS;
 }
 

@@ -11,69 +11,57 @@
 #include "procedural_textures.h"
 #include "textures.h"
 
-void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
-                     float def, rs_colour *out) {
+static void set_grey(rs_colour *out, float v) { out->rgb[0] = out->rgb[1] = out->rgb[2] = v; }
+
+/* A colour given as an RGB triple or a blackbody; false when the list gives neither. */
+static bool find_colour_value(const clr_param_list *list, const char *name, float def,
+                              rs_colour *out) {
+  if (clr_params_find(list, name, CLR_PARAM_RGB)) {
+    float d[3] = {def, def, def};
+    clr_params_find_rgb(list, name, d, out->rgb);
+    return true;
+  }
+  const clr_param *bb = clr_params_find(list, name, CLR_PARAM_BLACKBODY);
+  if (bb && bb->count >= 2) { /* pbrt-v3: the first (temperature, scale) pair */
+    rs_blackbody_rgb(bb->floats[0], out->rgb);
+    for (int k = 0; k < 3; ++k) out->rgb[k] *= bb->floats[1];
+    return true;
+  }
+  return false;
+}
+
+/* The first of the lists that gives `name`: a texture of `kind`, (spectrum) a colour, or a
+ * single float; else the value def. */
+static void find_texture_or_value(const clr_param_list *first, const clr_param_list *second,
+                                  const char *name, float def, clr_texture_kind kind,
+                                  rs_colour *out) {
   out->texture = -1;
-  out->rgb[0] = out->rgb[1] = out->rgb[2] = def;
+  set_grey(out, def);
   const clr_param_list *lists[2] = {first, second};
   for (int i = 0; i < 2; ++i) {
     if (!lists[i]) continue;
-    int t = clr_params_find_texture_index(lists[i], name, CLR_TEXTURE_SPECTRUM);
+    int t = clr_params_find_texture_index(lists[i], name, kind);
     if (t >= 0) {
       out->texture = t;
       return;
     }
-    if (clr_params_find(lists[i], name, CLR_PARAM_RGB)) {
-      float d[3] = {def, def, def};
-      clr_params_find_rgb(lists[i], name, d, out->rgb);
-      return;
-    }
-    const clr_param *bb = clr_params_find(lists[i], name, CLR_PARAM_BLACKBODY);
-    if (bb && bb->count >= 2) { /* pbrt-v3: the first (temperature, scale) pair */
-      rs_blackbody_rgb(bb->floats[0], out->rgb);
-      for (int k = 0; k < 3; ++k) out->rgb[k] *= bb->floats[1];
-      return;
-    }
+    if (kind == CLR_TEXTURE_SPECTRUM && find_colour_value(lists[i], name, def, out)) return;
     const clr_param *f = clr_params_find(lists[i], name, CLR_PARAM_FLOAT);
     if (f && f->count == 1) {
-      out->rgb[0] = out->rgb[1] = out->rgb[2] = f->floats[0];
+      set_grey(out, f->floats[0]);
       return;
     }
   }
+}
+
+void rs_colour_param(const clr_param_list *first, const clr_param_list *second, const char *name,
+                     float def, rs_colour *out) {
+  find_texture_or_value(first, second, name, def, CLR_TEXTURE_SPECTRUM, out);
 }
 
 void rs_float_param(const clr_param_list *first, const clr_param_list *second, const char *name,
                     float def, rs_colour *out) {
-  out->texture = -1;
-  out->rgb[0] = out->rgb[1] = out->rgb[2] = def;
-  const clr_param_list *lists[2] = {first, second};
-  for (int i = 0; i < 2; ++i) {
-    if (!lists[i]) continue;
-    int t = clr_params_find_texture_index(lists[i], name, CLR_TEXTURE_FLOAT);
-    if (t >= 0) {
-      out->texture = t;
-      return;
-    }
-    const clr_param *f = clr_params_find(lists[i], name, CLR_PARAM_FLOAT);
-    if (f && f->count == 1) {
-      out->rgb[0] = out->rgb[1] = out->rgb[2] = f->floats[0];
-      return;
-    }
-  }
-}
-
-/* Joins the scene file's directory and a relative file name. */
-static void resolve_path(const char *scene_file, const char *name, char *out, size_t n) {
-  if (name[0] == '/' || !scene_file) {
-    snprintf(out, n, "%s", name);
-    return;
-  }
-  const char *slash = strrchr(scene_file, '/');
-  if (!slash) {
-    snprintf(out, n, "%s", name);
-    return;
-  }
-  snprintf(out, n, "%.*s/%s", (int)(slash - scene_file), scene_file, name);
+  find_texture_or_value(first, second, name, def, CLR_TEXTURE_FLOAT, out);
 }
 
 static int has_extension(const char *name, const char *ext) {
@@ -164,7 +152,7 @@ static clr_result build_image(rs_texture *t, const clr_texture_desc *td, clr_war
                               "%s:%d: imagemap: parameter \"filename\" is required",
                               p->file ? p->file : "?", p->line);
   char path[4096];
-  resolve_path(p->file, name, path, sizeof path);
+  clr_params_resolve_path(p, name, path, sizeof path);
   t->scale = clr_params_find_float(p, "scale", 1.0f);
   int trilinear;
   float max_aniso;

@@ -633,6 +633,15 @@ clr_result clr_tracer_add_mesh(clr_tracer t, int32_t g, const clr_mesh *mesh, ui
   return attach(t, g, geom, &record, geom_id);
 }
 
+/* The shape's object-to-group transform from m, or an error naming fn (the record then freed). */
+static clr_result set_object_to_group(geom_record *record, const float m[16], affine *out,
+                                      const char *fn) {
+  if (affine_from_matrix(m, out)) return CLR_SUCCESS;
+  free_record(record);
+  return clr_set_last_error(CLR_ERROR_SCENE,
+                            "%s: object_to_group is not a finite, invertible affine matrix", fn);
+}
+
 /* Commits a user geometry (one primitive: a sphere or a disk) with its callbacks and attaches
  * it to group g; frees the record on failure. */
 static clr_result attach_user(struct clr_tracer_t *t, int32_t g, geom_record *record, void *shape,
@@ -701,13 +710,7 @@ clr_result clr_tracer_add_partial_sphere(clr_tracer t, int32_t g, const float ob
     sp->theta_zmin = acos(fmin(fmax(z0 / r, -1.0), 1.0));
     sp->theta_zmax = acos(fmin(fmax(z1 / r, -1.0), 1.0));
   }
-  if (!affine_from_matrix(object_to_group, &record.sphere->object_to_group)) {
-    free_record(&record);
-    return clr_set_last_error(CLR_ERROR_SCENE,
-                              "%s: object_to_group is not a finite, invertible affine "
-                              "matrix",
-                              fn);
-  }
+  CLR_CHECK(set_object_to_group(&record, object_to_group, &record.sphere->object_to_group, fn));
   return attach_user(t, g, &record, record.sphere, sphere_bounds, sphere_intersect, sphere_occluded,
                      geom_id);
 }
@@ -732,13 +735,7 @@ clr_result clr_tracer_add_disk(clr_tracer t, int32_t g, const float object_to_gr
   record.disk->radius = radius;
   record.disk->inner = inner_radius;
   record.disk->phimax = phimax_deg * PI_D / 180.0;
-  if (!affine_from_matrix(object_to_group, &record.disk->object_to_group)) {
-    free_record(&record);
-    return clr_set_last_error(CLR_ERROR_SCENE,
-                              "%s: object_to_group is not a finite, invertible affine "
-                              "matrix",
-                              fn);
-  }
+  CLR_CHECK(set_object_to_group(&record, object_to_group, &record.disk->object_to_group, fn));
   return attach_user(t, g, &record, record.disk, disk_bounds, disk_intersect, disk_occluded,
                      geom_id);
 }
@@ -756,11 +753,7 @@ clr_result clr_tracer_add_quadric(clr_tracer t, int32_t g, const float object_to
     free_record(&record);
     return clr_set_last_error(CLR_ERROR_SCENE, "%s: %s", fn, why);
   }
-  if (!affine_from_matrix(object_to_group, &record.quadric->object_to_group)) {
-    free_record(&record);
-    return clr_set_last_error(CLR_ERROR_SCENE,
-                              "%s: object_to_group is not a finite, invertible affine matrix", fn);
-  }
+  CLR_CHECK(set_object_to_group(&record, object_to_group, &record.quadric->object_to_group, fn));
   return attach_user(t, g, &record, record.quadric, quadric_bounds, quadric_intersect,
                      quadric_occluded, geom_id);
 }
