@@ -17,6 +17,12 @@ static inline void rs_cross(const float a[3], const float b[3], float r[3]) {
   r[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+static inline void rs_negate(float v[3]) {
+  v[0] = -v[0];
+  v[1] = -v[1];
+  v[2] = -v[2];
+}
+
 static inline void rs_normalize(float v[3]) {
   float l = sqrtf(rs_dot(v, v));
   if (l > 0.0f) {

@@ -1288,6 +1288,17 @@ static void path_lambert_wave(const clr_integrator *it, const clr_integrator_val
   }
 }
 
+/* Frees li_path's per-call buffers. */
+static void free_path_buffers(float *wos, int *idx, int *specular, float *eta_scale, float *deep,
+                              int32_t *picked) {
+  free(wos);
+  free(idx);
+  free(specular);
+  free(eta_scale);
+  free(deep);
+  free(picked);
+}
+
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const clr_integrator_values *sv,
                           const uint64_t *keys, int count, float *L, clr_integrator_counters *c) {
@@ -1304,12 +1315,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   float *deep = malloc(2 * deep_floats * sizeof(float)); /* and the fetch's output */
   int32_t *picked = malloc((size_t)(count > 0 ? count : 1) * sizeof(int32_t));
   if (!wos || !idx || !specular || !eta_scale || !deep || !picked) {
-    free(wos);
-    free(idx);
-    free(specular);
-    free(eta_scale);
-    free(deep);
-    free(picked);
+    free_path_buffers(wos, idx, specular, eta_scale, deep, picked);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
   }
   c->samples += (uint64_t)count;
@@ -1457,12 +1463,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
     nactive = 0;
     for (int i = 0; i < count; ++i) nactive += s->active[i];
   }
-  free(wos);
-  free(idx);
-  free(specular);
-  free(eta_scale);
-  free(deep);
-  free(picked);
+  free_path_buffers(wos, idx, specular, eta_scale, deep, picked);
   return r;
 }
 

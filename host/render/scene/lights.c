@@ -303,11 +303,7 @@ static void sample_cylinder(const rs_shape *sh, const float u[2], float pt[3], f
   clr_transform_point(&sh->object_to_world, po, pt);
   clr_transform_normal(&sh->object_to_world, no, n);
   rs_normalize(n);
-  if (sh->flip_normal) {
-    n[0] = -n[0];
-    n[1] = -n[1];
-    n[2] = -n[2];
-  }
+  if (sh->flip_normal) rs_negate(n);
 }
 
 /* Samples a point on the emitter: position, oriented normal, area-measure pdf or (cone)
@@ -329,15 +325,9 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
       for (int i = 0; i < 3; ++i)
         ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
                 b2 * sh->mesh.n[3 * ix[2] + i];
-      if (rs_dot(n, ns) < 0.0f) {
-        n[0] = -n[0];
-        n[1] = -n[1];
-        n[2] = -n[2];
-      }
+      if (rs_dot(n, ns) < 0.0f) rs_negate(n);
     } else if (sh->flip_normal) {
-      n[0] = -n[0];
-      n[1] = -n[1];
-      n[2] = -n[2];
+      rs_negate(n);
     }
     *pdf = 1.0f / l->area;
     return;
@@ -352,11 +342,7 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     clr_transform_point(&sh->object_to_world, po, pt);
     clr_transform_normal(&sh->object_to_world, z, n);
     rs_normalize(n);
-    if (sh->flip_normal) {
-      n[0] = -n[0];
-      n[1] = -n[1];
-      n[2] = -n[2];
-    }
+    if (sh->flip_normal) rs_negate(n);
     *pdf = 1.0f / l->area;
     return;
   }
@@ -375,11 +361,7 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     n[1] = rr * sinf(phi);
     n[2] = z;
     for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
-    if (sh->flip_normal) {
-      n[0] = -n[0];
-      n[1] = -n[1];
-      n[2] = -n[2];
-    }
+    if (sh->flip_normal) rs_negate(n);
     *pdf = 1.0f / (4.0f * RS_PI * r * r);
     return;
   }
@@ -400,11 +382,7 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
   for (int i = 0; i < 3; ++i)
     n[i] = -(sin_a * cosf(phi) * wx[i] + sin_a * sinf(phi) * wy[i] + cos_a * wc[i]);
   for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
-  if (sh->flip_normal) {
-    n[0] = -n[0];
-    n[1] = -n[1];
-    n[2] = -n[2];
-  }
+  if (sh->flip_normal) rs_negate(n);
   *pdf = 1.0f / (2.0f * RS_PI * (1.0f - cos_max));
   *solid = 1;
 }

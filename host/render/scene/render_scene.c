@@ -833,12 +833,6 @@ void clr_render_scene_free(clr_render_scene *s) {
   free(s);
 }
 
-static void negate(float v[3]) {
-  v[0] = -v[0];
-  v[1] = -v[1];
-  v[2] = -v[2];
-}
-
 static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], float n[3],
                          float ns[3], int *has_ns, float uv[2], float dpdu[3]) {
   const uint32_t *ix = sh->mesh.indices + 3 * hit->prim_id;
@@ -857,9 +851,9 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
     for (int i = 0; i < 3; ++i)
       ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
               b2 * sh->mesh.n[3 * ix[2] + i];
-    if (rs_dot(n, ns) < 0.0f) negate(n);
+    if (rs_dot(n, ns) < 0.0f) rs_negate(n);
   } else if (sh->flip_normal) {
-    negate(n);
+    rs_negate(n);
   }
 }
 
@@ -902,7 +896,7 @@ static void sphere_surface(const rs_shape *sh, const clr_transform *o2w, const c
   clr_transform_normal(o2w, po, n);
   rs_normalize(n);
   clr_transform_vector(o2w, du_o, dpdu);
-  if (sh->flip_normal) negate(n);
+  if (sh->flip_normal) rs_negate(n);
 }
 
 /* pbrt-v3 Disk::Intersect's interaction: the hit refined onto z = height, n the object z axis,
@@ -922,7 +916,7 @@ static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr
   clr_transform_vector(o2w, du_o, dpdu);
   uv[0] = hit->u;
   uv[1] = hit->v;
-  if (sh->flip_normal) negate(n);
+  if (sh->flip_normal) rs_negate(n);
 }
 
 /* pbrt-v3 Sphere's object-space dpdv at object point po. */
@@ -1140,7 +1134,7 @@ static const clr_transform *hit_geometry(const clr_render_scene *s, const rs_sha
     float pw[3] = {ray->ox + hit->t * ray->dx, ray->oy + hit->t * ray->dy,
                    ray->oz + hit->t * ray->dz};
     rs_quadric_surface(&sh->quadric, &o2w, pw, p, n, uv, dpdu);
-    if (sh->flip_normal) negate(n);
+    if (sh->flip_normal) rs_negate(n);
   } else {
     clr_transform o2w = inst ? clr_transform_compose(inst, own_transform(sh)) : *own_transform(sh);
     sphere_surface(sh, &o2w, ray, hit, want_uv, p, n, uv, dpdu);
@@ -1152,7 +1146,7 @@ static const clr_transform *hit_geometry(const clr_render_scene *s, const rs_sha
 static void facing_normal(const clr_ray *ray, const float n[3], float ng[3]) {
   float wo[3] = {-ray->dx, -ray->dy, -ray->dz};
   memcpy(ng, n, 3 * sizeof *ng);
-  if (rs_dot(ng, wo) < 0.0f) negate(ng);
+  if (rs_dot(ng, wo) < 0.0f) rs_negate(ng);
 }
 
 void clr_render_scene_surface_geometry(const clr_render_scene *s, const clr_ray *ray,
@@ -1196,7 +1190,7 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
     float nsh[3], dpdv[3], dndu[3], dndv[3];
     memcpy(nsh, has_ns ? ns : n, sizeof nsh);
     rs_normalize(nsh);
-    if (rs_dot(nsh, n) < 0.0f) negate(nsh);
+    if (rs_dot(nsh, n) < 0.0f) rs_negate(nsh);
     bump_partials(sh, &o2w, p, nsh, has_ns, geo_dpdv, dpdu, dpdv, dndu, dndv);
     rs_bump(&s->textures, &sh->bump, &tc, n, dpdu, dpdv, dndu, dndv, nsh);
     memcpy(ns, nsh, sizeof ns);
@@ -1211,7 +1205,7 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
   if (has_ns) {
     rs_normalize(ns);
     memcpy(out->ns, ns, sizeof ns);
-    if (rs_dot(out->ns, out->ng) < 0.0f) negate(out->ns);
+    if (rs_dot(out->ns, out->ng) < 0.0f) rs_negate(out->ns);
   } else {
     memcpy(out->ns, out->ng, sizeof n);
   }
@@ -1226,7 +1220,7 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
   if (out->general) {
     rs_material_bsdf(&sh->gmat, s->materials, s->material_count, &s->textures, &tc, &out->bsdf);
     float nso[3] = {out->ns[0], out->ns[1], out->ns[2]}; /* pbrt: oriented as the shape's n */
-    if (rs_dot(nso, n) < 0.0f) negate(nso);
+    if (rs_dot(nso, n) < 0.0f) rs_negate(nso);
     clr_bsdf_set_frame(&out->bsdf, out->dpdu, nso, n);
   }
   out->on_a = sh->on_a;

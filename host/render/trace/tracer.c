@@ -260,6 +260,14 @@ static void box_bounds(const double m[12], double r, double z0, double z1, doubl
 typedef int (*user_hit_test)(const void *shape, const float org[3], const float dir[3], float tnear,
                              float tfar, sphere_hit *hit);
 
+/* Ray i's origin and direction in an Embree packet of n rays (structure of arrays). */
+static inline void packet_ray(const float *f, unsigned n, unsigned i, float org[3], float dir[3]) {
+  for (unsigned k = 0; k < 3; ++k) {
+    org[k] = f[(RAY_ORG + k) * n + i];
+    dir[k] = f[(RAY_DIR + k) * n + i];
+  }
+}
+
 /* Embree's intersect callback over a packet, for any user geometry's ray test. */
 static void user_intersect(const struct RTCIntersectFunctionNArguments *args, user_hit_test test) {
   const unsigned n = args->N;
@@ -267,8 +275,8 @@ static void user_intersect(const struct RTCIntersectFunctionNArguments *args, us
   unsigned *w = (unsigned *)args->rayhit;
   for (unsigned i = 0; i < n; ++i) {
     if (!args->valid[i]) continue;
-    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
-    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
+    float org[3], dir[3];
+    packet_ray(f, n, i, org, dir);
     sphere_hit h;
     if (!test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
       continue;
@@ -288,8 +296,8 @@ static void user_occluded(const struct RTCOccludedFunctionNArguments *args, user
   float *f = (float *)args->ray;
   for (unsigned i = 0; i < n; ++i) {
     if (!args->valid[i]) continue;
-    float org[3] = {f[(RAY_ORG + 0) * n + i], f[(RAY_ORG + 1) * n + i], f[(RAY_ORG + 2) * n + i]};
-    float dir[3] = {f[(RAY_DIR + 0) * n + i], f[(RAY_DIR + 1) * n + i], f[(RAY_DIR + 2) * n + i]};
+    float org[3], dir[3];
+    packet_ray(f, n, i, org, dir);
     sphere_hit h;
     if (test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
       f[RAY_TFAR * n + i] = -INFINITY;
