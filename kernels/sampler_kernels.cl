@@ -15,21 +15,19 @@
 #include "lane_math.h"
 
 #ifdef CLR_SAMPLER_V4
-/* The tables of the pbrt-v4 kernels' arguments; pmj02bn's point sets follow its pixel table. */
-CLR_INLINE clr_v4_tables clr_v4_kernel_tables(const clr_sampler_params *p,
-                                              __global const uint *sobol32,
-                                              __global const ulong *vdc,
-                                              __global const ulong *vdc_inv,
-                                              __global const clr_halton_prime *primes,
-                                              __global const float *pmj_pixels) {
-  clr_v4_tables t;
-  t.sobol32 = sobol32;
-  t.vdc = vdc;
-  t.vdc_inv = vdc_inv;
-  t.primes = primes;
-  t.pmj_pixels = pmj_pixels;
-  t.pmj_sets = pmj_pixels + clr_v4_pmj02_pixel_floats(p);
-  return t;
+/* The tables of the pbrt-v4 kernels' arguments; pmj02bn's point sets follow its pixel table. (An
+ * out-parameter: a returned struct becomes a noalias sret argument, whose inlining Oclgrind
+ * cannot run.) */
+CLR_INLINE void clr_v4_kernel_tables(const clr_sampler_params *p, __global const uint *sobol32,
+                                     __global const ulong *vdc, __global const ulong *vdc_inv,
+                                     __global const clr_halton_prime *primes,
+                                     __global const float *pmj_pixels, clr_v4_tables *t) {
+  t->sobol32 = sobol32;
+  t->vdc = vdc;
+  t->vdc_inv = vdc_inv;
+  t->primes = primes;
+  t->pmj_pixels = pmj_pixels;
+  t->pmj_sets = pmj_pixels + clr_v4_pmj02_pixel_floats(p);
 }
 
 /* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1), one shape for SIMD and
@@ -43,7 +41,8 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
                               __global float *restrict values, int item_count) {
   const int item = (int)get_global_id(0);
   if (item >= item_count) return;
-  clr_v4_tables t = clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels);
+  clr_v4_tables t;
+  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, &t);
   clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
 }
 
@@ -56,7 +55,8 @@ __kernel void clr_v4_generate_pixels(
     __global const float *restrict pmj_pixels, __global float *restrict values, int pixel_count) {
   const int pixel = (int)get_global_id(0);
   if (pixel >= pixel_count) return;
-  clr_v4_tables t = clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels);
+  clr_v4_tables t;
+  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, &t);
   clr_v4_pixel_vectors(
       &p, slots, &t, pixel,
       values + (size_t)pixel * (size_t)p.sample_count * (size_t)p.values_per_sample);

@@ -319,16 +319,8 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
     float b0 = 1.0f - su0, b1 = u[1] * su0, b2 = 1.0f - b0 - b1;
     for (int i = 0; i < 3; ++i) pt[i] = b0 * p0[i] + b1 * p1[i] + b2 * p2[i];
     memcpy(n, l->tri_n, sizeof l->tri_n);
-    if (sh->mesh.n) {
-      const uint32_t *ix = sh->mesh.indices + 3 * l->prim;
-      float ns[3];
-      for (int i = 0; i < 3; ++i)
-        ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
-                b2 * sh->mesh.n[3 * ix[2] + i];
-      if (rs_dot(n, ns) < 0.0f) rs_negate(n);
-    } else if (sh->flip_normal) {
-      rs_negate(n);
-    }
+    float ns[3];
+    rs_orient_triangle_normal(sh, sh->mesh.indices + 3 * l->prim, b0, b1, b2, n, ns);
     *pdf = 1.0f / l->area;
     return;
   }
@@ -611,6 +603,14 @@ void rs_lights_escaped(const rs_light_set *set, const clr_ray *ray, float le[3])
   }
 }
 
+/* The ray's origin and direction in the shape's object space. */
+static inline void ray_to_object(const rs_shape *sh, const clr_ray *ray, float o[3], float d[3]) {
+  clr_transform w2o = clr_transform_inverse(&sh->object_to_world);
+  float ow[3] = {ray->ox, ray->oy, ray->oz}, dw[3] = {ray->dx, ray->dy, ray->dz};
+  clr_transform_point(&w2o, ow, o);
+  clr_transform_vector(&w2o, dw, d);
+}
+
 /* pbrt-v3 Light::Pdf_Li asks the light's own shape first: Shape::Pdf(ref, wi) intersects the ray
  * with that shape only (a triangle here) and is 0 when it misses; a sphere seen from outside
  * returns its cone pdf without a test, and from on or inside it the ray is intersected with the
@@ -639,10 +639,8 @@ int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int 
   }
   if (l->type == RS_LIGHT_AREA_DISK) { /* Disk::Intersect in object space */
     const rs_shape *sh = &shapes[l->shape];
-    clr_transform w2o = clr_transform_inverse(&sh->object_to_world);
-    float ow[3] = {ray->ox, ray->oy, ray->oz}, dw[3] = {ray->dx, ray->dy, ray->dz}, o[3], d[3];
-    clr_transform_point(&w2o, ow, o);
-    clr_transform_vector(&w2o, dw, d);
+    float o[3], d[3];
+    ray_to_object(sh, ray, o, d);
     if (d[2] == 0.0f) return 0;
     double t = ((double)sh->height - o[2]) / d[2];
     if (!(t > 0.0) || !(t > (double)ray->tnear) || !(t < (double)ray->tfar)) return 0;
@@ -655,10 +653,8 @@ int rs_light_shape_may_hit(const rs_light_set *set, const rs_shape *shapes, int 
   }
   if (l->type == RS_LIGHT_AREA_CYLINDER) { /* Cylinder::Intersect in object space */
     const rs_shape *sh = &shapes[l->shape];
-    clr_transform w2o = clr_transform_inverse(&sh->object_to_world);
-    float ow[3] = {ray->ox, ray->oy, ray->oz}, dw[3] = {ray->dx, ray->dy, ray->dz}, o[3], d[3];
-    clr_transform_point(&w2o, ow, o);
-    clr_transform_vector(&w2o, dw, d);
+    float o[3], d[3];
+    ray_to_object(sh, ray, o, d);
     double od[3] = {o[0], o[1], o[2]}, dd[3] = {d[0], d[1], d[2]}, t;
     return clr_quadric_intersect(&sh->quadric, od, dd, ray->tfar, &t) && t >= (double)ray->tnear;
   }

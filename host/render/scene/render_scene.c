@@ -846,15 +846,7 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
   const float *frame = sh->tri_frames + 6 * (size_t)hit->prim_id;
   memcpy(n, frame, 3 * sizeof *n);
   memcpy(dpdu, frame + 3, 3 * sizeof *dpdu);
-  *has_ns = sh->mesh.n != NULL;
-  if (*has_ns) {
-    for (int i = 0; i < 3; ++i)
-      ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
-              b2 * sh->mesh.n[3 * ix[2] + i];
-    if (rs_dot(n, ns) < 0.0f) rs_negate(n);
-  } else if (sh->flip_normal) {
-    rs_negate(n);
-  }
+  *has_ns = rs_orient_triangle_normal(sh, ix, b0, b1, b2, n, ns);
 }
 
 /* pbrt-v3 Sphere's (u, v) at object point po (over the clipped ranges of a partial sphere). */

@@ -8,6 +8,7 @@
 #include "quadrics.h"
 #include "textures.h"
 #include "transform.h"
+#include "vec3.h"
 
 typedef enum { RS_SHAPE_MESH, RS_SHAPE_SPHERE, RS_SHAPE_DISK, RS_SHAPE_QUADRIC } rs_shape_type;
 
@@ -45,5 +46,21 @@ typedef struct rs_shape {
   clr_transform object_to_world_end; /* moving shapes: for the world bounds */
   int moving; /* kept in object space in a moving instance (ActiveTransform EndTime) */
 } rs_shape;
+
+/* pbrt-v3 Triangle's orientation of mesh triangle ix's geometric normal n at barycentrics (b0, b1,
+ * b2): toward the interpolated vertex normal ns where the mesh has normals (then 1, ns written),
+ * else flipped with flip_normal (0). */
+static inline int rs_orient_triangle_normal(const rs_shape *sh, const uint32_t *ix, float b0,
+                                            float b1, float b2, float n[3], float ns[3]) {
+  if (!sh->mesh.n) {
+    if (sh->flip_normal) rs_negate(n);
+    return 0;
+  }
+  for (int i = 0; i < 3; ++i)
+    ns[i] = b0 * sh->mesh.n[3 * ix[0] + i] + b1 * sh->mesh.n[3 * ix[1] + i] +
+            b2 * sh->mesh.n[3 * ix[2] + i];
+  if (rs_dot(n, ns) < 0.0f) rs_negate(n);
+  return 1;
+}
 
 #endif
