@@ -195,33 +195,36 @@ static inline void clr_film_store8(__global float *out, int n, float8 r, float8 
   CLR_FILM_STORE_LANE(out, r, g, b, w, 7, s7);
 }
 
+/* One 8-pixel run's sums in two rows (lanes are pixels run_x0 .. run_x0 + 7). */
+typedef struct clr_film_run8 {
+  float8 r0, g0, b0, w0; /* row py0 */
+  float8 r1, g1, b1, w1; /* row py0 + 1 */
+} clr_film_run8;
+
 /* clr_film_gather for a run of 8 pixels in two rows (py0, py0 + 1), the pixels in the lanes of
  * four float8 sums (r, g, b, weight) per row: bin row by bin row (ascending y0, from py0 - K + 1
  * to py0 + 1) it walks the samples of the bins x0 in [run_x0 - K + 1, run_x0 + 7] in their binned
  * order and adds each one's positioned x-factors (the half of its 16 that covers the run) times
  * its y-factor to each row the bin row can reach: every lane adds its pixel's contributions in
- * clr_film_gather's order (lanes the sample does not reach add zeros), so the same bits. Global size: (runs per row rounded up to the work-group size, row
- * pairs). */
-__kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed,
-                               __global const uint *starts, __global float *sums) {
-  const int out_x1 = grid.out_x0 + grid.out_w;
-  const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
-  if (run_x0 >= out_x1) return;
-  const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
-  const int oy = 2 * (int)get_global_id(1), py = grid.out_y0 + oy;
-  const int kx = grid.reach_x, ky = grid.reach_y;
+ * clr_film_gather's order (lanes the sample does not reach add zeros), so the same bits. oy: py0's
+ * row in the output region; run_x1: the run's end (exclusive) in it. */
+static inline clr_film_run8 clr_film_gather_run8(const clr_film_grid *grid,
+                                                 __global const float *weighed,
+                                                 __global const uint *starts, int run_x0,
+                                                 int run_x1, int oy) {
+  const int py = grid->out_y0 + oy, kx = grid->reach_x, ky = grid->reach_y;
   float8 r0 = (float8)(0.0f), g0 = r0, b0 = r0, w0 = r0, r1 = r0, g1 = r0, b1 = r0, w1 = r0;
-  const int cx0 = max(run_x0 - kx + 1 - grid.bin_x0, 0);
-  const int cx1 = min(run_x1 - 1 - grid.bin_x0, grid.bins_x - 1);
+  const int cx0 = max(run_x0 - kx + 1 - grid->bin_x0, 0);
+  const int cx1 = min(run_x1 - 1 - grid->bin_x0, grid->bins_x - 1);
   for (int j = 0; j <= ky; ++j) { /* bin row y0 = py - ky + 1 + j */
-    const int row = py - ky + 1 + j - grid.bin_y0;
-    if (row < 0 || row >= grid.bins_y || cx0 > cx1) continue;
+    const int row = py - ky + 1 + j - grid->bin_y0;
+    if (row < 0 || row >= grid->bins_y || cx0 > cx1) continue;
     /* rows py (py - y0 = ky - 1 - j) and py + 1 (ky - j) where in reach, and their y-factors */
-    const int on0 = j<ky, on1 = j> 0 && oy + 1 < grid.out_h;
+    const int on0 = j<ky, on1 = j> 0 && oy + 1 < grid->out_h;
     const int fy0_at = CLR_FILM_WEIGHED8_Y + (on0 ? ky - 1 - j : 0);
     const int fy1_at = CLR_FILM_WEIGHED8_Y + (on1 ? ky - j : 0);
-    const uint end = starts[row * grid.bins_x + cx1 + 1];
-    for (uint i = starts[row * grid.bins_x + cx0]; i < end; ++i) {
+    const uint end = starts[row * grid->bins_x + cx1 + 1];
+    for (uint i = starts[row * grid->bins_x + cx0]; i < end; ++i) {
       __global const float *s = weighed + (size_t)i * CLR_FILM_WEIGHED8_FLOATS;
       const int upper = as_int(s[6]) != run_x0; /* else its run is the previous one */
       const float8 f = vload8(upper, s + CLR_FILM_WEIGHED8_X);
@@ -229,10 +232,77 @@ __kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed
       if (on1) CLR_FILM_ADD8(s, f, s[fy1_at], r1, g1, b1, w1);
     }
   }
+  clr_film_run8 sums = {r0, g0, b0, w0, r1, g1, b1, w1};
+  return sums;
+}
+
+/* clr_film_gather_run8 over the output region, into the chunk's float sums. Global size: (runs
+ * per row rounded up to the work-group size, row pairs). */
+__kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed,
+                               __global const uint *starts, __global float *sums) {
+  const int out_x1 = grid.out_x0 + grid.out_w;
+  const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
+  if (run_x0 >= out_x1) return;
+  const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
+  const int oy = 2 * (int)get_global_id(1);
+  const clr_film_run8 a = clr_film_gather_run8(&grid, weighed, starts, run_x0, run_x1, oy);
   const int n = run_x1 - run_x0;
   __global float *out = sums + ((size_t)oy * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
                                    CLR_FILM_SUM_FLOATS;
-  clr_film_store8(out, n, r0, g0, b0, w0);
+  clr_film_store8(out, n, a.r0, a.g0, a.b0, a.w0);
   if (oy + 1 < grid.out_h)
-    clr_film_store8(out + (size_t)grid.out_w * CLR_FILM_SUM_FLOATS, n, r1, g1, b1, w1);
+    clr_film_store8(out + (size_t)grid.out_w * CLR_FILM_SUM_FLOATS, n, a.r1, a.g1, a.b1, a.w1);
 }
+
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+
+/* Adds the first n lanes of one row's float sums into the film's double sums from pixel i on:
+ * clr_film_add_block's additions, pixel by pixel. */
+static inline void clr_film_add_doubles8(__global double *rgb_sum, __global double *weight_sum,
+                                         size_t i, int n, float8 r, float8 g, float8 b, float8 w) {
+  if (n == CLR_FILM_LANES) { /* whole runs: 24 rgb and 8 weight sums in 4-lane vectors */
+    const float4 rgb[6] = {(float4)(r.s0, g.s0, b.s0, r.s1), (float4)(g.s1, b.s1, r.s2, g.s2),
+                           (float4)(b.s2, r.s3, g.s3, b.s3), (float4)(r.s4, g.s4, b.s4, r.s5),
+                           (float4)(g.s5, b.s5, r.s6, g.s6), (float4)(b.s6, r.s7, g.s7, b.s7)};
+    __global double *at = rgb_sum + 3 * i;
+    for (int k = 0; k < 6; ++k) vstore4(vload4(k, at) + convert_double4(rgb[k]), k, at);
+    vstore4(vload4(0, weight_sum + i) + convert_double4(w.lo), 0, weight_sum + i);
+    vstore4(vload4(1, weight_sum + i) + convert_double4(w.hi), 1, weight_sum + i);
+    return;
+  }
+  float rs[CLR_FILM_LANES], gs[CLR_FILM_LANES], bs[CLR_FILM_LANES], ws[CLR_FILM_LANES];
+  vstore8(r, 0, rs);
+  vstore8(g, 0, gs);
+  vstore8(b, 0, bs);
+  vstore8(w, 0, ws);
+  for (int k = 0; k < n; ++k) {
+    rgb_sum[3 * (i + k)] += (double)rs[k];
+    rgb_sum[3 * (i + k) + 1] += (double)gs[k];
+    rgb_sum[3 * (i + k) + 2] += (double)bs[k];
+    weight_sum[i + k] += (double)ws[k];
+  }
+}
+
+/* clr_film_gather8 adding each run's sums straight into the film's double sums (rgb_sum: 3 per
+ * pixel, weight_sum: 1, row-major over the pixel bounds of fp; the output region lies inside
+ * them), for devices that share the host's memory: the same additions in the same order as the
+ * host's add of the chunk's float sums, with no float sums buffer. */
+__kernel void clr_film_gather8_add(clr_film_params fp, clr_film_grid grid,
+                                   __global const float *weighed, __global const uint *starts,
+                                   __global double *rgb_sum, __global double *weight_sum) {
+  const int out_x1 = grid.out_x0 + grid.out_w;
+  const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
+  if (run_x0 >= out_x1) return;
+  const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
+  const int oy = 2 * (int)get_global_id(1);
+  const clr_film_run8 a = clr_film_gather_run8(&grid, weighed, starts, run_x0, run_x1, oy);
+  const int n = run_x1 - run_x0;
+  const size_t width = (size_t)(fp.pixel_x1 - fp.pixel_x0);
+  const size_t i =
+      (size_t)(grid.out_y0 + oy - fp.pixel_y0) * width + (size_t)(run_x0 - fp.pixel_x0);
+  clr_film_add_doubles8(rgb_sum, weight_sum, i, n, a.r0, a.g0, a.b0, a.w0);
+  if (oy + 1 < grid.out_h)
+    clr_film_add_doubles8(rgb_sum, weight_sum, i + width, n, a.r1, a.g1, a.b1, a.w1);
+}
+#endif

@@ -247,6 +247,17 @@ static void test_wide_filter_crop_clamp(void **state) {
   check_config(&gauss, 5 * CLR_FILM_BIN_PART_MIN + 1, 78u);
 }
 
+/* The 8-lane kernels at the widest filters they take: radius 3.5, where devices that share the
+ * host's memory and compute in double add the chunk sums into the film's double sums themselves,
+ * and 3.75 (still at most 8 pixels), where the host adds them. */
+static void test_lane_filters_device_and_host_add(void **state) {
+  (void)state;
+  config widest = {45, 27, {0, 1, 0, 1}, CLR_FILTER_MITCHELL, 3.5f, 3.5f, 0, INFINITY};
+  check_config(&widest, 3 * CLR_FILM_BIN_PART_MIN + 5, 91u);
+  config past = {45, 27, {0, 1, 0, 1}, CLR_FILTER_TRIANGLE, 3.75f, 3.0f, 0, INFINITY};
+  check_config(&past, 3 * CLR_FILM_BIN_PART_MIN + 5, 92u);
+}
+
 /* Every thread count gets its parts (16 of them), and a call of two chunks (the second one
  * part). */
 static void test_many_parts_and_chunks(void **state) {
@@ -279,6 +290,7 @@ int main(void) {
       cmocka_unit_test(test_bad_thread_counts),
       cmocka_unit_test(test_every_filter_few_parts),
       cmocka_unit_test(test_wide_filter_crop_clamp),
+      cmocka_unit_test(test_lane_filters_device_and_host_add),
       cmocka_unit_test(test_many_parts_and_chunks),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

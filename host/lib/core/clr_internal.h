@@ -65,6 +65,8 @@ clr_result clr_context_shared_buffer(clr_context ctx, const char *key, const voi
 int clr_context_portable(clr_context ctx);
 /* CL_DEVICE_HOST_UNIFIED_MEMORY of the context's device (a CPU device such as PoCL's). */
 int clr_context_unified_memory(clr_context ctx);
+/* Whether the context's device computes in double (cl_khr_fp64). */
+int clr_context_fp64(clr_context ctx);
 /* CL_DEVICE_LOCAL_MEM_SIZE of the context's device. */
 cl_ulong clr_context_local_mem(clr_context ctx);
 /* A work-group size for `kernel` on the context's device: `wanted` capped by the device's and the

@@ -37,6 +37,7 @@ struct clr_context_t {
   int is_gpu;
   int correctly_rounded_divide;
   int unified_memory;             /* CL_DEVICE_HOST_UNIFIED_MEMORY: constant tables used in place */
+  int fp64;                       /* CL_DEVICE_DOUBLE_FP_CONFIG is not 0 (cl_khr_fp64) */
   clr_kernel_shape default_shape; /* the device's (or CLRENDER_KERNELS's) shape */
   _Atomic int shape;              /* the shape in use */
   size_t max_group;               /* CL_DEVICE_MAX_WORK_GROUP_SIZE, capped by item sizes[0] */
@@ -295,6 +296,10 @@ clr_result clr_context_create(const clr_context_desc *desc, clr_context *out) {
   if (clGetDeviceInfo(ctx->device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified, NULL) ==
       CL_SUCCESS)
     ctx->unified_memory = unified == CL_TRUE;
+  cl_device_fp_config fp64 = 0;
+  if (clGetDeviceInfo(ctx->device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64, &fp64, NULL) ==
+      CL_SUCCESS)
+    ctx->fp64 = fp64 != 0;
   clr_result dr = query_device(ctx, &entries[chosen]);
   if (dr != CLR_SUCCESS) {
     clr_context_release(ctx);
@@ -386,6 +391,8 @@ int clr_context_portable(clr_context ctx) {
 }
 
 int clr_context_unified_memory(clr_context ctx) { return ctx ? ctx->unified_memory : 0; }
+
+int clr_context_fp64(clr_context ctx) { return ctx ? ctx->fp64 : 0; }
 
 cl_ulong clr_context_local_mem(clr_context ctx) { return ctx ? ctx->local_mem : 0; }
 

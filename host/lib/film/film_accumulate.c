@@ -455,6 +455,26 @@ static clr_result enqueue_gather8(clr_film film, const clr_film_grid *g) {
   return CLR_SUCCESS;
 }
 
+/* Enqueues clr_film_gather8_add over the grid's output region (the call's double-sum buffers are
+ * open); *done gets its event. */
+static clr_result enqueue_gather8_add(clr_film film, const clr_film_grid *g, cl_event *done) {
+  clr_film_device *d = &film->dev;
+  cl_kernel k = d->gather8_add;
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 0, sizeof film->params, &film->params));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof *g, g));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->weighed));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->starts));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->rgb_sums));
+  CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weight_sums));
+  size_t group = film->group_size_override ? film->group_size_override : d->group_size;
+  size_t runs = ((size_t)g->out_w + CLR_FILM_LANES - 1) / CLR_FILM_LANES;
+  size_t global[2] = {(runs + group - 1) / group * group, ((size_t)g->out_h + 1) / 2};
+  size_t local[2] = {group, 1};
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
+                                                 global, local, 0, NULL, done));
+  return CLR_SUCCESS;
+}
+
 /* The portable shape's gather: one work-item per output pixel (clr_film_gather_pixels), 2D
  * work-groups of the device's size (a warp or more where the device allows it). Enqueues it only;
  * gather() reads the sums back as for the run kernel. */
@@ -479,11 +499,35 @@ static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
   return CLR_SUCCESS;
 }
 
+clr_result clr_film_chunk_wait(clr_film film, clr_film_chunk_sums *chunk) {
+  if (!chunk->ready) return CLR_SUCCESS;
+  cl_int err = clWaitForEvents(1, &chunk->ready);
+  cl_int status = CL_COMPLETE;
+  if (err == CL_SUCCESS)
+    err = clGetEventInfo(chunk->ready, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status,
+                         NULL);
+  clReleaseEvent(chunk->ready);
+  chunk->ready = NULL;
+  if (err == CL_SUCCESS && status >= 0) return CLR_SUCCESS;
+  return clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples: chunk sums failed: %s (%d)",
+                  clr_cl_error_name(err != CL_SUCCESS ? err : status),
+                  (int)(err != CL_SUCCESS ? err : status));
+}
+
 /* Runs the gather over the grid's output region (clr_film_gather8 with `lanes`); *out maps its
  * sums, at once when `blocking`, else once out->ready completes. */
 static clr_result gather(clr_film film, const clr_film_grid *g, int lanes, int blocking,
                          clr_film_chunk_sums *out) {
   clr_film_device *d = &film->dev;
+  if (d->rgb_sums) {
+    if (!lanes) /* open_double_sums admits only filters whose every chunk runs in lanes */
+      return clr_fail(film->ctx, CLR_ERROR_INTERNAL,
+                      "film_add_samples: a chunk reaches %d x %d pixels, more than %d", g->reach_x,
+                      g->reach_y, CLR_FILM_LANES);
+    out->block = (clr_bounds2i){g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
+    CLR_CHECK(enqueue_gather8_add(film, g, &out->ready));
+    return blocking ? clr_film_chunk_wait(film, out) : CLR_SUCCESS;
+  }
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
   size_t bytes = (size_t)g->out_w * (size_t)g->out_h * CLR_FILM_SUM_FLOATS * sizeof(float);
@@ -552,20 +596,7 @@ static clr_result device_chunk(clr_film film, const clr_film_sample *samples, si
 /* Waits for a launched chunk's sums, adds them into the film's double sums and releases them;
  * *pending is empty after. */
 static clr_result finish_chunk(clr_film film, clr_film_chunk_sums *pending) {
-  clr_result r = CLR_SUCCESS;
-  if (pending->ready) {
-    cl_int err = clWaitForEvents(1, &pending->ready);
-    cl_int status = CL_COMPLETE;
-    if (err == CL_SUCCESS)
-      err = clGetEventInfo(pending->ready, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status,
-                           &status, NULL);
-    clReleaseEvent(pending->ready);
-    pending->ready = NULL;
-    if (err != CL_SUCCESS || status < 0)
-      r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples: chunk sums failed: %s (%d)",
-                   clr_cl_error_name(err != CL_SUCCESS ? err : status),
-                   (int)(err != CL_SUCCESS ? err : status));
-  }
+  clr_result r = clr_film_chunk_wait(film, pending);
   if (r == CLR_SUCCESS && pending->sums)
     clr_film_add_block(film, pending->block, pending->sums, clr_film_host_threads(film));
   clr_result released = clr_film_chunk_sums_release(film, pending);
@@ -573,10 +604,71 @@ static clr_result finish_chunk(clr_film film, clr_film_chunk_sums *pending) {
   return r != CLR_SUCCESS ? r : released;
 }
 
+/* Whether a call's kernels add into the film's double sums themselves (clr_film_gather8_add, no
+ * float sums to add on the host): SIMD-shaped contexts on a device that shares the host's memory
+ * and computes in double, with a filter whose every chunk runs in lanes (2 r + 1 <= 8 pixels). */
+static int adds_on_device(clr_film film) {
+  const float most = (float)(CLR_FILM_LANES - 1) / 2.0f;
+  return !clr_context_portable(film->ctx) && clr_context_unified_memory(film->ctx) &&
+         clr_context_fp64(film->ctx) && film->filter.radius_x <= most &&
+         film->filter.radius_y <= most;
+}
+
+/* A buffer over `count` of the film's double sums, or NULL where the device refuses one (the
+ * call then adds on the host, as on other devices). */
+static cl_mem sums_buffer(clr_film film, double *sums, size_t count) {
+  cl_int err = CL_SUCCESS;
+  cl_mem buf =
+      clCreateBuffer(clr_context_cl_context(film->ctx), CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR,
+                     count * sizeof *sums, sums, &err);
+  return err == CL_SUCCESS ? buf : NULL;
+}
+
+clr_result clr_film_open_device_sums(clr_film film) {
+  clr_film_device *d = &film->dev;
+  if (!adds_on_device(film)) return CLR_SUCCESS;
+  CLR_CHECK(ensure_lane_kernels(film));
+  if (!d->gather8_add)
+    CLR_CHECK(clr_context_kernel(film->ctx, "film_kernels.cl", NULL, "clr_film_gather8_add",
+                                 &d->gather8_add));
+  d->rgb_sums = sums_buffer(film, film->rgb_sum, film->pixel_count * 3);
+  d->weight_sums = d->rgb_sums ? sums_buffer(film, film->weight_sum, film->pixel_count) : NULL;
+  if (!d->weight_sums && d->rgb_sums) {
+    clReleaseMemObject(d->rgb_sums);
+    d->rgb_sums = NULL;
+  }
+  return CLR_SUCCESS;
+}
+
+/* Maps and unmaps a double-sum buffer, after which the host reads the device's additions
+ * (OpenCL's rule for CL_MEM_USE_HOST_PTR; no copy on a device that wrote them in place). */
+static clr_result sync_sums(clr_film film, cl_mem buf, size_t bytes) {
+  cl_command_queue q = clr_context_cl_queue(film->ctx);
+  cl_int err = CL_SUCCESS;
+  void *at = clEnqueueMapBuffer(q, buf, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
+  CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(double sums)");
+  CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, buf, at, 0, NULL, NULL));
+  CLR_CL_CHECK(film->ctx, clFinish(q));
+  return CLR_SUCCESS;
+}
+
+clr_result clr_film_close_device_sums(clr_film film) {
+  clr_film_device *d = &film->dev;
+  clr_result r = CLR_SUCCESS;
+  if (d->rgb_sums) r = sync_sums(film, d->rgb_sums, film->pixel_count * 3 * sizeof(double));
+  if (d->weight_sums && r == CLR_SUCCESS)
+    r = sync_sums(film, d->weight_sums, film->pixel_count * sizeof(double));
+  if (d->rgb_sums) clReleaseMemObject(d->rgb_sums);
+  if (d->weight_sums) clReleaseMemObject(d->weight_sums);
+  d->rgb_sums = d->weight_sums = NULL;
+  return r;
+}
+
 clr_result clr_film_accumulate_overlapped(clr_film film, const clr_film_sample *samples,
                                           size_t count) {
   clr_film_chunk_sums pending = {0};
   clr_result r = ensure_kernel(film);
+  if (r == CLR_SUCCESS) r = clr_film_open_device_sums(film);
   for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
     size_t n = count - at < CLR_FILM_CHUNK_SAMPLES ? count - at : CLR_FILM_CHUNK_SAMPLES;
     clr_film_grid g;
@@ -588,7 +680,8 @@ clr_result clr_film_accumulate_overlapped(clr_film film, const clr_film_sample *
     if (r == CLR_SUCCESS && binned) r = launch_chunk(film, &set, &g, binned, 0, &pending);
   }
   clr_result done = finish_chunk(film, &pending);
-  return r != CLR_SUCCESS ? r : done;
+  clr_result closed = clr_film_close_device_sums(film);
+  return r != CLR_SUCCESS ? r : done != CLR_SUCCESS ? done : closed;
 }
 
 /* Host reference of one chunk: the same binning; each binned sample, in bin order, adds to every
@@ -701,6 +794,7 @@ void clr_film_accumulate_release(clr_film film) {
   if (d->pixel_gather) clReleaseKernel(d->pixel_gather);
   if (d->weigh8) clReleaseKernel(d->weigh8);
   if (d->gather8) clReleaseKernel(d->gather8);
+  if (d->gather8_add) clReleaseKernel(d->gather8_add);
   clr_film_bins *b = &film->bins;
   free(b->keys);
   free(b->values);

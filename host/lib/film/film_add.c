@@ -67,7 +67,7 @@ clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count) 
                     "film_add_samples_buffer: buffer of %zu bytes holds fewer than %zu samples",
                     size, count);
   pthread_mutex_lock(&film->lock);
-  clr_result r = CLR_SUCCESS;
+  clr_result r = clr_film_open_device_sums(film);
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   for (size_t at = 0; at < count && r == CLR_SUCCESS; at += CLR_FILM_CHUNK_SAMPLES) {
     size_t n = chunk_length(count, at);
@@ -89,6 +89,7 @@ clr_result film_add_samples_buffer(clr_film film, cl_mem samples, size_t count) 
                    "failed: %s (%d)",
                    clr_cl_error_name(err), (int)err);
   }
+  clr_result closed = clr_film_close_device_sums(film);
   pthread_mutex_unlock(&film->lock);
-  return r;
+  return r != CLR_SUCCESS ? r : closed;
 }

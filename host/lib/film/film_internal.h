@@ -15,8 +15,12 @@ typedef struct clr_film_device {
   cl_kernel kernel, weigh;
   cl_kernel pixel_gather;    /* portable shape's per-pixel gather, made on first use */
   cl_kernel weigh8, gather8; /* SIMD shape's 8-lane kernels, made on first use */
-  size_t group_size;         /* automatic work-group size (runs of pixels) */
-  cl_mem table; /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
+  cl_kernel gather8_add;     /* gather8 adding into the double sums, made on first use */
+  /* During a film_add_samples call whose kernels add into the film's double sums themselves:
+   * buffers over rgb_sum and weight_sum (CL_MEM_USE_HOST_PTR); NULL otherwise. */
+  cl_mem rgb_sums, weight_sums;
+  size_t group_size; /* automatic work-group size (runs of pixels) */
+  cl_mem table;      /* the filter's separable table factors, 2 * CLR_FILTER_TABLE_SIZE floats */
   cl_mem binned, weighed, starts, sums;
   size_t binned_bytes, weighed_bytes, starts_bytes, sums_bytes;
 } clr_film_device;
@@ -88,6 +92,16 @@ typedef struct clr_film_chunk_sums {
 clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                                      int reference, clr_film_chunk_sums *out);
 clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums);
+/* Waits for a chunk's kernels when it has an event (ready), then releases the event. */
+clr_result clr_film_chunk_wait(clr_film film, clr_film_chunk_sums *chunk);
+/* Around a film_add_samples call's chunks: where the device shares the host's memory and
+ * computes in double, and the filter lets every chunk run in lanes, opens buffers over the film's
+ * double sums so that the kernels add each chunk's sums into them (clr_film_gather8_add: the same
+ * additions in the same order as clr_film_add_block); otherwise does nothing. Close hands the sums
+ * back to the host (map and unmap) and releases the buffers; it is a no-op when none are open.
+ * Caller holds the film's lock. */
+clr_result clr_film_open_device_sums(clr_film film);
+clr_result clr_film_close_device_sums(clr_film film);
 /* film_add_samples' device path: the chunks of samples[0..count) through the kernels into the
  * film's double sums, in chunk order (the same bits as chunk by chunk), with each chunk's checks
  * and first two binning passes running while the device runs the previous chunk's kernels.
