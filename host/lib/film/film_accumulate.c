@@ -41,6 +41,11 @@ static int reaches_film(const clr_film_params *p, const clr_film_prepared *s) {
   return s->x1 >= p->pixel_x0 && s->x0 < p->pixel_x1 && s->y1 >= p->pixel_y0 && s->y0 < p->pixel_y1;
 }
 
+/* Whether a binned sample's values are its own floats with 0.5 off x and y: without a luminance
+ * clamp clr_film_prepare changes no other float. Then pass 2 takes them from the samples and
+ * pass 1 stores none (bins.values stays unused). */
+static int values_from_samples(const clr_film_params *p) { return !p->clamp_luminance; }
+
 /* A sample between the two binning passes: its bin column (key) and binned values. */
 typedef struct row_entry {
   uint32_t column;
@@ -91,7 +96,7 @@ typedef struct key_stats {
 } key_stats;
 
 /* Pass 1 of sample i, one by one: checks it, stores its key (KEY_NONE when it reaches no pixel)
- * and binned values, counts it in its bin row, widens k's bounds and reach. */
+ * and binned values (unless values is NULL), counts it in its bin row, widens k's bounds and reach. */
 static inline void key_one(clr_film film, const clr_film_sample *sample, size_t i,
                            uint32_t *restrict keys, float *restrict values, uint32_t *restrict rows,
                            key_stats *k) {
@@ -107,13 +112,15 @@ static inline void key_one(clr_film film, const clr_film_sample *sample, size_t 
     return;
   }
   keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
-  float *v = values + i * CLR_FILM_BINNED_FLOATS;
-  v[0] = s.dx;
-  v[1] = s.dy;
-  v[2] = s.r;
-  v[3] = s.g;
-  v[4] = s.b;
-  v[5] = s.w;
+  if (values) {
+    float *v = values + i * CLR_FILM_BINNED_FLOATS;
+    v[0] = s.dx;
+    v[1] = s.dy;
+    v[2] = s.r;
+    v[3] = s.g;
+    v[4] = s.b;
+    v[5] = s.w;
+  }
   ++rows[s.y0 - ky0];
   k->bx0 = s.x0 < k->bx0 ? s.x0 : k->bx0;
   k->bx1 = s.x0 > k->bx1 ? s.x0 : k->bx1;
@@ -159,7 +166,8 @@ static void key_limits_init(key_limits *l, clr_film film) {
 
 /* key_one of samples i..i + 3 at once when all four pass clr_film_prepare unchanged
  * (film_screen.h), reach the film and reach no more pixels than k's reach (the common case):
- * their binned values are the samples' floats with 0.5 off x and y. Else 0, nothing written. */
+ * their binned values (stored unless values is NULL) are the samples' floats with 0.5 off x and
+ * y. Else 0, nothing written. */
 static inline int key_four(const key_limits *l, const clr_film_sample *samples, size_t i,
                            uint32_t *restrict keys, float *restrict values, uint32_t *restrict rows,
                            const key_stats *k, key_lanes *b) {
@@ -180,14 +188,17 @@ static inline int key_four(const key_limits *l, const clr_film_sample *samples, 
   __m128i row = _mm_sub_epi32(p.y0, l->ky0);
   _mm_storeu_si128((__m128i *)(keys + i),
                    _mm_or_si128(_mm_slli_epi32(row, 16), _mm_sub_epi32(p.x0, l->kx0)));
-  const __m128 d01 = _mm_setr_ps(0.5f, 0.5f, 0.0f, 0.0f), d23 = _mm_setr_ps(0.0f, 0.0f, 0.5f, 0.5f);
-  float *out = values + i * CLR_FILM_BINNED_FLOATS;
-  _mm_storeu_ps(out, _mm_sub_ps(v[0], d01));
-  _mm_storeu_ps(out + 4, _mm_sub_ps(v[1], d23));
-  _mm_storeu_ps(out + 8, v[2]);
-  _mm_storeu_ps(out + 12, _mm_sub_ps(v[3], d01));
-  _mm_storeu_ps(out + 16, _mm_sub_ps(v[4], d23));
-  _mm_storeu_ps(out + 20, v[5]);
+  if (values) {
+    const __m128 d01 = _mm_setr_ps(0.5f, 0.5f, 0.0f, 0.0f);
+    const __m128 d23 = _mm_setr_ps(0.0f, 0.0f, 0.5f, 0.5f);
+    float *out = values + i * CLR_FILM_BINNED_FLOATS;
+    _mm_storeu_ps(out, _mm_sub_ps(v[0], d01));
+    _mm_storeu_ps(out + 4, _mm_sub_ps(v[1], d23));
+    _mm_storeu_ps(out + 8, v[2]);
+    _mm_storeu_ps(out + 12, _mm_sub_ps(v[3], d01));
+    _mm_storeu_ps(out + 16, _mm_sub_ps(v[4], d23));
+    _mm_storeu_ps(out + 20, v[5]);
+  }
   uint32_t r[4];
   _mm_storeu_si128((__m128i *)r, row);
   ++rows[r[0]];
@@ -223,7 +234,7 @@ static void key_lanes_fold(const key_lanes *b, key_stats *k) {
 CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
   clr_film film = t->film;
   uint32_t *restrict keys = film->bins.keys;
-  float *restrict values = film->bins.values;
+  float *restrict values = values_from_samples(&film->params) ? NULL : film->bins.values;
   uint32_t *restrict rows = t->rows;
   memset(rows, 0, key_rows(&film->params) * sizeof *rows);
   key_stats k = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, 1, 1, 0, 0, 0, 0};
@@ -258,19 +269,31 @@ CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
   t->outside = k.outside;
 }
 
-/* Pass 2: moves the part's keyed samples to their bin row's range of bins.rowed (stable). */
+/* Pass 2: moves the part's keyed samples to their bin row's range of bins.rowed (stable), with
+ * their binned values from pass 1 or, where values_from_samples, from the samples. */
 CLR_PROFILE_NOINLINE static void row_part(bin_part *t) {
   clr_film film = t->film;
   const uint32_t *keys = film->bins.keys;
   const float *values = film->bins.values;
   row_entry *rowed = film->bins.rowed;
   const uint32_t column0 = (uint32_t)(t->grid->bin_x0 - (film->params.pixel_x0 - KEY_MARGIN));
+  const int from_samples = values_from_samples(&film->params);
   for (size_t i = t->begin; i < t->end; ++i) {
     uint32_t key = keys[i];
     if (key == KEY_NONE) continue;
     row_entry *e = &rowed[t->rows[key >> 16]++];
     e->column = (key & 0xffffu) - column0;
-    memcpy(e->v, values + i * CLR_FILM_BINNED_FLOATS, sizeof e->v);
+    if (from_samples) {
+      const clr_film_sample *s = &t->samples[i];
+      e->v[0] = s->x - 0.5f; /* clr_film_prepare's dx, dy */
+      e->v[1] = s->y - 0.5f;
+      e->v[2] = s->r;
+      e->v[3] = s->g;
+      e->v[4] = s->b;
+      e->v[5] = s->weight;
+    } else {
+      memcpy(e->v, values + i * CLR_FILM_BINNED_FLOATS, sizeof e->v);
+    }
   }
 }
 
@@ -378,9 +401,9 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
                             int threads, bin_set *set, clr_film_grid *g, size_t *binned) {
   clr_film_bins *b = &film->bins;
   const size_t rows = key_rows(&film->params);
+  const size_t values = values_from_samples(&film->params) ? 0 : count * CLR_FILM_BINNED_FLOATS;
   if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys) ||
-      !grow((void **)&b->values, &b->values_cap, count * CLR_FILM_BINNED_FLOATS,
-            sizeof *b->values) ||
+      !grow((void **)&b->values, &b->values_cap, values, sizeof *b->values) ||
       !grow((void **)&b->cursor, &b->cursor_cap, rows * (size_t)threads, sizeof *b->cursor))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
   int n = threads; /* each part gets at least CLR_FILM_BIN_PART_MIN samples */
