@@ -148,14 +148,16 @@ static inline __m128i max_i32(__m128i a, __m128i b) {
 
 /* The film's limits key_four compares against, four lanes each. */
 typedef struct key_limits {
-  clr_film_screen sc;
+  clr_screen_limits sc;
   __m128i kx0, ky0;           /* the key origin */
   __m128i px0, py0, px1, py1; /* pixel bounds, inclusive */
 } key_limits;
 
 static void key_limits_init(key_limits *l, clr_film film) {
   const clr_film_params *p = &film->params;
-  clr_film_screen_init(&l->sc, p, &film->filter);
+  clr_film_screen sc;
+  clr_film_screen_init(&sc, p, &film->filter);
+  l->sc = clr_screen_limits_of(&sc);
   l->kx0 = _mm_set1_epi32(p->pixel_x0 - KEY_MARGIN);
   l->ky0 = _mm_set1_epi32(p->pixel_y0 - KEY_MARGIN);
   l->px0 = _mm_set1_epi32(p->pixel_x0);

@@ -57,6 +57,26 @@ static inline __m128i clr_screen_floor(__m128 v) {
   return _mm_add_epi32(i, _mm_castps_si128(_mm_cmplt_ps(v, _mm_cvtepi32_ps(i))));
 }
 
+/* The screen's limits, four lanes each (set once for many groups). */
+typedef struct clr_screen_limits {
+  __m128 sample_x0, sample_x1, sample_y0, sample_y1, edge_x, edge_y, clamp_above;
+  __m128 radius_x, radius_y;
+} clr_screen_limits;
+
+static inline clr_screen_limits clr_screen_limits_of(const clr_film_screen *sc) {
+  clr_screen_limits l;
+  l.sample_x0 = _mm_set1_ps(sc->sample_x0);
+  l.sample_x1 = _mm_set1_ps(sc->sample_x1);
+  l.sample_y0 = _mm_set1_ps(sc->sample_y0);
+  l.sample_y1 = _mm_set1_ps(sc->sample_y1);
+  l.edge_x = _mm_set1_ps(sc->edge_x);
+  l.edge_y = _mm_set1_ps(sc->edge_y);
+  l.clamp_above = _mm_set1_ps(sc->clamp_above);
+  l.radius_x = _mm_set1_ps(sc->filter.radius_x);
+  l.radius_y = _mm_set1_ps(sc->filter.radius_y);
+  return l;
+}
+
 /* samples[0..3]'s floats as loaded, six registers: v[0] = x0 y0 r0 g0, v[1] = b0 w0 x1 y1,
  * v[2] = r1 g1 b1 w1, v[3..5] the same for samples 2 and 3; 0 when a component is not finite. */
 static inline int clr_screen_load(const clr_film_sample *samples, __m128 v[6]) {
@@ -93,7 +113,7 @@ static inline clr_screen_fields clr_screen_transpose(const __m128 v[6]) {
 
 /* Whether four finite samples all pass clr_film_prepare's remaining checks with nothing to
  * change. */
-static inline int clr_screen_plain(const clr_film_screen *sc, const clr_screen_fields *f) {
+static inline int clr_screen_plain(const clr_screen_limits *l, const clr_screen_fields *f) {
   /* clr_film_luminance, left to right */
   __m128 lum = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(0.212671f), f->r),
                                      _mm_mul_ps(_mm_set1_ps(0.715160f), f->g)),
@@ -102,13 +122,13 @@ static inline int clr_screen_plain(const clr_film_screen *sc, const clr_screen_f
   __m128i drop = _mm_or_si128(clr_screen_not_finite(lum), clr_screen_not_finite(rw));
   drop = _mm_or_si128(drop, _mm_or_si128(clr_screen_not_finite(gw), clr_screen_not_finite(bw)));
   __m128 keep = _mm_andnot_ps(_mm_cmplt_ps(lum, _mm_set1_ps(CLR_FILM_MIN_LUMINANCE)),
-                              _mm_cmpngt_ps(lum, _mm_set1_ps(sc->clamp_above)));
-  __m128 in_x = _mm_and_ps(_mm_cmpge_ps(f->x, _mm_set1_ps(sc->sample_x0)),
-                           _mm_or_ps(_mm_cmplt_ps(f->x, _mm_set1_ps(sc->sample_x1)),
-                                     _mm_cmpeq_ps(f->x, _mm_set1_ps(sc->edge_x))));
-  __m128 in_y = _mm_and_ps(_mm_cmpge_ps(f->y, _mm_set1_ps(sc->sample_y0)),
-                           _mm_or_ps(_mm_cmplt_ps(f->y, _mm_set1_ps(sc->sample_y1)),
-                                     _mm_cmpeq_ps(f->y, _mm_set1_ps(sc->edge_y))));
+                              _mm_cmpngt_ps(lum, l->clamp_above));
+  __m128 in_x =
+      _mm_and_ps(_mm_cmpge_ps(f->x, l->sample_x0),
+                 _mm_or_ps(_mm_cmplt_ps(f->x, l->sample_x1), _mm_cmpeq_ps(f->x, l->edge_x)));
+  __m128 in_y =
+      _mm_and_ps(_mm_cmpge_ps(f->y, l->sample_y0),
+                 _mm_or_ps(_mm_cmplt_ps(f->y, l->sample_y1), _mm_cmpeq_ps(f->y, l->edge_y)));
   keep = _mm_andnot_ps(_mm_castsi128_ps(drop), _mm_and_ps(keep, _mm_and_ps(in_x, in_y)));
   return _mm_movemask_ps(keep) == 0xf;
 }
@@ -119,9 +139,9 @@ typedef struct clr_screen_footprint {
   __m128i x0, x1, y0, y1;
 } clr_screen_footprint;
 
-static inline clr_screen_footprint clr_screen_reach(const clr_film_screen *sc, __m128 x, __m128 y) {
-  const __m128 half = _mm_set1_ps(0.5f);
-  const __m128 rx = _mm_set1_ps(sc->filter.radius_x), ry = _mm_set1_ps(sc->filter.radius_y);
+static inline clr_screen_footprint clr_screen_reach(const clr_screen_limits *l, __m128 x,
+                                                    __m128 y) {
+  const __m128 half = _mm_set1_ps(0.5f), rx = l->radius_x, ry = l->radius_y;
   clr_screen_footprint p;
   p.dx = _mm_sub_ps(x, half);
   p.dy = _mm_sub_ps(y, half);
@@ -140,8 +160,9 @@ static inline int clr_film_screen4(const clr_film_screen *sc, const clr_film_sam
   __m128 v[6];
   if (!clr_screen_load(samples, v)) return 0;
   clr_screen_fields f = clr_screen_transpose(v);
-  if (!clr_screen_plain(sc, &f)) return 0;
-  clr_screen_footprint p = clr_screen_reach(sc, f.x, f.y);
+  const clr_screen_limits l = clr_screen_limits_of(sc);
+  if (!clr_screen_plain(&l, &f)) return 0;
+  clr_screen_footprint p = clr_screen_reach(&l, f.x, f.y);
   float fdx[4], fdy[4], fr[4], fg[4], fb[4], fw[4];
   clr_i32 x0[4], x1[4], y0[4], y1[4];
   _mm_storeu_ps(fdx, p.dx);
