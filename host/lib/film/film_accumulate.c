@@ -96,7 +96,8 @@ typedef struct key_stats {
 } key_stats;
 
 /* Pass 1 of sample i, one by one: checks it, stores its key (KEY_NONE when it reaches no pixel)
- * and binned values (unless values is NULL), counts it in its bin row, widens k's bounds and reach. */
+ * and binned values (unless values is NULL), counts it in its bin row, widens k's bounds and
+ * reach. */
 static inline void key_one(clr_film film, const clr_film_sample *sample, size_t i,
                            uint32_t *restrict keys, float *restrict values, uint32_t *restrict rows,
                            key_stats *k) {
@@ -231,8 +232,9 @@ static void key_lanes_fold(const key_lanes *b, key_stats *k) {
 #endif
 
 /* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
- * pixel) and binned values, counts them per bin row, records their bounds and the largest
- * reach: four at a time where key_four takes them, else one by one (key_one). */
+ * pixel) and binned values (none where values_from_samples), counts them per bin row, records
+ * their bounds and the largest reach: four at a time where key_four takes them, else one by one
+ * (key_one). */
 CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
   clr_film film = t->film;
   uint32_t *restrict keys = film->bins.keys;

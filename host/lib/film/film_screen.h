@@ -1,8 +1,9 @@
-/* clr_film_prepare of four samples at once for host film tiles: when all four pass its checks
- * with nothing to change (every component finite, luminance finite and >= CLR_FILM_MIN_LUMINANCE,
- * no luminance clamp, L * w finite, inside the sample bounds), their prepared forms with the
- * same bits; otherwise the caller prepares them one by one (clr_film_prepare decides their drops,
- * clamps and counts). SSE2 where the compiler has it, else clr_film_prepare lane by lane. */
+/* clr_film_prepare of four samples at once for host film tiles and the film's binning (pass 1):
+ * when all four pass its checks with nothing to change (every component finite, luminance finite
+ * and >= CLR_FILM_MIN_LUMINANCE, no luminance clamp, L * w finite, inside the sample bounds), their
+ * prepared forms with the same bits; otherwise the caller prepares them one by one
+ * (clr_film_prepare decides their drops, clamps and counts). SSE2 where the compiler has it (its
+ * pieces, clr_screen_*, for callers that keep the lanes), else clr_film_prepare lane by lane. */
 #ifndef CLR_FILM_SCREEN_H
 #define CLR_FILM_SCREEN_H
 
