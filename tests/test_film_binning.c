@@ -2,9 +2,11 @@
  * the host reference give, for 1..CLR_FILM_BIN_THREADS_MAX binning threads, the same sums (memcmp)
  * as an independent oracle: every chunk's checked samples stably sorted by their first reached
  * pixel (row, then column), each adding to every pixel it reaches in that order in float, the
- * chunk's float sums then added into double sums. Every filter, odd film sizes, crops, samples on
- * the sample bounds' edges, at the filter radius, outside, NaN/Inf and negative luminance, calls
- * of one part, several parts and two chunks. Runs the real kernels on the default device. */
+ * chunk's float sums then added into double sums; the same accepted, dropped and outside counts;
+ * and (host reference) the same binned samples: every float of the last chunk's samples in bin
+ * order (memcmp), with and without a luminance clamp. Every filter, odd film sizes, crops, samples
+ * on the sample bounds' edges, at the filter radius, outside, NaN/Inf and negative luminance,
+ * calls of one part, several parts and two chunks. Runs the real kernels on the default device. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -117,15 +119,24 @@ static int by_first_pixel(const void *a, const void *b) {
   return x->index < y->index ? -1 : x->index > y->index;
 }
 
-/* The oracle's sums of samples[0..n), chunk by chunk, into rgb (3 per pixel) and w. */
-static void oracle(clr_film film, const clr_film_sample *samples, size_t n, double *rgb, double *w,
-                   uint64_t *accepted) {
+/* What the oracle expects of a film: its sums (rgb, 3 per pixel, and w), its sample counts, and
+ * the last chunk's binned samples (CLR_FILM_BINNED_FLOATS each, in the canonical order). */
+typedef struct expected {
+  double *rgb, *w;
+  uint64_t accepted, dropped, outside;
+  float *binned;
+  size_t binned_count;
+} expected;
+
+/* The oracle's sums of samples[0..n), chunk by chunk, its counts and last chunk's bins. */
+static void oracle(clr_film film, const clr_film_sample *samples, size_t n, expected *e) {
   const clr_film_params *fp = &film->params;
   const size_t width = (size_t)(fp->pixel_x1 - fp->pixel_x0);
   const size_t pixels = width * (size_t)(fp->pixel_y1 - fp->pixel_y0);
+  double *rgb = e->rgb, *w = e->w;
   memset(rgb, 0, pixels * 3 * sizeof *rgb);
   memset(w, 0, pixels * sizeof *w);
-  *accepted = 0;
+  e->accepted = e->dropped = e->outside = 0;
   float *sums = malloc(pixels * CLR_FILM_SUM_FLOATS * sizeof *sums);
   keyed *k = malloc((n < CLR_FILM_CHUNK_SAMPLES ? n : CLR_FILM_CHUNK_SAMPLES) * sizeof *k);
   assert_true(sums && k);
@@ -134,15 +145,23 @@ static void oracle(clr_film film, const clr_film_sample *samples, size_t n, doub
     for (size_t i = at; i < end; ++i) {
       const clr_film_sample *s = &samples[i];
       clr_film_prepared p;
-      if (clr_film_prepare(fp, &film->filter, s->x, s->y, s->r, s->g, s->b, s->weight, &p) !=
-          CLR_FILM_SAMPLE_OK)
-        continue;
-      ++*accepted;
+      clr_i32 status =
+          clr_film_prepare(fp, &film->filter, s->x, s->y, s->r, s->g, s->b, s->weight, &p);
+      e->dropped += status == CLR_FILM_SAMPLE_DROPPED;
+      e->outside += status == CLR_FILM_SAMPLE_OUTSIDE;
+      if (status != CLR_FILM_SAMPLE_OK) continue;
+      ++e->accepted;
       if (p.x1 >= fp->pixel_x0 && p.x0 < fp->pixel_x1 && p.y1 >= fp->pixel_y0 &&
           p.y0 < fp->pixel_y1)
         k[m++] = (keyed){p, i};
     }
     qsort(k, m, sizeof *k, by_first_pixel);
+    for (size_t j = 0; j < m; ++j) {
+      const clr_film_prepared *p = &k[j].p;
+      const float v[CLR_FILM_BINNED_FLOATS] = {p->dx, p->dy, p->r, p->g, p->b, p->w};
+      memcpy(e->binned + j * CLR_FILM_BINNED_FLOATS, v, sizeof v);
+    }
+    e->binned_count = m;
     memset(sums, 0, pixels * CLR_FILM_SUM_FLOATS * sizeof *sums);
     for (size_t j = 0; j < m; ++j) {
       const clr_film_prepared *p = &k[j].p;
@@ -166,9 +185,10 @@ static void oracle(clr_film film, const clr_film_sample *samples, size_t n, doub
 
 typedef enum add_path { HOST_SAMPLES, DEVICE_BUFFER, REFERENCE } add_path;
 
-/* Adds samples through `path` with `threads` binning threads; asserts the oracle's sums. */
+/* Adds samples through `path` with `threads` binning threads; asserts the oracle's sums and
+ * counts, and on the host reference its last chunk's binned samples (the binning's output). */
 static void check_path(const config *c, const clr_film_sample *samples, size_t n, int threads,
-                       add_path path, const double *rgb, const double *w, uint64_t accepted) {
+                       add_path path, const expected *e) {
   clr_film film = make_film(c);
   assert_int_equal(film_set_bin_threads(film, threads), CLR_SUCCESS);
   if (path == DEVICE_BUFFER) {
@@ -189,9 +209,15 @@ static void check_path(const config *c, const clr_film_sample *samples, size_t n
   double *got_rgb = malloc(pixels * 3 * sizeof *got_rgb), *got_w = malloc(pixels * sizeof *got_w);
   assert_true(got_rgb && got_w);
   assert_int_equal(film_get_sums(film, got_rgb, got_w, NULL), CLR_SUCCESS);
-  assert_memory_equal(got_rgb, rgb, pixels * 3 * sizeof *rgb);
-  assert_memory_equal(got_w, w, pixels * sizeof *w);
-  assert_int_equal(film_sample_count(film), accepted);
+  assert_memory_equal(got_rgb, e->rgb, pixels * 3 * sizeof *e->rgb);
+  assert_memory_equal(got_w, e->w, pixels * sizeof *e->w);
+  assert_int_equal(film_sample_count(film), e->accepted);
+  assert_int_equal(film->accepted, e->accepted);
+  assert_int_equal(film->dropped, e->dropped);
+  assert_int_equal(film->outside, e->outside);
+  if (path == REFERENCE)
+    assert_memory_equal(film->bins.binned, e->binned,
+                        e->binned_count * CLR_FILM_BINNED_FLOATS * sizeof *e->binned);
   free(got_rgb);
   free(got_w);
   film_release(film);
@@ -206,21 +232,30 @@ static void check_config(const config *c, size_t n, uint32_t seed) {
   for (size_t i = 0; i < n; ++i) samples[i] = test_sample(film, c, i, &seed);
   clr_bounds2i pb = film_pixel_bounds(film);
   size_t pixels = (size_t)(pb.x1 - pb.x0) * (size_t)(pb.y1 - pb.y0);
-  double *rgb = malloc(pixels * 3 * sizeof *rgb), *w = malloc(pixels * sizeof *w);
-  assert_true(rgb && w);
-  uint64_t accepted = 0;
-  oracle(film, samples, n, rgb, w, &accepted);
+  size_t chunk = n < CLR_FILM_CHUNK_SAMPLES ? n : CLR_FILM_CHUNK_SAMPLES;
+  expected e = {malloc(pixels * 3 * sizeof *e.rgb),
+                malloc(pixels * sizeof *e.w),
+                0,
+                0,
+                0,
+                malloc(chunk * CLR_FILM_BINNED_FLOATS * sizeof *e.binned),
+                0};
+  assert_true(e.rgb && e.w && e.binned);
+  oracle(film, samples, n, &e);
   film_release(film);
   double total = 0;
-  for (size_t i = 0; i < pixels; ++i) total += w[i];
-  assert_true(accepted > n / 2 && total > 0); /* the oracle saw real work */
+  for (size_t i = 0; i < pixels; ++i) total += e.w[i];
+  assert_true(e.accepted > n / 2 && total > 0 && e.binned_count > 0); /* real work */
+  assert_true(e.dropped > 0 && e.outside > 0);
   const int threads[] = {0, 1, 2, 3, 5, 8, CLR_FILM_BIN_THREADS_MAX};
   for (size_t t = 0; t < sizeof threads / sizeof threads[0]; ++t)
-    check_path(c, samples, n, threads[t], HOST_SAMPLES, rgb, w, accepted);
-  check_path(c, samples, n, 3, DEVICE_BUFFER, rgb, w, accepted);
-  check_path(c, samples, n, 3, REFERENCE, rgb, w, accepted);
-  free(rgb);
-  free(w);
+    check_path(c, samples, n, threads[t], HOST_SAMPLES, &e);
+  check_path(c, samples, n, 3, DEVICE_BUFFER, &e);
+  check_path(c, samples, n, 3, REFERENCE, &e);
+  check_path(c, samples, n, 1, REFERENCE, &e);
+  free(e.rgb);
+  free(e.w);
+  free(e.binned);
   free(samples);
 }
 

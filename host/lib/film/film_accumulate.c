@@ -12,6 +12,7 @@
 #include "clr_internal.h"
 #include "film_funcs.h"
 #include "film_internal.h"
+#include "film_screen.h"
 
 /* Binning passes stay out of line, so profiles name them. */
 #define CLR_PROFILE_NOINLINE __attribute__((noinline))
@@ -39,6 +40,11 @@ static clr_i32 prepare(clr_film film, const clr_film_sample *s, clr_film_prepare
 static int reaches_film(const clr_film_params *p, const clr_film_prepared *s) {
   return s->x1 >= p->pixel_x0 && s->x0 < p->pixel_x1 && s->y1 >= p->pixel_y0 && s->y0 < p->pixel_y1;
 }
+
+/* Whether a binned sample's values are its own floats with 0.5 off x and y: without a luminance
+ * clamp clr_film_prepare changes no other float. Then pass 2 takes them from the samples and
+ * pass 1 stores none (bins.values stays unused). */
+static int values_from_samples(const clr_film_params *p) { return !p->clamp_luminance; }
 
 /* A sample between the two binning passes: its bin column (key) and binned values. */
 typedef struct row_entry {
@@ -89,29 +95,25 @@ typedef struct key_stats {
   uint64_t accepted, dropped, outside;
 } key_stats;
 
-/* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
- * pixel) and binned values, counts them per bin row, records their bounds and the largest
+/* Pass 1 of sample i, one by one: checks it, stores its key (KEY_NONE when it reaches no pixel)
+ * and binned values (unless values is NULL), counts it in its bin row, widens k's bounds and
  * reach. */
-CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
-  clr_film film = t->film;
+static inline void key_one(clr_film film, const clr_film_sample *sample, size_t i,
+                           uint32_t *restrict keys, float *restrict values, uint32_t *restrict rows,
+                           key_stats *k) {
   const clr_film_params *p = &film->params;
-  uint32_t *restrict keys = film->bins.keys;
-  float *restrict values = film->bins.values;
-  uint32_t *restrict rows = t->rows;
   const int32_t kx0 = p->pixel_x0 - KEY_MARGIN, ky0 = p->pixel_y0 - KEY_MARGIN;
-  memset(rows, 0, key_rows(p) * sizeof *rows);
-  key_stats k = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, 1, 1, 0, 0, 0, 0};
-  for (size_t i = t->begin; i < t->end; ++i) {
-    clr_film_prepared s = {0};
-    clr_i32 status = prepare(film, &t->samples[i], &s);
-    k.accepted += status == CLR_FILM_SAMPLE_OK;
-    k.dropped += status == CLR_FILM_SAMPLE_DROPPED;
-    k.outside += status == CLR_FILM_SAMPLE_OUTSIDE;
-    if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) {
-      keys[i] = KEY_NONE;
-      continue;
-    }
-    keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
+  clr_film_prepared s = {0};
+  clr_i32 status = prepare(film, sample, &s);
+  k->accepted += status == CLR_FILM_SAMPLE_OK;
+  k->dropped += status == CLR_FILM_SAMPLE_DROPPED;
+  k->outside += status == CLR_FILM_SAMPLE_OUTSIDE;
+  if (status != CLR_FILM_SAMPLE_OK || !reaches_film(p, &s)) {
+    keys[i] = KEY_NONE;
+    return;
+  }
+  keys[i] = (uint32_t)(s.y0 - ky0) << 16 | (uint32_t)(s.x0 - kx0);
+  if (values) {
     float *v = values + i * CLR_FILM_BINNED_FLOATS;
     v[0] = s.dx;
     v[1] = s.dy;
@@ -119,15 +121,146 @@ CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
     v[3] = s.g;
     v[4] = s.b;
     v[5] = s.w;
-    ++rows[s.y0 - ky0];
-    k.bx0 = s.x0 < k.bx0 ? s.x0 : k.bx0;
-    k.bx1 = s.x0 > k.bx1 ? s.x0 : k.bx1;
-    k.by0 = s.y0 < k.by0 ? s.y0 : k.by0;
-    k.by1 = s.y0 > k.by1 ? s.y0 : k.by1;
-    if (s.x1 - s.x0 + 1 > k.reach_x) raise_reach(&k.reach_x, film, 0, s.dx, s.x0, s.x1);
-    if (s.y1 - s.y0 + 1 > k.reach_y) raise_reach(&k.reach_y, film, 1, s.dy, s.y0, s.y1);
-    ++k.binned;
   }
+  ++rows[s.y0 - ky0];
+  k->bx0 = s.x0 < k->bx0 ? s.x0 : k->bx0;
+  k->bx1 = s.x0 > k->bx1 ? s.x0 : k->bx1;
+  k->by0 = s.y0 < k->by0 ? s.y0 : k->by0;
+  k->by1 = s.y0 > k->by1 ? s.y0 : k->by1;
+  if (s.x1 - s.x0 + 1 > k->reach_x) raise_reach(&k->reach_x, film, 0, s.dx, s.x0, s.x1);
+  if (s.y1 - s.y0 + 1 > k->reach_y) raise_reach(&k->reach_y, film, 1, s.dy, s.y0, s.y1);
+  ++k->binned;
+}
+
+#if defined(__SSE2__)
+/* The bounds of the samples key_four binned, per lane. */
+typedef struct key_lanes {
+  __m128i bx0, by0, bx1, by1;
+} key_lanes;
+
+static inline __m128i min_i32(__m128i a, __m128i b) {
+  __m128i gt = _mm_cmpgt_epi32(a, b);
+  return _mm_or_si128(_mm_and_si128(gt, b), _mm_andnot_si128(gt, a));
+}
+static inline __m128i max_i32(__m128i a, __m128i b) {
+  __m128i gt = _mm_cmpgt_epi32(a, b);
+  return _mm_or_si128(_mm_and_si128(gt, a), _mm_andnot_si128(gt, b));
+}
+
+/* The film's limits key_four compares against, four lanes each. */
+typedef struct key_limits {
+  clr_screen_limits sc;
+  __m128i kx0, ky0;           /* the key origin */
+  __m128i px0, py0, px1, py1; /* pixel bounds, inclusive */
+} key_limits;
+
+static void key_limits_init(key_limits *l, clr_film film) {
+  const clr_film_params *p = &film->params;
+  clr_film_screen sc;
+  clr_film_screen_init(&sc, p, &film->filter);
+  l->sc = clr_screen_limits_of(&sc);
+  l->kx0 = _mm_set1_epi32(p->pixel_x0 - KEY_MARGIN);
+  l->ky0 = _mm_set1_epi32(p->pixel_y0 - KEY_MARGIN);
+  l->px0 = _mm_set1_epi32(p->pixel_x0);
+  l->py0 = _mm_set1_epi32(p->pixel_y0);
+  l->px1 = _mm_set1_epi32(p->pixel_x1 - 1);
+  l->py1 = _mm_set1_epi32(p->pixel_y1 - 1);
+}
+
+/* key_one of samples i..i + 3 at once when all four pass clr_film_prepare unchanged
+ * (film_screen.h), reach the film and reach no more pixels than k's reach (the common case):
+ * their binned values (stored unless values is NULL) are the samples' floats with 0.5 off x and
+ * y. Else 0, nothing written. */
+static inline int key_four(const key_limits *l, const clr_film_sample *samples, size_t i,
+                           uint32_t *restrict keys, float *restrict values, uint32_t *restrict rows,
+                           const key_stats *k, key_lanes *b) {
+  __m128 v[6];
+  if (!clr_screen_load(samples + i, v)) return 0;
+  clr_screen_fields f = clr_screen_transpose(v);
+  if (!clr_screen_plain(&l->sc, &f)) return 0;
+  clr_screen_footprint p = clr_screen_reach(&l->sc, f.x, f.y);
+  const __m128i one = _mm_set1_epi32(1);
+  __m128i off = _mm_or_si128(_mm_cmpgt_epi32(l->px0, p.x1), _mm_cmpgt_epi32(p.x0, l->px1));
+  off =
+      _mm_or_si128(off, _mm_or_si128(_mm_cmpgt_epi32(l->py0, p.y1), _mm_cmpgt_epi32(p.y0, l->py1)));
+  __m128i wide =
+      _mm_cmpgt_epi32(_mm_add_epi32(_mm_sub_epi32(p.x1, p.x0), one), _mm_set1_epi32(k->reach_x));
+  wide = _mm_or_si128(wide, _mm_cmpgt_epi32(_mm_add_epi32(_mm_sub_epi32(p.y1, p.y0), one),
+                                            _mm_set1_epi32(k->reach_y)));
+  if (_mm_movemask_epi8(_mm_or_si128(off, wide))) return 0;
+  __m128i row = _mm_sub_epi32(p.y0, l->ky0);
+  _mm_storeu_si128((__m128i *)(keys + i),
+                   _mm_or_si128(_mm_slli_epi32(row, 16), _mm_sub_epi32(p.x0, l->kx0)));
+  if (values) {
+    const __m128 d01 = _mm_setr_ps(0.5f, 0.5f, 0.0f, 0.0f);
+    const __m128 d23 = _mm_setr_ps(0.0f, 0.0f, 0.5f, 0.5f);
+    float *out = values + i * CLR_FILM_BINNED_FLOATS;
+    _mm_storeu_ps(out, _mm_sub_ps(v[0], d01));
+    _mm_storeu_ps(out + 4, _mm_sub_ps(v[1], d23));
+    _mm_storeu_ps(out + 8, v[2]);
+    _mm_storeu_ps(out + 12, _mm_sub_ps(v[3], d01));
+    _mm_storeu_ps(out + 16, _mm_sub_ps(v[4], d23));
+    _mm_storeu_ps(out + 20, v[5]);
+  }
+  uint32_t r[4];
+  _mm_storeu_si128((__m128i *)r, row);
+  ++rows[r[0]];
+  ++rows[r[1]];
+  ++rows[r[2]];
+  ++rows[r[3]];
+  b->bx0 = min_i32(b->bx0, p.x0);
+  b->bx1 = max_i32(b->bx1, p.x0);
+  b->by0 = min_i32(b->by0, p.y0);
+  b->by1 = max_i32(b->by1, p.y0);
+  return 1;
+}
+
+/* Folds the lanes' bounds into k. */
+static void key_lanes_fold(const key_lanes *b, key_stats *k) {
+  int32_t x0[4], y0[4], x1[4], y1[4];
+  _mm_storeu_si128((__m128i *)x0, b->bx0);
+  _mm_storeu_si128((__m128i *)y0, b->by0);
+  _mm_storeu_si128((__m128i *)x1, b->bx1);
+  _mm_storeu_si128((__m128i *)y1, b->by1);
+  for (int j = 0; j < 4; ++j) {
+    k->bx0 = x0[j] < k->bx0 ? x0[j] : k->bx0;
+    k->by0 = y0[j] < k->by0 ? y0[j] : k->by0;
+    k->bx1 = x1[j] > k->bx1 ? x1[j] : k->bx1;
+    k->by1 = y1[j] > k->by1 ? y1[j] : k->by1;
+  }
+}
+#endif
+
+/* Pass 1: checks the part's samples, stores each one's packed bin (KEY_NONE when it reaches no
+ * pixel) and binned values (none where values_from_samples), counts them per bin row, records
+ * their bounds and the largest reach: four at a time where key_four takes them, else one by one
+ * (key_one). */
+CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
+  clr_film film = t->film;
+  uint32_t *restrict keys = film->bins.keys;
+  float *restrict values = values_from_samples(&film->params) ? NULL : film->bins.values;
+  uint32_t *restrict rows = t->rows;
+  memset(rows, 0, key_rows(&film->params) * sizeof *rows);
+  key_stats k = {INT32_MAX, INT32_MAX, INT32_MIN, INT32_MIN, 1, 1, 0, 0, 0, 0};
+  size_t i = t->begin;
+#if defined(__SSE2__)
+  key_limits l;
+  key_limits_init(&l, film);
+  key_lanes b = {_mm_set1_epi32(INT32_MAX), _mm_set1_epi32(INT32_MAX), _mm_set1_epi32(INT32_MIN),
+                 _mm_set1_epi32(INT32_MIN)};
+  uint64_t fours = 0;
+  for (; i + 4 <= t->end; i += 4) {
+    if (key_four(&l, t->samples, i, keys, values, rows, &k, &b)) {
+      ++fours;
+      continue;
+    }
+    for (size_t j = i; j < i + 4; ++j) key_one(film, &t->samples[j], j, keys, values, rows, &k);
+  }
+  key_lanes_fold(&b, &k);
+  k.accepted += 4 * fours;
+  k.binned += 4 * (size_t)fours;
+#endif
+  for (; i < t->end; ++i) key_one(film, &t->samples[i], i, keys, values, rows, &k);
   t->bx0 = k.bx0;
   t->by0 = k.by0;
   t->bx1 = k.bx1;
@@ -140,19 +273,31 @@ CLR_PROFILE_NOINLINE static void key_part(bin_part *t) {
   t->outside = k.outside;
 }
 
-/* Pass 2: moves the part's keyed samples to their bin row's range of bins.rowed (stable). */
+/* Pass 2: moves the part's keyed samples to their bin row's range of bins.rowed (stable), with
+ * their binned values from pass 1 or, where values_from_samples, from the samples. */
 CLR_PROFILE_NOINLINE static void row_part(bin_part *t) {
   clr_film film = t->film;
   const uint32_t *keys = film->bins.keys;
   const float *values = film->bins.values;
   row_entry *rowed = film->bins.rowed;
   const uint32_t column0 = (uint32_t)(t->grid->bin_x0 - (film->params.pixel_x0 - KEY_MARGIN));
+  const int from_samples = values_from_samples(&film->params);
   for (size_t i = t->begin; i < t->end; ++i) {
     uint32_t key = keys[i];
     if (key == KEY_NONE) continue;
     row_entry *e = &rowed[t->rows[key >> 16]++];
     e->column = (key & 0xffffu) - column0;
-    memcpy(e->v, values + i * CLR_FILM_BINNED_FLOATS, sizeof e->v);
+    if (from_samples) {
+      const clr_film_sample *s = &t->samples[i];
+      e->v[0] = s->x - 0.5f; /* clr_film_prepare's dx, dy */
+      e->v[1] = s->y - 0.5f;
+      e->v[2] = s->r;
+      e->v[3] = s->g;
+      e->v[4] = s->b;
+      e->v[5] = s->weight;
+    } else {
+      memcpy(e->v, values + i * CLR_FILM_BINNED_FLOATS, sizeof e->v);
+    }
   }
 }
 
@@ -260,9 +405,9 @@ static clr_result bin_chunk(clr_film film, const clr_film_sample *samples, size_
                             int threads, bin_set *set, clr_film_grid *g, size_t *binned) {
   clr_film_bins *b = &film->bins;
   const size_t rows = key_rows(&film->params);
+  const size_t values = values_from_samples(&film->params) ? 0 : count * CLR_FILM_BINNED_FLOATS;
   if (!grow((void **)&b->keys, &b->keys_cap, count, sizeof *b->keys) ||
-      !grow((void **)&b->values, &b->values_cap, count * CLR_FILM_BINNED_FLOATS,
-            sizeof *b->values) ||
+      !grow((void **)&b->values, &b->values_cap, values, sizeof *b->values) ||
       !grow((void **)&b->cursor, &b->cursor_cap, rows * (size_t)threads, sizeof *b->cursor))
     return clr_fail(film->ctx, CLR_ERROR_OUT_OF_MEMORY, "film_add_samples: no memory for keys");
   int n = threads; /* each part gets at least CLR_FILM_BIN_PART_MIN samples */
