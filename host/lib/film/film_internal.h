@@ -35,7 +35,8 @@ typedef struct clr_film_device {
  * demand. */
 typedef struct clr_film_bins {
   uint32_t *keys;   /* per chunk sample: packed bin (y << 16 | x, from the key origin), or none */
-  float *values;    /* per chunk sample: its binned values (CLR_FILM_BINNED_FLOATS), when keyed */
+  float *values;    /* per chunk sample: its binned values (CLR_FILM_BINNED_FLOATS), when keyed and
+                     the film clamps luminance (else pass 2 reads the samples) */
   uint32_t *starts; /* per bin: first binned sample (+ one past the end) */
   uint32_t *starts_sent;   /* the previous chunk's starts, source of a write that may be pending */
   uint32_t *cursor;        /* per part and bin row: count, then fill position */
