@@ -283,12 +283,15 @@ static void test_wide_filter_crop_clamp(void **state) {
 }
 
 /* The 8-lane kernels at the widest filters they take: radius 3.5, where devices that share the
- * host's memory and compute in double add the chunk sums into the film's double sums themselves,
- * and 3.75 (still at most 8 pixels), where the host adds them. */
+ * host's memory and compute in double add the chunk sums into the film's double sums themselves
+ * (also on a crop, whose pixel bounds start inside the image, with a luminance clamp), and 3.75
+ * (still at most 8 pixels), where the host adds them. */
 static void test_lane_filters_device_and_host_add(void **state) {
   (void)state;
   config widest = {45, 27, {0, 1, 0, 1}, CLR_FILTER_MITCHELL, 3.5f, 3.5f, 0, INFINITY};
   check_config(&widest, 3 * CLR_FILM_BIN_PART_MIN + 5, 91u);
+  config cropped = {45, 27, {0.1f, 0.83f, 0.2f, 0.9f}, CLR_FILTER_GAUSSIAN, 2.0f, 3.5f, 1, 3.0f};
+  check_config(&cropped, 3 * CLR_FILM_BIN_PART_MIN + 5, 93u);
   config past = {45, 27, {0, 1, 0, 1}, CLR_FILTER_TRIANGLE, 3.75f, 3.0f, 0, INFINITY};
   check_config(&past, 3 * CLR_FILM_BIN_PART_MIN + 5, 92u);
 }
