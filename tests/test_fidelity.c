@@ -18,26 +18,13 @@
 #include "microfacet.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 
 #define PI_D 3.14159265358979323846
 
 static clr_render_image render_opts(const char *text, const clr_render_options *opts,
                                     clr_render_stats *stats) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "fidelity.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  if (opts) o = *opts;
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, stats, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  return im;
+  return stu_render_image(text, "fidelity.pbrt", opts, stats);
 }
 
 static double image_mean(const clr_render_image *im) {

@@ -71,6 +71,10 @@ static clr_scene_desc *parse(const char *text) {
   return stu_parse(text, CLR_BINARY_DIR "/materials.pbrt");
 }
 
+static clr_render_image render_image(const char *text) {
+  return stu_render_image(text, CLR_BINARY_DIR "/materials.pbrt", NULL, NULL);
+}
+
 static int texture_index(const clr_scene_desc *d, const char *name) {
   for (int i = d->texture_count - 1; i >= 0; --i)
     if (strcmp(d->textures[i].name, name) == 0) return i;
@@ -559,6 +563,18 @@ static void test_progress_eta(void **state) {
   assert_true(clr_progress_eta(0, 10, 1.0, 0.0) == 0.0);
 }
 
+/* The motion-blur tests' 16x4 image of the red channel times `scale`: the largest difference from
+ * the fraction clamp(2 c direction, 0, 1) of the shutter at camera x = c of the pixel centre. */
+static double motion_blur_worst_error(const clr_render_image *im, double direction, double scale) {
+  double worst = 0;
+  for (int px = 0; px < 16; ++px) {
+    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, 2 * direction * c));
+    for (int py = 0; py < 4; ++py)
+      worst = fmax(worst, fabs(scale * im->rgb[3 * (py * 16 + px)] - expect));
+  }
+  return worst;
+}
+
 /* Camera motion blur: the camera's end transform is moved 0.5 along world x (ActiveTransform
  * EndTime) over TransformTimes 0 1 and a shutter 0 1; an emitter covers world x < 0. A pixel at
  * camera x = c (world x = -c at the start) sees it while -c + 0.5 t < 0: for a fraction
@@ -578,22 +594,11 @@ static void test_camera_motion_blur(void **state) {
       "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" \"true\"\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 0  0 -10 0  "
       "0 10 0  -10 10 0]\nAttributeEnd\nWorldEnd\n";
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-  double worst = 0;
-  for (int px = 0; px < 16; ++px) {
-    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, 2 * c));
-    for (int py = 0; py < 4; ++py) worst = fmax(worst, fabs(im.rgb[3 * (py * 16 + px)] - expect));
-  }
+  clr_render_image im = render_image(scene);
+  double worst = motion_blur_worst_error(&im, 1.0, 1.0);
   fprintf(stderr, "camera motion blur: worst pixel error %.4f\n", worst);
   assert_true(worst <= 0.03);
   free(im.rgb);
-  clr_scene_desc_free(desc);
 }
 
 /* Moving shape motion blur: a black shape covering world x < 0 at the start (a quad; a sphere
@@ -624,22 +629,11 @@ static void test_moving_shape_motion_blur(void **state) {
              "AttributeBegin\nActiveTransform EndTime\nTranslate 0.5 0 0\nActiveTransform All\n"
              "Material \"matte\" \"rgb Kd\" [0 0 0]\n%s\nAttributeEnd\nWorldEnd\n",
              shapes[0], shapes[k]);
-    clr_scene_desc *desc = parse(scene);
-    clr_render_options o;
-    clr_render_options_init(&o);
-    o.quiet = 1;
-    clr_render_image im;
-    memset(&im, 0, sizeof im);
-    assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-    double worst = 0;
-    for (int px = 0; px < 16; ++px) {
-      double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, -2 * c));
-      for (int py = 0; py < 4; ++py) worst = fmax(worst, fabs(im.rgb[3 * (py * 16 + px)] - expect));
-    }
+    clr_render_image im = render_image(scene);
+    double worst = motion_blur_worst_error(&im, -1.0, 1.0);
     fprintf(stderr, "moving shape %d motion blur: worst pixel error %.4f\n", k, worst);
     assert_true(worst <= 0.03);
     free(im.rgb);
-    clr_scene_desc_free(desc);
   }
 }
 
@@ -666,23 +660,11 @@ static void test_moving_shadow_keeps_time(void **state) {
       "Material \"none\"\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 1  0 -10 1  "
       "0 10 1  -10 10 1]\nAttributeEnd\nWorldEnd\n";
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-  double worst = 0;
-  for (int px = 0; px < 16; ++px) {
-    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, -2 * c));
-    for (int py = 0; py < 4; ++py)
-      worst = fmax(worst, fabs(PI_D * im.rgb[3 * (py * 16 + px)] - expect));
-  }
+  clr_render_image im = render_image(scene);
+  double worst = motion_blur_worst_error(&im, -1.0, PI_D);
   fprintf(stderr, "moving shadow: worst pixel error %.4f\n", worst);
   assert_true(worst <= 0.03);
   free(im.rgb);
-  clr_scene_desc_free(desc);
 }
 
 static void keep_warning(void *user, const char *message) {
@@ -780,13 +762,7 @@ static void test_pattern_lights(void **state) {
              "Material \"matte\" \"rgb Kd\" [1 1 1]\nShape \"trianglemesh\" \"integer "
              "indices\" [0 1 2 0 2 3] \"point P\" [-5 -5 1  5 -5 1  5 5 1  -5 5 1]\nWorldEnd\n",
              kind ? "goniometric" : "projection", kind ? "" : " \"float fov\" [60]");
-    clr_scene_desc *desc = parse(scene);
-    clr_render_options o;
-    clr_render_options_init(&o);
-    o.quiet = 1;
-    clr_render_image im;
-    memset(&im, 0, sizeof im);
-    assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+    clr_render_image im = render_image(scene);
     for (int py = 0; py < 16; ++py)
       for (int px = 0; px < 16; ++px) {
         double x = -1 + 2 * (px + 0.5) / 16, y = 1 - 2 * (py + 0.5) / 16;
@@ -798,7 +774,6 @@ static void test_pattern_lights(void **state) {
         assert_true(fabs(got - e) <= 1e-4);
       }
     free(im.rgb);
-    clr_scene_desc_free(desc);
   }
 }
 

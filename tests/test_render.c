@@ -18,25 +18,12 @@
 #include "scene_parser.h"
 #include "integrator.h"
 #include "render_scene.h"
+#include "scene_test_util.h"
 
 #define PI_F 3.14159265358979323846
 
 static clr_render_image render_text(const char *text, const clr_render_options *opts) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  if (opts) o = *opts;
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  return im;
+  return stu_render_image(text, "test.pbrt", opts, NULL);
 }
 
 /* pbrt-v3 AO: each unoccluded cosine-weighted direction adds Dot(wi,n)/(pdf nSamples) = pi/n, so

@@ -325,17 +325,22 @@ static void checker_scene(char *out, size_t size, const char *camera, const char
            camera, extra);
 }
 
+/* specdiff_checker.png, the scenes' 16x16 texture: texels 0 and 1 in a checker pattern. */
+static void write_checker_png(void) {
+  float rgb[16 * 16 * 3];
+  for (int i = 0; i < 256; ++i)
+    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (float)((i % 16 + i / 16) & 1);
+  clr_image im = {16, 16, rgb};
+  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/specdiff_checker.png", &im), CLR_SUCCESS);
+}
+
 /* The checker seen through a 45-degree mirror y + z = 2.5 by a camera looking along +y, and
  * directly by the mirrored camera (at (0.5, 0.5, 7.5) looking down): with differentials through
  * the mirror every pixel is filtered to the checker's mean 0.5 as in the direct view (within
  * 1e-3; unfiltered, pixel centres fall on texel centres, 0 or 1). */
 static void test_checker_in_mirror(void **state) {
   (void)state;
-  float rgb[16 * 16 * 3];
-  for (int i = 0; i < 256; ++i)
-    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (float)((i % 16 + i / 16) & 1);
-  clr_image im = {16, 16, rgb};
-  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/specdiff_checker.png", &im), CLR_SUCCESS);
+  write_checker_png();
   static char scene[4096];
   checker_scene(scene, sizeof scene, "LookAt 0.5 -5 2  0.5 0 2  0 0 1",
                 "Material \"mirror\" \"rgb Kr\" [1 1 1]\nShape \"trianglemesh\" \"integer "
@@ -366,11 +371,7 @@ static void test_checker_in_mirror(void **state) {
  * 1e-3; before, they were lost there and the pixels were 0 or 1. */
 static void test_checker_through_lobe_transmission(void **state) {
   (void)state;
-  float rgb[16 * 16 * 3];
-  for (int i = 0; i < 256; ++i)
-    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (float)((i % 16 + i / 16) & 1);
-  clr_image im = {16, 16, rgb};
-  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/specdiff_checker.png", &im), CLR_SUCCESS);
+  write_checker_png();
   static char scene[4096];
   checker_scene(scene, sizeof scene, "LookAt 0.5 0.5 7.5  0.5 0.5 0  0 -1 0",
                 "Material \"uber\" \"rgb opacity\" [0 0 0]\nShape \"trianglemesh\" \"integer "
