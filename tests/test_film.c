@@ -13,16 +13,9 @@
 #include "clrender.h"
 #include "clrender/film.h"
 #include "film_internal.h"
+#include "xorshift_test_random.h"
 
 #include "context_fixture.h"
-
-static uint32_t rng_state;
-static float rnd(void) {
-  rng_state ^= rng_state << 13;
-  rng_state ^= rng_state >> 17;
-  rng_state ^= rng_state << 5;
-  return (float)(rng_state >> 8) * 0x1p-24f;
-}
 
 typedef struct film_setup {
   int xres, yres;

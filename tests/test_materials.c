@@ -16,6 +16,7 @@
 #include "bsdf_lobes.h"
 #include "clrender.h"
 #include "clrender/image.h"
+#include "lcg_test_random.h"
 #include "microfacet.h"
 #include "procedural_textures.h"
 #include "render_scene.h"
@@ -39,10 +40,7 @@ static void test_noise_values(void **state) {
   uint32_t s = 12345u;
   for (int i = 0; i < 20000; ++i) {
     float p[3];
-    for (int k = 0; k < 3; ++k) {
-      s = s * 1664525u + 1013904223u;
-      p[k] = (float)(s >> 8) / 16777216.0f * 40.0f - 20.0f;
-    }
+    for (int k = 0; k < 3; ++k) p[k] = lcg_float(&s) * 40.0f - 20.0f;
     float n = rs_noise(p[0], p[1], p[2]);
     assert_true(fabsf(n) <= 1.1f);
     /* zero at lattice points; period 256 */
@@ -120,10 +118,7 @@ static void test_texture_formulas(void **state) {
   uint32_t s = 99u;
   for (int i = 0; i < 2000; ++i) {
     float r[5];
-    for (int k = 0; k < 5; ++k) {
-      s = s * 1664525u + 1013904223u;
-      r[k] = (float)(s >> 8) / 16777216.0f * 6.0f - 3.0f;
-    }
+    for (int k = 0; k < 5; ++k) r[k] = lcg_float(&s) * 6.0f - 3.0f;
     /* pbrt-v3's IdentityMapping3D applies the Texture's CTM (Translate 1 2 3) itself */
     float p[3] = {r[2], r[3], r[4]}, q[3] = {p[0] + 1, p[1] + 2, p[2] + 3};
     float fv = eval_at(&set, f, r[0], r[1], p[0], p[1], p[2], 0);
@@ -329,10 +324,7 @@ static void test_lobes_reciprocity(void **state) {
   for (int c = 0; c < 3; ++c)
     for (int i = 0; i < 2000; ++i) {
       double r[4];
-      for (int k = 0; k < 4; ++k) {
-        s = s * 1664525u + 1013904223u;
-        r[k] = (s >> 8) / 16777216.0;
-      }
+      for (int k = 0; k < 4; ++k) r[k] = lcg_double(&s);
       float wo[3], wi[3], f1[3], f2[3];
       dir(0.02 + 0.98 * r[0], 2 * PI_D * r[1], wo);
       dir(0.02 + 0.98 * r[2], 2 * PI_D * r[3], wi);
