@@ -10,10 +10,8 @@ static inline clr_sample_batch sample_batch(clr_bounds2i pixels, int first, int 
   clr_sample_batch b;
   clr_sample_batch_init(&b);
   b.pixels = pixels;
-  b.first_sample = first;
-  b.sample_count = count;
-  b.requests = req;
-  b.request_count = nreq;
+  b.first_sample = first, b.sample_count = count; /* the samples of each pixel */
+  b.requests = req, b.request_count = nreq;       /* their layout */
   return b;
 }
 
