@@ -6,6 +6,7 @@
 
 #include <stdio.h>
 #include <string.h>
+#include "render_scene.h"
 #include "renderer.h"
 #include "scene_parser.h"
 
@@ -17,6 +18,17 @@ static inline clr_scene_desc *stu_parse(const char *text, const char *path) {
   if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
   assert_int_equal(r, CLR_SUCCESS);
   return desc;
+}
+
+/* The scene built from the text (free it and *desc, the parsed text). */
+static inline clr_render_scene *stu_build(const char *text, const char *path,
+                                          clr_scene_desc **desc) {
+  *desc = stu_parse(text, path);
+  clr_render_scene *scene = NULL;
+  clr_result r = clr_render_scene_build(*desc, NULL, NULL, &scene);
+  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
+  assert_int_equal(r, CLR_SUCCESS);
+  return scene;
 }
 
 /* The image (free its rgb) rendered with `opts` (the defaults when NULL; always quiet), the

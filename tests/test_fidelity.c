@@ -602,11 +602,7 @@ static void test_path_sample_layout(void **state) {
              "WorldBegin\nLightSource \"point\"\nShape \"sphere\"\nWorldEnd\n",
              depths[k]);
     clr_scene_desc *desc = NULL;
-    clr_parse_options po;
-    clr_parse_options_init(&po);
-    assert_int_equal(clr_scene_parse_string(scene, "layout.pbrt", &po, &desc), CLR_SUCCESS);
-    clr_render_scene *rs = NULL;
-    assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &rs), CLR_SUCCESS);
+    clr_render_scene *rs = stu_build(scene, "layout.pbrt", &desc);
     clr_integrator it;
     assert_int_equal(clr_integrator_create(desc, rs, NULL, NULL, &it), CLR_SUCCESS);
     /* bounces 0..maxdepth-1 (pbrt-v3 stops at maxdepth first); the pinhole's time and lens are

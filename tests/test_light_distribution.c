@@ -16,6 +16,7 @@
 #include "light_distribution.h"
 #include "render_scene.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 #include "lcg_test_random.h"
 
 /* A one-sided square light (two triangles, facing down) 4 above a floor, a point light off to
@@ -31,16 +32,7 @@ static const char *const SQUARE_AND_POINT =
     "WorldEnd\n";
 
 static clr_render_scene *build(const char *text, clr_scene_desc **desc) {
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  clr_result r = clr_scene_parse_string(text, CLR_BINARY_DIR "/lightdist.pbrt", &po, desc);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  r = clr_render_scene_build(*desc, NULL, NULL, &scene);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  return scene;
+  return stu_build(text, CLR_BINARY_DIR "/lightdist.pbrt", desc);
 }
 
 static double radical_inverse(unsigned base, unsigned i) {

@@ -49,10 +49,7 @@ typedef struct parsed {
 
 static parsed parse(const char *text) {
   parsed p = {NULL, NULL};
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &p.desc), CLR_SUCCESS);
-  assert_int_equal(clr_render_scene_build(p.desc, NULL, NULL, &p.scene), CLR_SUCCESS);
+  p.scene = stu_build(text, "test.pbrt", &p.desc);
   return p;
 }
 

@@ -78,11 +78,7 @@ static void test_integrator_round_count(void **state) {
       "Integrator \"ambientocclusion\" \"integer nsamples\" [3]\n"
       "WorldBegin\nShape \"sphere\"\nWorldEnd\n";
   clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  clr_render_scene *scene = stu_build(text, "test.pbrt", &desc);
   static const struct {
     clr_sampler_type type;
     int want;
