@@ -18,6 +18,7 @@
 #include "microfacet.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "cornell_test_scene.h"
 #include "scene_test_util.h"
 
 #define PI_D 3.14159265358979323846
@@ -37,16 +38,9 @@ static double image_mean(const clr_render_image *im) {
 /* ---- crops ---- */
 
 /* A small Cornell-like box: area light, walls, a sphere; direct lighting keeps it fast. */
-static const char *crop_box =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *crop_box = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [24] \"integer yresolution\" [22]\n"
-    "Integrator \"directlighting\"\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Integrator \"directlighting\"\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "Material \"matte\" \"rgb Kd\" [0.1 0.6 0.2]\n"
     "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
     "\"point P\" [0 0 0  0 548 0  0 548 559  0 0 559]\n"
@@ -1076,16 +1070,10 @@ static clr_image read_image(const char *name) {
   return im;
 }
 
-static const char *cli_scene =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *cli_scene = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [12]\n"
-    "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"directlighting\"\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator "
+    "\"directlighting\"\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "AttributeBegin\nTranslate 300 100 300\nShape \"sphere\" \"float radius\" [100]\nAttributeEnd\n"
     "WorldEnd\n";
 

@@ -13,18 +13,12 @@
 #include "clrender.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "cornell_test_scene.h"
 #include "scene_test_util.h"
 
-static const char *box_body =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *box_body = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [24] \"integer yresolution\" [20]\n"
-    "PixelFilter \"mitchell\"\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "PixelFilter \"mitchell\"\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "Shape \"sphere\" \"float radius\" [100]\nWorldEnd\n";
 
 static clr_render_image render(const char *sampler, int spp, const char *integrator,

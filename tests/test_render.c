@@ -18,6 +18,7 @@
 #include "scene_parser.h"
 #include "integrator.h"
 #include "render_scene.h"
+#include "cornell_test_scene.h"
 #include "scene_test_util.h"
 
 #define PI_F 3.14159265358979323846
@@ -174,17 +175,10 @@ static void test_infinite_light_sphere(void **state) {
   free(im.rgb);
 }
 
-static const char *small_box =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *small_box = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [40] \"integer yresolution\" [36]\n"
     "Sampler \"halton\" \"integer pixelsamples\" [4]\nPixelFilter \"triangle\"\n"
-    "Integrator \"path\" \"integer maxdepth\" [3]\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Integrator \"path\" \"integer maxdepth\" [3]\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "Shape \"sphere\" \"float radius\" [100]\nWorldEnd\n";
 
 static void test_threads_bit_identical(void **state) {
