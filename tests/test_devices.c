@@ -37,6 +37,8 @@
 #include "clrender.h"
 #include "clr_internal.h"
 #include "film_internal.h"
+#include "xorshift_test_random.h"
+#include "sample_batch_test_util.h"
 
 #ifndef CLR_OCLGRIND_ICD
 #define CLR_OCLGRIND_ICD ""
@@ -82,13 +84,7 @@ static int compare_batch(clr_sampler s, const char *what, clr_bounds2i px, int f
     /* Different fill patterns: values the kernels leave unwritten would differ. */
     memset(dev, 0xa5, n * sizeof(float));
     memset(ref, 0x5a, n * sizeof(float));
-    clr_sample_batch b;
-    clr_sample_batch_init(&b);
-    b.pixels = px;
-    b.first_sample = first;
-    b.sample_count = count;
-    b.requests = req;
-    b.request_count = nreq;
+    clr_sample_batch b = sample_batch(px, first, count, req, nreq);
     clr_sample_output out;
     clr_sample_output_init(&out);
     out.host_values = dev;
@@ -236,14 +232,6 @@ static void check_global_paths(void) {
     printf("%-40s %s\n", cases[c].what, ok ? "identical" : "DIFFERENT");
     clr_sampler_release(s);
   }
-}
-
-static uint32_t rng_state;
-static float rnd(void) {
-  rng_state ^= rng_state << 13;
-  rng_state ^= rng_state >> 17;
-  rng_state ^= rng_state << 5;
-  return (float)(rng_state >> 8) * 0x1p-24f;
 }
 
 static clr_film make_film(int type, int table, int tile) {

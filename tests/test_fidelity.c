@@ -18,26 +18,14 @@
 #include "microfacet.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "cornell_test_scene.h"
+#include "scene_test_util.h"
 
 #define PI_D 3.14159265358979323846
 
 static clr_render_image render_opts(const char *text, const clr_render_options *opts,
                                     clr_render_stats *stats) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "fidelity.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  if (opts) o = *opts;
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, stats, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  return im;
+  return stu_render_image(text, "fidelity.pbrt", opts, stats);
 }
 
 static double image_mean(const clr_render_image *im) {
@@ -50,16 +38,9 @@ static double image_mean(const clr_render_image *im) {
 /* ---- crops ---- */
 
 /* A small Cornell-like box: area light, walls, a sphere; direct lighting keeps it fast. */
-static const char *crop_box =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *crop_box = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [24] \"integer yresolution\" [22]\n"
-    "Integrator \"directlighting\"\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Integrator \"directlighting\"\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "Material \"matte\" \"rgb Kd\" [0.1 0.6 0.2]\n"
     "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
     "\"point P\" [0 0 0  0 548 0  0 548 559  0 0 559]\n"
@@ -615,11 +596,7 @@ static void test_path_sample_layout(void **state) {
              "WorldBegin\nLightSource \"point\"\nShape \"sphere\"\nWorldEnd\n",
              depths[k]);
     clr_scene_desc *desc = NULL;
-    clr_parse_options po;
-    clr_parse_options_init(&po);
-    assert_int_equal(clr_scene_parse_string(scene, "layout.pbrt", &po, &desc), CLR_SUCCESS);
-    clr_render_scene *rs = NULL;
-    assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &rs), CLR_SUCCESS);
+    clr_render_scene *rs = stu_build(scene, "layout.pbrt", &desc);
     clr_integrator it;
     assert_int_equal(clr_integrator_create(desc, rs, NULL, NULL, &it), CLR_SUCCESS);
     /* bounces 0..maxdepth-1 (pbrt-v3 stops at maxdepth first); the pinhole's time and lens are
@@ -1093,16 +1070,10 @@ static clr_image read_image(const char *name) {
   return im;
 }
 
-static const char *cli_scene =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *cli_scene = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [16] \"integer yresolution\" [12]\n"
-    "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator \"directlighting\"\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Sampler \"halton\" \"integer pixelsamples\" [4]\nIntegrator "
+    "\"directlighting\"\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "AttributeBegin\nTranslate 300 100 300\nShape \"sphere\" \"float radius\" [100]\nAttributeEnd\n"
     "WorldEnd\n";
 

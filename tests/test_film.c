@@ -13,16 +13,9 @@
 #include "clrender.h"
 #include "clrender/film.h"
 #include "film_internal.h"
+#include "xorshift_test_random.h"
 
 #include "context_fixture.h"
-
-static uint32_t rng_state;
-static float rnd(void) {
-  rng_state ^= rng_state << 13;
-  rng_state ^= rng_state >> 17;
-  rng_state ^= rng_state << 5;
-  return (float)(rng_state >> 8) * 0x1p-24f;
-}
 
 typedef struct film_setup {
   int xres, yres;
@@ -74,6 +67,39 @@ static clr_film_sample *random_samples(clr_film film, size_t n, float margin, ui
     s[i].weight = 0.5f + rnd();
   }
   return s;
+}
+
+/* 16 jittered samples (4x4 strata) in every pixel of the film's sample bounds, all of radiance
+ * (0.25, 0.5, 2) and weight 1; their count in *n. */
+static clr_film_sample *constant_jittered_samples(clr_film film, uint32_t seed, size_t *n) {
+  clr_bounds2i sb = film_sample_bounds(film);
+  size_t cap = (size_t)(sb.x1 - sb.x0) * (sb.y1 - sb.y0) * 16;
+  clr_film_sample *samples = malloc(cap * sizeof *samples);
+  assert_non_null(samples);
+  rng_state = seed;
+  *n = 0;
+  for (int y = sb.y0; y < sb.y1; ++y)
+    for (int x = sb.x0; x < sb.x1; ++x)
+      for (int k = 0; k < 16; ++k) {
+        clr_film_sample smp = {(float)x + ((float)(k % 4) + rnd()) * 0.25f,
+                               (float)y + ((float)(k / 4) + rnd()) * 0.25f,
+                               0.25f,
+                               0.5f,
+                               2.0f,
+                               1.0f};
+        samples[(*n)++] = smp;
+      }
+  return samples;
+}
+
+/* Adds the samples from a device buffer (film_add_samples_buffer). */
+static void add_samples_from_buffer(clr_film film, clr_film_sample *samples, size_t n) {
+  cl_int err = 0;
+  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                              n * sizeof *samples, samples, &err);
+  assert_int_equal(err, CL_SUCCESS);
+  assert_int_equal(film_add_samples_buffer(film, buf, n), CLR_SUCCESS);
+  clReleaseMemObject(buf);
 }
 
 typedef struct sums {
@@ -306,12 +332,7 @@ static void check_invariance(film_setup s, size_t n, uint32_t seed) {
   }
   /* Device-resident samples. */
   clr_film film = make_film(&s);
-  cl_int err = 0;
-  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                              n * sizeof *samples, samples, &err);
-  assert_int_equal(err, CL_SUCCESS);
-  assert_int_equal(film_add_samples_buffer(film, buf, n), CLR_SUCCESS);
-  clReleaseMemObject(buf);
+  add_samples_from_buffer(film, samples, n);
   sums got = get_sums(film);
   assert_sums_identical(&got, &expect);
   free_sums(&got);
@@ -409,22 +430,8 @@ static void test_constant_radiance_triangle(void **state) {
   (void)state;
   film_setup s = basic(40, 30, CLR_FILTER_TYPE_TRIANGLE, 2.0f);
   clr_film film = make_film(&s);
-  clr_bounds2i sb = film_sample_bounds(film);
-  size_t n = 0, cap = (size_t)(sb.x1 - sb.x0) * (sb.y1 - sb.y0) * 16;
-  clr_film_sample *samples = malloc(cap * sizeof *samples);
-  assert_non_null(samples);
-  rng_state = 9u;
-  for (int y = sb.y0; y < sb.y1; ++y)
-    for (int x = sb.x0; x < sb.x1; ++x)
-      for (int k = 0; k < 16; ++k) {
-        clr_film_sample smp = {(float)x + ((float)(k % 4) + rnd()) * 0.25f,
-                               (float)y + ((float)(k / 4) + rnd()) * 0.25f,
-                               0.25f,
-                               0.5f,
-                               2.0f,
-                               1.0f};
-        samples[n++] = smp;
-      }
+  size_t n = 0;
+  clr_film_sample *samples = constant_jittered_samples(film, 9u, &n);
   assert_int_equal(film_add_samples(film, samples, n), CLR_SUCCESS);
   float *rgb = get_rgb(film, 1.0f);
   const float expect[3] = {0.25f, 0.5f, 2.0f};
@@ -745,17 +752,10 @@ static void test_samples_at_the_radius(void **state) {
       sums expect = get_sums(ref);
       for (int from_buffer = 0; from_buffer < 2; ++from_buffer) {
         clr_film film = make_film(&s);
-        if (from_buffer) {
-          cl_int err = 0;
-          cl_mem buf =
-              clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                             n * sizeof *samples, samples, &err);
-          assert_int_equal(err, CL_SUCCESS);
-          assert_int_equal(film_add_samples_buffer(film, buf, n), CLR_SUCCESS);
-          clReleaseMemObject(buf);
-        } else {
+        if (from_buffer)
+          add_samples_from_buffer(film, samples, n);
+        else
           assert_int_equal(film_add_samples(film, samples, n), CLR_SUCCESS);
-        }
         sums got = get_sums(film);
         assert_sums_identical(&got, &expect);
         assert_int_equal(film_sample_count(film), film_sample_count(ref));
@@ -793,22 +793,8 @@ static void test_constant_radiance_every_filter(void **state) {
       film_setup s = basic(24, 20, type, fd.radius[0]);
       s.use_table = table;
       clr_film film = make_film(&s);
-      clr_bounds2i sb = film_sample_bounds(film);
-      size_t n = 0, cap = (size_t)(sb.x1 - sb.x0) * (sb.y1 - sb.y0) * 16;
-      clr_film_sample *samples = malloc(cap * sizeof *samples);
-      assert_non_null(samples);
-      rng_state = 5u + (uint32_t)type;
-      for (int y = sb.y0; y < sb.y1; ++y)
-        for (int x = sb.x0; x < sb.x1; ++x)
-          for (int k = 0; k < 16; ++k) {
-            clr_film_sample smp = {(float)x + ((float)(k % 4) + rnd()) * 0.25f,
-                                   (float)y + ((float)(k / 4) + rnd()) * 0.25f,
-                                   0.25f,
-                                   0.5f,
-                                   2.0f,
-                                   1.0f};
-            samples[n++] = smp;
-          }
+      size_t n = 0;
+      clr_film_sample *samples = constant_jittered_samples(film, 5u + (uint32_t)type, &n);
       assert_int_equal(film_add_samples(film, samples, n), CLR_SUCCESS);
       float *rgb = get_rgb(film, 1.0f);
       const float expect[3] = {0.25f, 0.5f, 2.0f};

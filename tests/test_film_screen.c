@@ -18,18 +18,12 @@
 #include "film_internal.h"
 #include "film_screen.h"
 #include "film_tile_add.h"
+#define XORSHIFT_TEST_SEED 11u
+#include "xorshift_test_random.h"
 
 #define XRES 20
 #define YRES 12
 #define MAX_LUMINANCE 40.0f
-
-static uint32_t rng_state = 11u;
-static float rnd(void) {
-  rng_state ^= rng_state << 13;
-  rng_state ^= rng_state >> 17;
-  rng_state ^= rng_state << 5;
-  return (float)(rng_state >> 8) * 0x1p-24f;
-}
 
 /* clamp: a finite max_sample_luminance. */
 static clr_film make_film(clr_filter_type type, float radius, int clamp) {

@@ -15,14 +15,7 @@
 #include "film_funcs.h"
 #include "film_internal.h"
 #include "film_tile_add.h"
-
-static uint32_t rng_state;
-static float rnd(void) {
-  rng_state ^= rng_state << 13;
-  rng_state ^= rng_state >> 17;
-  rng_state ^= rng_state << 5;
-  return (float)(rng_state >> 8) * 0x1p-24f;
-}
+#include "xorshift_test_random.h"
 
 #define XRES 24
 #define YRES 20

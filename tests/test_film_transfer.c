@@ -15,6 +15,7 @@
 #include "clrender/film.h"
 
 #include "context_fixture.h"
+#include "lcg_test_random.h"
 
 static clr_film make_film(int xres, int yres, float radius) {
   clr_film_desc d;
@@ -33,10 +34,8 @@ static void fill_tile(clr_film_tile t, clr_bounds2i r, uint32_t seed) {
   clr_film_sample s[64];
   uint32_t h = seed * 2654435761u + 1u;
   for (int i = 0; i < 64; ++i) {
-    h = h * 1664525u + 1013904223u;
-    float u = (float)(h >> 8) / 16777216.0f;
-    h = h * 1664525u + 1013904223u;
-    float v = (float)(h >> 8) / 16777216.0f;
+    float u = lcg_float(&h);
+    float v = lcg_float(&h);
     s[i] = (clr_film_sample){(float)r.x0 + u * (float)(r.x1 - r.x0),
                              (float)r.y0 + v * (float)(r.y1 - r.y0),
                              u,
@@ -45,6 +44,15 @@ static void fill_tile(clr_film_tile t, clr_bounds2i r, uint32_t seed) {
                              1.0f};
   }
   assert_int_equal(film_tile_add_samples(t, s, 64), CLR_SUCCESS);
+}
+
+/* Merges a tile of region r filled by fill_tile(seed) into f. */
+static void merge_filled_tile(clr_film f, clr_bounds2i r, uint32_t seed) {
+  clr_film_tile t = NULL;
+  assert_int_equal(film_get_tile(f, r, &t), CLR_SUCCESS);
+  fill_tile(t, r, seed);
+  assert_int_equal(film_merge_tile(f, t), CLR_SUCCESS);
+  film_tile_release(t);
 }
 
 static void test_serialized_tiles_merge_bit_for_bit(void **state) {
@@ -109,12 +117,7 @@ static void test_merge_film_adds_a_pass(void **state) {
   (void)state;
   clr_film frame = make_film(16, 16, 2.0f), pass = make_film(16, 16, 2.0f),
            other = make_film(16, 8, 2.0f);
-  clr_film_tile t = NULL;
-  clr_bounds2i r = {0, 0, 16, 16};
-  assert_int_equal(film_get_tile(pass, r, &t), CLR_SUCCESS);
-  fill_tile(t, r, 3);
-  assert_int_equal(film_merge_tile(pass, t), CLR_SUCCESS);
-  film_tile_release(t);
+  merge_filled_tile(pass, (clr_bounds2i){0, 0, 16, 16}, 3);
   assert_int_equal(film_merge_film(frame, pass), CLR_SUCCESS);
   double s1[16 * 16 * 3], s2[16 * 16 * 3];
   assert_int_equal(film_get_sums(frame, s1, NULL, NULL), CLR_SUCCESS);
@@ -137,12 +140,7 @@ static void test_merge_file_checks_the_film(void **state) {
   snprintf(file, sizeof file, "%s/f.exr", path);
   clr_film f = make_film(16, 16, 2.0f), same = make_film(16, 16, 2.0f),
            other = make_film(16, 16, 1.0f);
-  clr_film_tile t = NULL;
-  clr_bounds2i r = {0, 0, 16, 16};
-  assert_int_equal(film_get_tile(f, r, &t), CLR_SUCCESS);
-  fill_tile(t, r, 5);
-  assert_int_equal(film_merge_tile(f, t), CLR_SUCCESS);
-  film_tile_release(t);
+  merge_filled_tile(f, (clr_bounds2i){0, 0, 16, 16}, 5);
   clr_film_write_options wo;
   clr_film_write_options_init(&wo);
   wo.spp = 4;

@@ -13,17 +13,12 @@
 #include "clrender.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "cornell_test_scene.h"
+#include "scene_test_util.h"
 
-static const char *box_body =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *box_body = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [24] \"integer yresolution\" [20]\n"
-    "PixelFilter \"mitchell\"\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "PixelFilter \"mitchell\"\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "Shape \"sphere\" \"float radius\" [100]\nWorldEnd\n";
 
 static clr_render_image render(const char *sampler, int spp, const char *integrator,
@@ -31,19 +26,7 @@ static clr_render_image render(const char *sampler, int spp, const char *integra
   char text[4096];
   snprintf(text, sizeof text, "Sampler \"%s\" \"integer pixelsamples\" [%d]\nIntegrator %s\n%s",
            sampler, spp, integrator, box_body);
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o = *opts;
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  return im;
+  return stu_render_image(text, "test.pbrt", opts, NULL);
 }
 
 static int maps_mention(const char *what) {

@@ -13,6 +13,7 @@
 #include "clr_internal.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 
 static void test_names(void **state) {
   (void)state;
@@ -116,22 +117,11 @@ static clr_render_image render(const char *kernels) {
       "WorldBegin\nShape \"sphere\" \"float radius\" [1]\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
       "\"point P\" [-10 -10 -1  10 -10 -1  10 10 -1  -10 10 -1]\nWorldEnd\n";
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(scene, "shapes.pbrt", &po, &desc), CLR_SUCCESS);
   clr_render_options o;
   clr_render_options_init(&o);
-  o.quiet = 1;
   o.nthreads = 2;
   o.kernels = kernels;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  return im;
+  return stu_render_image(scene, "shapes.pbrt", &o, NULL);
 }
 
 static void test_render_same_bits(void **state) {

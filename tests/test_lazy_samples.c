@@ -15,6 +15,7 @@
 #include "clrender.h"
 #include "renderer.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 
 #include "context_fixture.h"
 
@@ -282,23 +283,13 @@ static float *render(const char *sampler, int lazy, int threads, int tile, clr_s
                      int *n) {
   char text[4096];
   snprintf(text, sizeof text, box_scene, sampler);
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "box.pbrt", &po, &desc), CLR_SUCCESS);
   clr_render_options o;
   clr_render_options_init(&o);
-  o.quiet = 1;
   o.lazy_samples = lazy;
   o.nthreads = threads;
   o.tile_size = tile;
   o.seeding = seeding;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
+  clr_render_image im = stu_render_image(text, "box.pbrt", &o, NULL);
   *n = im.width * im.height * 3;
   return im.rgb;
 }

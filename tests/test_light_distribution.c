@@ -16,6 +16,8 @@
 #include "light_distribution.h"
 #include "render_scene.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
+#include "lcg_test_random.h"
 
 /* A one-sided square light (two triangles, facing down) 4 above a floor, a point light off to
  * the side. */
@@ -30,16 +32,7 @@ static const char *const SQUARE_AND_POINT =
     "WorldEnd\n";
 
 static clr_render_scene *build(const char *text, clr_scene_desc **desc) {
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  clr_result r = clr_scene_parse_string(text, CLR_BINARY_DIR "/lightdist.pbrt", &po, desc);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  r = clr_render_scene_build(*desc, NULL, NULL, &scene);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  return scene;
+  return stu_build(text, CLR_BINARY_DIR "/lightdist.pbrt", desc);
 }
 
 static double radical_inverse(unsigned base, unsigned i) {
@@ -138,10 +131,7 @@ static void test_lookup_by_voxel(void **state) {
   uint32_t s = 7u;
   for (int k = 0; k < 2000; ++k) {
     float p[3];
-    for (int i = 0; i < 3; ++i) {
-      s = s * 1664525u + 1013904223u;
-      p[i] = (float)(s >> 8) / 16777216.0f * 26.0f - 13.0f; /* past the bounds too */
-    }
+    for (int i = 0; i < 3; ++i) p[i] = lcg_float(&s) * 26.0f - 13.0f; /* past the bounds too */
     size_t voxel = clr_light_distribution_voxel(d, p);
     clr_light_distribution_prefetch(d, voxel);
     const float *by_voxel = clr_light_distribution_lookup_voxel(d, voxel);
@@ -182,10 +172,7 @@ static void test_sample_li_matches(void **state) {
   uint32_t s = 99u;
   for (int k = 0; k < 500; ++k) {
     float r[5];
-    for (int i = 0; i < 5; ++i) {
-      s = s * 1664525u + 1013904223u;
-      r[i] = (float)(s >> 8) / 16777216.0f;
-    }
+    for (int i = 0; i < 5; ++i) r[i] = lcg_float(&s);
     float p[3] = {16.0f * r[0] - 8.0f, 3.0f * r[1], 16.0f * r[2] - 8.0f}, u[2] = {r[3], r[4]};
     const float ng[3] = {0.0f, 1.0f, 0.0f};
     for (int j = 0; j < n; ++j) {
@@ -288,10 +275,7 @@ static void test_kept_points_exact(void **state) {
   uint32_t s = 5u;
   for (int k = 0; k < 300; ++k) {
     float p[3];
-    for (int i = 0; i < 3; ++i) {
-      s = s * 1664525u + 1013904223u;
-      p[i] = (float)(s >> 8) / 16777216.0f * 24.0f - 12.0f;
-    }
+    for (int i = 0; i < 3; ++i) p[i] = lcg_float(&s) * 24.0f - 12.0f;
     size_t voxel = clr_light_distribution_voxel(d, p);
     const float *cdf = clr_light_distribution_lookup_voxel(d, voxel);
     float want[7];

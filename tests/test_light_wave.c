@@ -21,6 +21,7 @@
 #include "shape_wave.h"
 #include "render_scene.h"
 #include "scene_parser.h"
+#include "scene_test_util.h"
 
 /* A one-sided square (two triangles) facing down at y = 4, a two-sided triangle, a reversed
  * one-sided triangle, a point light, a sphere light and a spot light (neither in a wave) and a
@@ -178,13 +179,8 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
 
 static void test_waves_equal_scalar(void **state) {
   (void)state;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
   clr_scene_desc *desc = NULL;
-  assert_int_equal(clr_scene_parse_string(LIGHTS, CLR_BINARY_DIR "/lightwave.pbrt", &po, &desc),
-                   CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  clr_render_scene *scene = stu_build(LIGHTS, CLR_BINARY_DIR "/lightwave.pbrt", &desc);
   assert_int_equal(clr_render_scene_light_count(scene), 7);
   check_kind(scene, CLR_WAVE_LIGHT_TRIANGLE);
   check_kind(scene, CLR_WAVE_LIGHT_POINT);
@@ -240,13 +236,8 @@ static void make_shape_ray(int k, const clr_light_triangle *t, clr_ray *r) {
 
 static void test_shape_wave_equals_scalar(void **state) {
   (void)state;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
   clr_scene_desc *desc = NULL;
-  assert_int_equal(clr_scene_parse_string(LIGHTS, CLR_BINARY_DIR "/shapewave.pbrt", &po, &desc),
-                   CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  clr_render_scene *scene = stu_build(LIGHTS, CLR_BINARY_DIR "/shapewave.pbrt", &desc);
   int nl = clr_render_scene_light_count(scene), lights[8], nt = 0;
   static clr_light_triangle tris[8];
   for (int j = 0; j < nl; ++j)

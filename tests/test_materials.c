@@ -16,6 +16,7 @@
 #include "bsdf_lobes.h"
 #include "clrender.h"
 #include "clrender/image.h"
+#include "lcg_test_random.h"
 #include "microfacet.h"
 #include "procedural_textures.h"
 #include "render_scene.h"
@@ -39,10 +40,7 @@ static void test_noise_values(void **state) {
   uint32_t s = 12345u;
   for (int i = 0; i < 20000; ++i) {
     float p[3];
-    for (int k = 0; k < 3; ++k) {
-      s = s * 1664525u + 1013904223u;
-      p[k] = (float)(s >> 8) / 16777216.0f * 40.0f - 20.0f;
-    }
+    for (int k = 0; k < 3; ++k) p[k] = lcg_float(&s) * 40.0f - 20.0f;
     float n = rs_noise(p[0], p[1], p[2]);
     assert_true(fabsf(n) <= 1.1f);
     /* zero at lattice points; period 256 */
@@ -69,6 +67,10 @@ static void test_noise_values(void **state) {
 
 static clr_scene_desc *parse(const char *text) {
   return stu_parse(text, CLR_BINARY_DIR "/materials.pbrt");
+}
+
+static clr_render_image render_image(const char *text) {
+  return stu_render_image(text, CLR_BINARY_DIR "/materials.pbrt", NULL, NULL);
 }
 
 static int texture_index(const clr_scene_desc *d, const char *name) {
@@ -116,10 +118,7 @@ static void test_texture_formulas(void **state) {
   uint32_t s = 99u;
   for (int i = 0; i < 2000; ++i) {
     float r[5];
-    for (int k = 0; k < 5; ++k) {
-      s = s * 1664525u + 1013904223u;
-      r[k] = (float)(s >> 8) / 16777216.0f * 6.0f - 3.0f;
-    }
+    for (int k = 0; k < 5; ++k) r[k] = lcg_float(&s) * 6.0f - 3.0f;
     /* pbrt-v3's IdentityMapping3D applies the Texture's CTM (Translate 1 2 3) itself */
     float p[3] = {r[2], r[3], r[4]}, q[3] = {p[0] + 1, p[1] + 2, p[2] + 3};
     float fv = eval_at(&set, f, r[0], r[1], p[0], p[1], p[2], 0);
@@ -325,10 +324,7 @@ static void test_lobes_reciprocity(void **state) {
   for (int c = 0; c < 3; ++c)
     for (int i = 0; i < 2000; ++i) {
       double r[4];
-      for (int k = 0; k < 4; ++k) {
-        s = s * 1664525u + 1013904223u;
-        r[k] = (s >> 8) / 16777216.0;
-      }
+      for (int k = 0; k < 4; ++k) r[k] = lcg_double(&s);
       float wo[3], wi[3], f1[3], f2[3];
       dir(0.02 + 0.98 * r[0], 2 * PI_D * r[1], wo);
       dir(0.02 + 0.98 * r[2], 2 * PI_D * r[3], wi);
@@ -559,6 +555,18 @@ static void test_progress_eta(void **state) {
   assert_true(clr_progress_eta(0, 10, 1.0, 0.0) == 0.0);
 }
 
+/* The motion-blur tests' 16x4 image of the red channel times `scale`: the largest difference from
+ * the fraction clamp(2 c direction, 0, 1) of the shutter at camera x = c of the pixel centre. */
+static double motion_blur_worst_error(const clr_render_image *im, double direction, double scale) {
+  double worst = 0;
+  for (int px = 0; px < 16; ++px) {
+    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, 2 * direction * c));
+    for (int py = 0; py < 4; ++py)
+      worst = fmax(worst, fabs(scale * im->rgb[3 * (py * 16 + px)] - expect));
+  }
+  return worst;
+}
+
 /* Camera motion blur: the camera's end transform is moved 0.5 along world x (ActiveTransform
  * EndTime) over TransformTimes 0 1 and a shutter 0 1; an emitter covers world x < 0. A pixel at
  * camera x = c (world x = -c at the start) sees it while -c + 0.5 t < 0: for a fraction
@@ -578,22 +586,11 @@ static void test_camera_motion_blur(void **state) {
       "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" \"true\"\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 0  0 -10 0  "
       "0 10 0  -10 10 0]\nAttributeEnd\nWorldEnd\n";
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-  double worst = 0;
-  for (int px = 0; px < 16; ++px) {
-    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, 2 * c));
-    for (int py = 0; py < 4; ++py) worst = fmax(worst, fabs(im.rgb[3 * (py * 16 + px)] - expect));
-  }
+  clr_render_image im = render_image(scene);
+  double worst = motion_blur_worst_error(&im, 1.0, 1.0);
   fprintf(stderr, "camera motion blur: worst pixel error %.4f\n", worst);
   assert_true(worst <= 0.03);
   free(im.rgb);
-  clr_scene_desc_free(desc);
 }
 
 /* Moving shape motion blur: a black shape covering world x < 0 at the start (a quad; a sphere
@@ -624,22 +621,11 @@ static void test_moving_shape_motion_blur(void **state) {
              "AttributeBegin\nActiveTransform EndTime\nTranslate 0.5 0 0\nActiveTransform All\n"
              "Material \"matte\" \"rgb Kd\" [0 0 0]\n%s\nAttributeEnd\nWorldEnd\n",
              shapes[0], shapes[k]);
-    clr_scene_desc *desc = parse(scene);
-    clr_render_options o;
-    clr_render_options_init(&o);
-    o.quiet = 1;
-    clr_render_image im;
-    memset(&im, 0, sizeof im);
-    assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-    double worst = 0;
-    for (int px = 0; px < 16; ++px) {
-      double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, -2 * c));
-      for (int py = 0; py < 4; ++py) worst = fmax(worst, fabs(im.rgb[3 * (py * 16 + px)] - expect));
-    }
+    clr_render_image im = render_image(scene);
+    double worst = motion_blur_worst_error(&im, -1.0, 1.0);
     fprintf(stderr, "moving shape %d motion blur: worst pixel error %.4f\n", k, worst);
     assert_true(worst <= 0.03);
     free(im.rgb);
-    clr_scene_desc_free(desc);
   }
 }
 
@@ -666,23 +652,11 @@ static void test_moving_shadow_keeps_time(void **state) {
       "Material \"none\"\n"
       "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-10 -10 1  0 -10 1  "
       "0 10 1  -10 10 1]\nAttributeEnd\nWorldEnd\n";
-  clr_scene_desc *desc = parse(scene);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
-  double worst = 0;
-  for (int px = 0; px < 16; ++px) {
-    double c = -1.0 + 2.0 * (px + 0.5) / 16.0, expect = fmin(1.0, fmax(0.0, -2 * c));
-    for (int py = 0; py < 4; ++py)
-      worst = fmax(worst, fabs(PI_D * im.rgb[3 * (py * 16 + px)] - expect));
-  }
+  clr_render_image im = render_image(scene);
+  double worst = motion_blur_worst_error(&im, -1.0, PI_D);
   fprintf(stderr, "moving shadow: worst pixel error %.4f\n", worst);
   assert_true(worst <= 0.03);
   free(im.rgb);
-  clr_scene_desc_free(desc);
 }
 
 static void keep_warning(void *user, const char *message) {
@@ -780,13 +754,7 @@ static void test_pattern_lights(void **state) {
              "Material \"matte\" \"rgb Kd\" [1 1 1]\nShape \"trianglemesh\" \"integer "
              "indices\" [0 1 2 0 2 3] \"point P\" [-5 -5 1  5 -5 1  5 5 1  -5 5 1]\nWorldEnd\n",
              kind ? "goniometric" : "projection", kind ? "" : " \"float fov\" [60]");
-    clr_scene_desc *desc = parse(scene);
-    clr_render_options o;
-    clr_render_options_init(&o);
-    o.quiet = 1;
-    clr_render_image im;
-    memset(&im, 0, sizeof im);
-    assert_int_equal(clr_render_desc(desc, &o, NULL, 0, &im), CLR_SUCCESS);
+    clr_render_image im = render_image(scene);
     for (int py = 0; py < 16; ++py)
       for (int px = 0; px < 16; ++px) {
         double x = -1 + 2 * (px + 0.5) / 16, y = 1 - 2 * (py + 0.5) / 16;
@@ -798,7 +766,6 @@ static void test_pattern_lights(void **state) {
         assert_true(fabs(got - e) <= 1e-4);
       }
     free(im.rgb);
-    clr_scene_desc_free(desc);
   }
 }
 

@@ -19,6 +19,7 @@
 #include "renderer.h"
 #include "scene_parser.h"
 #include "camera_layout_test_util.h"
+#include "scene_test_util.h"
 
 static const char *path_scene =
     "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [50]\n"
@@ -48,10 +49,7 @@ typedef struct parsed {
 
 static parsed parse(const char *text) {
   parsed p = {NULL, NULL};
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &p.desc), CLR_SUCCESS);
-  assert_int_equal(clr_render_scene_build(p.desc, NULL, NULL, &p.scene), CLR_SUCCESS);
+  p.scene = stu_build(text, "test.pbrt", &p.desc);
   return p;
 }
 
@@ -315,13 +313,8 @@ static void test_vectors_match_pbrt_v4(void **state) {
 static clr_render_image render(const char *text, const char *sampler, clr_seeding seeding,
                                int nthreads, int tile_size, int host_samples, const char *filter,
                                uint64_t *samples) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
   clr_render_options o;
   clr_render_options_init(&o);
-  o.quiet = 1;
   o.sampler = sampler;
   o.seeding = seeding;
   o.spp = 8;
@@ -331,15 +324,10 @@ static clr_render_image render(const char *text, const char *sampler, clr_seedin
   o.filter = filter;
   o.xresolution = 24;
   o.yresolution = 20;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
   clr_render_stats st;
   clr_render_stats_init(&st);
-  clr_result r = clr_render_desc(desc, &o, &st, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
+  clr_render_image im = stu_render_image(text, "test.pbrt", &o, &st);
   if (samples) *samples = st.samples;
-  clr_scene_desc_free(desc);
   return im;
 }
 

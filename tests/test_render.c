@@ -18,25 +18,13 @@
 #include "scene_parser.h"
 #include "integrator.h"
 #include "render_scene.h"
+#include "cornell_test_scene.h"
+#include "scene_test_util.h"
 
 #define PI_F 3.14159265358979323846
 
 static clr_render_image render_text(const char *text, const clr_render_options *opts) {
-  clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_options o;
-  clr_render_options_init(&o);
-  if (opts) o = *opts;
-  o.quiet = 1;
-  clr_render_image im;
-  memset(&im, 0, sizeof im);
-  clr_result r = clr_render_desc(desc, &o, NULL, 0, &im);
-  if (r != CLR_SUCCESS) fprintf(stderr, "%s\n", clr_last_error_message());
-  assert_int_equal(r, CLR_SUCCESS);
-  clr_scene_desc_free(desc);
-  return im;
+  return stu_render_image(text, "test.pbrt", opts, NULL);
 }
 
 /* pbrt-v3 AO: each unoccluded cosine-weighted direction adds Dot(wi,n)/(pdf nSamples) = pi/n, so
@@ -91,11 +79,7 @@ static void test_integrator_round_count(void **state) {
       "Integrator \"ambientocclusion\" \"integer nsamples\" [3]\n"
       "WorldBegin\nShape \"sphere\"\nWorldEnd\n";
   clr_scene_desc *desc = NULL;
-  clr_parse_options po;
-  clr_parse_options_init(&po);
-  assert_int_equal(clr_scene_parse_string(text, "test.pbrt", &po, &desc), CLR_SUCCESS);
-  clr_render_scene *scene = NULL;
-  assert_int_equal(clr_render_scene_build(desc, NULL, NULL, &scene), CLR_SUCCESS);
+  clr_render_scene *scene = stu_build(text, "test.pbrt", &desc);
   static const struct {
     clr_sampler_type type;
     int want;
@@ -191,17 +175,10 @@ static void test_infinite_light_sphere(void **state) {
   free(im.rgb);
 }
 
-static const char *small_box =
-    "LookAt 278 273 -800  278 273 0  0 1 0\nCamera \"perspective\" \"float fov\" [39.3]\n"
+static const char *small_box = CORNELL_CAMERA
     "Film \"image\" \"integer xresolution\" [40] \"integer yresolution\" [36]\n"
     "Sampler \"halton\" \"integer pixelsamples\" [4]\nPixelFilter \"triangle\"\n"
-    "Integrator \"path\" \"integer maxdepth\" [3]\nWorldBegin\n"
-    "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
-    "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]\nAttributeEnd\n"
-    "Material \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-    "\"point P\" [0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 559  556 0 559]\n"
+    "Integrator \"path\" \"integer maxdepth\" [3]\nWorldBegin\n" CORNELL_LIGHT_FLOOR_AND_BACK_WALL
     "Shape \"sphere\" \"float radius\" [100]\nWorldEnd\n";
 
 static void test_threads_bit_identical(void **state) {

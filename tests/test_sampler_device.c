@@ -11,6 +11,7 @@
 #include "clrender.h"
 
 #include "context_fixture.h"
+#include "sample_batch_test_util.h"
 
 /* Camera (2,1,2) then an integrator's 1D, 2D, 2D: 10 values. */
 static const clr_sample_request camera10[] = {{2, 0}, {1, 0}, {2, 0}, {1, 0}, {2, 0}, {2, 0}};
@@ -41,13 +42,7 @@ typedef struct generated {
 static generated generate(clr_sampler s, clr_bounds2i px, int first, int count,
                           const clr_sample_request *req, int nreq, int device) {
   generated g;
-  clr_sample_batch b;
-  clr_sample_batch_init(&b);
-  b.pixels = px;
-  b.first_sample = first;
-  b.sample_count = count;
-  b.requests = req;
-  b.request_count = nreq;
+  clr_sample_batch b = sample_batch(px, first, count, req, nreq);
   assert_int_equal(clr_sample_layout_values(req, nreq, &g.per_sample), CLR_SUCCESS);
   int spp = count ? count : clr_sampler_spp(s);
   g.items = (size_t)(px.x1 - px.x0) * (px.y1 - px.y0) * spp;

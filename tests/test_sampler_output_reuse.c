@@ -12,17 +12,12 @@
 #include "clrender.h"
 
 #include "context_fixture.h"
+#include "sample_batch_test_util.h"
 
 static const clr_sample_request layout[] = {{2, 0}, {1, 0}, {2, 0}, {2, 0}}; /* 7 values */
 
 static void check_batch(clr_sampler s, clr_bounds2i px, int first, int count) {
-  clr_sample_batch b;
-  clr_sample_batch_init(&b);
-  b.pixels = px;
-  b.first_sample = first;
-  b.sample_count = count;
-  b.requests = layout;
-  b.request_count = 4;
+  clr_sample_batch b = sample_batch(px, first, count, layout, 4);
   size_t n = (size_t)(px.x1 - px.x0) * (size_t)(px.y1 - px.y0) * (size_t)count * 7;
   float *dev = malloc(n * sizeof *dev), *ref = malloc(n * sizeof *ref);
   assert_non_null(dev);

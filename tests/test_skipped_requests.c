@@ -16,6 +16,7 @@
 #define NREQ 13
 
 #include "context_fixture.h"
+#include "sample_batch_test_util.h"
 
 /* Camera (film, time, lens), arrays of both kinds, singles past stratified's 4 dimensions (RNG
  * fallbacks of the pixel samplers): 40 values. */
@@ -57,13 +58,7 @@ static float *generate(clr_sampler s, const clr_sample_request *req, clr_bounds2
   float *v = malloc(items * (size_t)*per_sample * sizeof(float));
   assert_non_null(v);
   memset(v, 0xa5, items * (size_t)*per_sample * sizeof(float));
-  clr_sample_batch b;
-  clr_sample_batch_init(&b);
-  b.pixels = px;
-  b.first_sample = first;
-  b.sample_count = count;
-  b.requests = req;
-  b.request_count = NREQ;
+  clr_sample_batch b = sample_batch(px, first, count, req, NREQ);
   clr_sample_output o;
   clr_sample_output_init(&o);
   o.host_values = v;

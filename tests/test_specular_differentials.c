@@ -27,6 +27,21 @@ static clr_scene_desc *parse(const char *text) {
   return stu_parse(text, CLR_BINARY_DIR "/specdiff.pbrt");
 }
 
+/* The scene of `text` (in *desc) built for a w x h film. */
+static clr_render_scene *build_with_film(const char *text, int w, int h, clr_scene_desc **desc) {
+  clr_render_scene *rs = stu_build(text, CLR_BINARY_DIR "/specdiff.pbrt", desc);
+  assert_int_equal(clr_render_scene_set_film(rs, w, h), CLR_SUCCESS);
+  return rs;
+}
+
+/* The camera ray through film point (x, y) at time 0, lens (0.5, 0.5), and its hit (asserted). */
+static void camera_hit(clr_render_scene *rs, float x, float y, clr_ray *ray,
+                       clr_ray_differential *rd, clr_hit *hit) {
+  clr_render_scene_camera_ray(rs, x, y, 0.0f, 0.5f, 0.5f, ray, rd);
+  assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), ray, hit, 1), CLR_SUCCESS);
+  assert_true(hit->geom_id != CLR_TRACER_INVALID_ID);
+}
+
 static double dot3(const float a[3], const float b[3]) {
   return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
 }
@@ -177,20 +192,16 @@ static void check_curved_mirror(const char *name, const char *shape, const float
            "Material \"matte\" \"texture Kd\" \"ck\"\nTranslate 0 0 50\nShape \"disk\" \"float "
            "radius\" [10]\nWorldEnd\n",
            shape);
-  clr_scene_desc *d = parse(text);
-  clr_render_scene *rs = NULL;
-  assert_int_equal(clr_render_scene_build(d, NULL, NULL, &rs), CLR_SUCCESS);
-  assert_int_equal(clr_render_scene_set_film(rs, 64, 64), CLR_SUCCESS);
+  clr_scene_desc *d = NULL;
+  clr_render_scene *rs = build_with_film(text, 64, 64, &d);
   clr_render_scene_set_samples_per_pixel(rs, 4);
   for (int k = 0; k < 2; ++k) {
     clr_ray ray, off[2];
     clr_ray_differential rd, out;
     clr_hit hit, hoff[2];
     clr_surface sf, soff;
-    clr_render_scene_camera_ray(rs, pixels[k][0], pixels[k][1], 0.0f, 0.5f, 0.5f, &ray, &rd);
+    camera_hit(rs, pixels[k][0], pixels[k][1], &ray, &rd, &hit);
     assert_int_equal(rd.has, 1);
-    assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), &ray, &hit, 1), CLR_SUCCESS);
-    assert_true(hit.geom_id != CLR_TRACER_INVALID_ID);
     clr_render_scene_surface_differential(rs, &ray, &rd, &hit, &sf);
     assert_true(sf.mirror && sf.has_differentials);
     float wo[3] = {-ray.dx, -ray.dy, -ray.dz}, wi[3], flat[3];
@@ -266,25 +277,22 @@ static void test_curved_mirror(void **state) {
  * relative). */
 static void test_mesh_normal_differentials(void **state) {
   (void)state;
-  clr_scene_desc *d = parse(
+  clr_scene_desc *d = NULL;
+  clr_render_scene *rs = build_with_film(
       "LookAt 0.25 0.25 5  0.25 0.25 0  0 1 0\nCamera \"perspective\" \"float fov\" [20]\nFilm "
       "\"image\" \"integer xresolution\" [64] \"integer yresolution\" [64]\nWorldBegin\n"
       "AttributeBegin\nMaterial \"mirror\"\nShape \"trianglemesh\" \"integer indices\" [0 1 2] "
       "\"point P\" [0 0 0  1 0 0  0 1 0] \"normal N\" [0 0 1  0.6 0 0.8  0 0.6 0.8] \"float uv\" "
       "[0 0 "
       "1 0 0 1]\nAttributeEnd\nTexture \"ck\" \"spectrum\" \"checkerboard\"\nMaterial \"matte\" "
-      "\"texture Kd\" \"ck\"\nTranslate 0 0 -50\nShape \"disk\" \"float radius\" [10]\nWorldEnd\n");
-  clr_render_scene *rs = NULL;
-  assert_int_equal(clr_render_scene_build(d, NULL, NULL, &rs), CLR_SUCCESS);
-  assert_int_equal(clr_render_scene_set_film(rs, 64, 64), CLR_SUCCESS);
+      "\"texture Kd\" \"ck\"\nTranslate 0 0 -50\nShape \"disk\" \"float radius\" [10]\nWorldEnd\n",
+      64, 64, &d);
   clr_render_scene_set_samples_per_pixel(rs, 1);
   clr_ray ray;
   clr_ray_differential rd;
   clr_hit hit;
   clr_surface sf;
-  clr_render_scene_camera_ray(rs, 30.5f, 36.5f, 0.0f, 0.5f, 0.5f, &ray, &rd);
-  assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), &ray, &hit, 1), CLR_SUCCESS);
-  assert_true(hit.geom_id != CLR_TRACER_INVALID_ID);
+  camera_hit(rs, 30.5f, 36.5f, &ray, &rd, &hit);
   clr_render_scene_surface_differential(rs, &ray, &rd, &hit, &sf);
   assert_true(sf.mirror && sf.has_differentials);
   const float dndu[3] = {0.6f, 0.0f, -0.2f}, dndv[3] = {0.0f, 0.6f, -0.2f};
@@ -325,17 +333,22 @@ static void checker_scene(char *out, size_t size, const char *camera, const char
            camera, extra);
 }
 
+/* specdiff_checker.png, the scenes' 16x16 texture: texels 0 and 1 in a checker pattern. */
+static void write_checker_png(void) {
+  float rgb[16 * 16 * 3];
+  for (int i = 0; i < 256; ++i)
+    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (float)((i % 16 + i / 16) & 1);
+  clr_image im = {16, 16, rgb};
+  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/specdiff_checker.png", &im), CLR_SUCCESS);
+}
+
 /* The checker seen through a 45-degree mirror y + z = 2.5 by a camera looking along +y, and
  * directly by the mirrored camera (at (0.5, 0.5, 7.5) looking down): with differentials through
  * the mirror every pixel is filtered to the checker's mean 0.5 as in the direct view (within
  * 1e-3; unfiltered, pixel centres fall on texel centres, 0 or 1). */
 static void test_checker_in_mirror(void **state) {
   (void)state;
-  float rgb[16 * 16 * 3];
-  for (int i = 0; i < 256; ++i)
-    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (float)((i % 16 + i / 16) & 1);
-  clr_image im = {16, 16, rgb};
-  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/specdiff_checker.png", &im), CLR_SUCCESS);
+  write_checker_png();
   static char scene[4096];
   checker_scene(scene, sizeof scene, "LookAt 0.5 -5 2  0.5 0 2  0 0 1",
                 "Material \"mirror\" \"rgb Kr\" [1 1 1]\nShape \"trianglemesh\" \"integer "
@@ -366,11 +379,7 @@ static void test_checker_in_mirror(void **state) {
  * 1e-3; before, they were lost there and the pixels were 0 or 1. */
 static void test_checker_through_lobe_transmission(void **state) {
   (void)state;
-  float rgb[16 * 16 * 3];
-  for (int i = 0; i < 256; ++i)
-    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = (float)((i % 16 + i / 16) & 1);
-  clr_image im = {16, 16, rgb};
-  assert_int_equal(clr_image_write_png(CLR_BINARY_DIR "/specdiff_checker.png", &im), CLR_SUCCESS);
+  write_checker_png();
   static char scene[4096];
   checker_scene(scene, sizeof scene, "LookAt 0.5 0.5 7.5  0.5 0.5 0  0 -1 0",
                 "Material \"uber\" \"rgb opacity\" [0 0 0]\nShape \"trianglemesh\" \"integer "
@@ -400,17 +409,13 @@ static void test_uber_bsdf_eta(void **state) {
              "\"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point P\" [-1 -1 0  1 -1 0  "
              "1 1 0  -1 1 0]\nWorldEnd\n",
              opacity[k]);
-    clr_scene_desc *d = parse(text);
-    clr_render_scene *rs = NULL;
-    assert_int_equal(clr_render_scene_build(d, NULL, NULL, &rs), CLR_SUCCESS);
-    assert_int_equal(clr_render_scene_set_film(rs, 16, 16), CLR_SUCCESS);
+    clr_scene_desc *d = NULL;
+    clr_render_scene *rs = build_with_film(text, 16, 16, &d);
     clr_ray ray;
     clr_ray_differential rd;
     clr_hit hit;
     clr_surface sf;
-    clr_render_scene_camera_ray(rs, 8.0f, 8.0f, 0.0f, 0.5f, 0.5f, &ray, &rd);
-    assert_int_equal(clr_tracer_intersect(clr_render_scene_tracer(rs), &ray, &hit, 1), CLR_SUCCESS);
-    assert_true(hit.geom_id != CLR_TRACER_INVALID_ID);
+    camera_hit(rs, 8.0f, 8.0f, &ray, &rd, &hit);
     clr_render_scene_surface(rs, &ray, &hit, &sf);
     assert_true(sf.general);
     assert_float_equal(sf.bsdf.eta, expect[k], 1e-6f);

@@ -516,24 +516,35 @@ static void test_occlusion_tfar(void **state) {
   clr_tracer_release(t);
 }
 
+/* The occlusion and uv tests' sphere transform: scale (1.5, 0.75, 1), then translate (0.5, -1, 2). */
+static void ellipsoid_to_world(float m[16]) {
+  float s[16], tr[16];
+  identity(s);
+  s[0] = 1.5f, s[5] = 0.75f, s[10] = 1.0f;
+  translate(tr, 0.5f, -1.0f, 2.0f);
+  mul(tr, s, m);
+}
+
+/* Geometry 0: a sphere of radius 2 under `m`, whole or cut (z in [-1.2, 1.5], phi up to 250). */
+static void add_whole_or_partial_sphere(clr_tracer t, const float m[16], int partial) {
+  if (partial)
+    assert_int_equal(clr_tracer_add_partial_sphere(t, 0, m, 2.0f, -1.2f, 1.5f, 250.0f, 3, NULL),
+                     CLR_SUCCESS);
+  else
+    assert_int_equal(clr_tracer_add_sphere(t, 0, m, 2.0f, 3, NULL), CLR_SUCCESS);
+}
+
 /* Occlusion of whole and partial spheres (transformed) agrees with intersection, ray by ray:
  * occluded exactly when the closest hit lies within [tnear, tfar]. Rays start outside, inside
  * and on the far side, with tfar before, between and past the roots. */
 static void test_sphere_occlusion_matches_hits(void **state) {
   (void)state;
-  float s[16], tr[16], m[16];
-  identity(s);
-  s[0] = 1.5f, s[5] = 0.75f, s[10] = 1.0f;
-  translate(tr, 0.5f, -1.0f, 2.0f);
-  mul(tr, s, m);
+  float m[16];
+  ellipsoid_to_world(m);
   for (int partial = 0; partial < 2; ++partial) {
     clr_tracer t;
     assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
-    if (partial)
-      assert_int_equal(clr_tracer_add_partial_sphere(t, 0, m, 2.0f, -1.2f, 1.5f, 250.0f, 3, NULL),
-                       CLR_SUCCESS);
-    else
-      assert_int_equal(clr_tracer_add_sphere(t, 0, m, 2.0f, 3, NULL), CLR_SUCCESS);
+    add_whole_or_partial_sphere(t, m, partial);
     assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
     enum { N = 4000 };
     clr_ray *rays = calloc(N, sizeof *rays);
@@ -572,11 +583,8 @@ static void test_sphere_occlusion_matches_hits(void **state) {
  * ids bit for bit (the partial sphere's clipping still reads phi), and carry u = v = 0. */
 static void test_sphere_uv_off_keeps_hits(void **state) {
   (void)state;
-  float s[16], tr[16], m[16];
-  identity(s);
-  s[0] = 1.5f, s[5] = 0.75f, s[10] = 1.0f;
-  translate(tr, 0.5f, -1.0f, 2.0f);
-  mul(tr, s, m);
+  float m[16];
+  ellipsoid_to_world(m);
   enum { N = 4000 };
   clr_ray *rays = calloc(N, sizeof *rays);
   clr_hit *hits[2] = {calloc(N, sizeof(clr_hit)), calloc(N, sizeof(clr_hit))};
@@ -593,11 +601,7 @@ static void test_sphere_uv_off_keeps_hits(void **state) {
       clr_tracer t;
       assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
       assert_int_equal(clr_tracer_set_sphere_uv(t, with_uv), CLR_SUCCESS);
-      if (partial)
-        assert_int_equal(clr_tracer_add_partial_sphere(t, 0, m, 2.0f, -1.2f, 1.5f, 250.0f, 3, NULL),
-                         CLR_SUCCESS);
-      else
-        assert_int_equal(clr_tracer_add_sphere(t, 0, m, 2.0f, 3, NULL), CLR_SUCCESS);
+      add_whole_or_partial_sphere(t, m, partial);
       assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
       assert_int_equal(clr_tracer_intersect(t, rays, hits[with_uv], N), CLR_SUCCESS);
       clr_tracer_release(t);
