@@ -107,7 +107,7 @@ static void test_pbrt_v4_flags(void **state) {
 
 static void test_plot_png(void **state) {
   (void)state;
-  char path[] = "/tmp/clr_plot_XXXXXX.png";
+  char path[] = CLR_BINARY_DIR "/clr_plot_XXXXXX.png";
   int fd = mkstemps(path, 4);
   assert_true(fd >= 0);
   close(fd);
@@ -144,7 +144,7 @@ static void test_bad_flags_exit_2(void **state) {
       "samples --sampler sobol --seeding tiles",
       "samples --sampler stratified --dimensions 0",
       "samples --sampler sobol --frobnicate 1",
-      "samples --sampler sobol --proj 0,12 --plot /tmp/clr_never_written.png",
+      "samples --sampler sobol --proj 0,12 --plot " CLR_BINARY_DIR "/clr_never_written.png",
       "nonsense-command",
   };
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
@@ -152,7 +152,7 @@ static void test_bad_flags_exit_2(void **state) {
     if (status != 2) fail_msg("\"%s\" exited %d, expected 2", bad[i], status);
     assert_int_equal(out[0], 0); /* nothing on stdout */
   }
-  assert_int_not_equal(access("/tmp/clr_never_written.png", F_OK), 0);
+  assert_int_not_equal(access(CLR_BINARY_DIR "/clr_never_written.png", F_OK), 0);
 }
 
 static void test_devices_lists_default(void **state) {

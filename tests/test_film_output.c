@@ -18,11 +18,14 @@
 #include "pcg32.h"
 
 static clr_context ctx;
-static char dir[256];
+static char dir[256]; /* under the build tree */
 
 static int setup(void **state) {
   (void)state;
-  snprintf(dir, sizeof dir, "/tmp/clr_film_output_XXXXXX");
+  if (snprintf(dir, sizeof dir, "%s/test_film_output_XXXXXX", CLR_BINARY_DIR) >= 200) {
+    fprintf(stderr, "test_film_output: build folder path too long: %s\n", CLR_BINARY_DIR);
+    return -1;
+  }
   if (!mkdtemp(dir)) return -1;
   return clr_context_create(NULL, &ctx) == CLR_SUCCESS ? 0 : -1;
 }

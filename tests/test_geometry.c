@@ -16,13 +16,15 @@
 
 /* ---- temporary files ---- */
 
-static char temp_dir[64];
-static char temp_files[32][128];
+/* Under the build tree (tests write no file outside the repository and its build). */
+#define TEMP_PATH_MAX 1024
+static char temp_dir[TEMP_PATH_MAX - 64];
+static char temp_files[32][TEMP_PATH_MAX];
 static int temp_count;
 
 static int make_temp_dir(void **state) {
   (void)state;
-  snprintf(temp_dir, sizeof temp_dir, "/tmp/clr_geometry_XXXXXX");
+  snprintf(temp_dir, sizeof temp_dir, "%s/test_geometry_XXXXXX", CLR_BINARY_DIR);
   return mkdtemp(temp_dir) ? 0 : -1;
 }
 
@@ -111,7 +113,7 @@ static const uint32_t quad_indices[] = {0, 1, 2, 3, 0, 2, 4, 0, 1};
 
 static void test_ply_ascii(void **state) {
   (void)state;
-  char path[128];
+  char path[TEMP_PATH_MAX];
   write_text("ascii.ply",
              "ply\r\nformat ascii 1.0\r\ncomment made by test_geometry\r\nobj_info none\r\n"
              "element vertex 5\r\nproperty float x\r\nproperty float y\r\nproperty double z\r\n"
@@ -175,7 +177,7 @@ static void write_binary(const char *name, int big_endian, char *path) {
 }
 
 static void check_binary(int big_endian) {
-  char path[128];
+  char path[TEMP_PATH_MAX];
   write_binary(big_endian ? "big.ply" : "little.ply", big_endian, path);
   clr_mesh mesh;
   assert_int_equal(clr_ply_read(path, &mesh), CLR_SUCCESS);
@@ -219,7 +221,7 @@ static void write_small(const char *name, int bad_index, long keep, char *path) 
 
 static void test_ply_errors(void **state) {
   (void)state;
-  char path[128];
+  char path[TEMP_PATH_MAX];
   clr_mesh mesh;
   long full = (long)strlen(small_header) + 36 + 2 * 13;
   write_small("ok.ply", 0, -1, path);

@@ -16,7 +16,7 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 /* An in-memory regular file (memfd) holding the input, reachable as /proc/self/fd/N; falls back
- * to an unlinked file under /tmp. One per target, rewritten for every input. */
+ * to an unlinked file in the build tree. One per target, rewritten for every input. */
 typedef struct fuzz_file {
   int fd;
   char path[64];
@@ -26,7 +26,7 @@ static inline const char *fuzz_file_write(fuzz_file *f, const uint8_t *data, siz
   if (f->fd <= 0) {
     f->fd = memfd_create("clr-fuzz-input", 0);
     if (f->fd < 0) {
-      char tmp[] = "/tmp/clr-fuzz-input-XXXXXX";
+      char tmp[] = CLR_FUZZ_WORK_DIR "/clr-fuzz-input-XXXXXX";
       f->fd = mkstemp(tmp);
       if (f->fd >= 0) unlink(tmp);
     }

@@ -8,7 +8,7 @@
 
 static fuzz_file input;
 static clr_context context;
-static char merged[64];
+static char merged[1024];
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;
@@ -19,7 +19,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
     fprintf(stderr, "fuzz_exr: no OpenCL device for the merge: %s\n", clr_last_error_message());
     abort();
   }
-  snprintf(merged, sizeof merged, "/tmp/clr-fuzz-merged-%d.exr", (int)getpid());
+  snprintf(merged, sizeof merged, "%s/clr-fuzz-merged-%d.exr", CLR_FUZZ_WORK_DIR, (int)getpid());
   return 0;
 }
 
