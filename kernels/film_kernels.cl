@@ -240,13 +240,11 @@ static inline clr_film_run8 clr_film_gather_run8(const clr_film_grid *grid,
  * per row rounded up to the work-group size, row pairs). */
 __kernel void clr_film_gather8(clr_film_grid grid, __global const float *weighed,
                                __global const uint *starts, __global float *sums) {
-  const int out_x1 = grid.out_x0 + grid.out_w;
   const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
-  if (run_x0 >= out_x1) return;
-  const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
+  if (run_x0 >= grid.out_x0 + grid.out_w) return;
+  const int n = min(CLR_FILM_LANES, grid.out_x0 + grid.out_w - run_x0); /* the run's pixels */
   const int oy = 2 * (int)get_global_id(1);
-  const clr_film_run8 a = clr_film_gather_run8(&grid, weighed, starts, run_x0, run_x1, oy);
-  const int n = run_x1 - run_x0;
+  const clr_film_run8 a = clr_film_gather_run8(&grid, weighed, starts, run_x0, run_x0 + n, oy);
   __global float *out = sums + ((size_t)oy * (size_t)grid.out_w + (size_t)(run_x0 - grid.out_x0)) *
                                    CLR_FILM_SUM_FLOATS;
   clr_film_store8(out, n, a.r0, a.g0, a.b0, a.w0);
@@ -291,13 +289,11 @@ static inline void clr_film_add_doubles8(__global double *rgb_sum, __global doub
 __kernel void clr_film_gather8_add(clr_film_params fp, clr_film_grid grid,
                                    __global const float *weighed, __global const uint *starts,
                                    __global double *rgb_sum, __global double *weight_sum) {
-  const int out_x1 = grid.out_x0 + grid.out_w;
   const int run_x0 = grid.out_x0 + (int)get_global_id(0) * CLR_FILM_LANES;
-  if (run_x0 >= out_x1) return;
-  const int run_x1 = min(run_x0 + CLR_FILM_LANES, out_x1); /* exclusive */
+  if (run_x0 >= grid.out_x0 + grid.out_w) return;
+  const int n = min(CLR_FILM_LANES, grid.out_x0 + grid.out_w - run_x0); /* the run's pixels */
   const int oy = 2 * (int)get_global_id(1);
-  const clr_film_run8 a = clr_film_gather_run8(&grid, weighed, starts, run_x0, run_x1, oy);
-  const int n = run_x1 - run_x0;
+  const clr_film_run8 a = clr_film_gather_run8(&grid, weighed, starts, run_x0, run_x0 + n, oy);
   const size_t width = (size_t)(fp.pixel_x1 - fp.pixel_x0);
   const size_t i =
       (size_t)(grid.out_y0 + oy - fp.pixel_y0) * width + (size_t)(run_x0 - fp.pixel_x0);

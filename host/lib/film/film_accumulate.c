@@ -583,6 +583,19 @@ static clr_result weigh(clr_film film, const clr_film_grid *g, size_t binned, in
   return clr_context_launch(film->ctx, k, binned, 64, lanes ? "clr_film_weigh8" : "clr_film_weigh");
 }
 
+/* Enqueues a SIMD-shape kernel whose work-items are 8-pixel runs of two rows of the grid's output
+ * region (its arguments set); *done, when not NULL, gets its event. */
+static clr_result enqueue_runs8(clr_film film, cl_kernel k, const clr_film_grid *g,
+                                cl_event *done) {
+  size_t group = film->group_size_override ? film->group_size_override : film->dev.group_size;
+  size_t runs = ((size_t)g->out_w + CLR_FILM_LANES - 1) / CLR_FILM_LANES;
+  size_t global[2] = {(runs + group - 1) / group * group, ((size_t)g->out_h + 1) / 2};
+  size_t local[2] = {group, 1};
+  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
+                                                 global, local, 0, NULL, done));
+  return CLR_SUCCESS;
+}
+
 /* Enqueues the SIMD shape's 8-lane gather over the grid's output region. */
 static clr_result enqueue_gather8(clr_film film, const clr_film_grid *g) {
   clr_film_device *d = &film->dev;
@@ -591,13 +604,7 @@ static clr_result enqueue_gather8(clr_film film, const clr_film_grid *g) {
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 1, sizeof(cl_mem), &d->weighed));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 2, sizeof(cl_mem), &d->starts));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->sums));
-  size_t group = film->group_size_override ? film->group_size_override : d->group_size;
-  size_t runs = ((size_t)g->out_w + CLR_FILM_LANES - 1) / CLR_FILM_LANES;
-  size_t global[2] = {(runs + group - 1) / group * group, ((size_t)g->out_h + 1) / 2};
-  size_t local[2] = {group, 1};
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
-                                                 global, local, 0, NULL, NULL));
-  return CLR_SUCCESS;
+  return enqueue_runs8(film, k, g, NULL);
 }
 
 /* Enqueues clr_film_gather8_add over the grid's output region (the call's double-sum buffers are
@@ -611,13 +618,7 @@ static clr_result enqueue_gather8_add(clr_film film, const clr_film_grid *g, cl_
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 3, sizeof(cl_mem), &d->starts));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 4, sizeof(cl_mem), &d->rgb_sums));
   CLR_CL_CHECK(film->ctx, clSetKernelArg(k, 5, sizeof(cl_mem), &d->weight_sums));
-  size_t group = film->group_size_override ? film->group_size_override : d->group_size;
-  size_t runs = ((size_t)g->out_w + CLR_FILM_LANES - 1) / CLR_FILM_LANES;
-  size_t global[2] = {(runs + group - 1) / group * group, ((size_t)g->out_h + 1) / 2};
-  size_t local[2] = {group, 1};
-  CLR_CL_CHECK(film->ctx, clEnqueueNDRangeKernel(clr_context_cl_queue(film->ctx), k, 2, NULL,
-                                                 global, local, 0, NULL, done));
-  return CLR_SUCCESS;
+  return enqueue_runs8(film, k, g, done);
 }
 
 /* The portable shape's gather: one work-item per output pixel (clr_film_gather_pixels), 2D
