@@ -16,8 +16,9 @@ ctest --test-dir "$build" --output-on-failure -j "$jobs"
 
 # Sanitized run: runtime options and suppressions come from tests/sanitizers (set per test).
 echo "test.sh: the whole suite again with ASan + UBSan ($asan_build)"
+# The sanitized suite shares the first build's PoCL kernel cache (kernels compiled once).
 cmake -S . -B "$asan_build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLR_WERROR=ON -DCLR_ASAN=ON \
-  -DCLR_BUILD_BENCH=OFF
+  -DCLR_BUILD_BENCH=OFF -DCLR_POCL_CACHE_DIR="$(cd "$build" && pwd)/pocl-cache"
 cmake --build "$asan_build" -j "$jobs"
 log="$asan_build/ctest-asan.log"
 if ! ctest --test-dir "$asan_build" --output-on-failure -j "$jobs" 2>&1 | tee "$log"; then
