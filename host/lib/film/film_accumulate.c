@@ -645,7 +645,8 @@ static clr_result enqueue_gather_pixels(clr_film film, const clr_film_grid *g) {
   return CLR_SUCCESS;
 }
 
-clr_result clr_film_chunk_wait(clr_film film, clr_film_chunk_sums *chunk) {
+/* Waits for a chunk's kernels when it has an event (ready), then releases the event. */
+static clr_result chunk_wait(clr_film film, clr_film_chunk_sums *chunk) {
   if (!chunk->ready) return CLR_SUCCESS;
   cl_int err = clWaitForEvents(1, &chunk->ready);
   cl_int status = CL_COMPLETE;
@@ -666,13 +667,13 @@ static clr_result gather(clr_film film, const clr_film_grid *g, int lanes, int b
                          clr_film_chunk_sums *out) {
   clr_film_device *d = &film->dev;
   if (d->rgb_sums) {
-    if (!lanes) /* open_double_sums admits only filters whose every chunk runs in lanes */
+    if (!lanes) /* clr_film_open_device_sums admits only filters that keep every chunk in lanes */
       return clr_fail(film->ctx, CLR_ERROR_INTERNAL,
                       "film_add_samples: a chunk reaches %d x %d pixels, more than %d", g->reach_x,
                       g->reach_y, CLR_FILM_LANES);
     out->block = (clr_bounds2i){g->out_x0, g->out_y0, g->out_x0 + g->out_w, g->out_y0 + g->out_h};
     CLR_CHECK(enqueue_gather8_add(film, g, &out->ready));
-    return blocking ? clr_film_chunk_wait(film, out) : CLR_SUCCESS;
+    return blocking ? chunk_wait(film, out) : CLR_SUCCESS;
   }
   cl_command_queue q = clr_context_cl_queue(film->ctx);
   size_t group = film->group_size_override ? film->group_size_override : d->group_size;
@@ -742,7 +743,7 @@ static clr_result device_chunk(clr_film film, const clr_film_sample *samples, si
 /* Waits for a launched chunk's sums, adds them into the film's double sums and releases them;
  * *pending is empty after. */
 static clr_result finish_chunk(clr_film film, clr_film_chunk_sums *pending) {
-  clr_result r = clr_film_chunk_wait(film, pending);
+  clr_result r = chunk_wait(film, pending);
   if (r == CLR_SUCCESS && pending->sums)
     clr_film_add_block(film, pending->block, pending->sums, clr_film_host_threads(film));
   clr_result released = clr_film_chunk_sums_release(film, pending);
@@ -794,7 +795,6 @@ static clr_result sync_sums(clr_film film, cl_mem buf, size_t bytes) {
   void *at = clEnqueueMapBuffer(q, buf, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL, &err);
   CLR_CL_CHECK_ERR(film->ctx, err, "film_add_samples: clEnqueueMapBuffer(double sums)");
   CLR_CL_CHECK(film->ctx, clEnqueueUnmapMemObject(q, buf, at, 0, NULL, NULL));
-  CLR_CL_CHECK(film->ctx, clFinish(q));
   return CLR_SUCCESS;
 }
 
@@ -804,6 +804,11 @@ clr_result clr_film_close_device_sums(clr_film film) {
   if (d->rgb_sums) r = sync_sums(film, d->rgb_sums, film->pixel_count * 3 * sizeof(double));
   if (d->weight_sums && r == CLR_SUCCESS)
     r = sync_sums(film, d->weight_sums, film->pixel_count * sizeof(double));
+  cl_int err = d->rgb_sums && r == CLR_SUCCESS ? clFinish(clr_context_cl_queue(film->ctx))
+                                               : CL_SUCCESS; /* the unmaps done */
+  if (err != CL_SUCCESS)
+    r = clr_fail(film->ctx, CLR_ERROR_OPENCL, "film_add_samples: clFinish failed: %s (%d)",
+                 clr_cl_error_name(err), (int)err);
   if (d->rgb_sums) clReleaseMemObject(d->rgb_sums);
   if (d->weight_sums) clReleaseMemObject(d->weight_sums);
   d->rgb_sums = d->weight_sums = NULL;

@@ -93,8 +93,6 @@ typedef struct clr_film_chunk_sums {
 clr_result clr_film_accumulate_chunk(clr_film film, const clr_film_sample *samples, size_t count,
                                      int reference, clr_film_chunk_sums *out);
 clr_result clr_film_chunk_sums_release(clr_film film, clr_film_chunk_sums *sums);
-/* Waits for a chunk's kernels when it has an event (ready), then releases the event. */
-clr_result clr_film_chunk_wait(clr_film film, clr_film_chunk_sums *chunk);
 /* Around a film_add_samples call's chunks: where the device shares the host's memory and
  * computes in double, and the filter lets every chunk run in lanes, opens buffers over the film's
  * double sums so that the kernels add each chunk's sums into them (clr_film_gather8_add: the same
