@@ -133,6 +133,12 @@ static int case_selected(int type, int use_table) {
          (!mode || strcmp(mode, use_table ? "table" : "exact") == 0);
 }
 
+/* CLR_BENCH_FILM_INPUT (host, device_buffer), when set, keeps only that input path. */
+static int input_selected(int path) {
+  const char *input = getenv("CLR_BENCH_FILM_INPUT");
+  return !input || strcmp(input, path ? "device_buffer" : "host") == 0;
+}
+
 void bench_film(const bench_options *o, const clr_device_info *devices, int device_count) {
   const char *env = getenv("CLR_BENCH_FILM_SPP");
   size_t spp = env ? (size_t)atoi(env) : o->quick ? 2 : 16;
@@ -165,6 +171,7 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     for (int t = 0; t < FILTER_COUNT; ++t)
       for (int m = 0; m < 2; ++m)
         for (int path = 0; path < 2 && case_selected(filter_types[t], m); ++path) {
+          if (!input_selected(path)) continue;
           film_memory mem = {0, 0, 0};
           double cpu_ns = 0;
           double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &mem, &cpu_ns);
