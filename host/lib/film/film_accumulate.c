@@ -301,27 +301,55 @@ CLR_PROFILE_NOINLINE static void row_part(bin_part *t) {
   }
 }
 
+/* Exclusive prefix of a row's n column counts from `at`: into columns[0..n) (the fill positions)
+ * and starts[1..n) (starts[0] is the previous row part's to read). */
+static void column_prefix(uint32_t *restrict columns, uint32_t *restrict starts, size_t n,
+                          uint32_t at) {
+  if (!n) return;
+  uint32_t count = columns[0];
+  columns[0] = at;
+  at += count;
+  size_t c = 1;
+#if defined(__SSE2__)
+  __m128i carry = _mm_set1_epi32((int)at); /* four at a time: a shifted-add scan */
+  for (; c + 4 <= n; c += 4) {
+    __m128i v = _mm_loadu_si128((const __m128i *)(columns + c));
+    __m128i sum = _mm_add_epi32(v, _mm_slli_si128(v, 4));
+    sum = _mm_add_epi32(sum, _mm_slli_si128(sum, 8));
+    __m128i before = _mm_add_epi32(carry, _mm_sub_epi32(sum, v));
+    _mm_storeu_si128((__m128i *)(columns + c), before);
+    _mm_storeu_si128((__m128i *)(starts + c), before);
+    carry = _mm_add_epi32(carry, _mm_shuffle_epi32(sum, _MM_SHUFFLE(3, 3, 3, 3)));
+  }
+  at = (uint32_t)_mm_cvtsi128_si32(carry);
+#endif
+  for (; c < n; ++c) {
+    count = columns[c];
+    columns[c] = at;
+    starts[c] = at;
+    at += count;
+  }
+}
+
 /* Pass 3: sorts each of the part's grid rows by bin column (stable) into dst
  * (CLR_FILM_BINNED_FLOATS per sample) and fills the rows' bin starts. */
 CLR_PROFILE_NOINLINE static void column_part(bin_part *t) {
   clr_film_bins *b = &t->film->bins;
   const clr_film_grid *g = t->grid;
   const size_t bins_x = (size_t)g->bins_x;
+  const row_entry *restrict rowed = b->rowed;
+  uint32_t *restrict columns = t->columns;
+  float *restrict dst = t->dst;
   for (int32_t row = t->row_begin; row < t->row_end; ++row) {
-    uint32_t *starts = b->starts + (size_t)row * bins_x;
+    uint32_t *restrict starts = b->starts + (size_t)row * bins_x;
     const uint32_t first = starts[0], last = b->starts[(size_t)(row + 1) * bins_x];
-    memset(t->columns, 0, bins_x * sizeof *t->columns);
-    for (uint32_t i = first; i < last; ++i) ++t->columns[b->rowed[i].column];
-    uint32_t at = first; /* starts[0] is set (and read by the previous row's part) already */
-    for (size_t c = 0; c < bins_x; ++c) {
-      uint32_t n = t->columns[c];
-      if (c) starts[c] = at;
-      t->columns[c] = at;
-      at += n;
-    }
+    memset(columns, 0, bins_x * sizeof *columns);
+    for (uint32_t i = first; i < last; ++i) ++columns[rowed[i].column];
+    /* starts[0] is set (and read by the previous row's part) already */
+    column_prefix(columns, starts, bins_x, first);
     for (uint32_t i = first; i < last; ++i) {
-      const row_entry *e = &b->rowed[i];
-      memcpy(t->dst + (size_t)t->columns[e->column]++ * CLR_FILM_BINNED_FLOATS, e->v, sizeof e->v);
+      const row_entry *e = &rowed[i];
+      memcpy(dst + (size_t)columns[e->column]++ * CLR_FILM_BINNED_FLOATS, e->v, sizeof e->v);
     }
   }
 }
