@@ -388,7 +388,8 @@ static void run_parts(bin_part *parts, int n, int pass) {
   }
 }
 
-/* The grid of the parts' pass-1 results; returns the number of binned samples. */
+/* The grid of the parts' pass-1 results; returns the number of binned samples, or 0 when they
+ * give the film's pixels no non-zero factor (an empty output region). */
 static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_grid *g) {
   const clr_film_params *p = &film->params;
   int32_t bx0 = INT32_MAX, by0 = INT32_MAX, bx1 = INT32_MIN, by1 = INT32_MIN, kx = 1, ky = 1;
@@ -421,6 +422,10 @@ static size_t merge_parts(clr_film film, const bin_part *parts, int n, clr_film_
   int32_t oy1 = by1 + ky < p->pixel_y1 ? by1 + ky : p->pixel_y1;
   g->out_w = ox1 - g->out_x0;
   g->out_h = oy1 - g->out_y0;
+  if (g->out_w <= 0 || g->out_h <= 0) { /* every factor the film's pixels get is 0: no work */
+    memset(g, 0, sizeof *g);
+    return 0;
+  }
   g->weighed_floats = (CLR_FILM_WEIGHED_HEAD + kx + ky + 3) / 4 * 4;
   return binned;
 }
@@ -892,10 +897,14 @@ static clr_result reference_chunk(clr_film film, const clr_film_sample *samples,
                            clr_film_last_pixel(v[0], film->filter.radius_x),
                            clr_film_first_pixel(v[1], film->filter.radius_y),
                            clr_film_last_pixel(v[1], film->filter.radius_y)};
+    /* The output region holds every pixel a binned sample reaches (its first pixel is inside;
+     * past the chunk's reach its factors are 0, raise_reach): the kernels stop there, so does
+     * the reference, and no index leaves b->sums. */
+    const int32_t last_x = g.out_x0 + g.out_w - 1, last_y = g.out_y0 + g.out_h - 1;
     int32_t x0 = s.x0 > p->pixel_x0 ? s.x0 : p->pixel_x0;
-    int32_t x1 = s.x1 < p->pixel_x1 - 1 ? s.x1 : p->pixel_x1 - 1;
+    int32_t x1 = s.x1 < last_x ? s.x1 : last_x;
     int32_t y0 = s.y0 > p->pixel_y0 ? s.y0 : p->pixel_y0;
-    int32_t y1 = s.y1 < p->pixel_y1 - 1 ? s.y1 : p->pixel_y1 - 1;
+    int32_t y1 = s.y1 < last_y ? s.y1 : last_y;
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x) {
         size_t pix = (size_t)(y - g.out_y0) * (size_t)g.out_w + (size_t)(x - g.out_x0);
