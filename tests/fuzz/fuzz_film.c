@@ -2,7 +2,7 @@
  * portable kernels, any binning thread count, work-group size and accumulation tile size) must
  * give the host film (no context: the kernels' C build) the same counts and the same double sums,
  * bit for bit, for any film, filter and samples (NaN, Inf, negative, outside, on pixel and
- * radius boundaries, raw float bits), in one call or two. A difference aborts, so libFuzzer
+ * radius boundaries, raw float bits), in one call or two, from host memory or a device buffer. A difference aborts, so libFuzzer
  * reports it with the input. Layout of an input: 16 header bytes (read_film), then samples of 8
  * bytes (read_sample) or, with FLAG_RAW, of 24 raw float bytes. */
 #include <math.h>
@@ -15,6 +15,7 @@
 #define FLAG_CLAMP 4u    /* a maximum sample luminance */
 #define FLAG_RAW 8u      /* samples as raw floats */
 #define FLAG_SPLIT 16u   /* two calls */
+#define FLAG_BUFFER 32u  /* the device film takes its samples from a device buffer */
 #define MAX_SAMPLES 4096
 
 static clr_context ctx;
@@ -98,9 +99,22 @@ static void compare(clr_film dev, clr_film host) {
   free(sums);
 }
 
+/* film_add_samples_buffer from a device copy of the samples (none for none). */
+static clr_result add_from_buffer(clr_film film, const clr_film_sample *s, size_t n) {
+  if (!n) return film_add_samples(film, s, n);
+  cl_int err = CL_SUCCESS;
+  cl_mem buf = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                              n * sizeof *s, (void *)s, &err);
+  if (err != CL_SUCCESS) fail("clCreateBuffer");
+  clr_result r = film_add_samples_buffer(film, buf, n);
+  clReleaseMemObject(buf);
+  return r;
+}
+
 /* Adds the same samples to both films; both calls succeed or fail alike. */
-static void add_both(clr_film dev, clr_film host, const clr_film_sample *s, size_t n) {
-  clr_result a = film_add_samples(dev, s, n);
+static void add_both(clr_film dev, clr_film host, const clr_film_sample *s, size_t n,
+                     int from_buffer) {
+  clr_result a = from_buffer ? add_from_buffer(dev, s, n) : film_add_samples(dev, s, n);
   fuzz_report("film_add_samples (device)", a);
   clr_result b = film_add_samples(host, s, n);
   fuzz_report("film_add_samples (host)", b);
@@ -149,8 +163,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   }
   size_t first = (flags & FLAG_SPLIT) ? (size_t)(split * (float)n) : n;
   if (first > n) first = n;
-  add_both(dev, host, samples, first);
-  if (first < n) add_both(dev, host, samples + first, n - first);
+  const int from_buffer = (flags & FLAG_BUFFER) != 0;
+  add_both(dev, host, samples, first, from_buffer);
+  if (first < n) add_both(dev, host, samples + first, n - first, from_buffer);
   compare(dev, host);
   free(samples);
   film_release(dev);
