@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/mman.h>
 #include <unistd.h>
+#include "clrender/context.h"
 #include "clrender/result.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -63,6 +64,29 @@ static inline void fuzz_report(const char *step, clr_result r) {
 static inline void fuzz_ignore_warning(void *user, const char *message) {
   (void)user;
   if (fuzz_verbose()) fprintf(stderr, "  warning: %s\n", message);
+}
+
+/* The input as a stream of bytes; zeros once it is used up (the differential targets). */
+typedef struct fuzz_reader {
+  const uint8_t *p;
+  size_t n;
+} fuzz_reader;
+
+static inline uint8_t fuzz_next(fuzz_reader *r) {
+  if (!r->n) return 0;
+  --r->n;
+  return *r->p++;
+}
+
+/* The default OpenCL device's context for a differential target's whole run; aborts, naming the
+ * target, when there is none. */
+static inline clr_context fuzz_device_context(const char *target) {
+  clr_context ctx = NULL;
+  if (clr_context_create(NULL, &ctx) != CLR_SUCCESS) {
+    fprintf(stderr, "%s: no OpenCL device: %s\n", target, clr_last_error_message());
+    abort();
+  }
+  return ctx;
 }
 
 #endif

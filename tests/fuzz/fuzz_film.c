@@ -20,42 +20,31 @@
 
 static clr_context ctx;
 
-typedef struct reader {
-  const uint8_t *p;
-  size_t n;
-} reader;
-
-static uint8_t next(reader *r) {
-  if (!r->n) return 0;
-  --r->n;
-  return *r->p++;
-}
-
-static float unit(reader *r) { return (float)next(r) / 255.0f; }
+static float unit(fuzz_reader *r) { return (float)fuzz_next(r) / 255.0f; }
 
 /* The film and its filter from 16 bytes; *flags, *threads, *group and *split get the rest. */
-static void read_film(reader *r, clr_film_desc *d, unsigned *flags, int *threads, size_t *group,
-                      float *split) {
+static void read_film(fuzz_reader *r, clr_film_desc *d, unsigned *flags, int *threads,
+                      size_t *group, float *split) {
   static const size_t groups[] = {0, 1, 2, 4, 8, 16, 64};
   clr_film_desc_init(d);
-  clr_filter_desc_init(&d->filter, (clr_filter_type)(next(r) % 7));
-  *flags = next(r);
+  clr_filter_desc_init(&d->filter, (clr_filter_type)(fuzz_next(r) % 7));
+  *flags = fuzz_next(r);
   d->filter.use_table = (*flags & FLAG_TABLE) != 0;
-  d->filter.radius[0] = (float)(1 + next(r) % 64) / 8.0f; /* 0.125 .. 8: reaches up to 17 */
-  d->filter.radius[1] = (float)(1 + next(r) % 64) / 8.0f;
-  d->filter.b = ((float)next(r) - 128.0f) / 32.0f;
-  d->filter.c = ((float)next(r) - 128.0f) / 32.0f;
-  d->x_resolution = 1 + next(r) % 40;
-  d->y_resolution = 1 + next(r) % 40;
+  d->filter.radius[0] = (float)(1 + fuzz_next(r) % 64) / 8.0f; /* 0.125 .. 8: reaches up to 17 */
+  d->filter.radius[1] = (float)(1 + fuzz_next(r) % 64) / 8.0f;
+  d->filter.b = ((float)fuzz_next(r) - 128.0f) / 32.0f;
+  d->filter.c = ((float)fuzz_next(r) - 128.0f) / 32.0f;
+  d->x_resolution = 1 + fuzz_next(r) % 40;
+  d->y_resolution = 1 + fuzz_next(r) % 40;
   float cx0 = unit(r), cx1 = unit(r), cy0 = unit(r), cy1 = unit(r);
   d->crop_window[0] = fminf(cx0, cx1);
   d->crop_window[1] = fmaxf(cx0, cx1);
   d->crop_window[2] = fminf(cy0, cy1);
   d->crop_window[3] = fmaxf(cy0, cy1);
-  d->accumulation_tile_size = 4 + next(r) % 61;
-  uint8_t clamp = next(r);
+  d->accumulation_tile_size = 4 + fuzz_next(r) % 61;
+  uint8_t clamp = fuzz_next(r);
   if (*flags & FLAG_CLAMP) d->max_sample_luminance = 0.25f + (float)clamp / 16.0f;
-  uint8_t t = next(r);
+  uint8_t t = fuzz_next(r);
   *threads = 1 + t % 3;
   *group = groups[(t >> 2) % 7];
   *split = unit(r);
@@ -63,19 +52,19 @@ static void read_film(reader *r, clr_film_desc *d, unsigned *flags, int *threads
 
 /* A coordinate over the sample bounds and a little beyond, or, for the top 16th of the range,
  * on a quarter-pixel grid (pixel centres, edges and radius boundaries exactly). */
-static float read_coordinate(reader *r, int32_t resolution, float radius) {
-  unsigned v = (unsigned)next(r) | (unsigned)next(r) << 8;
+static float read_coordinate(fuzz_reader *r, int32_t resolution, float radius) {
+  unsigned v = (unsigned)fuzz_next(r) | (unsigned)fuzz_next(r) << 8;
   if ((v & 0xf000u) == 0xf000u) return (float)(v & 0xffu) / 4.0f - 8.0f;
   return -radius - 1.0f + (float)v / 65535.0f * ((float)resolution + 2.0f * radius + 2.0f);
 }
 
-static void read_sample(reader *r, const clr_film_desc *d, clr_film_sample *s) {
+static void read_sample(fuzz_reader *r, const clr_film_desc *d, clr_film_sample *s) {
   s->x = read_coordinate(r, d->x_resolution, d->filter.radius[0]);
   s->y = read_coordinate(r, d->y_resolution, d->filter.radius[1]);
-  s->r = ((float)next(r) - 32.0f) / 16.0f; /* some negative: luminance below the threshold */
-  s->g = ((float)next(r) - 32.0f) / 16.0f;
-  s->b = ((float)next(r) - 32.0f) / 16.0f;
-  uint8_t w = next(r);
+  s->r = ((float)fuzz_next(r) - 32.0f) / 16.0f; /* some negative: luminance below the threshold */
+  s->g = ((float)fuzz_next(r) - 32.0f) / 16.0f;
+  s->b = ((float)fuzz_next(r) - 32.0f) / 16.0f;
+  uint8_t w = fuzz_next(r);
   s->weight = w == 255 ? NAN : w == 254 ? INFINITY : (float)w / 64.0f;
 }
 
@@ -124,15 +113,12 @@ static void add_both(clr_film dev, clr_film host, const clr_film_sample *s, size
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;
   (void)argv;
-  if (clr_context_create(NULL, &ctx) != CLR_SUCCESS) {
-    fprintf(stderr, "fuzz_film: no OpenCL device: %s\n", clr_last_error_message());
-    abort();
-  }
+  ctx = fuzz_device_context("fuzz_film");
   return 0;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-  reader r = {data, size};
+  fuzz_reader r = {data, size};
   clr_film_desc d;
   unsigned flags = 0;
   int threads = 1;
