@@ -136,6 +136,14 @@ static int case_selected(int type, int use_table) {
 /* CLR_BENCH_FILM_INPUT (host, device_buffer), when set, keeps only that input path. */
 static int input_selected(int path) {
   const char *input = getenv("CLR_BENCH_FILM_INPUT");
+  if (input && strcmp(input, "host") != 0 && strcmp(input, "device_buffer") != 0) {
+    if (path == 0)
+      fprintf(stderr,
+              "bench film: CLR_BENCH_FILM_INPUT=%s: expected host or device_buffer; "
+              "running both\n",
+              input);
+    return 1;
+  }
   return !input || strcmp(input, path ? "device_buffer" : "host") == 0;
 }
 
