@@ -32,7 +32,8 @@ cmake --build "$build" -j "$(nproc)" --target clr_fuzzers
 sanitizers=tests/sanitizers
 # OpenCL program binaries stay in the build tree, never in the user's ~/.cache.
 export CLRENDER_CACHE_DIR="$PWD/$build/program-cache" POCL_CACHE_DIR="$PWD/$build/pocl-cache"
-export ASAN_OPTIONS="detect_leaks=1:suppressions=$PWD/$sanitizers/asan.supp"
+# intercept_tls_get_addr=0: see tests/sanitizers/sanitizers.cmake (LeakSanitizer and PoCL's TLS).
+export ASAN_OPTIONS="detect_leaks=1:intercept_tls_get_addr=0:suppressions=$PWD/$sanitizers/asan.supp"
 export LSAN_OPTIONS="suppressions=$PWD/$sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$PWD/$sanitizers/ubsan.supp"
 
