@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets of tests/fuzz with clang (CLR_FUZZ=ON: ASan + UBSan + libFuzzer)
 # and runs each for a bounded time. Fails on the first crash, leak, timeout or out-of-memory, and
 # names the input that caused it (keep it in tests/fuzz/regressions/<target>/ once fixed).
-#   scripts/fuzz.sh [TARGET...]        targets: scene ply exr png cli film sampler (default: all)
+#   scripts/fuzz.sh [TARGET...]        targets: scene ply exr png cli film sampler tile (default: all)
 #   CLR_FUZZ_SECONDS=N                 seconds per target (default 30)
 #   CLR_FUZZ_SEED=N                    libFuzzer's -seed (default 0: random; test.sh uses 1)
 #   CLR_FUZZ_BUILD_DIR=DIR             build folder (default build-fuzz)
@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 seconds=${CLR_FUZZ_SECONDS:-30}
 build=${CLR_FUZZ_BUILD_DIR:-build-fuzz}
 targets=("$@")
-if [ ${#targets[@]} -eq 0 ]; then targets=(scene ply exr png cli film sampler); fi
+if [ ${#targets[@]} -eq 0 ]; then targets=(scene ply exr png cli film sampler tile); fi
 
 fail() { echo "fuzz: $*" >&2; exit 1; }
 command -v clang >/dev/null || fail "clang not found: the fuzzers need clang and libFuzzer (scripts/install-deps.sh installs clang and libclang-rt-14-dev)"

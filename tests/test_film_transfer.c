@@ -103,8 +103,10 @@ static void test_bad_tile_bytes_refused(void **state) {
   assert_int_equal(film_tile_deserialize(a, buf, 8, &out), CLR_ERROR_INVALID_ARGUMENT);
   assert_int_equal(film_tile_deserialize(small, buf, n, &out), CLR_ERROR_INVALID_TILE);
   assert_null(out);
+  assert_non_null(strstr(clr_last_error_message(), "outside the film's pixel bounds"));
   buf[0] ^= 0x5a; /* the magic */
   assert_int_equal(film_tile_deserialize(a, buf, n, &out), CLR_ERROR_INVALID_TILE);
+  assert_non_null(strstr(clr_last_error_message(), "not a serialized tile (magic 0x"));
   assert_int_equal(film_tile_deserialize(NULL, buf, n, &out), CLR_ERROR_NULL_POINTER);
   assert_int_equal(film_tile_serialized_size(NULL), 0);
   free(buf);

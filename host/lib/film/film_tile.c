@@ -152,11 +152,17 @@ clr_result film_tile_deserialize(clr_film film, const void *buf, size_t size, cl
   memcpy(&h, buf, sizeof h);
   const clr_film_params *p = &film->params;
   clr_bounds2i b = {h.bounds[0], h.bounds[1], h.bounds[2], h.bounds[3]};
-  if (h.magic != TILE_MAGIC || b.x0 < p->pixel_x0 || b.y0 < p->pixel_y0 || b.x1 > p->pixel_x1 ||
-      b.y1 > p->pixel_y1 || b.x1 < b.x0 || b.y1 < b.y0)
+  if (h.magic != TILE_MAGIC)
     return clr_fail(film->ctx, CLR_ERROR_INVALID_TILE,
-                    "film_tile_deserialize: not a tile of this film (bounds [%d,%d)x[%d,%d))", b.x0,
-                    b.x1, b.y0, b.y1);
+                    "film_tile_deserialize: not a serialized tile (magic 0x%08x, expected 0x%08x)",
+                    h.magic, TILE_MAGIC);
+  if (b.x0 < p->pixel_x0 || b.y0 < p->pixel_y0 || b.x1 > p->pixel_x1 || b.y1 > p->pixel_y1 ||
+      b.x1 < b.x0 || b.y1 < b.y0)
+    return clr_fail(
+        film->ctx, CLR_ERROR_INVALID_TILE,
+        "film_tile_deserialize: bounds [%d,%d)x[%d,%d) are inverted or outside the film's pixel "
+        "bounds [%d,%d)x[%d,%d)",
+        b.x0, b.x1, b.y0, b.y1, p->pixel_x0, p->pixel_x1, p->pixel_y0, p->pixel_y1);
   size_t floats = tile_pixels(b) * CLR_FILM_SUM_FLOATS;
   if (size != sizeof h + floats * sizeof(float))
     return clr_fail(film->ctx, CLR_ERROR_INVALID_ARGUMENT,
