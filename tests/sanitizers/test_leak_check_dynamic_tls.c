@@ -51,7 +51,8 @@ int main(void) {
   pthread_t thread[threads];
   for (int i = 0; i < threads; i++) {
     touched = 0;
-    if (pthread_create(&thread[i], NULL, hold_dynamic_tls, NULL) != 0) return fail("pthread_create");
+    if (pthread_create(&thread[i], NULL, hold_dynamic_tls, NULL) != 0)
+      return fail("pthread_create");
     pthread_mutex_lock(&lock);
     while (!touched) pthread_cond_wait(&changed, &lock);
     pthread_mutex_unlock(&lock);
