@@ -351,6 +351,61 @@ static void test_resume_refuses_another_sample_layout(void **state) {
   assert_non_null(strstr(clr_last_error_message(), "sample layout \"(not recorded)\""));
 }
 
+/* The recorded counts come from an untrusted file: anything but a plain count (a flag: 0 or 1)
+ * is refused, naming the attribute and its text. */
+static void test_resume_refuses_bad_recorded_counts(void **state) {
+  (void)state;
+  const char *recorded[] = {
+      "halton", "path", "0123456789abcdef",   "0", "pixel", "default", "8", "16",
+      "0",      "1",    "camera 0, values 53"};
+  clr_resume_identity now = {.sampler = "halton",
+                             .integrator = "path",
+                             .scene = "0123456789abcdef",
+                             .seeding = "pixel",
+                             .randomization = "default",
+                             .spp_target = 16,
+                             .global_sampler = 1};
+  snprintf(now.seed, sizeof now.seed, "0");
+  snprintf(now.layout, sizeof now.layout, "camera 0, values 53");
+  static const struct {
+    int attribute;
+    const char *text, *message;
+  } bad[] = {
+      {6, "8x", "clrender.spp attribute is \"8x\", not a whole number"},
+      {6, "99999999999", "clrender.spp attribute is \"99999999999\""},
+      {6, "1e30", "clrender.spp attribute is \"1e30\""},
+      {6, "-3", "clrender.spp attribute is \"-3\""},
+      {6, " 8", "clrender.spp attribute is \" 8\""},
+      {6, "", "clrender.spp attribute is \"\""},
+      {7, "16.5", "clrender.spp_target attribute is \"16.5\""},
+      {8, "2", "clrender.partial attribute is \"2\", not 0 or 1"},
+      {9, "yes", "clrender.whole_passes attribute is \"yes\", not 0 or 1"},
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+    char values[11][CLR_RESUME_VALUE];
+    memset(values, 0, sizeof values);
+    for (int k = 0; k < 11; ++k) snprintf(values[k], CLR_RESUME_VALUE, "%s", recorded[k]);
+    int32_t done = -1;
+    assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done), CLR_SUCCESS);
+    assert_int_equal(done, 8);
+    snprintf(values[bad[i].attribute], CLR_RESUME_VALUE, "%s", bad[i].text);
+    done = -1;
+    assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done),
+                     CLR_ERROR_INVALID_ARGUMENT);
+    assert_int_equal(done, -1);
+    if (!strstr(clr_last_error_message(), bad[i].message))
+      fail_msg("%s: got \"%s\"", bad[i].text, clr_last_error_message());
+  }
+  char values[11][CLR_RESUME_VALUE];
+  memset(values, 0, sizeof values);
+  for (int k = 0; k < 11; ++k) snprintf(values[k], CLR_RESUME_VALUE, "%s", recorded[k]);
+  values[9][0] = 0; /* no clrender.whole_passes: refused for that reason */
+  int32_t done = -1;
+  assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done),
+                   CLR_ERROR_INVALID_ARGUMENT);
+  assert_non_null(strstr(clr_last_error_message(), "no clrender.whole_passes attribute"));
+}
+
 int main(void) {
   if (!mkdtemp(dir)) return 1;
   snprintf(log_path, sizeof log_path, "%s/log.txt", dir);
@@ -363,6 +418,7 @@ int main(void) {
       cmocka_unit_test(test_interrupted_checkpointed_render_resumes),
       cmocka_unit_test(test_resume_refuses_other_renders),
       cmocka_unit_test(test_resume_refuses_another_sample_layout),
+      cmocka_unit_test(test_resume_refuses_bad_recorded_counts),
       cmocka_unit_test(test_adaptive_sampling_is_deterministic),
   };
   int failed = cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,5 +1,6 @@
 /* Resume checks: the image's header must describe the render being continued. */
 #include "resume.h"
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,6 +51,35 @@ static clr_result mismatch(const char *path, const char *what, const char *then,
       path, what, then[0] ? then : "(not recorded)", now);
 }
 
+/* A recorded count: decimal digits only, 0..INT32_MAX. */
+static int parse_count(const char *text, int32_t *out) {
+  if (text[0] < '0' || text[0] > '9') return 0;
+  errno = 0;
+  char *end = NULL;
+  long v = strtol(text, &end, 10);
+  if (*end || errno || v > INT32_MAX) return 0;
+  *out = (int32_t)v;
+  return 1;
+}
+
+/* The recorded counts the checks read; refuses one that is not a count (or a flag, 0 or 1),
+ * naming the attribute and its text. An image without clrender.whole_passes has whole 0. */
+static clr_result read_counts(const char *path, const char *values, int32_t c[4]) {
+  static const int attr[4] = {A_SPP, A_TARGET, A_PARTIAL, A_WHOLE};
+  for (int k = 0; k < 4; ++k) {
+    const char *text = value(values, attr[k]);
+    int flag = attr[k] == A_PARTIAL || attr[k] == A_WHOLE;
+    c[k] = 0;
+    if (flag && !text[0]) continue;
+    if (!parse_count(text, &c[k]) || (flag && c[k] > 1))
+      return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
+                                "--resume %s: its %s attribute is \"%s\", not %s", path,
+                                clr_resume_attributes[attr[k]], text,
+                                flag ? "0 or 1" : "a whole number from 0 to 2147483647");
+  }
+  return CLR_SUCCESS;
+}
+
 clr_result clr_resume_check(const char *path, const char *values, const clr_resume_identity *now,
                             int32_t *spp_done) {
   const char *names[A_SPP] = {"sampler", "integrator", "scene (content hash)",
@@ -61,8 +91,10 @@ clr_result clr_resume_check(const char *path, const char *values, const clr_resu
       return mismatch(path, names[k], value(values, k), mine[k]);
   if (strcmp(value(values, A_LAYOUT), now->layout) != 0) /* e.g. written by an older clrender */
     return mismatch(path, "sample layout", value(values, A_LAYOUT), now->layout);
-  int spp = atoi(value(values, A_SPP)), target = atoi(value(values, A_TARGET));
-  int partial = atoi(value(values, A_PARTIAL)), whole = atoi(value(values, A_WHOLE));
+  int32_t counts[4];
+  clr_result r = read_counts(path, values, counts);
+  if (r != CLR_SUCCESS) return r;
+  const int32_t spp = counts[0], target = counts[1], partial = counts[2], whole = counts[3];
   if (!whole || spp <= 0)
     return clr_set_last_error(CLR_ERROR_INVALID_ARGUMENT,
                               "--resume %s: the image does not hold whole passes (%s): it cannot "
