@@ -6,6 +6,8 @@
 #   CLR_FUZZ_SECONDS=N                 seconds per target (default 30)
 #   CLR_FUZZ_SEED=N                    libFuzzer's -seed (default 0: random; test.sh uses 1)
 #   CLR_FUZZ_BUILD_DIR=DIR             build folder (default build-fuzz)
+#   CLR_FUZZ_POCL_CACHE_DIR=DIR        PoCL's kernel cache (default: the build folder's; test.sh shares
+#                                      the first build's, so no fuzz time goes to cold compiles)
 # New inputs the fuzzer finds go to DIR/fuzz-corpus/<target> (kept between runs), crashes to
 # DIR/fuzz-artifacts/<target>/. Extra libFuzzer flags: CLR_FUZZ_FLAGS="-max_len=65536".
 set -euo pipefail
@@ -31,7 +33,8 @@ cmake --build "$build" -j "$(nproc)" --target clr_fuzzers
 
 sanitizers=tests/sanitizers
 # OpenCL program binaries stay in the build tree, never in the user's ~/.cache.
-export CLRENDER_CACHE_DIR="$PWD/$build/program-cache" POCL_CACHE_DIR="$PWD/$build/pocl-cache"
+export CLRENDER_CACHE_DIR="$PWD/$build/program-cache"
+export POCL_CACHE_DIR="${CLR_FUZZ_POCL_CACHE_DIR:-$PWD/$build/pocl-cache}"
 # intercept_tls_get_addr=0: see tests/sanitizers/sanitizers.cmake (LeakSanitizer and PoCL's TLS).
 export ASAN_OPTIONS="detect_leaks=1:intercept_tls_get_addr=0:suppressions=$PWD/$sanitizers/asan.supp"
 export LSAN_OPTIONS="suppressions=$PWD/$sanitizers/lsan.supp:print_suppressions=0"
