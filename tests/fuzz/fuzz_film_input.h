@@ -99,4 +99,31 @@ static inline size_t fuzz_first_call(const fuzz_film_input *in, size_t n) {
   return first > n ? n : first;
 }
 
+/* What differs between two films of one description: "accepted samples", "dropped samples",
+ * "outside samples", "sums" (double sums, bitwise) or "images" (film_get_rgb, bitwise); NULL when
+ * nothing does. Aborts when the films cannot be read. */
+static inline const char *fuzz_films_differ(clr_film a, clr_film b) {
+  if (film_sample_count(a) != film_sample_count(b)) return "accepted samples";
+  if (film_dropped_samples(a) != film_dropped_samples(b)) return "dropped samples";
+  if (film_outside_samples(a) != film_outside_samples(b)) return "outside samples";
+  clr_bounds2i bounds = film_pixel_bounds(a);
+  size_t pixels = (size_t)(bounds.x1 - bounds.x0) * (size_t)(bounds.y1 - bounds.y0);
+  double *sums = calloc(pixels * 8 + 1, sizeof *sums);
+  float *rgb = calloc(pixels * 6 + 1, sizeof *rgb);
+  if (!sums || !rgb) abort();
+  if (film_get_sums(a, sums, sums + 3 * pixels, NULL) != CLR_SUCCESS ||
+      film_get_sums(b, sums + 4 * pixels, sums + 7 * pixels, NULL) != CLR_SUCCESS ||
+      film_get_rgb(a, rgb, 1.0f) != CLR_SUCCESS ||
+      film_get_rgb(b, rgb + 3 * pixels, 1.0f) != CLR_SUCCESS) {
+    fprintf(stderr, "fuzz: cannot read a film: %s\n", clr_last_error_message());
+    abort();
+  }
+  const char *what = memcmp(sums, sums + 4 * pixels, 4 * pixels * sizeof *sums) ? "sums"
+                     : memcmp(rgb, rgb + 3 * pixels, 3 * pixels * sizeof *rgb)  ? "images"
+                                                                                : NULL;
+  free(sums);
+  free(rgb);
+  return what;
+}
+
 #endif

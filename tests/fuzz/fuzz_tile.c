@@ -69,29 +69,6 @@ static uint8_t *serialize(clr_film_tile tile, size_t *size) {
 /* Serialized header fields: u32 magic, u32 reserved, 4 x i32 bounds, 3 x u64 counters. */
 enum { HEADER_BYTES = 48, COUNTERS_AT = 24 };
 
-/* Two films that merged the same tile hold the same sums, counts and image. */
-static void compare_films(clr_film a, clr_film b) {
-  if (film_sample_count(a) != film_sample_count(b) ||
-      film_dropped_samples(a) != film_dropped_samples(b) ||
-      film_outside_samples(a) != film_outside_samples(b))
-    fail("the merged films' counters differ");
-  size_t pixels = pixels_of(film_pixel_bounds(a));
-  double *sums = checked_calloc(pixels * 8, sizeof *sums);
-  if (film_get_sums(a, sums, sums + 3 * pixels, NULL) != CLR_SUCCESS ||
-      film_get_sums(b, sums + 4 * pixels, sums + 7 * pixels, NULL) != CLR_SUCCESS)
-    fail(clr_last_error_message());
-  if (memcmp(sums, sums + 4 * pixels, 4 * pixels * sizeof *sums) != 0)
-    fail("the merged films' sums differ");
-  free(sums);
-  float *rgb = checked_calloc(pixels * 6, sizeof *rgb);
-  if (film_get_rgb(a, rgb, 1.0f) != CLR_SUCCESS ||
-      film_get_rgb(b, rgb + 3 * pixels, 1.0f) != CLR_SUCCESS)
-    fail(clr_last_error_message());
-  if (memcmp(rgb, rgb + 3 * pixels, 3 * pixels * sizeof *rgb) != 0)
-    fail("the merged films' images differ");
-  free(rgb);
-}
-
 static void merge_once(clr_film film, clr_film_tile tile) {
   if (film_merge_tile(film, tile) != CLR_SUCCESS) fail(clr_last_error_message());
   if (film_merge_tile(film, tile) != CLR_ERROR_INVALID_TILE) fail("a tile merged twice");
@@ -132,7 +109,11 @@ static void check_samples(clr_film film, clr_film twin, clr_bounds2i region,
     fail("a deserialized tile serializes to other bytes");
   merge_once(film, tile);
   merge_once(twin, copy);
-  compare_films(film, twin);
+  const char *differ = fuzz_films_differ(film, twin);
+  if (differ) {
+    fprintf(stderr, "fuzz_tile: the films that merged a tile and its copy differ: %s\n", differ);
+    abort();
+  }
   free(copy_bytes);
   free(bytes);
   free(sums);
