@@ -316,26 +316,34 @@ static void test_resume_refuses_other_renders(void **state) {
   assert_int_not_equal(stat(out, &st), 0);
 }
 
-/* An image whose sample vectors were laid out otherwise (another maxdepth, or written by a
- * clrender whose integrator drew other dimensions) is refused, naming both layouts. */
-static void test_resume_refuses_another_sample_layout(void **state) {
-  (void)state;
-  char values[11][CLR_RESUME_VALUE];
-  memset(values, 0, sizeof values);
+/* The values clr_resume_check reads from an 8-of-16-spp sobol image (clr_resume_attributes'
+ * order), and the identity of the render that continues it. */
+typedef char resume_values[11][CLR_RESUME_VALUE];
+static void sobol_8_of_16(resume_values values, clr_resume_identity *now) {
   const char *recorded[] = {
       "sobol", "path", "0123456789abcdef",   "0", "pixel", "default", "8", "16",
       "0",     "1",    "camera 0, values 53"};
   assert_int_equal(clr_resume_attribute_count, 11);
+  memset(values, 0, sizeof(resume_values));
   for (int k = 0; k < 11; ++k) snprintf(values[k], CLR_RESUME_VALUE, "%s", recorded[k]);
-  clr_resume_identity now = {.sampler = "sobol",
-                             .integrator = "path",
-                             .scene = "0123456789abcdef",
-                             .seeding = "pixel",
-                             .randomization = "default",
-                             .spp_target = 16,
-                             .global_sampler = 1};
-  snprintf(now.seed, sizeof now.seed, "0");
-  snprintf(now.layout, sizeof now.layout, "camera 0, values 53");
+  *now = (clr_resume_identity){.sampler = "sobol",
+                               .integrator = "path",
+                               .scene = "0123456789abcdef",
+                               .seeding = "pixel",
+                               .randomization = "default",
+                               .spp_target = 16,
+                               .global_sampler = 1};
+  snprintf(now->seed, sizeof now->seed, "0");
+  snprintf(now->layout, sizeof now->layout, "camera 0, values 53");
+}
+
+/* An image whose sample vectors were laid out otherwise (another maxdepth, or written by a
+ * clrender whose integrator drew other dimensions) is refused, naming both layouts. */
+static void test_resume_refuses_another_sample_layout(void **state) {
+  (void)state;
+  resume_values values;
+  clr_resume_identity now;
+  sobol_8_of_16(values, &now);
   int32_t done = 0;
   assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done), CLR_SUCCESS);
   assert_int_equal(done, 8);
@@ -355,18 +363,8 @@ static void test_resume_refuses_another_sample_layout(void **state) {
  * is refused, naming the attribute and its text. */
 static void test_resume_refuses_bad_recorded_counts(void **state) {
   (void)state;
-  const char *recorded[] = {
-      "halton", "path", "0123456789abcdef",   "0", "pixel", "default", "8", "16",
-      "0",      "1",    "camera 0, values 53"};
-  clr_resume_identity now = {.sampler = "halton",
-                             .integrator = "path",
-                             .scene = "0123456789abcdef",
-                             .seeding = "pixel",
-                             .randomization = "default",
-                             .spp_target = 16,
-                             .global_sampler = 1};
-  snprintf(now.seed, sizeof now.seed, "0");
-  snprintf(now.layout, sizeof now.layout, "camera 0, values 53");
+  resume_values values;
+  clr_resume_identity now;
   static const struct {
     int attribute;
     const char *text, *message;
@@ -382,9 +380,7 @@ static void test_resume_refuses_bad_recorded_counts(void **state) {
       {9, "yes", "clrender.whole_passes attribute is \"yes\", not 0 or 1"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-    char values[11][CLR_RESUME_VALUE];
-    memset(values, 0, sizeof values);
-    for (int k = 0; k < 11; ++k) snprintf(values[k], CLR_RESUME_VALUE, "%s", recorded[k]);
+    sobol_8_of_16(values, &now);
     int32_t done = -1;
     assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done), CLR_SUCCESS);
     assert_int_equal(done, 8);
@@ -396,9 +392,7 @@ static void test_resume_refuses_bad_recorded_counts(void **state) {
     if (!strstr(clr_last_error_message(), bad[i].message))
       fail_msg("%s: got \"%s\"", bad[i].text, clr_last_error_message());
   }
-  char values[11][CLR_RESUME_VALUE];
-  memset(values, 0, sizeof values);
-  for (int k = 0; k < 11; ++k) snprintf(values[k], CLR_RESUME_VALUE, "%s", recorded[k]);
+  sobol_8_of_16(values, &now);
   values[9][0] = 0; /* no clrender.whole_passes: refused for that reason */
   int32_t done = -1;
   assert_int_equal(clr_resume_check("a.exr", &values[0][0], &now, &done),
