@@ -50,11 +50,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   fuzz_film_input in;
   fuzz_read_film(&r, &in);
   clr_film dev = NULL, host = NULL;
-  clr_result made = film_create(ctx, &in.desc, &dev);
-  fuzz_report("film_create", made);
-  if (made != CLR_SUCCESS) return 0;
-  if (film_create(NULL, &in.desc, &host) != CLR_SUCCESS)
-    fail("the host film refused the description");
+  if (!fuzz_create_films(ctx, &in.desc, &dev, &host)) return 0;
   if (clr_context_set_kernel_shape(
           ctx, (in.flags & FUZZ_FLAG_PORTABLE) ? CLR_KERNELS_PORTABLE : CLR_KERNELS_SIMD) !=
           CLR_SUCCESS ||

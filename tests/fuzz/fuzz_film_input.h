@@ -99,6 +99,20 @@ static inline size_t fuzz_first_call(const fuzz_film_input *in, size_t n) {
   return first > n ? n : first;
 }
 
+/* The input's film twice: *first on ctx (NULL: the host), *host on the host. Returns 0, with
+ * neither made, when the description is refused; aborts when only the host film refuses it. */
+static inline int fuzz_create_films(clr_context ctx, const clr_film_desc *d, clr_film *first,
+                                    clr_film *host) {
+  clr_result made = film_create(ctx, d, first);
+  fuzz_report("film_create", made);
+  if (made != CLR_SUCCESS) return 0;
+  if (film_create(NULL, d, host) != CLR_SUCCESS) {
+    fprintf(stderr, "fuzz: the host film refused the description: %s\n", clr_last_error_message());
+    abort();
+  }
+  return 1;
+}
+
 /* What differs between two films of one description: "accepted samples", "dropped samples",
  * "outside samples", "sums" (double sums, bitwise) or "images" (film_get_rgb, bitwise); NULL when
  * nothing does. Aborts when the films cannot be read. */

@@ -110,10 +110,7 @@ static void check_samples(clr_film film, clr_film twin, clr_bounds2i region,
   merge_once(film, tile);
   merge_once(twin, copy);
   const char *differ = fuzz_films_differ(film, twin);
-  if (differ) {
-    fprintf(stderr, "fuzz_tile: the films that merged a tile and its copy differ: %s\n", differ);
-    abort();
-  }
+  if (differ) fail(differ); /* the films that merged the tile and its copy */
   free(copy_bytes);
   free(bytes);
   free(sums);
@@ -151,10 +148,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   fuzz_film_input in;
   fuzz_read_film(&r, &in);
   clr_film film = NULL, twin = NULL;
-  clr_result made = film_create(NULL, &in.desc, &film);
-  fuzz_report("film_create", made);
-  if (made != CLR_SUCCESS) return 0;
-  if (film_create(NULL, &in.desc, &twin) != CLR_SUCCESS) fail(clr_last_error_message());
+  if (!fuzz_create_films(NULL, &in.desc, &film, &twin)) return 0;
   clr_bounds2i region = read_region(&r, film_sample_bounds(film));
   if (in.flags & FUZZ_FLAG_BUFFER)
     check_tile_bytes(film, &r);
