@@ -11,11 +11,26 @@ typedef struct bench_options {
   const char *only_device; /* NULL: every device */
   clr_kernel_shape shape;  /* kernel shape of this pass (each JSON line names it) */
   const char *out_dir;     /* figures of the quality section; NULL: build/bench-quality */
+  int reps;                /* timed runs per figure (--reps); 0: the section's default */
 } bench_options;
 
+/* Timed runs of one figure: median, fastest and slowest run in seconds. */
+typedef struct bench_timing {
+  double median, min, max;
+  int reps;
+} bench_timing;
+
+#define BENCH_MAX_REPS 64
+
 double bench_now(void);
+/* o->reps when --reps was given, else the section's default (its quick one under --quick). */
+int bench_reps(const bench_options *o, int quick_default, int full_default);
+/* Times `reps` runs of fn(user) after one warm-up run; 0 on failure (then *t is unset). */
+int bench_time(int reps, int (*fn)(void *user), void *user, bench_timing *t);
 /* Median seconds of `reps` runs of fn(user) after one warm-up run; negative on failure. */
 double bench_median(int reps, int (*fn)(void *user), void *user);
+/* Prints ,"reps":N,"<name>_min":..,"<name>_max":.. for a rate of `work` units per second. */
+void bench_json_spread(const char *name, double work, const bench_timing *t);
 void bench_json_escape(FILE *f, const char *s);
 /* Context on device i with the pass's kernel shape, or NULL when --device excludes it or it fails
  * to open (then a JSON line with the error is printed for section `bench` and the caller skips the

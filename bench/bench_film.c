@@ -84,11 +84,12 @@ static int bench_bin_threads(void) {
   return env ? atoi(env) : 0;
 }
 
-/* Samples per second of one path; *mem gets the film's peak memory, *cpu_ns the process's CPU
- * nanoseconds per sample over all its runs (the warm-up included; less disturbed by load than
- * samples/s). */
+/* Samples per second of one path (the median run; *timing gets every run's spread); *mem gets
+ * the film's peak memory, *cpu_ns the process's CPU nanoseconds per sample over all its runs (the
+ * warm-up included; less disturbed by load than samples/s). */
 static double rate(clr_context ctx, int type, int use_table, int path, size_t count, int reps,
-                   const clr_film_sample *samples, film_memory *mem, double *cpu_ns) {
+                   const clr_film_sample *samples, film_memory *mem, double *cpu_ns,
+                   bench_timing *timing) {
   run r = {make_film(ctx, type, use_table), samples, NULL, count, path == 2};
   if (!r.film) return -1;
   if (film_set_bin_threads(r.film, bench_bin_threads()) != CLR_SUCCESS) {
@@ -105,8 +106,8 @@ static double rate(clr_context ctx, int type, int use_table, int path, size_t co
     }
   }
   double cpu0 = process_cpu_s();
-  double t = bench_median(reps, run_once, &r);
-  *cpu_ns = 1e9 * (process_cpu_s() - cpu0) / ((double)count * (reps + 1));
+  double t = bench_time(reps, run_once, &r, timing) ? timing->median : -1;
+  *cpu_ns = 1e9 * (process_cpu_s() - cpu0) / ((double)count * (timing->reps + 1));
   if (mem) {
     mem->sums_bytes_per_pixel = (double)clr_film_sums_bytes(r.film) / ((double)FILM_W * FILM_H);
     mem->scratch_mib = (double)clr_film_scratch_bytes(r.film) / (1024.0 * 1024.0);
@@ -152,7 +153,7 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
   size_t spp = env ? (size_t)atoi(env) : o->quick ? 2 : 16;
   if (spp < 1) spp = 1;
   size_t count = spp * FILM_W * FILM_H, ref_count = (size_t)FILM_W * FILM_H;
-  int reps = o->quick ? 1 : 3;
+  int reps = bench_reps(o, 1, 3);
   clr_context host_ctx = NULL; /* the reference runs on the host; a film needs a context */
   if (clr_context_create(NULL, &host_ctx) != CLR_SUCCESS) {
     fprintf(stderr, "bench film: %s\n", clr_last_error_message());
@@ -167,11 +168,12 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
     return;
   }
   double baseline[FILTER_COUNT][2], baseline_cpu_ns[FILTER_COUNT][2];
+  bench_timing baseline_timing = {0, 0, 0, reps};
   for (int t = 0; t < FILTER_COUNT; ++t)
     for (int m = 0; m < 2; ++m)
       baseline[t][m] = case_selected(filter_types[t], m)
                            ? rate(host_ctx, filter_types[t], m, 2, ref_count, reps, samples, NULL,
-                                  &baseline_cpu_ns[t][m])
+                                  &baseline_cpu_ns[t][m], &baseline_timing)
                            : -1;
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "film");
@@ -182,7 +184,9 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
           if (!input_selected(path)) continue;
           film_memory mem = {0, 0, 0};
           double cpu_ns = 0;
-          double v = rate(ctx, filter_types[t], m, path, count, reps, samples, &mem, &cpu_ns);
+          bench_timing timing = {0, 0, 0, reps};
+          double v =
+              rate(ctx, filter_types[t], m, path, count, reps, samples, &mem, &cpu_ns, &timing);
           printf("{\"bench\":\"film\",");
           bench_json_device(ctx);
           printf(
@@ -202,6 +206,7 @@ void bench_film(const bench_options *o, const clr_device_info *devices, int devi
                 v, cpu_ns, mem.bin_threads, mem.sums_bytes_per_pixel, mem.scratch_mib,
                 baseline[t][m], baseline_cpu_ns[t][m],
                 baseline[t][m] > 0 ? v / baseline[t][m] : 0.0);
+            bench_json_spread("samples_per_s", (double)count, &timing);
           }
           printf("}\n");
           fflush(stdout);

@@ -15,17 +15,33 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-double bench_median(int reps, int (*fn)(void *user), void *user) {
-  double times[64];
-  if (reps > 64) reps = 64;
-  if (!fn(user)) return -1.0;
+int bench_reps(const bench_options *o, int quick_default, int full_default) {
+  return o->reps > 0 ? o->reps : o->quick ? quick_default : full_default;
+}
+
+int bench_time(int reps, int (*fn)(void *user), void *user, bench_timing *t) {
+  double times[BENCH_MAX_REPS];
+  if (reps < 1) reps = 1;
+  if (reps > BENCH_MAX_REPS) reps = BENCH_MAX_REPS;
+  if (!fn(user)) return 0;
   for (int i = 0; i < reps; ++i) {
     double t0 = bench_now();
-    if (!fn(user)) return -1.0;
+    if (!fn(user)) return 0;
     times[i] = bench_now() - t0;
   }
   qsort(times, (size_t)reps, sizeof times[0], cmp_double);
-  return times[reps / 2];
+  *t = (bench_timing){times[reps / 2], times[0], times[reps - 1], reps};
+  return 1;
+}
+
+double bench_median(int reps, int (*fn)(void *user), void *user) {
+  bench_timing t;
+  return bench_time(reps, fn, user, &t) ? t.median : -1.0;
+}
+
+void bench_json_spread(const char *name, double work, const bench_timing *t) {
+  printf(",\"reps\":%d,\"%s_min\":%.4g,\"%s_max\":%.4g", t->reps, name, work / t->max, name,
+         work / t->min);
 }
 
 void bench_json_escape(FILE *f, const char *s) {
@@ -88,11 +104,13 @@ static void usage(void) {
   fprintf(stderr,
           "usage: clrender_bench [--quick] [--device INDEX|NAME] "
           "[--only samples|film|tracer|render|kernels|quality] [--kernels simd|portable|both]\n"
-          "                      [--out-dir DIR]\n"
+          "                      [--reps N] [--out-dir DIR]\n"
           "Prints one JSON object per line: each device's figure (per kernel shape, both\n"
           "by default) and the single-thread host reference measured in the same run, with\n"
-          "their ratio. Simulators (Oclgrind) are checked against the host reference, not\n"
-          "timed. `tracer`: Embree packets against single rays on the host. `kernels`: gfx90a\n"
+          "their ratio. --reps N (1-64): timed runs per samples, film or tracer figure after\n"
+          "a warm-up run (the median; _min and _max: the slowest and fastest run's rates).\n"
+          "Simulators (Oclgrind) are checked against the host reference, not timed.\n"
+          "`tracer`: Embree packets against single rays on the host. `kernels`: gfx90a\n"
           "registers, spills and private bytes per kernel (from test_kernel_portability).\n"
           "`quality` (only with --only): RMSE vs spp and convergence slope of every sampler\n"
           "(analytic integrands, a checkerboard render), spectra; PNG figures in --out-dir\n"
@@ -100,7 +118,7 @@ static void usage(void) {
 }
 
 int main(int argc, char **argv) {
-  bench_options o = {0, NULL, CLR_KERNELS_AUTO, NULL};
+  bench_options o = {0, NULL, CLR_KERNELS_AUTO, NULL, 0};
   const char *only = NULL, *kernels = "both";
   for (int i = 1; i < argc; ++i) {
     if (strcmp(argv[i], "--quick") == 0)
@@ -111,7 +129,16 @@ int main(int argc, char **argv) {
       only = argv[++i];
     else if (strcmp(argv[i], "--kernels") == 0 && i + 1 < argc)
       kernels = argv[++i];
-    else if (strcmp(argv[i], "--out-dir") == 0 && i + 1 < argc && argv[i + 1][0])
+    else if (strcmp(argv[i], "--reps") == 0 && i + 1 < argc) {
+      char *end = NULL;
+      long reps = strtol(argv[++i], &end, 10);
+      if (end == argv[i] || *end != '\0' || reps < 1 || reps > BENCH_MAX_REPS) {
+        fprintf(stderr, "clrender_bench: --reps %s: expected a whole number from 1 to %d\n",
+                argv[i], BENCH_MAX_REPS);
+        return 2;
+      }
+      o.reps = (int)reps;
+    } else if (strcmp(argv[i], "--out-dir") == 0 && i + 1 < argc && argv[i + 1][0])
       o.out_dir = argv[++i];
     else {
       usage();

@@ -32,8 +32,8 @@ static void setup_run(run *r, clr_sampler s, int side) {
 }
 
 /* Values per second of the single-thread host reference on a smaller batch. */
-static double reference_rate(clr_sampler_type type, int quick) {
-  int side = quick ? 32 : 64;
+static double reference_rate(clr_sampler_type type, const bench_options *o) {
+  int side = o->quick ? 32 : 64;
   clr_sampler_desc d;
   clr_sampler_desc_init(&d, type);
   d.film.x_resolution = d.film.y_resolution = 512;
@@ -44,29 +44,32 @@ static double reference_rate(clr_sampler_type type, int quick) {
   r.reference = 1;
   size_t values = (size_t)side * side * clr_sampler_spp(s) * LAYOUT_VALUES;
   r.out.host_values = malloc(values * sizeof(float));
-  double t = r.out.host_values ? bench_median(quick ? 1 : 3, run_once, &r) : -1;
+  double t = r.out.host_values ? bench_median(bench_reps(o, 1, 3), run_once, &r) : -1;
   free(r.out.host_values);
   clr_sampler_release(s);
   return t > 0 ? (double)values / t : -1;
 }
 
-static double device_rate(clr_context ctx, clr_sampler_type type, int quick) {
-  int side = quick ? 128 : 512;
+/* The device's timing of `*value_count` values; 0 on failure. */
+static int device_timing(clr_context ctx, clr_sampler_type type, const bench_options *o,
+                         bench_timing *t, double *value_count) {
+  int side = o->quick ? 128 : 512;
   clr_sampler_desc d;
   clr_sampler_desc_init(&d, type);
   d.film.x_resolution = d.film.y_resolution = 512;
   clr_sampler s = NULL;
-  if (clr_sampler_create(ctx, &d, &s) != CLR_SUCCESS) return -1;
+  if (clr_sampler_create(ctx, &d, &s) != CLR_SUCCESS) return 0;
   run r;
   setup_run(&r, s, side);
   size_t values = (size_t)side * side * clr_sampler_spp(s) * LAYOUT_VALUES;
+  *value_count = (double)values;
   cl_int err;
   r.out.device_values = clCreateBuffer(clr_context_cl_context(ctx), CL_MEM_READ_WRITE,
                                        values * sizeof(float), NULL, &err);
-  double t = err == CL_SUCCESS ? bench_median(quick ? 2 : 5, run_once, &r) : -1;
+  int ok = err == CL_SUCCESS && bench_time(bench_reps(o, 2, 5), run_once, &r, t) && t->min > 0;
   if (err == CL_SUCCESS) clReleaseMemObject(r.out.device_values);
   clr_sampler_release(s);
-  return t > 0 ? (double)values / t : -1;
+  return ok;
 }
 
 /* Whether CLR_BENCH_SAMPLERS (comma-separated sampler names; unset: every sampler) names t. */
@@ -84,19 +87,21 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
   int types = bench_sampler_count() < MAX_TYPES ? bench_sampler_count() : MAX_TYPES;
   double baseline[MAX_TYPES];
   for (int t = 0; t < types; ++t)
-    baseline[t] =
-        sampler_wanted((clr_sampler_type)t) ? reference_rate((clr_sampler_type)t, o->quick) : -1;
+    baseline[t] = sampler_wanted((clr_sampler_type)t) ? reference_rate((clr_sampler_type)t, o) : -1;
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "samples");
     if (!ctx) continue;
     for (int t = 0; t < types; ++t) {
       if (!sampler_wanted((clr_sampler_type)t)) continue;
-      double rate = device_rate(ctx, (clr_sampler_type)t, o->quick);
+      bench_timing timing;
+      double values = 0;
+      int ok = device_timing(ctx, (clr_sampler_type)t, o, &timing, &values);
+      double rate = ok ? values / timing.median : -1;
       printf("{\"bench\":\"samples\",");
       bench_json_device(ctx);
       printf(",\"sampler\":\"%s\",\"layout_values\":%d", clr_sampler_type_name((clr_sampler_type)t),
              LAYOUT_VALUES);
-      if (rate < 0) {
+      if (!ok) {
         printf(",\"error\":");
         bench_json_escape(stdout, clr_last_error_message());
       } else {
@@ -104,6 +109,7 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
             ",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
             "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
             rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
+        bench_json_spread("values_per_s", values, &timing);
       }
       printf("}\n");
       fflush(stdout);

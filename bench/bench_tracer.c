@@ -74,7 +74,7 @@ static void report(const char *rays_kind, trace_run *r, int reps) {
 }
 
 void bench_tracer(const bench_options *o) {
-  int count = o->quick ? 200000 : 1000000, reps = o->quick ? 1 : 3;
+  int count = o->quick ? 200000 : 1000000, reps = bench_reps(o, 1, 3);
   trace_run r = {NULL, NULL, NULL, NULL, count, 0};
   clr_ray *rays = malloc((size_t)count * sizeof *rays);
   r.hits = malloc((size_t)count * sizeof *r.hits);
