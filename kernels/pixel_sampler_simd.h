@@ -1,5 +1,5 @@
 /* Device-only, 8 pixels per work-item (CLR_SEEDING_TYPE_PIXEL): the pixel samplers (stratified,
- * random) with one PCG32 stream per lane in OpenCL vector types. Every lane runs the same
+ * random, 02sequence, maxmindist) with one PCG32 stream per lane in OpenCL vector types. Every lane runs the same
  * sequence of operations as clr_pixel_sampler_pixel (stratified_funcs.h, random_funcs.h), which
  * the host reference runs: same draws in the same order, same float operations, so the same bits.
  * Lanes differ only where UniformUInt32 rejects a draw: those lanes alone draw again.
@@ -303,6 +303,43 @@ static inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng,
   clr_shuffle_draws8(n, rng, bounded);
 }
 
+/* Shuffles the n points of stream d (dims floats each, scratch rows 0..n * dims - 1) as
+ * clr_shuffle does, then stores them from scratch to every slot the stream feeds. */
+static inline void clr_stream_shuffle_store8(const clr_sampler_params *p,
+                                             __global const clr_request_slot *slots, int dims,
+                                             int d, int n, clr_pcg32x8 *rng, __global float *values,
+                                             const ulong *out, __global float *buf,
+                                             __global const uint4 *bounded) {
+  int in_registers = n <= CLR_PERM_MAX_ITEMS;
+  clr_perm8 perm;
+  perm.lo = perm.hi = (ulong4)CLR_PERM_IDENTITY;
+  if (in_registers)
+    clr_shuffle_perm8(n, rng, bounded, &perm);
+  else
+    clr_shuffle8(buf, n, dims, rng, bounded);
+  for (int k = 0; k < p->request_count; ++k) {
+    if (!clr_slot_stores(&slots[k], dims, 0, d)) continue;
+    if (in_registers && dims == 2) {
+      for (int s = 0; s < p->sample_count; ++s) {
+        uint8 at = clr_scratch_rows8(clr_nibbles8(&perm, p->first_sample + s), 2, 0);
+        clr_store_pairs8(values, out,
+                         (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value,
+                         clr_gather8(buf, at), clr_gather8(buf, at + (uint)CLR_PIXEL_LANES));
+      }
+      continue;
+    }
+    for (int s = 0; s < p->sample_count; ++s)
+      for (int c = 0; c < dims; ++c) {
+        int at = p->first_sample + s;
+        float8 v =
+            in_registers ? clr_perm_load8(buf, &perm, at, dims, c) : vload8(at * dims + c, buf);
+        clr_store_lanes8(
+            values, out,
+            (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c), v);
+      }
+  }
+}
+
 /* clr_stratified_streams: a used stream's points go straight from scratch to every slot fed. */
 static inline void clr_stratified_streams8(const clr_sampler_params *p,
                                            __global const clr_request_slot *slots, int dims,
@@ -321,34 +358,7 @@ static inline void clr_stratified_streams8(const clr_sampler_params *p,
     else
       clr_stratified_sample_2d8(buf, p->x_samples, p->y_samples, p->inv_x_samples, p->inv_y_samples,
                                 p->jitter, rng);
-    int in_registers = n <= CLR_PERM_MAX_ITEMS;
-    clr_perm8 perm;
-    perm.lo = perm.hi = (ulong4)CLR_PERM_IDENTITY;
-    if (in_registers)
-      clr_shuffle_perm8(n, rng, bounded, &perm);
-    else
-      clr_shuffle8(buf, n, dims, rng, bounded);
-    for (int k = 0; k < p->request_count; ++k) {
-      if (!clr_slot_stores(&slots[k], dims, 0, d)) continue;
-      if (in_registers && dims == 2) {
-        for (int s = 0; s < p->sample_count; ++s) {
-          uint8 at = clr_scratch_rows8(clr_nibbles8(&perm, p->first_sample + s), 2, 0);
-          clr_store_pairs8(values, out,
-                           (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value,
-                           clr_gather8(buf, at), clr_gather8(buf, at + (uint)CLR_PIXEL_LANES));
-        }
-        continue;
-      }
-      for (int s = 0; s < p->sample_count; ++s)
-        for (int c = 0; c < dims; ++c) {
-          int at = p->first_sample + s;
-          float8 v =
-              in_registers ? clr_perm_load8(buf, &perm, at, dims, c) : vload8(at * dims + c, buf);
-          clr_store_lanes8(
-              values, out,
-              (size_t)s * (size_t)p->values_per_sample + (size_t)(slots[k].first_value + c), v);
-        }
-    }
+    clr_stream_shuffle_store8(p, slots, dims, d, n, rng, values, out, buf, bounded);
   }
 }
 
@@ -386,6 +396,111 @@ static inline void clr_stratified_arrays8(const clr_sampler_params *p,
       }
     }
   }
+}
+
+/* clr_zerotwo_generate's points without its shuffles: the scramble draws, then GrayCodeSample
+ * of `total` points into scratch rows (dims floats each). Lanes differ only by their scrambles. */
+static inline void clr_zerotwo_points8(__global float *buf, int dims, int total,
+                                       clr_pcg32x8 *state) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
+  uint8 v0 = clr_pcg32x8_next(rng);
+  uint8 v1 = dims == 2 ? clr_pcg32x8_next(rng) : (uint8)0u;
+  *state = r;
+  uint c1[32];
+  c1[0] = 0x80000000u;
+  for (int k = 1; k < 32; ++k) c1[k] = c1[k - 1] ^ (c1[k - 1] >> 1u);
+  for (int i = 0; i < total; ++i) {
+    int k = clr_ctz32((uint)i + 1u);
+    vstore8(convert_float8(v0) * 0x1p-32f, dims * i, buf);
+    if (dims == 2) {
+      vstore8(convert_float8(v1) * 0x1p-32f, 2 * i + 1, buf);
+      v1 ^= c1[k];
+    }
+    v0 ^= 0x80000000u >> (uint)k;
+  }
+}
+
+/* clr_zerotwo_streams: VanDerCorput(1, spp) / Sobol2D(1, spp) per stream; the Shuffles of one
+ * point inside each sample are one draw each. */
+static inline void clr_zerotwo_streams8(const clr_sampler_params *p,
+                                        __global const clr_request_slot *slots, int dims, int first,
+                                        clr_pcg32x8 *rng, __global float *values, const ulong *out,
+                                        __global float *buf, __global const uint4 *bounded) {
+  for (int d = first; d < p->dimensions; ++d) {
+    if (!clr_slots_use(p, slots, dims, 0, d)) {
+      clr_pcg32x8_advance(rng, (ulong)dims + (ulong)p->spp);
+      clr_shuffle_draws8(p->spp, rng, bounded);
+      continue;
+    }
+    clr_zerotwo_points8(buf, dims, p->spp, rng);
+    clr_pcg32x8_advance(rng, (ulong)p->spp);
+    clr_stream_shuffle_store8(p, slots, dims, d, p->spp, rng, values, out, buf, bounded);
+  }
+}
+
+/* clr_zerotwo_arrays: VanDerCorput(size, spp) / Sobol2D(size, spp) per array. */
+static inline void clr_zerotwo_arrays8(const clr_sampler_params *p,
+                                       __global const clr_request_slot *slots, int dims,
+                                       clr_pcg32x8 *rng, __global float *values, const ulong *out,
+                                       __global float *buf, __global const uint4 *bounded) {
+  int arrays = clr_slots_array_count(p, slots, dims);
+  for (int a = 0; a < arrays; ++a) {
+    int size = clr_slots_array_size(p, slots, dims, a), floats = size * dims;
+    if (!clr_slots_use(p, slots, dims, 1, a)) {
+      clr_pcg32x8_advance(rng, (ulong)dims);
+      for (int j = 0; j < p->spp; ++j) clr_shuffle_draws8(size, rng, bounded);
+      clr_shuffle_draws8(p->spp, rng, bounded);
+      continue;
+    }
+    clr_zerotwo_points8(buf, dims, size * p->spp, rng);
+    for (int j = 0; j < p->spp; ++j)
+      clr_shuffle8(buf + (size_t)j * (size_t)floats * CLR_PIXEL_LANES, size, dims, rng, bounded);
+    clr_shuffle8(buf, p->spp, floats, rng, bounded);
+    for (int k = 0; k < p->request_count; ++k) {
+      if (!clr_slot_stores(&slots[k], dims, 1, a)) continue;
+      for (int s = 0; s < p->sample_count; ++s) {
+        size_t at = (size_t)s * (size_t)p->values_per_sample + (size_t)slots[k].first_value;
+        int row = (p->first_sample + s) * floats;
+        for (int v = 0; v < floats; ++v)
+          clr_store_lanes8(values, out, at + (size_t)v, vload8(row + v, buf));
+      }
+    }
+  }
+}
+
+/* clr_maxmin_start_pixel's first 2D stream (the same points in every lane, shuffled per lane);
+ * returns the first 2D stream left to the (0,2)-sequence. */
+static inline int clr_maxmin_first_stream8(const clr_sampler_params *p,
+                                           __global const clr_request_slot *slots, clr_pcg32x8 *rng,
+                                           __global float *values, const ulong *out,
+                                           __global float *buf, __global const uint4 *bounded) {
+  if (p->dimensions < 1) return 0;
+  if (!clr_slots_use(p, slots, 2, 0, 0)) {
+    clr_shuffle_draws8(p->spp, rng, bounded);
+    return 1;
+  }
+  for (int i = 0; i < p->spp; ++i) {
+    vstore8((float8)((float)i * p->inv_spp), 2 * i, buf);
+    vstore8((float8)((float)clr_maxmin_generate(p->maxmin_matrix, (uint)i) * 0x1p-32f), 2 * i + 1,
+            buf);
+  }
+  clr_stream_shuffle_store8(p, slots, 2, 0, p->spp, rng, values, out, buf, bounded);
+  return 1;
+}
+
+/* ZeroTwoSequenceSampler's and MaxMinDistSampler's StartPixel without the fallback values. */
+static inline void clr_zerotwo_start_pixel8(const clr_sampler_params *p,
+                                            __global const clr_request_slot *slots,
+                                            clr_pcg32x8 *rng, __global float *values,
+                                            const ulong *out, __global float *buf,
+                                            __global const uint4 *bounded) {
+  int first2d = p->type == CLR_SAMPLER_TYPE_MAXMINDIST
+                    ? clr_maxmin_first_stream8(p, slots, rng, values, out, buf, bounded)
+                    : 0;
+  clr_zerotwo_streams8(p, slots, 1, 0, rng, values, out, buf, bounded);
+  clr_zerotwo_streams8(p, slots, 2, first2d, rng, values, out, buf, bounded);
+  clr_zerotwo_arrays8(p, slots, 1, rng, values, out, buf, bounded);
+  clr_zerotwo_arrays8(p, slots, 2, rng, values, out, buf, bounded);
 }
 
 /* clr_pixel_store_fallbacks: the single values past the streams, drawn in order (their
@@ -441,6 +556,8 @@ static inline void clr_pixel_sampler_start_pixel8(const clr_sampler_params *p,
     clr_stratified_streams8(p, slots, 2, rng, values, out, buf, bounded);
     clr_stratified_arrays8(p, slots, 1, rng, values, out, buf, bounded);
     clr_stratified_arrays8(p, slots, 2, rng, values, out, buf, bounded);
+  } else if (p->type == CLR_SAMPLER_TYPE_ZEROTWO || p->type == CLR_SAMPLER_TYPE_MAXMINDIST) {
+    clr_zerotwo_start_pixel8(p, slots, rng, values, out, buf, bounded);
   } else {
     for (int dims = 1; dims <= 2; ++dims) {
       int arrays = clr_slots_array_count(p, slots, dims);

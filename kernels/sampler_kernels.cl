@@ -5,9 +5,7 @@
  * Two shapes (include/clrender/kernels.h): by default the SIMD kernels (8 items or pixels per
  * work-item in vector types, for PoCL's CPU devices); with -DCLR_KERNELS_PORTABLE the portable
  * ones (one work-item per sample vector or pixel, the scalar functions the host reference runs,
- * no vector types). The pbrt-v3-seeded pixel samplers replay a tile sequentially in both. The
- * (0,2)-sequence and maxmindist samplers have only the portable per-pixel kernel (the host
- * selects it). */
+ * no vector types). The pbrt-v3-seeded pixel samplers replay a tile sequentially in both. */
 #include "sampler_types.h"
 #include "global_sampler_funcs.h"
 #include "pixel_sampler_funcs.h"
@@ -199,7 +197,10 @@ __kernel void clr_pixel_generate_portable(clr_sampler_params p,
                           values + (size_t)pixel * per_pixel,
                           scratch + (size_t)pixel * (size_t)p.scratch_floats);
 }
-#elif CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM || CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED
+#elif CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_RANDOM ||   \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_STRATIFIED || \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_ZEROTWO ||    \
+    CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_MAXMINDIST
 #include "pixel_sampler_simd.h"
 
 /* CLR_SEEDING_TYPE_PIXEL: one work-item per 8 pixels of the batch (past the end the last pixel

@@ -49,6 +49,8 @@ static const define_set sets[] = {
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=0"},
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=1"},
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=2"},
+    {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=4"}, /* 02sequence, SIMD */
+    {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=5"}, /* maxmindist, SIMD */
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=2 -DCLR_INDEX32 -DCLR_HALTON_INDEX32"},
     {"sampler_kernels.cl",
      "-DCLR_SAMPLER_TYPE=3 -DCLR_SOBOL_M=0 -DCLR_SOBOL_FRAME_BITS=4 -DCLR_SOBOL_BITS=4 "

@@ -211,6 +211,48 @@ static void test_stratified_strata_counts_match_reference(void **state) {
   }
 }
 
+/* 02sequence and maxmindist in the SIMD kernel shuffle up to 16 samples' points as a permutation
+ * in registers and more in scratch: 1 to 64 samples per pixel (maxmindist's first 2D stream is
+ * its (0,m,2)-net's), whole pixels and a sample range, streams and arrays, bit-identical to the
+ * host reference. */
+static void test_zerotwo_spp_match_reference(void **state) {
+  (void)state;
+  static const int spps[] = {1, 2, 8, 32, 64};
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  for (int t = CLR_SAMPLER_ZEROTWO; t <= CLR_SAMPLER_MAXMINDIST; ++t)
+    for (size_t k = 0; k < sizeof spps / sizeof spps[0]; ++k) {
+      clr_sampler_desc d;
+      clr_sampler_desc_init(&d, (clr_sampler_type)t);
+      d.pixel_samples = spps[k];
+      d.film.x_resolution = 13;
+      d.film.y_resolution = 11;
+      clr_sampler s = NULL;
+      assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+      assert_int_equal(clr_sampler_spp(s), spps[k]);
+      clr_bounds2i px = {0, 0, 13, 11};
+      for (int range = 0; range < (spps[k] >= 4 ? 2 : 1); ++range) {
+        int first = range ? 2 : 0, count = range ? spps[k] - 3 : 0;
+        for (int layout = 0; layout < 2; ++layout) {
+          generated dev =
+              generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 1);
+          generated ref =
+              generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 0);
+          assert_int_equal(dev.count, ref.count);
+          size_t bad = 0;
+          for (size_t i = 0; i < dev.count; ++i)
+            if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
+              fprintf(stderr, "%s %d spp first %d: value %zu device %.9g reference %.9g\n",
+                      clr_sampler_type_name((clr_sampler_type)t), spps[k], first, i,
+                      (double)dev.values[i], (double)ref.values[i]);
+          assert_int_equal(bad, 0);
+          free_generated(&dev);
+          free_generated(&ref);
+        }
+      }
+      clr_sampler_release(s);
+    }
+}
+
 /* Past Sobol's 1024 dimensions and Halton's 1000 primes values fall back to a hash: in range,
  * and not constant. */
 static void test_past_available_dimensions(void **state) {
@@ -524,6 +566,7 @@ int main(void) {
       cmocka_unit_test(test_order_independence),
       cmocka_unit_test(test_stratified_device_strata),
       cmocka_unit_test(test_stratified_strata_counts_match_reference),
+      cmocka_unit_test(test_zerotwo_spp_match_reference),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),

@@ -600,9 +600,7 @@ static clr_result upload_bounded_table(clr_sampler_device *d, int most) {
 static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
                             const clr_request_slot *slots, cl_mem values) {
   clr_context ctx = d->ctx;
-  /* 02sequence and maxmindist have no SIMD kernel: SIMD contexts run their portable one. */
-  int portable = clr_context_portable(ctx) || p->type == CLR_SAMPLER_TYPE_ZEROTWO ||
-                 p->type == CLR_SAMPLER_TYPE_MAXMINDIST;
+  int portable = clr_context_portable(ctx);
   char defines[64];
   snprintf(defines, sizeof defines, "-DCLR_SAMPLER_TYPE=%d%s", (int)p->type,
            portable ? PORTABLE_DEFINE : "");
