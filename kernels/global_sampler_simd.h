@@ -25,9 +25,6 @@
 
 #define CLR_SIMD_INLINE static inline __attribute__((always_inline))
 
-/* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
-#define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
-
 /* (a * m) >> shift per lane for a < 2^31 and shift >= 31: mul_hi(2a, m) >> (shift - 31). */
 CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
   return clr_mul_hi8(a << 1u, m) >> (shift - 31u);
@@ -35,44 +32,6 @@ CLR_SIMD_INLINE uint8 clr_mul_shift8(uint8 a, uint m, uint shift) {
 
 CLR_SIMD_INLINE float8 clr_below_one8(float8 f) {
   return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
-}
-
-#if defined(__AVX2__)
-typedef char clr_bytes32 __attribute__((vector_size(32)));
-
-/* Byte lookup in every 128-bit half: byte k of the result is byte (index byte k) & 15 of the
- * same half of table (vpshufb; index bytes below 128). */
-CLR_SIMD_INLINE uint8 clr_shuffle_bytes8(uint8 table, uint8 index) {
-  return __builtin_astype(__builtin_ia32_pshufb256(__builtin_astype(table, clr_bytes32),
-                                                   __builtin_astype(index, clr_bytes32)),
-                          uint8);
-}
-#endif
-
-/* clr_reverse_bits32 in every lane. On AVX2: the bytes of each lane reversed, then each byte's
- * two nibbles reversed and swapped, by byte lookups; else nibble by nibble (no shift-and-mask
- * idiom that compilers turn into llvm.bitreverse, which Oclgrind cannot run). */
-static inline uint8 clr_reverse_bits32x8(uint8 n) {
-#if defined(__AVX2__)
-  const uint8 byte_swap = (uint8)(0x00010203u, 0x04050607u, 0x08090A0Bu, 0x0C0D0E0Fu, 0x00010203u,
-                                  0x04050607u, 0x08090A0Bu, 0x0C0D0E0Fu);
-  const uint8 low_up = (uint8)(0xC0408000u, 0xE060A020u, 0xD0509010u, 0xF070B030u, 0xC0408000u,
-                               0xE060A020u, 0xD0509010u, 0xF070B030u); /* rev4(i) << 4 */
-  const uint8 high_down = (uint8)(0x0C040800u, 0x0E060A02u, 0x0D050901u, 0x0F070B03u, 0x0C040800u,
-                                  0x0E060A02u, 0x0D050901u, 0x0F070B03u); /* rev4(i) */
-  uint8 b = clr_shuffle_bytes8(n, byte_swap);
-  return clr_shuffle_bytes8(low_up, b & 0x0F0F0F0Fu) |
-         clr_shuffle_bytes8(high_down, (b >> 4u) & 0x0F0F0F0Fu);
-#else
-  uint8 r = (uint8)0u;
-  CLR_UNROLL
-  for (uint i = 0u; i < 8u; ++i) {
-    uint8 x = (n >> (4u * i)) & 15u;
-    uint8 rev = (((uint8)CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | (x >> 3u);
-    r |= rev << (28u - 4u * i);
-  }
-  return r;
-#endif
 }
 
 /* The batch items of this work-item (8 consecutive ones; past the end the last one repeats, so

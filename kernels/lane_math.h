@@ -2,6 +2,11 @@
 #ifndef CLR_LANE_MATH_H
 #define CLR_LANE_MATH_H
 
+#include "halton_funcs.h"
+
+/* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
+#define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
+
 /* (a * m) >> 32 per lane in four 64-bit products of even and of odd lanes (AVX2: two vpmuludq
  * and no repacking; the library's mul_hi(uint8) goes through 16-bit halves on PoCL). */
 static inline __attribute__((always_inline)) uint8 clr_mul_hi8(uint8 a, uint m) {
@@ -10,6 +15,44 @@ static inline __attribute__((always_inline)) uint8 clr_mul_hi8(uint8 a, uint m) 
   ulong4 even = ((pairs & low_half) * (ulong)m) >> 32ul;
   ulong4 odd = ((pairs >> 32ul) * (ulong)m) & ~low_half;
   return as_uint8(even | odd);
+}
+
+#if defined(__AVX2__)
+typedef char clr_bytes32 __attribute__((vector_size(32)));
+
+/* Byte lookup in every 128-bit half: byte k of the result is byte (index byte k) & 15 of the
+ * same half of table (vpshufb; index bytes below 128). */
+static inline __attribute__((always_inline)) uint8 clr_shuffle_bytes8(uint8 table, uint8 index) {
+  return __builtin_astype(__builtin_ia32_pshufb256(__builtin_astype(table, clr_bytes32),
+                                                   __builtin_astype(index, clr_bytes32)),
+                          uint8);
+}
+#endif
+
+/* clr_reverse_bits32 in every lane. On AVX2: the bytes of each lane reversed, then each byte's
+ * two nibbles reversed and swapped, by byte lookups; else nibble by nibble (no shift-and-mask
+ * idiom that compilers turn into llvm.bitreverse, which Oclgrind cannot run). */
+static inline uint8 clr_reverse_bits32x8(uint8 n) {
+#if defined(__AVX2__)
+  const uint8 byte_swap = (uint8)(0x00010203u, 0x04050607u, 0x08090A0Bu, 0x0C0D0E0Fu, 0x00010203u,
+                                  0x04050607u, 0x08090A0Bu, 0x0C0D0E0Fu);
+  const uint8 low_up = (uint8)(0xC0408000u, 0xE060A020u, 0xD0509010u, 0xF070B030u, 0xC0408000u,
+                               0xE060A020u, 0xD0509010u, 0xF070B030u); /* rev4(i) << 4 */
+  const uint8 high_down = (uint8)(0x0C040800u, 0x0E060A02u, 0x0D050901u, 0x0F070B03u, 0x0C040800u,
+                                  0x0E060A02u, 0x0D050901u, 0x0F070B03u); /* rev4(i) */
+  uint8 b = clr_shuffle_bytes8(n, byte_swap);
+  return clr_shuffle_bytes8(low_up, b & 0x0F0F0F0Fu) |
+         clr_shuffle_bytes8(high_down, (b >> 4u) & 0x0F0F0F0Fu);
+#else
+  uint8 r = (uint8)0u;
+  CLR_UNROLL
+  for (uint i = 0u; i < 8u; ++i) {
+    uint8 x = (n >> (4u * i)) & 15u;
+    uint8 rev = (((uint8)CLR_REV3_NIBBLES >> ((x & 7u) * 4u)) & 14u) | (x >> 3u);
+    r |= rev << (28u - 4u * i);
+  }
+  return r;
+#endif
 }
 
 #endif

@@ -11,6 +11,7 @@
 
 #include "pixel_sampler_funcs.h"
 #include "lane_math.h"
+#include "lane_store.h"
 
 #define CLR_PIXEL_LANES 8
 
@@ -136,32 +137,6 @@ CLR_LANE_INLINE void clr_scatter8(__global float *scratch, uint8 at, float8 v) {
   scratch[at.s5] = v.s5;
   scratch[at.s6] = v.s6;
   scratch[at.s7] = v.s7;
-}
-
-/* The lanes' pixels: values of lane j go to values[out[j] + offset]. */
-CLR_LANE_INLINE void clr_store_lanes8(__global float *values, const ulong *out, size_t offset,
-                                      float8 v) {
-  values[out[0] + offset] = v.s0;
-  values[out[1] + offset] = v.s1;
-  values[out[2] + offset] = v.s2;
-  values[out[3] + offset] = v.s3;
-  values[out[4] + offset] = v.s4;
-  values[out[5] + offset] = v.s5;
-  values[out[6] + offset] = v.s6;
-  values[out[7] + offset] = v.s7;
-}
-
-/* Lane j's (x, y) to values[out[j] + offset], one 8-byte store per lane. */
-CLR_LANE_INLINE void clr_store_pairs8(__global float *values, const ulong *out, size_t offset,
-                                      float8 x, float8 y) {
-  vstore2((float2)(x.s0, y.s0), 0, values + out[0] + offset);
-  vstore2((float2)(x.s1, y.s1), 0, values + out[1] + offset);
-  vstore2((float2)(x.s2, y.s2), 0, values + out[2] + offset);
-  vstore2((float2)(x.s3, y.s3), 0, values + out[3] + offset);
-  vstore2((float2)(x.s4, y.s4), 0, values + out[4] + offset);
-  vstore2((float2)(x.s5, y.s5), 0, values + out[5] + offset);
-  vstore2((float2)(x.s6, y.s6), 0, values + out[6] + offset);
-  vstore2((float2)(x.s7, y.s7), 0, values + out[7] + offset);
 }
 
 /* clr_shuffle of `count` items of `dims` floats in scratch. */

@@ -11,6 +11,7 @@
 #include "pixel_sampler_funcs.h"
 #include "pbrt_v4_sampler_funcs.h"
 #include "lane_math.h"
+#include "lane_store.h" /* here: the embedder inlines each header once, at its first include */
 
 #ifdef CLR_SAMPLER_V4
 /* The tables of the pbrt-v4 kernels' arguments; pmj02bn's point sets follow its pixel table. (An
@@ -59,6 +60,30 @@ __kernel void clr_v4_generate_pixels(
       &p, slots, &t, pixel,
       values + (size_t)pixel * (size_t)p.sample_count * (size_t)p.values_per_sample);
 }
+
+#ifndef CLR_KERNELS_PORTABLE
+#include "pbrt_v4_sampler_simd.h"
+
+/* zsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the last pixel repeats),
+ * one pixel per lane. Same arguments as clr_v4_generate_pixels. */
+__kernel void clr_v4_generate_zsobol8(
+    clr_sampler_params p, __global const clr_request_slot *restrict slots,
+    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
+    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
+    __global const float *restrict pmj_pixels, __global float *restrict values, int pixel_count) {
+  size_t group = get_global_id(0);
+  size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
+  ulong out[CLR_V4_LANES], morton[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) {
+    uint pixel = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)pixel_count - 1u);
+    int row = (int)(pixel / (uint)p.batch_width);
+    out[j] = (ulong)pixel * per_pixel;
+    morton[j] = clr_v4_zsobol_pixel_morton(&p, p.batch_x0 + (int)pixel - row * p.batch_width,
+                                           p.batch_y0 + row);
+  }
+  clr_v4_zsobol_pixels8(&p, slots, sobol32, morton, values, out);
+}
+#endif
 #endif
 
 #ifndef CLR_SAMPLER_TYPE

@@ -1,0 +1,171 @@
+/* Device-only, 8 pixels per work-item: pbrt-v4's ZSobolSampler (clr_v4_pixel_vectors' zsobol
+ * path, pbrt_v4_sampler_funcs.h) with one pixel per lane in OpenCL vector types. Each (pixel,
+ * dimension) part runs per lane in the scalar functions; each sample's part runs in lanes with the
+ * same integer and float operations as the scalar ones, so the bits are those of the host
+ * reference. 64-bit lanes are two halves of 4 (ulong8 values would change the AVX2 ABI). */
+#ifndef CLR_PBRT_V4_SAMPLER_SIMD_H
+#define CLR_PBRT_V4_SAMPLER_SIMD_H
+
+#include "pbrt_v4_sampler_funcs.h"
+#include "lane_math.h"
+#include "lane_store.h"
+
+#define CLR_V4_LANES 8
+
+#define CLR_V4_INLINE static inline __attribute__((always_inline))
+
+/* clr_v4_mix_bits in 4 lanes. */
+CLR_V4_INLINE ulong4 clr_v4_mix_bits4(ulong4 v) {
+  v ^= v >> 31ul;
+  v *= 0x7fb5d329728ea185UL;
+  v ^= v >> 27ul;
+  v *= 0x81dadef4bc2dd44dUL;
+  return v ^ (v >> 33ul);
+}
+
+/* The low 32 bits of clr_v4_mix_bits of 8 lanes given as two halves. */
+CLR_V4_INLINE uint8 clr_v4_mix_bits_low8(ulong4 lo, ulong4 hi) {
+  return (uint8)(convert_uint4(clr_v4_mix_bits4(lo)), convert_uint4(clr_v4_mix_bits4(hi)));
+}
+
+/* Byte `perm & 3` of the 32-bit word w (every lane its own). */
+CLR_V4_INLINE uint8 clr_v4_byte8(uint w, uint8 perm) {
+  return ((uint8)w >> ((perm & 3u) * 8u)) & 0xffu;
+}
+
+/* clr_v4_permute4(perm, digit) in every lane: the packed entry of permutation perm < 24 from the
+ * six 32-bit words of CLR_V4_PERM4_WORD(0, 8, 16), then its 2-bit digit. */
+CLR_V4_INLINE uint8 clr_v4_permute4x8(uint8 perm, uint8 digit) {
+  const ulong w0 = CLR_V4_PERM4_WORD(0u), w8 = CLR_V4_PERM4_WORD(8u), w16 = CLR_V4_PERM4_WORD(16u);
+  int8 low = (perm & 7u) < 4u;
+  uint8 packed = select(clr_v4_byte8((uint)(w0 >> 32u), perm), clr_v4_byte8((uint)w0, perm), low);
+  packed = select(packed,
+                  select(clr_v4_byte8((uint)(w8 >> 32u), perm), clr_v4_byte8((uint)w8, perm), low),
+                  perm >= 8u);
+  packed = select(
+      packed, select(clr_v4_byte8((uint)(w16 >> 32u), perm), clr_v4_byte8((uint)w16, perm), low),
+      perm >= 16u);
+  return (packed >> (2u * digit)) & 3u;
+}
+
+/* The 8 lanes' Morton indices (sample 0 of each pixel) in two halves. */
+typedef struct clr_v4_morton8 {
+  ulong4 lo, hi;
+} clr_v4_morton8;
+
+/* clr_v4_zsobol_sample_part for sample `sample` of the 8 lanes' pixels (< 2^32: spp's bits). */
+CLR_V4_INLINE uint8 clr_v4_zsobol_sample_part8(const clr_sampler_params *p, const clr_v4_morton8 *m,
+                                               uint sample, ulong salt) {
+  ulong4 lo = m->lo | (ulong)sample, hi = m->hi | (ulong)sample;
+  int odd = p->zsobol_log2_spp & 1;
+  uint8 index = (uint8)0u;
+  for (int i = clr_v4_zsobol_pixel_digit(p) - 1; i >= odd; --i) {
+    ulong shift = (ulong)(2 * i - odd);
+    uint8 digit = (uint8)(convert_uint4(lo >> shift), convert_uint4(hi >> shift)) & 3u;
+    ulong4 hash_lo = clr_v4_mix_bits4((lo >> (shift + 2ul)) ^ salt);
+    ulong4 hash_hi = clr_v4_mix_bits4((hi >> (shift + 2ul)) ^ salt);
+    uint8 perm =
+        (uint8)(convert_uint4((hash_lo >> 24ul) % 24ul), convert_uint4((hash_hi >> 24ul) % 24ul));
+    index |= clr_v4_permute4x8(perm, digit) << (uint)shift;
+  }
+  if (odd)
+    index |= ((uint8)(convert_uint4(lo), convert_uint4(hi)) & 1u) ^
+             (clr_v4_mix_bits_low8((lo >> 1ul) ^ salt, (hi >> 1ul) ^ salt) & 1u);
+  return index;
+}
+
+/* clr_sobol_xor_columns32 of `bits` below 2^count in every lane. */
+CLR_V4_INLINE uint8 clr_v4_xor_columns8(uint8 bits, int count, __global const uint *cols) {
+  uint8 v = (uint8)0u;
+  for (int b = 0; b < count; ++b)
+    v ^= select((uint8)0u, (uint8)cols[b], ((bits >> (uint)b) & 1u) != 0u);
+  return v;
+}
+
+/* clr_v4_owen in every lane (seed the same in all). */
+CLR_V4_INLINE uint8 clr_v4_owen8(uint8 v, uint seed) {
+  if (seed & 1u) v ^= 1u << 31u;
+  for (uint b = 1u; b < 32u; ++b) {
+    uint8 key = (v & (0xffffffffu << (32u - b))) ^ seed;
+    uint8 h = clr_v4_mix_bits_low8(convert_ulong4(key.lo), convert_ulong4(key.hi));
+    v ^= select((uint8)0u, (uint8)(1u << (31u - b)), (h & (1u << b)) != 0u);
+  }
+  return v;
+}
+
+/* clr_v4_sobol_finish in every lane: the randomizer, then the value below one. */
+CLR_V4_INLINE float8 clr_v4_sobol_finish8(uint8 v, int randomization, uint seed) {
+  if (randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS) {
+    v ^= seed;
+  } else if (randomization == CLR_RANDOMIZE_TYPE_FASTOWEN) {
+    v = clr_reverse_bits32x8(v);
+    v ^= v * 0x3d20adeau;
+    v += seed;
+    v *= (seed >> 16u) | 1u;
+    v ^= v * 0x05526c56u;
+    v ^= v * 0x53a22864u;
+    v = clr_reverse_bits32x8(v);
+  } else if (randomization == CLR_RANDOMIZE_TYPE_OWEN) {
+    v = clr_v4_owen8(v, seed);
+  }
+  float8 f = convert_float8(v) * 0x1p-32f;
+  return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
+}
+
+/* One Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`, stored at
+ * value `first` of each sample. */
+static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global const uint *sobol32,
+                                         const clr_v4_morton8 *m, const ulong *morton,
+                                         int dimension, int dims, __global float *values,
+                                         const ulong *out, int first) {
+  ulong salt = clr_v4_zsobol_salt(dimension);
+  uint bits0[CLR_V4_LANES], bits1[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) { /* the (pixel, dimension) part, lane by lane */
+    ulong high = clr_v4_zsobol_pixel_part(p, morton[j], salt);
+    bits0[j] = clr_v4_sobol_bits(high, 0, sobol32);
+    bits1[j] = dims == 2 ? clr_v4_sobol_bits(high, 1, sobol32) : 0u;
+  }
+  uint8 pixel0 = vload8(0, bits0), pixel1 = vload8(0, bits1);
+  ulong hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (int)p->seed));
+  __global const uint *cols0 = sobol32, *cols1 = sobol32 + CLR_SOBOL_MATRIX_SIZE;
+  for (int k = 0; k < p->sample_count; ++k) {
+    uint8 low = clr_v4_zsobol_sample_part8(p, m, (uint)(p->first_sample + k), salt);
+    size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
+    float8 u0 = clr_v4_sobol_finish8(pixel0 ^ clr_v4_xor_columns8(low, p->zsobol_log2_spp, cols0),
+                                     p->randomization, (uint)hash);
+    if (dims == 1) {
+      clr_store_lanes8(values, out, at, u0);
+      continue;
+    }
+    float8 u1 = clr_v4_sobol_finish8(pixel1 ^ clr_v4_xor_columns8(low, p->zsobol_log2_spp, cols1),
+                                     p->randomization, (uint)(hash >> 32u));
+    clr_store_pairs8(values, out, at, u0, u1);
+  }
+}
+
+/* clr_v4_pixel_vectors for zsobol, 8 pixels (lane j's values start at values[out[j]]). */
+static inline void clr_v4_zsobol_pixels8(const clr_sampler_params *p,
+                                         __global const clr_request_slot *slots,
+                                         __global const uint *sobol32, const ulong *morton,
+                                         __global float *values, const ulong *out) {
+  clr_v4_morton8 m;
+  m.lo = vload4(0, morton);
+  m.hi = vload4(1, morton);
+  int dimension = 0;
+  for (int r = 0; r < p->request_count; ++r) {
+    clr_request_slot sl = slots[r];
+    int elements = sl.array_size ? sl.array_size : 1;
+    if (sl.skipped) { /* never the film offset: its dimensions only */
+      dimension += elements * sl.dims;
+      continue;
+    }
+    int dims = r == p->film_request ? 2 : sl.dims;
+    for (int j = 0; j < elements; ++j) {
+      clr_v4_zsobol_values8(p, sobol32, &m, morton, dimension, dims, values, out,
+                            sl.first_value + (sl.dims == 2 ? 2 * j : j));
+      dimension += dims;
+    }
+  }
+}
+
+#endif
