@@ -1,8 +1,7 @@
 /* Device-only, 8 pixels per work-item: pbrt-v4's ZSobolSampler (clr_v4_pixel_vectors' zsobol
- * path, pbrt_v4_sampler_funcs.h) with one pixel per lane in OpenCL vector types. Each (pixel,
- * dimension) part runs per lane in the scalar functions; each sample's part runs in lanes with the
- * same integer and float operations as the scalar ones, so the bits are those of the host
- * reference. 64-bit lanes are two halves of 4 (ulong8 values would change the AVX2 ABI). */
+ * path, pbrt_v4_sampler_funcs.h) with one pixel per lane in OpenCL vector types: each
+ * (pixel, dimension) part and each sample's part in lanes, with the same integer and float
+ * operations as the scalar functions, so the bits are those of the host reference. 64-bit lanes are two halves of 4 (ulong8 values would change the AVX2 ABI). */
 #ifndef CLR_PBRT_V4_SAMPLER_SIMD_H
 #define CLR_PBRT_V4_SAMPLER_SIMD_H
 
@@ -48,29 +47,55 @@ CLR_V4_INLINE uint8 clr_v4_permute4x8(uint8 perm, uint8 digit) {
   return (packed >> (2u * digit)) & 3u;
 }
 
-/* The 8 lanes' Morton indices (sample 0 of each pixel) in two halves. */
-typedef struct clr_v4_morton8 {
+/* 64-bit values of the 8 lanes in two halves (the lanes' Morton indices, digit indices). */
+typedef struct clr_v4_u64x8 {
   ulong4 lo, hi;
-} clr_v4_morton8;
+} clr_v4_u64x8;
+
+/* The permutation (of 24) of the base-4 digit below bit `above` of every lane's m: a hash of the
+ * bits from `above` up and the salt (clr_v4_zsobol_digits). */
+CLR_V4_INLINE uint8 clr_v4_digit_perm8(const clr_v4_u64x8 *m, ulong above, ulong salt) {
+  ulong4 hash_lo = clr_v4_mix_bits4((m->lo >> above) ^ salt);
+  ulong4 hash_hi = clr_v4_mix_bits4((m->hi >> above) ^ salt);
+  return (uint8)(convert_uint4((hash_lo >> 24ul) % 24ul), convert_uint4((hash_hi >> 24ul) % 24ul));
+}
+
+/* Base-4 digit `shift` (its low bit) of every lane's m. */
+CLR_V4_INLINE uint8 clr_v4_digit8(const clr_v4_u64x8 *m, ulong shift) {
+  return (uint8)(convert_uint4(m->lo >> shift), convert_uint4(m->hi >> shift)) & 3u;
+}
+
+/* clr_v4_zsobol_pixel_part in every lane: the permuted digits of the pixels' Morton indices. */
+CLR_V4_INLINE clr_v4_u64x8 clr_v4_zsobol_pixel_part8(const clr_sampler_params *p,
+                                                     const clr_v4_u64x8 *m, ulong salt) {
+  int odd = p->zsobol_log2_spp & 1;
+  clr_v4_u64x8 index;
+  index.lo = index.hi = (ulong4)0ul;
+  for (int i = p->zsobol_base4_digits - 1; i >= clr_v4_zsobol_pixel_digit(p); --i) {
+    ulong shift = (ulong)(2 * i - odd);
+    uint8 e = clr_v4_permute4x8(clr_v4_digit_perm8(m, shift + 2ul, salt), clr_v4_digit8(m, shift));
+    index.lo |= convert_ulong4(e.lo) << shift;
+    index.hi |= convert_ulong4(e.hi) << shift;
+  }
+  return index;
+}
 
 /* clr_v4_zsobol_sample_part for sample `sample` of the 8 lanes' pixels (< 2^32: spp's bits). */
-CLR_V4_INLINE uint8 clr_v4_zsobol_sample_part8(const clr_sampler_params *p, const clr_v4_morton8 *m,
+CLR_V4_INLINE uint8 clr_v4_zsobol_sample_part8(const clr_sampler_params *p, const clr_v4_u64x8 *m,
                                                uint sample, ulong salt) {
-  ulong4 lo = m->lo | (ulong)sample, hi = m->hi | (ulong)sample;
+  clr_v4_u64x8 s;
+  s.lo = m->lo | (ulong)sample;
+  s.hi = m->hi | (ulong)sample;
   int odd = p->zsobol_log2_spp & 1;
   uint8 index = (uint8)0u;
   for (int i = clr_v4_zsobol_pixel_digit(p) - 1; i >= odd; --i) {
     ulong shift = (ulong)(2 * i - odd);
-    uint8 digit = (uint8)(convert_uint4(lo >> shift), convert_uint4(hi >> shift)) & 3u;
-    ulong4 hash_lo = clr_v4_mix_bits4((lo >> (shift + 2ul)) ^ salt);
-    ulong4 hash_hi = clr_v4_mix_bits4((hi >> (shift + 2ul)) ^ salt);
-    uint8 perm =
-        (uint8)(convert_uint4((hash_lo >> 24ul) % 24ul), convert_uint4((hash_hi >> 24ul) % 24ul));
-    index |= clr_v4_permute4x8(perm, digit) << (uint)shift;
+    index |= clr_v4_permute4x8(clr_v4_digit_perm8(&s, shift + 2ul, salt), clr_v4_digit8(&s, shift))
+             << (uint)shift;
   }
   if (odd)
-    index |= ((uint8)(convert_uint4(lo), convert_uint4(hi)) & 1u) ^
-             (clr_v4_mix_bits_low8((lo >> 1ul) ^ salt, (hi >> 1ul) ^ salt) & 1u);
+    index |= ((uint8)(convert_uint4(s.lo), convert_uint4(s.hi)) & 1u) ^
+             (clr_v4_mix_bits_low8((s.lo >> 1ul) ^ salt, (s.hi >> 1ul) ^ salt) & 1u);
   return index;
 }
 
@@ -80,6 +105,16 @@ CLR_V4_INLINE uint8 clr_v4_xor_columns8(uint8 bits, int count, __global const ui
   for (int b = 0; b < count; ++b)
     v ^= select((uint8)0u, (uint8)cols[b], ((bits >> (uint)b) & 1u) != 0u);
   return v;
+}
+
+/* clr_v4_sobol_bits of every lane's index a, whose bits are below 2^count. */
+CLR_V4_INLINE uint8 clr_v4_sobol_bits8(const clr_v4_u64x8 *a, int count,
+                                       __global const uint *cols) {
+  uint8 low = (uint8)(convert_uint4(a->lo), convert_uint4(a->hi));
+  uint8 high = (uint8)(convert_uint4(a->lo >> 32ul), convert_uint4(a->hi >> 32ul)) &
+               ((1u << (CLR_SOBOL_INDEX_BITS - 32u)) - 1u);
+  return clr_v4_xor_columns8(low, min(count, 32), cols) ^
+         clr_v4_xor_columns8(high, count - 32, cols + 32);
 }
 
 /* clr_v4_owen in every lane (seed the same in all). */
@@ -115,19 +150,15 @@ CLR_V4_INLINE float8 clr_v4_sobol_finish8(uint8 v, int randomization, uint seed)
 /* One Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`, stored at
  * value `first` of each sample. */
 static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global const uint *sobol32,
-                                         const clr_v4_morton8 *m, const ulong *morton,
-                                         int dimension, int dims, __global float *values,
-                                         const ulong *out, int first) {
+                                         const clr_v4_u64x8 *m, int dimension, int dims,
+                                         __global float *values, const ulong *out, int first) {
   ulong salt = clr_v4_zsobol_salt(dimension);
-  uint bits0[CLR_V4_LANES], bits1[CLR_V4_LANES];
-  for (int j = 0; j < CLR_V4_LANES; ++j) { /* the (pixel, dimension) part, lane by lane */
-    ulong high = clr_v4_zsobol_pixel_part(p, morton[j], salt);
-    bits0[j] = clr_v4_sobol_bits(high, 0, sobol32);
-    bits1[j] = dims == 2 ? clr_v4_sobol_bits(high, 1, sobol32) : 0u;
-  }
-  uint8 pixel0 = vload8(0, bits0), pixel1 = vload8(0, bits1);
-  ulong hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (int)p->seed));
   __global const uint *cols0 = sobol32, *cols1 = sobol32 + CLR_SOBOL_MATRIX_SIZE;
+  clr_v4_u64x8 high = clr_v4_zsobol_pixel_part8(p, m, salt); /* the (pixel, dimension) part */
+  int high_bits = 2 * p->zsobol_base4_digits;
+  uint8 pixel0 = clr_v4_sobol_bits8(&high, high_bits, cols0);
+  uint8 pixel1 = dims == 2 ? clr_v4_sobol_bits8(&high, high_bits, cols1) : (uint8)0u;
+  ulong hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (int)p->seed));
   for (int k = 0; k < p->sample_count; ++k) {
     uint8 low = clr_v4_zsobol_sample_part8(p, m, (uint)(p->first_sample + k), salt);
     size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
@@ -148,7 +179,7 @@ static inline void clr_v4_zsobol_pixels8(const clr_sampler_params *p,
                                          __global const clr_request_slot *slots,
                                          __global const uint *sobol32, const ulong *morton,
                                          __global float *values, const ulong *out) {
-  clr_v4_morton8 m;
+  clr_v4_u64x8 m;
   m.lo = vload4(0, morton);
   m.hi = vload4(1, morton);
   int dimension = 0;
@@ -161,7 +192,7 @@ static inline void clr_v4_zsobol_pixels8(const clr_sampler_params *p,
     }
     int dims = r == p->film_request ? 2 : sl.dims;
     for (int j = 0; j < elements; ++j) {
-      clr_v4_zsobol_values8(p, sobol32, &m, morton, dimension, dims, values, out,
+      clr_v4_zsobol_values8(p, sobol32, &m, dimension, dims, values, out,
                             sl.first_value + (sl.dims == 2 ? 2 * j : j));
       dimension += dims;
     }

@@ -71,6 +71,7 @@ __kernel void clr_v4_generate_zsobol8(
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
     __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
     __global const float *restrict pmj_pixels, __global float *restrict values, int pixel_count) {
+  (void)vdc, (void)vdc_inv, (void)primes, (void)pmj_pixels; /* clr_v4_generate_pixels' tables */
   size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
   ulong out[CLR_V4_LANES], morton[CLR_V4_LANES];

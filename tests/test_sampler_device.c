@@ -296,6 +296,22 @@ static void test_zsobol_match_reference(void **state) {
       }
       clr_sampler_release(s);
     }
+  /* Pixels far from the origin at 256 spp: Morton indices of 36 bits (the Sobol' matrices' upper
+   * 32 columns). */
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, CLR_SAMPLER_ZSOBOL);
+  d.seeding = CLR_SEEDING_PBRT_V4;
+  d.pixel_samples = 256;
+  d.film.x_resolution = d.film.y_resolution = 16384;
+  clr_sampler s = NULL;
+  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+  clr_bounds2i far = {16370, 16001, 16381, 16003};
+  generated dev = generate(s, far, 250, 6, with_arrays, n, 1);
+  generated ref = generate(s, far, 250, 6, with_arrays, n, 0);
+  assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
+  free_generated(&dev);
+  free_generated(&ref);
+  clr_sampler_release(s);
 }
 
 /* Past Sobol's 1024 dimensions and Halton's 1000 primes values fall back to a hash: in range,
