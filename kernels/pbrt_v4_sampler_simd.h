@@ -1,5 +1,5 @@
-/* Device-only, 8 pixels per work-item: pbrt-v4's ZSobolSampler (clr_v4_pixel_vectors' zsobol
- * path, pbrt_v4_sampler_funcs.h) with one pixel per lane in OpenCL vector types: each
+/* Device-only, 8 pixels per work-item: pbrt-v4's ZSobolSampler and PaddedSobolSampler
+ * (clr_v4_pixel_vectors' paths, pbrt_v4_sampler_funcs.h) with one pixel per lane in OpenCL vector types: each
  * (pixel, dimension) part and each sample's part in lanes, with the same integer and float
  * operations as the scalar functions, so the bits are those of the host reference. 64-bit lanes are two halves of 4 (ulong8 values would change the AVX2 ABI). */
 #ifndef CLR_PBRT_V4_SAMPLER_SIMD_H
@@ -117,9 +117,9 @@ CLR_V4_INLINE uint8 clr_v4_sobol_bits8(const clr_v4_u64x8 *a, int count,
          clr_v4_xor_columns8(high, count - 32, cols + 32);
 }
 
-/* clr_v4_owen in every lane (seed the same in all). */
-CLR_V4_INLINE uint8 clr_v4_owen8(uint8 v, uint seed) {
-  if (seed & 1u) v ^= 1u << 31u;
+/* clr_v4_owen in every lane. */
+CLR_V4_INLINE uint8 clr_v4_owen8(uint8 v, uint8 seed) {
+  v ^= (seed & 1u) << 31u;
   for (uint b = 1u; b < 32u; ++b) {
     uint8 key = (v & (0xffffffffu << (32u - b))) ^ seed;
     uint8 h = clr_v4_mix_bits_low8(convert_ulong4(key.lo), convert_ulong4(key.hi));
@@ -129,7 +129,7 @@ CLR_V4_INLINE uint8 clr_v4_owen8(uint8 v, uint seed) {
 }
 
 /* clr_v4_sobol_finish in every lane: the randomizer, then the value below one. */
-CLR_V4_INLINE float8 clr_v4_sobol_finish8(uint8 v, int randomization, uint seed) {
+CLR_V4_INLINE float8 clr_v4_sobol_finish8(uint8 v, int randomization, uint8 seed) {
   if (randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS) {
     v ^= seed;
   } else if (randomization == CLR_RANDOMIZE_TYPE_FASTOWEN) {
@@ -163,25 +163,103 @@ static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global c
     uint8 low = clr_v4_zsobol_sample_part8(p, m, (uint)(p->first_sample + k), salt);
     size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
     float8 u0 = clr_v4_sobol_finish8(pixel0 ^ clr_v4_xor_columns8(low, p->zsobol_log2_spp, cols0),
-                                     p->randomization, (uint)hash);
+                                     p->randomization, (uint8)(uint)hash);
     if (dims == 1) {
       clr_store_lanes8(values, out, at, u0);
       continue;
     }
     float8 u1 = clr_v4_sobol_finish8(pixel1 ^ clr_v4_xor_columns8(low, p->zsobol_log2_spp, cols1),
-                                     p->randomization, (uint)(hash >> 32u));
+                                     p->randomization, (uint8)(uint)(hash >> 32u));
     clr_store_pairs8(values, out, at, u0, u1);
   }
 }
 
-/* clr_v4_pixel_vectors for zsobol, 8 pixels (lane j's values start at values[out[j]]). */
-static inline void clr_v4_zsobol_pixels8(const clr_sampler_params *p,
-                                         __global const clr_request_slot *slots,
-                                         __global const uint *sobol32, const ulong *morton,
-                                         __global float *values, const ulong *out) {
-  clr_v4_u64x8 m;
-  m.lo = vload4(0, morton);
-  m.hi = vload4(1, morton);
+/* Whether any lane of m is set. */
+CLR_V4_INLINE int clr_v4_any8(int8 m) {
+  int4 m4 = m.lo | m.hi;
+  int2 m2 = m4.lo | m4.hi;
+  return (m2.x | m2.y) < 0;
+}
+
+/* clr_v4_permutation_element(i, l, p) with every lane's own p: each lane walks its cycle until
+ * its element is below l. */
+CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint i, uint l, uint8 p) {
+  uint w = l - 1u;
+  w |= w >> 1u;
+  w |= w >> 2u;
+  w |= w >> 4u;
+  w |= w >> 8u;
+  w |= w >> 16u;
+  uint8 v = (uint8)i;
+  int8 walking = (int8)-1;
+  do {
+    uint8 x = v ^ p;
+    x *= 0xe170893du;
+    x ^= p >> 16u;
+    x ^= (x & w) >> 4u;
+    x ^= p >> 8u;
+    x *= 0x0929eb3fu;
+    x ^= p >> 23u;
+    x ^= (x & w) >> 1u;
+    x *= 1u | p >> 27u;
+    x *= 0x6935fa69u;
+    x ^= (x & w) >> 11u;
+    x *= 0x74dcb303u;
+    x ^= (x & w) >> 2u;
+    x *= 0x9e501cc3u;
+    x ^= (x & w) >> 2u;
+    x *= 0xc860a3dfu;
+    x &= w;
+    x ^= x >> 5u;
+    v = select(v, x, walking);
+    walking &= v >= l;
+  } while (clr_v4_any8(walking));
+  return (v + p) % l;
+}
+
+/* paddedsobol's Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`
+ * (clr_v4_pixel_dim_value), stored at value `first` of each sample. */
+static inline void clr_v4_padded_values8(const clr_sampler_params *p, __global const uint *sobol32,
+                                         const int *px, const int *py, int dimension, int dims,
+                                         __global float *values, const ulong *out, int first) {
+  uint low_hash[CLR_V4_LANES], high_hash[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) { /* Hash(pixel, dimension, seed), lane by lane */
+    ulong hash = clr_v4_pixel_dim_hash(p, px[j], py[j], dimension);
+    low_hash[j] = (uint)hash;
+    high_hash[j] = (uint)(hash >> 32u);
+  }
+  uint8 permutation = vload8(0, low_hash), high = vload8(0, high_hash);
+  int bits = 0; /* the permuted indices' bits: those of spp - 1 */
+  while (bits < 32 && ((uint)(p->spp - 1) >> (uint)bits) != 0u) ++bits;
+  __global const uint *cols0 = sobol32, *cols1 = sobol32 + CLR_SOBOL_MATRIX_SIZE;
+  for (int k = 0; k < p->sample_count; ++k) {
+    uint8 index =
+        clr_v4_permutation_element8((uint)(p->first_sample + k), (uint)p->spp, permutation);
+    size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
+    float8 u0 = clr_v4_sobol_finish8(clr_v4_xor_columns8(index, bits, cols0), p->randomization,
+                                     dims == 1 ? high : permutation);
+    if (dims == 1) {
+      clr_store_lanes8(values, out, at, u0);
+      continue;
+    }
+    float8 u1 =
+        clr_v4_sobol_finish8(clr_v4_xor_columns8(index, bits, cols1), p->randomization, high);
+    clr_store_pairs8(values, out, at, u0, u1);
+  }
+}
+
+/* The 8 lanes' pixels: raster coordinates, and zsobol's Morton indices of their sample 0. */
+typedef struct clr_v4_lanes8 {
+  int px[CLR_V4_LANES], py[CLR_V4_LANES];
+  clr_v4_u64x8 morton;
+} clr_v4_lanes8;
+
+/* clr_v4_pixel_vectors for zsobol and paddedsobol, 8 pixels (lane j's values start at
+ * values[out[j]]). */
+static inline void clr_v4_pixels8(const clr_sampler_params *p,
+                                  __global const clr_request_slot *slots,
+                                  __global const uint *sobol32, const clr_v4_lanes8 *lanes,
+                                  __global float *values, const ulong *out) {
   int dimension = 0;
   for (int r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];
@@ -192,8 +270,12 @@ static inline void clr_v4_zsobol_pixels8(const clr_sampler_params *p,
     }
     int dims = r == p->film_request ? 2 : sl.dims;
     for (int j = 0; j < elements; ++j) {
-      clr_v4_zsobol_values8(p, sobol32, &m, dimension, dims, values, out,
-                            sl.first_value + (sl.dims == 2 ? 2 * j : j));
+      int first = sl.first_value + (sl.dims == 2 ? 2 * j : j);
+      if (p->v4_sampler == CLR_V4_ZSOBOL)
+        clr_v4_zsobol_values8(p, sobol32, &lanes->morton, dimension, dims, values, out, first);
+      else
+        clr_v4_padded_values8(p, sobol32, lanes->px, lanes->py, dimension, dims, values, out,
+                              first);
       dimension += dims;
     }
   }

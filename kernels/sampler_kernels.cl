@@ -64,9 +64,9 @@ __kernel void clr_v4_generate_pixels(
 #ifndef CLR_KERNELS_PORTABLE
 #include "pbrt_v4_sampler_simd.h"
 
-/* zsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the last pixel repeats),
- * one pixel per lane. Same arguments as clr_v4_generate_pixels. */
-__kernel void clr_v4_generate_zsobol8(
+/* zsobol and paddedsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the
+ * last pixel repeats), one pixel per lane. Same arguments as clr_v4_generate_pixels. */
+__kernel void clr_v4_generate_pixels8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
     __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
@@ -75,14 +75,20 @@ __kernel void clr_v4_generate_zsobol8(
   size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
   ulong out[CLR_V4_LANES], morton[CLR_V4_LANES];
+  clr_v4_lanes8 lanes;
   for (int j = 0; j < CLR_V4_LANES; ++j) {
     uint pixel = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)pixel_count - 1u);
     int row = (int)(pixel / (uint)p.batch_width);
     out[j] = (ulong)pixel * per_pixel;
-    morton[j] = clr_v4_zsobol_pixel_morton(&p, p.batch_x0 + (int)pixel - row * p.batch_width,
-                                           p.batch_y0 + row);
+    lanes.px[j] = p.batch_x0 + (int)pixel - row * p.batch_width;
+    lanes.py[j] = p.batch_y0 + row;
+    morton[j] = p.v4_sampler == CLR_V4_ZSOBOL
+                    ? clr_v4_zsobol_pixel_morton(&p, lanes.px[j], lanes.py[j])
+                    : 0ul;
   }
-  clr_v4_zsobol_pixels8(&p, slots, sobol32, morton, values, out);
+  lanes.morton.lo = vload4(0, morton);
+  lanes.morton.hi = vload4(1, morton);
+  clr_v4_pixels8(&p, slots, sobol32, &lanes, values, out);
 }
 #endif
 #endif

@@ -195,29 +195,32 @@ static void check_v4_randomizations(void) {
     }
 }
 
-/* zsobol's own SIMD kernel (8 pixels per work-item) on every device, Oclgrind's SIMD context
- * included: every randomizer, 8 spp (an odd power of two) and 2 (one sample digit), a batch of
- * 18 pixels (padding lanes). */
-static void check_zsobol_lanes(void) {
+/* zsobol's and paddedsobol's own SIMD kernel (8 pixels per work-item) on every device, Oclgrind's
+ * SIMD context included: every randomizer, spp 8 and 2 (zsobol: odd powers of two) or 5
+ * (paddedsobol: cycle walks), a batch of 18 pixels (padding lanes). */
+static void check_v4_lanes(void) {
   if (clr_context_kernel_shape(ctx) != CLR_KERNELS_SIMD) return;
-  for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
-    clr_sampler_desc d;
-    clr_sampler_desc_init(&d, CLR_SAMPLER_ZSOBOL);
-    d.seeding = CLR_SEEDING_PBRT_V4;
-    d.randomization = (clr_randomization)r;
-    d.seed = 3;
-    d.pixel_samples = r == CLR_RANDOMIZATION_OWEN ? 2 : 8;
-    d.film.x_resolution = 40;
-    d.film.y_resolution = 24;
-    clr_sampler s = NULL;
-    CHECK(clr_sampler_create(ctx, &d, &s) == CLR_SUCCESS, "create: %s", clr_last_error_message());
-    if (!s) continue;
-    char what[96];
-    snprintf(what, sizeof what, "zsobol lanes %s", clr_randomization_name((clr_randomization)r));
-    int ok = compare_batch(s, what, (clr_bounds2i){3, 2, 12, 4}, 0, 0, camera10, 6);
-    printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
-    clr_sampler_release(s);
-  }
+  static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL, CLR_SAMPLER_PADDEDSOBOL};
+  for (int t = 0; t < 2; ++t)
+    for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
+      clr_sampler_desc d;
+      clr_sampler_desc_init(&d, types[t]);
+      d.seeding = CLR_SEEDING_PBRT_V4;
+      d.randomization = (clr_randomization)r;
+      d.seed = 3;
+      d.pixel_samples = t ? 5 : r == CLR_RANDOMIZATION_OWEN ? 2 : 8;
+      d.film.x_resolution = 40;
+      d.film.y_resolution = 24;
+      clr_sampler s = NULL;
+      CHECK(clr_sampler_create(ctx, &d, &s) == CLR_SUCCESS, "create: %s", clr_last_error_message());
+      if (!s) continue;
+      char what[96];
+      snprintf(what, sizeof what, "%s lanes %s", clr_sampler_type_name(types[t]),
+               clr_randomization_name((clr_randomization)r));
+      int ok = compare_batch(s, what, (clr_bounds2i){3, 2, 12, 4}, 0, 0, camera10, 6);
+      printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
+      clr_sampler_release(s);
+    }
 }
 
 /* The global samplers' other paths: indices past 2^32 (halton), more than 32 index bits (sobol),
@@ -393,7 +396,7 @@ static int run_child(void) {
         expect_shape);
   check_samplers();
   check_v4_randomizations();
-  check_zsobol_lanes();
+  check_v4_lanes();
   check_global_paths();
   check_film();
   clr_context_release(ctx);

@@ -253,30 +253,40 @@ static void test_zerotwo_spp_match_reference(void **state) {
     }
 }
 
-/* zsobol in the SIMD kernel (8 pixels per work-item): 1 to 64 samples per pixel (odd and even
- * powers of two: the last binary digit's flip), every randomizer, two seeds, whole pixels and a
- * sample range, streams and arrays, a batch away from the origin whose width is no multiple of
- * 8, bit-identical to the host reference. */
-static void test_zsobol_match_reference(void **state) {
+/* zsobol and paddedsobol in the SIMD kernel (8 pixels per work-item): 1 to 64 samples per pixel
+ * (zsobol: odd and even powers of two, the last binary digit's flip; paddedsobol: any count, the
+ * permutation's cycle walks), every randomizer, two seeds, whole pixels and a sample range,
+ * streams and arrays, a batch away from the origin whose width is no multiple of 8,
+ * bit-identical to the host reference. */
+static void test_v4_lanes_match_reference(void **state) {
   (void)state;
-  static const int spps[] = {1, 2, 4, 8, 16, 32, 64};
+  static const struct {
+    clr_sampler_type type;
+    int spp;
+  } cases[] = {
+      {CLR_SAMPLER_ZSOBOL, 1},      {CLR_SAMPLER_ZSOBOL, 2},       {CLR_SAMPLER_ZSOBOL, 4},
+      {CLR_SAMPLER_ZSOBOL, 8},      {CLR_SAMPLER_ZSOBOL, 16},      {CLR_SAMPLER_ZSOBOL, 32},
+      {CLR_SAMPLER_ZSOBOL, 64},     {CLR_SAMPLER_PADDEDSOBOL, 1},  {CLR_SAMPLER_PADDEDSOBOL, 3},
+      {CLR_SAMPLER_PADDEDSOBOL, 5}, {CLR_SAMPLER_PADDEDSOBOL, 12}, {CLR_SAMPLER_PADDEDSOBOL, 16},
+      {CLR_SAMPLER_PADDEDSOBOL, 33}};
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
-  for (size_t k = 0; k < sizeof spps / sizeof spps[0]; ++k)
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)
     for (int r = 0; r <= CLR_RANDOMIZATION_OWEN; ++r) {
+      int spp = cases[k].spp;
       clr_sampler_desc d;
-      clr_sampler_desc_init(&d, CLR_SAMPLER_ZSOBOL);
+      clr_sampler_desc_init(&d, cases[k].type);
       d.seeding = CLR_SEEDING_PBRT_V4;
       d.randomization = (clr_randomization)r;
       d.seed = (uint32_t)(k & 1u) * 7u;
-      d.pixel_samples = spps[k];
+      d.pixel_samples = spp;
       d.film.x_resolution = 45;
       d.film.y_resolution = 21;
       clr_sampler s = NULL;
       assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
-      assert_int_equal(clr_sampler_spp(s), spps[k]);
+      assert_int_equal(clr_sampler_spp(s), spp);
       clr_bounds2i px = {3, 2, 42, 9};
-      for (int range = 0; range < (spps[k] >= 4 ? 2 : 1); ++range) {
-        int first = range ? 1 : 0, count = range ? spps[k] - 2 : 0;
+      for (int range = 0; range < (spp >= 4 ? 2 : 1); ++range) {
+        int first = range ? 1 : 0, count = range ? spp - 2 : 0;
         for (int layout = 0; layout < 2; ++layout) {
           generated dev =
               generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 1);
@@ -286,9 +296,10 @@ static void test_zsobol_match_reference(void **state) {
           size_t bad = 0;
           for (size_t i = 0; i < dev.count; ++i)
             if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
-              fprintf(stderr, "zsobol %d spp %s first %d: value %zu device %.9g reference %.9g\n",
-                      spps[k], clr_randomization_name((clr_randomization)r), first, i,
-                      (double)dev.values[i], (double)ref.values[i]);
+              fprintf(stderr, "%s %d spp %s first %d: value %zu device %.9g reference %.9g\n",
+                      clr_sampler_type_name(cases[k].type), spp,
+                      clr_randomization_name((clr_randomization)r), first, i, (double)dev.values[i],
+                      (double)ref.values[i]);
           assert_int_equal(bad, 0);
           free_generated(&dev);
           free_generated(&ref);
@@ -628,7 +639,7 @@ int main(void) {
       cmocka_unit_test(test_stratified_device_strata),
       cmocka_unit_test(test_stratified_strata_counts_match_reference),
       cmocka_unit_test(test_zerotwo_spp_match_reference),
-      cmocka_unit_test(test_zsobol_match_reference),
+      cmocka_unit_test(test_v4_lanes_match_reference),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),

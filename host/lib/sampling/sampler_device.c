@@ -662,13 +662,15 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                                 : 0;
   CLR_CHECK(upload(ctx, &d->pmj, pmj_pixels, pmj_bytes, "pmj02bn pixel and point-set tables"));
   /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once;
-   * zsobol on SIMD contexts: one per 8 pixels, a pixel per lane. */
+   * zsobol and paddedsobol on SIMD contexts: one per 8 pixels, a pixel per lane. */
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
                   p->v4_sampler == CLR_V4_PMJ02BN;
   int portable = clr_context_portable(ctx);
-  int lanes = p->v4_sampler == CLR_V4_ZSOBOL && !portable ? CLR_PIXEL_LANES : 1;
+  int lanes = (p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL) && !portable
+                  ? CLR_PIXEL_LANES
+                  : 1;
   const char *name = !per_pixel  ? "clr_v4_generate"
-                     : lanes > 1 ? "clr_v4_generate_zsobol8"
+                     : lanes > 1 ? "clr_v4_generate_pixels8"
                                  : "clr_v4_generate_pixels";
   size_t pixels = (size_t)p->batch_width * (size_t)p->batch_height;
   if (per_pixel) items = (pixels + (size_t)lanes - 1) / (size_t)lanes;
