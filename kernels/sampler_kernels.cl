@@ -29,8 +29,9 @@ CLR_INLINE void clr_v4_kernel_tables(const clr_sampler_params *p, __global const
   t->pmj_sets = pmj_pixels + clr_v4_pmj02_pixel_floats(p);
 }
 
-/* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1), one shape for SIMD and
- * portable contexts: one work-item per batch item, the host reference's scalar functions. */
+/* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1): one work-item per batch
+ * item, the host reference's scalar functions, on SIMD and portable contexts alike (SIMD
+ * contexts run zsobol and paddedsobol in clr_v4_generate_pixels8, below). */
 __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
                               __global const uint *restrict sobol32,
                               __global const ulong *restrict vdc,

@@ -126,8 +126,8 @@ static clr_sampler make_sampler(clr_sampler_type type, clr_seeding seeding, int 
   return r == CLR_SUCCESS ? s : NULL;
 }
 
-/* pbrt-v4's samplers have one kernel for both shapes: on Oclgrind (slow) they run in the portable
- * context only. */
+/* pbrt-v4's samplers' per-item and per-pixel kernels serve both shapes: on Oclgrind (slow) they
+ * run in the portable context only (check_v4_lanes runs the SIMD ones there). */
 static int v4_here(void) {
   return !strstr(clr_context_device_name(ctx), "Oclgrind") ||
          clr_context_kernel_shape(ctx) == CLR_KERNELS_PORTABLE;

@@ -645,7 +645,8 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   return launch(ctx, k, items, name);
 }
 
-/* pbrt-v4's samplers: one kernel shape, one work-item per batch item. */
+/* pbrt-v4's samplers: one work-item per batch item or pixel; zsobol and paddedsobol on SIMD
+ * contexts one per 8 pixels. */
 static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                          const clr_request_slot *slots, const float *pmj_pixels, cl_mem values) {
   clr_context ctx = d->ctx;
