@@ -21,6 +21,12 @@ typedef struct clr_v4_tables {
   CLR_GLOBAL const clr_halton_prime *primes;
   CLR_GLOBAL const float *pmj_pixels; /* pmj02bn: (x, y) of GetPixel2D per tile pixel, sample */
   CLR_GLOBAL const float *pmj_sets;   /* pmj02bn: (x, y) of point i < spp of each point set */
+  /* halton with permuted digits: DigitPermutation of dimension d < digit_dims (base b) at
+   * digit_perms[digit_offsets[d] + digit index * b + digit] (clr_v4_digit_permutation); past
+   * them, or with no tables (digit_dims 0), computed per digit */
+  CLR_GLOBAL const clr_u16 *digit_perms;
+  CLR_GLOBAL const clr_u32 *digit_offsets;
+  clr_i32 digit_dims;
 } clr_v4_tables;
 
 /* Floats of pmj02bn's GetPixel2D table; its point-set table (clr_v4_pmj02_set_point) follows. */
@@ -82,18 +88,39 @@ CLR_INLINE float clr_v4_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr, c
   return clr_v4_below_one((float)reversed * inv_m);
 }
 
+/* DigitPermutation(base, seed)'s entry for `digit` of digit `digit_index`. */
+CLR_INLINE clr_u32 clr_v4_digit_permutation(clr_u32 base, clr_i32 digit_index, clr_u32 digit,
+                                            clr_u32 seed) {
+  clr_u32 dseed = (clr_u32)clr_v4_hash12(clr_v4_pack((clr_i32)base, digit_index), seed);
+  return clr_v4_permutation_element(digit, base, dseed);
+}
+
+/* The digits ScrambledRadicalInverse permutes in base pr->base (pbrt-v4's nDigits): at most. */
+CLR_INLINE clr_i32 clr_v4_scrambled_digits(CLR_GLOBAL const clr_halton_prime *pr) {
+  float inv_base = pr->inv_base, inv_m = 1.0f, top = (float)(pr->base - 1u);
+  clr_i32 digits = 0;
+  while (1.0f - top * inv_m < 1.0f) {
+    inv_m *= inv_base;
+    ++digits;
+  }
+  return digits;
+}
+
 /* ScrambledRadicalInverse with DigitPermutation(base, seed): digit i's permutation is
- * PermutationElement(digit, base, Hash(base, i, seed)), computed here rather than stored. */
+ * PermutationElement(digit, base, Hash(base, i, seed)), read from `perms` (clr_v4_tables) or,
+ * where perms is NULL, computed. */
 CLR_INLINE float clr_v4_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_prime *pr, clr_u64 a,
-                                                  clr_u32 seed) {
+                                                  clr_u32 seed, CLR_GLOBAL const clr_u16 *perms) {
   clr_u64 base = pr->base, limit = 0xffffffffffffffffUL / base - base, reversed = 0u;
   float inv_base = pr->inv_base, inv_m = 1.0f, top = (float)(pr->base - 1u);
   clr_i32 digit_index = 0;
   while (1.0f - top * inv_m < 1.0f && reversed < limit) {
-    clr_u64 next = a / base;
+    clr_u64 next = (a >> 32u) ? a / base
+                              : (clr_u64)clr_halton_div32((clr_u32)a, pr->div_magic, pr->div_shift);
     clr_u32 digit = (clr_u32)(a - next * base);
-    clr_u32 dseed = (clr_u32)clr_v4_hash12(clr_v4_pack((clr_i32)pr->base, digit_index), seed);
-    reversed = reversed * base + clr_v4_permutation_element(digit, pr->base, dseed);
+    clr_u32 element = perms ? (clr_u32)perms[(clr_u32)digit_index * pr->base + digit]
+                            : clr_v4_digit_permutation(pr->base, digit_index, digit, seed);
+    reversed = reversed * base + element;
     inv_m *= inv_base;
     ++digit_index;
     a = next;
@@ -156,7 +183,8 @@ CLR_INLINE float clr_v4_halton_dimension(const clr_sampler_params *p, const clr_
                                          clr_u64 index, clr_i32 dim) {
   CLR_GLOBAL const clr_halton_prime *pr = t->primes + dim;
   if (p->randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS)
-    return clr_v4_scrambled_radical_inverse(pr, index, p->seed);
+    return clr_v4_scrambled_radical_inverse(
+        pr, index, p->seed, dim < t->digit_dims ? t->digit_perms + t->digit_offsets[dim] : 0);
   if (p->randomization == CLR_RANDOMIZE_TYPE_OWEN)
     return clr_v4_owen_radical_inverse(
         pr, index, (clr_u32)clr_v4_mix_bits((clr_u64)(clr_i64)(1 + (dim << 4))));

@@ -20,13 +20,19 @@
 CLR_INLINE void clr_v4_kernel_tables(const clr_sampler_params *p, __global const uint *sobol32,
                                      __global const ulong *vdc, __global const ulong *vdc_inv,
                                      __global const clr_halton_prime *primes,
-                                     __global const float *pmj_pixels, clr_v4_tables *t) {
+                                     __global const float *pmj_pixels,
+                                     __global const ushort *digit_perms,
+                                     __global const uint *digit_offsets, int digit_dims,
+                                     clr_v4_tables *t) {
   t->sobol32 = sobol32;
   t->vdc = vdc;
   t->vdc_inv = vdc_inv;
   t->primes = primes;
   t->pmj_pixels = pmj_pixels;
   t->pmj_sets = pmj_pixels + clr_v4_pmj02_pixel_floats(p);
+  t->digit_perms = digit_perms;
+  t->digit_offsets = digit_offsets;
+  t->digit_dims = digit_dims;
 }
 
 /* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1): one work-item per batch
@@ -38,11 +44,14 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
                               __global const ulong *restrict vdc_inv,
                               __global const clr_halton_prime *restrict primes,
                               __global const float *restrict pmj_pixels,
+                              __global const ushort *restrict digit_perms,
+                              __global const uint *restrict digit_offsets, int digit_dims,
                               __global float *restrict values, int item_count) {
   const int item = (int)get_global_id(0);
   if (item >= item_count) return;
   clr_v4_tables t;
-  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, &t);
+  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
+                       digit_dims, &t);
   clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
 }
 
@@ -52,11 +61,14 @@ __kernel void clr_v4_generate_pixels(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
     __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
-    __global const float *restrict pmj_pixels, __global float *restrict values, int pixel_count) {
+    __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
+    __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
+    int pixel_count) {
   const int pixel = (int)get_global_id(0);
   if (pixel >= pixel_count) return;
   clr_v4_tables t;
-  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, &t);
+  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
+                       digit_dims, &t);
   clr_v4_pixel_vectors(
       &p, slots, &t, pixel,
       values + (size_t)pixel * (size_t)p.sample_count * (size_t)p.values_per_sample);
@@ -71,8 +83,11 @@ __kernel void clr_v4_generate_pixels8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
     __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
-    __global const float *restrict pmj_pixels, __global float *restrict values, int pixel_count) {
+    __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
+    __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
+    int pixel_count) {
   (void)vdc, (void)vdc_inv, (void)primes, (void)pmj_pixels; /* clr_v4_generate_pixels' tables */
+  (void)digit_perms, (void)digit_offsets, (void)digit_dims;
   size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
   ulong out[CLR_V4_LANES], morton[CLR_V4_LANES];

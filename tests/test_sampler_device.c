@@ -325,6 +325,52 @@ static void test_v4_lanes_match_reference(void **state) {
   clr_sampler_release(s);
 }
 
+/* pbrt-v4's halton with permuted digits reads DigitPermutation tables built on the host for the
+ * layout's dimensions: several seeds (a new table each), a layout that grows on the same sampler
+ * (the tables grow), 1300 dimensions (past the 1000 primes pbrt-v4 wraps at), halton indices past
+ * 2^32 (64-bit digit division), and every value against the reference's per-digit hashes. */
+static void test_v4_halton_digit_tables_match_reference(void **state) {
+  (void)state;
+  static clr_sample_request many[650];
+  for (int i = 0; i < 650; ++i) many[i] = (clr_sample_request){2, 0};
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  static const struct {
+    uint32_t seed;
+    int spp, res;
+    clr_bounds2i px;
+    int first, count;
+  } cases[] = {{0, 16, 64, {3, 5, 14, 7}, 0, 0},
+               {5, 64, 64, {60, 0, 64, 3}, 7, 20},
+               {12345, 1, 64, {0, 0, 9, 2}, 0, 0},
+               {7, 4096, 4096, {4000, 4090, 4003, 4091}, 4090, 6}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, CLR_SAMPLER_HALTON);
+    d.seeding = CLR_SEEDING_PBRT_V4;
+    d.randomization = CLR_RANDOMIZATION_PERMUTEDIGITS;
+    d.seed = cases[c].seed;
+    d.pixel_samples = cases[c].spp;
+    d.film.x_resolution = d.film.y_resolution = cases[c].res;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    for (int layout = 0; layout < 3; ++layout) {
+      const clr_sample_request *req = layout == 0 ? camera10 : layout == 1 ? with_arrays : many;
+      int nreq = layout == 0 ? 6 : layout == 1 ? n : 650;
+      generated dev = generate(s, cases[c].px, cases[c].first, cases[c].count, req, nreq, 1);
+      generated ref = generate(s, cases[c].px, cases[c].first, cases[c].count, req, nreq, 0);
+      size_t bad = 0;
+      for (size_t i = 0; i < dev.count; ++i)
+        if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
+          fprintf(stderr, "halton seed %u layout %d: value %zu device %.9g reference %.9g\n",
+                  cases[c].seed, layout, i, (double)dev.values[i], (double)ref.values[i]);
+      assert_int_equal(bad, 0);
+      free_generated(&dev);
+      free_generated(&ref);
+    }
+    clr_sampler_release(s);
+  }
+}
+
 /* Past Sobol's 1024 dimensions and Halton's 1000 primes values fall back to a hash: in range,
  * and not constant. */
 static void test_past_available_dimensions(void **state) {
@@ -640,6 +686,7 @@ int main(void) {
       cmocka_unit_test(test_stratified_strata_counts_match_reference),
       cmocka_unit_test(test_zerotwo_spp_match_reference),
       cmocka_unit_test(test_v4_lanes_match_reference),
+      cmocka_unit_test(test_v4_halton_digit_tables_match_reference),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),

@@ -12,6 +12,7 @@
 #include "pbrt_v4_sampler_funcs.h"
 #include "sampler_device.h"
 #include "sobol_tables.h"
+#include "v4_digit_tables.h"
 
 #define MAX_KERNELS 24
 /* Work-items per work-group wanted; the device's and the kernel's limits may lower it
@@ -55,6 +56,9 @@ struct clr_sampler_device {
   cached_kernel kernels[MAX_KERNELS];
   int kernel_count;
   grow_buffer plan, index_plan, indices, scratch, slots, bounded, pmj, pair;
+  /* pbrt-v4 halton's digit permutations (host tables and their device copies) */
+  clr_v4_digit_tables digits;
+  grow_buffer digit_perms, digit_offsets;
   /* Values read back into host memory, kept between calls: a buffer made per call costs the
    * implementation fresh pages (page faults) in every batch, and their release a TLB shootdown */
   grow_buffer host_out;
@@ -99,13 +103,15 @@ static void release_kernels(clr_sampler_device *d) {
 void clr_sampler_device_release(clr_sampler_device *d) {
   if (!d) return;
   release_kernels(d);
-  grow_buffer *buffers[] = {&d->plan,    &d->index_plan, &d->indices, &d->scratch, &d->slots,
-                            &d->bounded, &d->pmj,        &d->pair,    &d->host_out};
+  grow_buffer *buffers[] = {&d->plan,     &d->index_plan,  &d->indices,      &d->scratch,
+                            &d->slots,    &d->bounded,     &d->pmj,          &d->pair,
+                            &d->host_out, &d->digit_perms, &d->digit_offsets};
   for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
     if (buffers[i]->mem) clReleaseMemObject(buffers[i]->mem);
   pthread_mutex_destroy(&d->lock);
   free(d->bounded_host);
   free(d->pair_host);
+  clr_v4_digit_tables_free(&d->digits);
   for (int r = 0; r < CLR_HALTON_PRIME_RECORDS; ++r) free(d->pair_cache[r].table);
   free(d);
 }
@@ -645,6 +651,60 @@ static clr_result run_pixel(clr_sampler_device *d, const clr_sampler_params *p,
   return launch(ctx, k, items, name);
 }
 
+/* Dimensions a pbrt-v4 halton layout reads: the pixel's two, then each request's (an upper bound;
+ * at most the primes, where pbrt-v4 wraps to dimension 2). */
+static int v4_layout_dimensions(const clr_sampler_params *p, const clr_request_slot *slots) {
+  long dims = 2;
+  for (int r = 0; r < p->request_count; ++r) {
+    long elements = slots[r].array_size ? slots[r].array_size : 1;
+    dims += elements * (r == p->film_request ? 2 : slots[r].dims);
+    if (dims >= CLR_HALTON_PRIMES) return CLR_HALTON_PRIMES;
+  }
+  return (int)dims;
+}
+
+/* Blocking copies of d->digits to the device (the host tables change with the next seed). */
+static clr_result copy_digit_tables(clr_sampler_device *d) {
+  size_t perm_bytes = d->digits.count * sizeof(uint16_t);
+  size_t offset_bytes = (size_t)d->digits.dims * sizeof(uint32_t);
+  CLR_CHECK(
+      grow(d->ctx, &d->digit_perms, perm_bytes, CL_MEM_READ_ONLY, "halton digit permutations"));
+  CLR_CHECK(
+      grow(d->ctx, &d->digit_offsets, offset_bytes, CL_MEM_READ_ONLY, "halton digit permutations"));
+  cl_command_queue q = clr_context_cl_queue(d->ctx);
+  if (perm_bytes)
+    CLR_CL_CHECK(d->ctx, clEnqueueWriteBuffer(q, d->digit_perms.mem, CL_TRUE, 0, perm_bytes,
+                                              d->digits.perms, 0, NULL, NULL));
+  if (offset_bytes)
+    CLR_CL_CHECK(d->ctx, clEnqueueWriteBuffer(q, d->digit_offsets.mem, CL_TRUE, 0, offset_bytes,
+                                              d->digits.offsets, 0, NULL, NULL));
+  return CLR_SUCCESS;
+}
+
+/* pbrt-v4 halton with permuted digits: the layout's DigitPermutation tables on the device (built
+ * and copied when the seed or the dimensions change); *dims: how many dimensions they cover (0 for
+ * other samplers, whose kernels ignore the tables). */
+static clr_result upload_digit_tables(clr_sampler_device *d, const clr_sampler_params *p,
+                                      const clr_request_slot *slots, cl_int *dims) {
+  *dims = 0;
+  CLR_CHECK(grow(d->ctx, &d->digit_perms, 0, CL_MEM_READ_ONLY, "halton digit permutations"));
+  CLR_CHECK(grow(d->ctx, &d->digit_offsets, 0, CL_MEM_READ_ONLY, "halton digit permutations"));
+  if (p->v4_sampler != CLR_V4_HALTON || p->randomization != CLR_RANDOMIZE_TYPE_PERMUTEDIGITS)
+    return CLR_SUCCESS;
+  int made = clr_v4_digit_tables_make(&d->digits, p->seed, v4_layout_dimensions(p, slots));
+  if (made < 0)
+    return clr_fail(d->ctx, CLR_ERROR_OUT_OF_MEMORY, "halton digit permutations: out of memory");
+  if (made) {
+    clr_result r = copy_digit_tables(d);
+    if (r != CLR_SUCCESS) {
+      clr_v4_digit_tables_free(&d->digits); /* rebuilt and copied by the next call */
+      return r;
+    }
+  }
+  *dims = d->digits.dims;
+  return CLR_SUCCESS;
+}
+
 /* pbrt-v4's samplers: one work-item per batch item or pixel; zsobol and paddedsobol on SIMD
  * contexts one per 8 pixels. */
 static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
@@ -662,6 +722,8 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                                                    2 * CLR_PMJ02_SETS * (size_t)p->spp)
                                 : 0;
   CLR_CHECK(upload(ctx, &d->pmj, pmj_pixels, pmj_bytes, "pmj02bn pixel and point-set tables"));
+  cl_int digit_dims = 0;
+  CLR_CHECK(upload_digit_tables(d, p, slots, &digit_dims));
   /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once;
    * zsobol and paddedsobol on SIMD contexts: one per 8 pixels, a pixel per lane. */
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
@@ -689,6 +751,9 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   SET_ARG(ctx, k, a++, vdc_inv);
   SET_ARG(ctx, k, a++, primes);
   SET_ARG(ctx, k, a++, d->pmj.mem);
+  SET_ARG(ctx, k, a++, d->digit_perms.mem);
+  SET_ARG(ctx, k, a++, d->digit_offsets.mem);
+  SET_ARG(ctx, k, a++, digit_dims);
   SET_ARG(ctx, k, a++, values);
   SET_ARG(ctx, k, a++, count);
   return launch(ctx, k, items, name);
