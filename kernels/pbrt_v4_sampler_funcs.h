@@ -115,8 +115,8 @@ CLR_INLINE float clr_v4_scrambled_radical_inverse(CLR_GLOBAL const clr_halton_pr
   float inv_base = pr->inv_base, inv_m = 1.0f, top = (float)(pr->base - 1u);
   clr_i32 digit_index = 0;
   while (1.0f - top * inv_m < 1.0f && reversed < limit) {
-    clr_u64 next = (a >> 32u) ? a / base
-                              : (clr_u64)clr_halton_div32((clr_u32)a, pr->div_magic, pr->div_shift);
+    clr_u64 next =
+        (a >> 32u) ? a / base : (clr_u64)clr_halton_div32((clr_u32)a, pr->div_magic, pr->div_shift);
     clr_u32 digit = (clr_u32)(a - next * base);
     clr_u32 element = perms ? (clr_u32)perms[(clr_u32)digit_index * pr->base + digit]
                             : clr_v4_digit_permutation(pr->base, digit_index, digit, seed);

@@ -281,4 +281,62 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
   }
 }
 
+/* SobolSampler's Get1D at `dimension` for the 8 lanes' indices (bits below 2^bits). */
+CLR_V4_INLINE float8 clr_v4_sobol_dimension8(const clr_sampler_params *p,
+                                             __global const uint *sobol32,
+                                             const clr_v4_u64x8 *index, int bits, int dimension) {
+  uint hash = (uint)clr_v4_hash8(clr_v4_pack(dimension, (int)p->seed));
+  return clr_v4_sobol_finish8(
+      clr_v4_sobol_bits8(index, bits, sobol32 + (size_t)dimension * CLR_SOBOL_MATRIX_SIZE),
+      p->randomization, (uint8)hash);
+}
+
+/* clr_v4_sobol_pixel in every lane. */
+CLR_V4_INLINE float8 clr_v4_sobol_pixel8(const clr_sampler_params *p, float8 u, float8 pixel) {
+  float8 v = u * p->sobol_resolution - pixel;
+  v = select(v, (float8)CLR_ONE_MINUS_EPSILON, v > CLR_ONE_MINUS_EPSILON);
+  return select(v, (float8)0.0f, v < 0.0f);
+}
+
+/* clr_v4_sample_vector for pbrt-v4's SobolSampler, 8 batch items (one per lane: index, pixel,
+ * lane j's values at values[out[j]]). */
+static inline void clr_v4_sobol_vectors8(const clr_sampler_params *p,
+                                         __global const clr_request_slot *slots,
+                                         __global const uint *sobol32, const clr_v4_u64x8 *index,
+                                         float8 px, float8 py, __global float *values,
+                                         const ulong *out) {
+  ulong4 any = index->lo | index->hi; /* the indices' bits: those of their OR */
+  ulong2 any2 = any.lo | any.hi;
+  ulong all = any2.x | any2.y;
+  int bits = 0;
+  while (bits < 64 && (all >> (ulong)bits) != 0ul) ++bits;
+  int dimension = 2;
+  for (int r = 0; r < p->request_count; ++r) {
+    clr_request_slot sl = slots[r];
+    int elements = sl.array_size ? sl.array_size : 1;
+    for (int j = 0; j < elements; ++j) {
+      if (sl.skipped) { /* clr_v4_skip */
+        if (dimension + sl.dims - 1 >= CLR_SOBOL_DIMENSIONS) dimension = 2;
+        dimension += sl.dims;
+      } else if (r == p->film_request) { /* GetPixel2D: unrandomized dimensions 0 and 1 */
+        float8 u0 = clr_v4_sobol_finish8(clr_v4_sobol_bits8(index, bits, sobol32), 0, (uint8)0u);
+        float8 u1 = clr_v4_sobol_finish8(
+            clr_v4_sobol_bits8(index, bits, sobol32 + CLR_SOBOL_MATRIX_SIZE), 0, (uint8)0u);
+        clr_store_pairs8(values, out, (size_t)sl.first_value, clr_v4_sobol_pixel8(p, u0, px),
+                         clr_v4_sobol_pixel8(p, u1, py));
+      } else if (sl.dims == 1) {
+        if (dimension >= CLR_SOBOL_DIMENSIONS) dimension = 2;
+        clr_store_lanes8(values, out, (size_t)(sl.first_value + j),
+                         clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension++));
+      } else {
+        if (dimension + 1 >= CLR_SOBOL_DIMENSIONS) dimension = 2;
+        clr_store_pairs8(values, out, (size_t)(sl.first_value + 2 * j),
+                         clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension),
+                         clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension + 1));
+        dimension += 2;
+      }
+    }
+  }
+}
+
 #endif

@@ -77,6 +77,36 @@ __kernel void clr_v4_generate_pixels(
 #ifndef CLR_KERNELS_PORTABLE
 #include "pbrt_v4_sampler_simd.h"
 
+/* pbrt-v4's sobol on SIMD contexts: one work-item per 8 batch items (past the end the last item
+ * repeats), one per lane. Same arguments as clr_v4_generate. */
+__kernel void clr_v4_generate8(
+    clr_sampler_params p, __global const clr_request_slot *restrict slots,
+    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
+    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
+    __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
+    __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
+    int item_count) {
+  (void)primes, (void)pmj_pixels, (void)digit_perms, (void)digit_offsets, (void)digit_dims;
+  size_t group = get_global_id(0);
+  ulong out[CLR_V4_LANES], index[CLR_V4_LANES];
+  float px[CLR_V4_LANES], py[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) {
+    uint item = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)item_count - 1u);
+    int pixel = (int)(item / (uint)p.sample_count), row = pixel / p.batch_width;
+    int x = p.batch_x0 + pixel - row * p.batch_width, y = p.batch_y0 + row;
+    out[j] = (ulong)item * (ulong)p.values_per_sample;
+    index[j] = clr_sobol_interval_to_index(
+        (uint)p.sobol_log2_resolution, (ulong)(p.first_sample + (int)(item % (uint)p.sample_count)),
+        x, y, vdc, vdc_inv);
+    px[j] = (float)x;
+    py[j] = (float)y;
+  }
+  clr_v4_u64x8 lanes;
+  lanes.lo = vload4(0, index);
+  lanes.hi = vload4(1, index);
+  clr_v4_sobol_vectors8(&p, slots, sobol32, &lanes, vload8(0, px), vload8(0, py), values, out);
+}
+
 /* zsobol and paddedsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the
  * last pixel repeats), one pixel per lane. Same arguments as clr_v4_generate_pixels. */
 __kernel void clr_v4_generate_pixels8(

@@ -195,13 +195,15 @@ static void check_v4_randomizations(void) {
     }
 }
 
-/* zsobol's and paddedsobol's own SIMD kernel (8 pixels per work-item) on every device, Oclgrind's
- * SIMD context included: every randomizer, spp 8 and 2 (zsobol: odd powers of two) or 5
- * (paddedsobol: cycle walks), a batch of 18 pixels (padding lanes). */
+/* The SIMD kernels of zsobol and paddedsobol (8 pixels per work-item) and of pbrt-v4's sobol (8
+ * items) on every device, Oclgrind's SIMD context included: every randomizer, spp 8 and 2
+ * (zsobol: odd powers of two) or 5 (paddedsobol: cycle walks; sobol), a batch of 18 pixels
+ * (padding lanes). */
 static void check_v4_lanes(void) {
   if (clr_context_kernel_shape(ctx) != CLR_KERNELS_SIMD) return;
-  static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL, CLR_SAMPLER_PADDEDSOBOL};
-  for (int t = 0; t < 2; ++t)
+  static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL, CLR_SAMPLER_PADDEDSOBOL,
+                                           CLR_SAMPLER_SOBOL};
+  for (int t = 0; t < 3; ++t)
     for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
       clr_sampler_desc d;
       clr_sampler_desc_init(&d, types[t]);

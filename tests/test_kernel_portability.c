@@ -47,7 +47,7 @@ static const define_set sets[] = {
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=5 -DCLR_KERNELS_PORTABLE"}, /* maxmindist */
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4 -DCLR_KERNELS_PORTABLE"},
     {"sampler_kernels.cl",
-     "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4"}, /* pbrt-v4, SIMD zsobol and paddedsobol */
+     "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4"}, /* pbrt-v4, SIMD sobol, zsobol, paddedsobol */
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=0"},
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=1"},
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=2"},

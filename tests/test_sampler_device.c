@@ -253,9 +253,9 @@ static void test_zerotwo_spp_match_reference(void **state) {
     }
 }
 
-/* zsobol and paddedsobol in the SIMD kernel (8 pixels per work-item): 1 to 64 samples per pixel
- * (zsobol: odd and even powers of two, the last binary digit's flip; paddedsobol: any count, the
- * permutation's cycle walks), every randomizer, two seeds, whole pixels and a sample range,
+/* zsobol and paddedsobol in the SIMD kernel (8 pixels per work-item) and pbrt-v4's sobol (8 items
+ * per work-item): 1 to 64 samples per pixel (zsobol: odd and even powers of two, the last binary
+ * digit's flip; paddedsobol: any count, the permutation's cycle walks), every randomizer, two seeds, whole pixels and a sample range,
  * streams and arrays, a batch away from the origin whose width is no multiple of 8,
  * bit-identical to the host reference. */
 static void test_v4_lanes_match_reference(void **state) {
@@ -264,11 +264,12 @@ static void test_v4_lanes_match_reference(void **state) {
     clr_sampler_type type;
     int spp;
   } cases[] = {
-      {CLR_SAMPLER_ZSOBOL, 1},      {CLR_SAMPLER_ZSOBOL, 2},       {CLR_SAMPLER_ZSOBOL, 4},
-      {CLR_SAMPLER_ZSOBOL, 8},      {CLR_SAMPLER_ZSOBOL, 16},      {CLR_SAMPLER_ZSOBOL, 32},
-      {CLR_SAMPLER_ZSOBOL, 64},     {CLR_SAMPLER_PADDEDSOBOL, 1},  {CLR_SAMPLER_PADDEDSOBOL, 3},
-      {CLR_SAMPLER_PADDEDSOBOL, 5}, {CLR_SAMPLER_PADDEDSOBOL, 12}, {CLR_SAMPLER_PADDEDSOBOL, 16},
-      {CLR_SAMPLER_PADDEDSOBOL, 33}};
+      {CLR_SAMPLER_ZSOBOL, 1},       {CLR_SAMPLER_ZSOBOL, 2},       {CLR_SAMPLER_ZSOBOL, 4},
+      {CLR_SAMPLER_ZSOBOL, 8},       {CLR_SAMPLER_ZSOBOL, 16},      {CLR_SAMPLER_ZSOBOL, 32},
+      {CLR_SAMPLER_ZSOBOL, 64},      {CLR_SAMPLER_PADDEDSOBOL, 1},  {CLR_SAMPLER_PADDEDSOBOL, 3},
+      {CLR_SAMPLER_PADDEDSOBOL, 5},  {CLR_SAMPLER_PADDEDSOBOL, 12}, {CLR_SAMPLER_PADDEDSOBOL, 16},
+      {CLR_SAMPLER_PADDEDSOBOL, 33}, {CLR_SAMPLER_SOBOL, 1},        {CLR_SAMPLER_SOBOL, 12},
+      {CLR_SAMPLER_SOBOL, 16},       {CLR_SAMPLER_SOBOL, 64}};
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)
     for (int r = 0; r <= CLR_RANDOMIZATION_OWEN; ++r) {
@@ -307,22 +308,28 @@ static void test_v4_lanes_match_reference(void **state) {
       }
       clr_sampler_release(s);
     }
-  /* Pixels far from the origin at 256 spp: Morton indices of 36 bits (the Sobol' matrices' upper
-   * 32 columns). */
-  clr_sampler_desc d;
-  clr_sampler_desc_init(&d, CLR_SAMPLER_ZSOBOL);
-  d.seeding = CLR_SEEDING_PBRT_V4;
-  d.pixel_samples = 256;
-  d.film.x_resolution = d.film.y_resolution = 16384;
-  clr_sampler s = NULL;
-  assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
-  clr_bounds2i far = {16370, 16001, 16381, 16003};
-  generated dev = generate(s, far, 250, 6, with_arrays, n, 1);
-  generated ref = generate(s, far, 250, 6, with_arrays, n, 0);
-  assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
-  free_generated(&dev);
-  free_generated(&ref);
-  clr_sampler_release(s);
+  /* Pixels far from the origin at 256 spp: zsobol's Morton and sobol's indices of 36 bits (the
+   * Sobol' matrices' upper 32 columns); sobol past its 1024 dimensions (wrapping to 2) in a 1D
+   * array of 1030 values and a 2D array of 520 points. */
+  static const clr_sample_request many[] = {{2, 0}, {1, 1030}, {2, 520}};
+  for (int t = 0; t < 2; ++t) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, t ? CLR_SAMPLER_SOBOL : CLR_SAMPLER_ZSOBOL);
+    d.seeding = CLR_SEEDING_PBRT_V4;
+    d.pixel_samples = 256;
+    d.film.x_resolution = d.film.y_resolution = 16384;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    clr_bounds2i far = {16370, 16001, 16381, 16003};
+    for (int layout = 0; layout < 2; ++layout) {
+      generated dev = generate(s, far, 250, 6, layout ? many : with_arrays, layout ? 3 : n, 1);
+      generated ref = generate(s, far, 250, 6, layout ? many : with_arrays, layout ? 3 : n, 0);
+      assert_memory_equal(dev.values, ref.values, dev.count * sizeof(float));
+      free_generated(&dev);
+      free_generated(&ref);
+    }
+    clr_sampler_release(s);
+  }
 }
 
 /* pbrt-v4's halton with permuted digits reads DigitPermutation tables built on the host for the

@@ -705,8 +705,8 @@ static clr_result upload_digit_tables(clr_sampler_device *d, const clr_sampler_p
   return CLR_SUCCESS;
 }
 
-/* pbrt-v4's samplers: one work-item per batch item or pixel; zsobol and paddedsobol on SIMD
- * contexts one per 8 pixels. */
+/* pbrt-v4's samplers: one work-item per batch item or pixel; on SIMD contexts zsobol and
+ * paddedsobol one per 8 pixels, sobol one per 8 batch items. */
 static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                          const clr_request_slot *slots, const float *pmj_pixels, cl_mem values) {
   clr_context ctx = d->ctx;
@@ -725,24 +725,28 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   cl_int digit_dims = 0;
   CLR_CHECK(upload_digit_tables(d, p, slots, &digit_dims));
   /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once;
-   * zsobol and paddedsobol on SIMD contexts: one per 8 pixels, a pixel per lane. */
+   * on SIMD contexts zsobol and paddedsobol one per 8 pixels (a pixel per lane), sobol one per 8
+   * items. */
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
                   p->v4_sampler == CLR_V4_PMJ02BN;
   int portable = clr_context_portable(ctx);
-  int lanes = (p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL) && !portable
+  int lanes = (p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
+               p->v4_sampler == CLR_V4_SOBOL) &&
+                      !portable
                   ? CLR_PIXEL_LANES
                   : 1;
-  const char *name = !per_pixel  ? "clr_v4_generate"
+  const char *name = !per_pixel  ? (lanes > 1 ? "clr_v4_generate8" : "clr_v4_generate")
                      : lanes > 1 ? "clr_v4_generate_pixels8"
                                  : "clr_v4_generate_pixels";
   size_t pixels = (size_t)p->batch_width * (size_t)p->batch_height;
-  if (per_pixel) items = (pixels + (size_t)lanes - 1) / (size_t)lanes;
+  size_t units = per_pixel ? pixels : items; /* the kernel's pixels or batch items */
+  items = (units + (size_t)lanes - 1) / (size_t)lanes;
   cl_kernel k;
   CLR_CHECK(get_kernel(d, name,
                        portable ? "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4" PORTABLE_DEFINE
                                 : "-DCLR_SAMPLER_TYPE=-1 -DCLR_SAMPLER_V4",
                        &k));
-  cl_int count = (cl_int)(lanes > 1 ? pixels : items); /* batch items, or pixels of 8-lane items */
+  cl_int count = (cl_int)units;
   int a = 0;
   SET_ARG(ctx, k, a++, *p);
   SET_ARG(ctx, k, a++, d->slots.mem);
