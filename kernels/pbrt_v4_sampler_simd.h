@@ -8,6 +8,7 @@
 #include "pbrt_v4_sampler_funcs.h"
 #include "lane_math.h"
 #include "lane_store.h"
+#include "pcg32_lanes.h"
 
 #define CLR_V4_LANES 8
 
@@ -337,6 +338,33 @@ static inline void clr_v4_sobol_vectors8(const clr_sampler_params *p,
       }
     }
   }
+}
+
+/* clr_v4_sample_vector for pbrt-v4's IndependentSampler, 8 batch items (one RNG stream per lane,
+ * at its StartPixelSample position; lane j's values at values[out[j]]): every value is the
+ * stream's next float, GetPixel2D a Get2D, a skipped request an advance. */
+static inline void clr_v4_independent_vectors8(const clr_sampler_params *p,
+                                               __global const clr_request_slot *slots,
+                                               clr_pcg32x8 *state, __global float *values,
+                                               const ulong *out) {
+  clr_pcg32x8 r = *state, *rng = &r; /* in registers, not behind the pointer */
+  for (int k = 0; k < p->request_count; ++k) {
+    clr_request_slot sl = slots[k];
+    int elements = sl.array_size ? sl.array_size : 1;
+    for (int j = 0; j < elements; ++j) {
+      if (sl.skipped) {
+        clr_pcg32x8_advance(rng, (ulong)sl.dims);
+      } else if (sl.dims == 1 && k != p->film_request) {
+        clr_store_lanes8(values, out, (size_t)(sl.first_value + j), clr_pcg32x8_float(rng));
+      } else {
+        float8 u0 = clr_pcg32x8_float(rng);
+        float8 u1 = clr_pcg32x8_float(rng);
+        clr_store_pairs8(values, out, (size_t)(sl.first_value + (k == p->film_request ? 0 : 2 * j)),
+                         u0, u1);
+      }
+    }
+  }
+  *state = r;
 }
 
 #endif

@@ -12,6 +12,7 @@
 #include "pbrt_v4_sampler_funcs.h"
 #include "lane_math.h"
 #include "lane_store.h" /* here: the embedder inlines each header once, at its first include */
+#include "pcg32_lanes.h"
 
 #ifdef CLR_SAMPLER_V4
 /* The tables of the pbrt-v4 kernels' arguments; pmj02bn's point sets follow its pixel table. (An
@@ -77,8 +78,8 @@ __kernel void clr_v4_generate_pixels(
 #ifndef CLR_KERNELS_PORTABLE
 #include "pbrt_v4_sampler_simd.h"
 
-/* pbrt-v4's sobol on SIMD contexts: one work-item per 8 batch items (past the end the last item
- * repeats), one per lane. Same arguments as clr_v4_generate. */
+/* pbrt-v4's sobol and independent on SIMD contexts: one work-item per 8 batch items (past the end
+ * the last item repeats), one per lane. Same arguments as clr_v4_generate. */
 __kernel void clr_v4_generate8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
@@ -88,23 +89,40 @@ __kernel void clr_v4_generate8(
     int item_count) {
   (void)primes, (void)pmj_pixels, (void)digit_perms, (void)digit_offsets, (void)digit_dims;
   size_t group = get_global_id(0);
-  ulong out[CLR_V4_LANES], index[CLR_V4_LANES];
+  ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
   float px[CLR_V4_LANES], py[CLR_V4_LANES];
+  int sobol = p.v4_sampler == CLR_V4_SOBOL;
   for (int j = 0; j < CLR_V4_LANES; ++j) {
     uint item = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)item_count - 1u);
     int pixel = (int)(item / (uint)p.sample_count), row = pixel / p.batch_width;
     int x = p.batch_x0 + pixel - row * p.batch_width, y = p.batch_y0 + row;
+    int sample = p.first_sample + (int)(item % (uint)p.sample_count);
     out[j] = (ulong)item * (ulong)p.values_per_sample;
-    index[j] = clr_sobol_interval_to_index(
-        (uint)p.sobol_log2_resolution, (ulong)(p.first_sample + (int)(item % (uint)p.sample_count)),
-        x, y, vdc, vdc_inv);
+    if (sobol) {
+      index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
+                                             vdc, vdc_inv);
+    } else { /* independent: index holds the stream's state */
+      clr_pcg32 r;
+      clr_v4_pixel_rng(x, y, p.seed, sample, &r);
+      index[j] = r.state;
+      inc[j] = r.inc;
+    }
     px[j] = (float)x;
     py[j] = (float)y;
   }
-  clr_v4_u64x8 lanes;
-  lanes.lo = vload4(0, index);
-  lanes.hi = vload4(1, index);
-  clr_v4_sobol_vectors8(&p, slots, sobol32, &lanes, vload8(0, px), vload8(0, py), values, out);
+  if (sobol) {
+    clr_v4_u64x8 lanes;
+    lanes.lo = vload4(0, index);
+    lanes.hi = vload4(1, index);
+    clr_v4_sobol_vectors8(&p, slots, sobol32, &lanes, vload8(0, px), vload8(0, py), values, out);
+  } else {
+    clr_pcg32x8 rng;
+    rng.state_lo = vload4(0, index);
+    rng.state_hi = vload4(1, index);
+    rng.inc_lo = vload4(0, inc);
+    rng.inc_hi = vload4(1, inc);
+    clr_v4_independent_vectors8(&p, slots, &rng, values, out);
+  }
 }
 
 /* zsobol and paddedsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the

@@ -253,8 +253,8 @@ static void test_zerotwo_spp_match_reference(void **state) {
     }
 }
 
-/* zsobol and paddedsobol in the SIMD kernel (8 pixels per work-item) and pbrt-v4's sobol (8 items
- * per work-item): 1 to 64 samples per pixel (zsobol: odd and even powers of two, the last binary
+/* zsobol and paddedsobol in the SIMD kernel (8 pixels per work-item), pbrt-v4's sobol and
+ * independent (8 items per work-item): 1 to 64 samples per pixel (zsobol: odd and even powers of two, the last binary
  * digit's flip; paddedsobol: any count, the permutation's cycle walks), every randomizer, two seeds, whole pixels and a sample range,
  * streams and arrays, a batch away from the origin whose width is no multiple of 8,
  * bit-identical to the host reference. */
@@ -269,10 +269,12 @@ static void test_v4_lanes_match_reference(void **state) {
       {CLR_SAMPLER_ZSOBOL, 64},      {CLR_SAMPLER_PADDEDSOBOL, 1},  {CLR_SAMPLER_PADDEDSOBOL, 3},
       {CLR_SAMPLER_PADDEDSOBOL, 5},  {CLR_SAMPLER_PADDEDSOBOL, 12}, {CLR_SAMPLER_PADDEDSOBOL, 16},
       {CLR_SAMPLER_PADDEDSOBOL, 33}, {CLR_SAMPLER_SOBOL, 1},        {CLR_SAMPLER_SOBOL, 12},
-      {CLR_SAMPLER_SOBOL, 16},       {CLR_SAMPLER_SOBOL, 64}};
+      {CLR_SAMPLER_SOBOL, 16},       {CLR_SAMPLER_SOBOL, 64},       {CLR_SAMPLER_INDEPENDENT, 1},
+      {CLR_SAMPLER_INDEPENDENT, 7},  {CLR_SAMPLER_INDEPENDENT, 16}};
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)
     for (int r = 0; r <= CLR_RANDOMIZATION_OWEN; ++r) {
+      if (cases[k].type == CLR_SAMPLER_INDEPENDENT && r != CLR_RANDOMIZATION_DEFAULT) continue;
       int spp = cases[k].spp;
       clr_sampler_desc d;
       clr_sampler_desc_init(&d, cases[k].type);
