@@ -46,42 +46,62 @@ CLR_INLINE clr_u64 clr_v4_hash16(clr_u64 w0, clr_u64 w1) {
   return clr_murmur_final(clr_murmur_block(clr_murmur_block(16u * CLR_MURMUR_M, w0), w1));
 }
 
+/* MixBits on v (u64, or u64 lanes) in place; a macro so that scalar and lane code share it. */
+#define CLR_V4_MIX_BITS(v)       \
+  do {                           \
+    (v) ^= (v) >> 31u;           \
+    (v) *= 0x7fb5d329728ea185UL; \
+    (v) ^= (v) >> 27u;           \
+    (v) *= 0x81dadef4bc2dd44dUL; \
+    (v) ^= (v) >> 33u;           \
+  } while (0)
+
 CLR_INLINE clr_u64 clr_v4_mix_bits(clr_u64 v) {
-  v ^= v >> 31u;
-  v *= 0x7fb5d329728ea185UL;
-  v ^= v >> 27u;
-  v *= 0x81dadef4bc2dd44dUL;
-  return v ^ (v >> 33u);
+  CLR_V4_MIX_BITS(v);
+  return v;
 }
 
-/* PermutationElement(i, l, p): element i of a pseudo-random permutation of 0..l-1 (Kensler's
- * cycle-walking hash). */
-CLR_INLINE clr_u32 clr_v4_permutation_element(clr_u32 i, clr_u32 l, clr_u32 p) {
+/* One step of PermutationElement's cycle walk: i (u32, or u32 lanes) hashed with p (of i's type
+ * or a scalar) under the mask w (a scalar). A macro so that scalar and lane code share it. */
+#define CLR_V4_PERMUTATION_STEP(i, p, w) \
+  do {                                   \
+    (i) ^= (p);                          \
+    (i) *= 0xe170893du;                  \
+    (i) ^= (p) >> 16u;                   \
+    (i) ^= ((i) & (w)) >> 4u;            \
+    (i) ^= (p) >> 8u;                    \
+    (i) *= 0x0929eb3fu;                  \
+    (i) ^= (p) >> 23u;                   \
+    (i) ^= ((i) & (w)) >> 1u;            \
+    (i) *= 1u | (p) >> 27u;              \
+    (i) *= 0x6935fa69u;                  \
+    (i) ^= ((i) & (w)) >> 11u;           \
+    (i) *= 0x74dcb303u;                  \
+    (i) ^= ((i) & (w)) >> 2u;            \
+    (i) *= 0x9e501cc3u;                  \
+    (i) ^= ((i) & (w)) >> 2u;            \
+    (i) *= 0xc860a3dfu;                  \
+    (i) &= (w);                          \
+    (i) ^= (i) >> 5u;                    \
+  } while (0)
+
+/* The mask of PermutationElement's cycle walk for l items: l - 1 with every lower bit set. */
+CLR_INLINE clr_u32 clr_v4_permutation_mask(clr_u32 l) {
   clr_u32 w = l - 1u;
   w |= w >> 1u;
   w |= w >> 2u;
   w |= w >> 4u;
   w |= w >> 8u;
   w |= w >> 16u;
+  return w;
+}
+
+/* PermutationElement(i, l, p): element i of a pseudo-random permutation of 0..l-1 (Kensler's
+ * cycle-walking hash). */
+CLR_INLINE clr_u32 clr_v4_permutation_element(clr_u32 i, clr_u32 l, clr_u32 p) {
+  clr_u32 w = clr_v4_permutation_mask(l);
   do {
-    i ^= p;
-    i *= 0xe170893du;
-    i ^= p >> 16u;
-    i ^= (i & w) >> 4u;
-    i ^= p >> 8u;
-    i *= 0x0929eb3fu;
-    i ^= p >> 23u;
-    i ^= (i & w) >> 1u;
-    i *= 1u | p >> 27u;
-    i *= 0x6935fa69u;
-    i ^= (i & w) >> 11u;
-    i *= 0x74dcb303u;
-    i ^= (i & w) >> 2u;
-    i *= 0x9e501cc3u;
-    i ^= (i & w) >> 2u;
-    i *= 0xc860a3dfu;
-    i &= w;
-    i ^= i >> 5u;
+    CLR_V4_PERMUTATION_STEP(i, p, w);
   } while (i >= l);
   return (i + p) % l;
 }

@@ -16,11 +16,8 @@
 
 /* clr_v4_mix_bits in 4 lanes. */
 CLR_V4_INLINE ulong4 clr_v4_mix_bits4(ulong4 v) {
-  v ^= v >> 31ul;
-  v *= 0x7fb5d329728ea185UL;
-  v ^= v >> 27ul;
-  v *= 0x81dadef4bc2dd44dUL;
-  return v ^ (v >> 33ul);
+  CLR_V4_MIX_BITS(v);
+  return v;
 }
 
 /* The low 32 bits of clr_v4_mix_bits of 8 lanes given as two halves. */
@@ -185,33 +182,12 @@ CLR_V4_INLINE int clr_v4_any8(int8 m) {
 /* clr_v4_permutation_element(i, l, p) with every lane's own p: each lane walks its cycle until
  * its element is below l. */
 CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint i, uint l, uint8 p) {
-  uint w = l - 1u;
-  w |= w >> 1u;
-  w |= w >> 2u;
-  w |= w >> 4u;
-  w |= w >> 8u;
-  w |= w >> 16u;
+  uint w = clr_v4_permutation_mask(l);
   uint8 v = (uint8)i;
   int8 walking = (int8)-1;
   do {
-    uint8 x = v ^ p;
-    x *= 0xe170893du;
-    x ^= p >> 16u;
-    x ^= (x & w) >> 4u;
-    x ^= p >> 8u;
-    x *= 0x0929eb3fu;
-    x ^= p >> 23u;
-    x ^= (x & w) >> 1u;
-    x *= 1u | p >> 27u;
-    x *= 0x6935fa69u;
-    x ^= (x & w) >> 11u;
-    x *= 0x74dcb303u;
-    x ^= (x & w) >> 2u;
-    x *= 0x9e501cc3u;
-    x ^= (x & w) >> 2u;
-    x *= 0xc860a3dfu;
-    x &= w;
-    x ^= x >> 5u;
+    uint8 x = v;
+    CLR_V4_PERMUTATION_STEP(x, p, w);
     v = select(v, x, walking);
     walking &= v >= l;
   } while (clr_v4_any8(walking));

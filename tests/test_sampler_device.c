@@ -67,6 +67,17 @@ static void free_generated(generated *g) {
   free(g->indices);
 }
 
+/* Every value of dev and ref bit for bit (the first three differences printed after `what`). */
+static void assert_same_values(const generated *dev, const generated *ref, const char *what) {
+  assert_int_equal(dev->count, ref->count);
+  size_t bad = 0;
+  for (size_t i = 0; i < dev->count; ++i)
+    if (memcmp(&dev->values[i], &ref->values[i], 4) != 0 && bad++ < 3)
+      fprintf(stderr, "%s: value %zu device %.9g reference %.9g\n", what, i, (double)dev->values[i],
+              (double)ref->values[i]);
+  assert_int_equal(bad, 0);
+}
+
 static void assert_bit_identical(clr_sampler_type type, clr_seeding seeding,
                                  const clr_sample_request *req, int nreq) {
   clr_sampler s = make_sampler(type, seeding, 64);
@@ -195,14 +206,10 @@ static void test_stratified_strata_counts_match_reference(void **state) {
         int nreq = layout ? n : 6;
         generated dev = generate(s, px, first, count, req, nreq, 1);
         generated ref = generate(s, px, first, count, req, nreq, 0);
-        assert_int_equal(dev.count, ref.count);
-        size_t bad = 0;
-        for (size_t i = 0; i < dev.count; ++i)
-          if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
-            fprintf(stderr, "%dx%d jitter %d first %d: value %zu device %.9g reference %.9g\n",
-                    strata[t][0], strata[t][1], strata[t][2], first, i, (double)dev.values[i],
-                    (double)ref.values[i]);
-        assert_int_equal(bad, 0);
+        char what[64];
+        snprintf(what, sizeof what, "%dx%d jitter %d first %d", strata[t][0], strata[t][1],
+                 strata[t][2], first);
+        assert_same_values(&dev, &ref, what);
         free_generated(&dev);
         free_generated(&ref);
       }
@@ -237,14 +244,10 @@ static void test_zerotwo_spp_match_reference(void **state) {
               generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 1);
           generated ref =
               generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 0);
-          assert_int_equal(dev.count, ref.count);
-          size_t bad = 0;
-          for (size_t i = 0; i < dev.count; ++i)
-            if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
-              fprintf(stderr, "%s %d spp first %d: value %zu device %.9g reference %.9g\n",
-                      clr_sampler_type_name((clr_sampler_type)t), spps[k], first, i,
-                      (double)dev.values[i], (double)ref.values[i]);
-          assert_int_equal(bad, 0);
+          char what[64];
+          snprintf(what, sizeof what, "%s %d spp first %d",
+                   clr_sampler_type_name((clr_sampler_type)t), spps[k], first);
+          assert_same_values(&dev, &ref, what);
           free_generated(&dev);
           free_generated(&ref);
         }
@@ -295,15 +298,10 @@ static void test_v4_lanes_match_reference(void **state) {
               generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 1);
           generated ref =
               generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 0);
-          assert_int_equal(dev.count, ref.count);
-          size_t bad = 0;
-          for (size_t i = 0; i < dev.count; ++i)
-            if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
-              fprintf(stderr, "%s %d spp %s first %d: value %zu device %.9g reference %.9g\n",
-                      clr_sampler_type_name(cases[k].type), spp,
-                      clr_randomization_name((clr_randomization)r), first, i, (double)dev.values[i],
-                      (double)ref.values[i]);
-          assert_int_equal(bad, 0);
+          char what[96];
+          snprintf(what, sizeof what, "%s %d spp %s first %d", clr_sampler_type_name(cases[k].type),
+                   spp, clr_randomization_name((clr_randomization)r), first);
+          assert_same_values(&dev, &ref, what);
           free_generated(&dev);
           free_generated(&ref);
         }
@@ -367,12 +365,9 @@ static void test_v4_halton_digit_tables_match_reference(void **state) {
       int nreq = layout == 0 ? 6 : layout == 1 ? n : 650;
       generated dev = generate(s, cases[c].px, cases[c].first, cases[c].count, req, nreq, 1);
       generated ref = generate(s, cases[c].px, cases[c].first, cases[c].count, req, nreq, 0);
-      size_t bad = 0;
-      for (size_t i = 0; i < dev.count; ++i)
-        if (memcmp(&dev.values[i], &ref.values[i], 4) != 0 && bad++ < 3)
-          fprintf(stderr, "halton seed %u layout %d: value %zu device %.9g reference %.9g\n",
-                  cases[c].seed, layout, i, (double)dev.values[i], (double)ref.values[i]);
-      assert_int_equal(bad, 0);
+      char what[64];
+      snprintf(what, sizeof what, "halton seed %u layout %d", cases[c].seed, layout);
+      assert_same_values(&dev, &ref, what);
       free_generated(&dev);
       free_generated(&ref);
     }
