@@ -8,6 +8,10 @@
 #include "clr_platform.h"
 #include "halton_funcs.h"
 
+#if defined(__OPENCL_C_VERSION__) && defined(cl_khr_fp64)
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
+
 #define CLR_MURMUR_M 0xc6a4a7935bd1e995UL
 
 /* Two 32-bit arguments as the 8 bytes pbrt-v4's Hash copies (little endian: a first). */
@@ -140,8 +144,14 @@ CLR_INLINE float clr_v4_below_one(float f) {
 }
 
 /* a / (float)b rounded to nearest even, as IEEE division, for finite a >= 0, 1 <= b < 2^24 and a
- * normal quotient: OpenCL's `/` may be off by 2.5 ulp, so the quotient is formed in integers. */
+ * normal quotient: OpenCL's float `/` may be off by 2.5 ulp, so the quotient is formed in
+ * integers, or, on devices with fp64, in double (correctly rounded in OpenCL), whose rounding to
+ * float is then the correctly rounded float quotient (53 >= 2 * 24 + 2 bits: no double rounding
+ * error for a quotient of two floats). */
 CLR_INLINE float clr_v4_div(float a, clr_u32 b) {
+#if defined(__OPENCL_C_VERSION__) && defined(cl_khr_fp64)
+  return (float)((double)a / (double)b);
+#else
   clr_u32 bits = clr_as_uint(a);
   clr_i32 biased = (clr_i32)(bits >> 23u);
   if (a == 0.0f) return 0.0f;
@@ -166,6 +176,7 @@ CLR_INLINE float clr_v4_div(float a, clr_u32 b) {
   }
   clr_i32 exponent = (clr_i32)shift + e - 40 + 23 + 127;
   return clr_as_float(((clr_u32)exponent << 23u) | ((clr_u32)mant & 0x7fffffu));
+#endif
 }
 
 #endif

@@ -375,6 +375,40 @@ static void test_v4_halton_digit_tables_match_reference(void **state) {
   }
 }
 
+/* pbrt-v4's stratified and pmj02bn divide by the strata and sample counts correctly rounded: in
+ * double on devices with fp64, in integers on the host; strata counts that are no powers of two
+ * (3x5, 7x1, 13x2, 4x4) and pmj02bn's 1D values at 3, 12 and 48 spp, bit-identical. */
+static void test_v4_divisions_match_reference(void **state) {
+  (void)state;
+  static const int strata[][2] = {{3, 5}, {7, 1}, {13, 2}, {4, 4}};
+  static const int pmj_spps[] = {3, 12, 48};
+  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  for (int c = 0; c < 7; ++c) {
+    clr_sampler_desc d;
+    clr_sampler_desc_init(&d, c < 4 ? CLR_SAMPLER_STRATIFIED : CLR_SAMPLER_PMJ02BN);
+    d.seeding = CLR_SEEDING_PBRT_V4;
+    if (c < 4) {
+      d.x_samples = strata[c][0];
+      d.y_samples = strata[c][1];
+    } else {
+      d.pixel_samples = pmj_spps[c - 4];
+    }
+    d.film.x_resolution = 29;
+    d.film.y_resolution = 17;
+    clr_sampler s = NULL;
+    assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    clr_bounds2i px = {1, 2, 28, 6};
+    generated dev = generate(s, px, 0, 0, with_arrays, n, 1);
+    generated ref = generate(s, px, 0, 0, with_arrays, n, 0);
+    char what[64];
+    snprintf(what, sizeof what, "%s case %d", clr_sampler_type_name(d.type), c);
+    assert_same_values(&dev, &ref, what);
+    free_generated(&dev);
+    free_generated(&ref);
+    clr_sampler_release(s);
+  }
+}
+
 /* Past Sobol's 1024 dimensions and Halton's 1000 primes values fall back to a hash: in range,
  * and not constant. */
 static void test_past_available_dimensions(void **state) {
@@ -691,6 +725,7 @@ int main(void) {
       cmocka_unit_test(test_zerotwo_spp_match_reference),
       cmocka_unit_test(test_v4_lanes_match_reference),
       cmocka_unit_test(test_v4_halton_digit_tables_match_reference),
+      cmocka_unit_test(test_v4_divisions_match_reference),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),
