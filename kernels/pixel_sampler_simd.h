@@ -218,11 +218,11 @@ static inline void clr_latin_hypercube_2d_draws8(int n, clr_pcg32x8 *rng,
 
 /* Shuffles the n points of stream d (dims floats each, scratch rows 0..n * dims - 1) as
  * clr_shuffle does, then stores them from scratch to every slot the stream feeds. */
-static inline void clr_stream_shuffle_store8(const clr_sampler_params *p,
-                                             __global const clr_request_slot *slots, int dims,
-                                             int d, int n, clr_pcg32x8 *rng, __global float *values,
-                                             const ulong *out, __global float *buf,
-                                             __global const uint4 *bounded) {
+CLR_LANE_INLINE void clr_stream_shuffle_store8(const clr_sampler_params *p,
+                                               __global const clr_request_slot *slots, int dims,
+                                               int d, int n, clr_pcg32x8 *rng,
+                                               __global float *values, const ulong *out,
+                                               __global float *buf, __global const uint4 *bounded) {
   int in_registers = n <= CLR_PERM_MAX_ITEMS;
   clr_perm8 perm;
   perm.lo = perm.hi = (ulong4)CLR_PERM_IDENTITY;
