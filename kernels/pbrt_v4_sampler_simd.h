@@ -179,11 +179,11 @@ CLR_V4_INLINE int clr_v4_any8(int8 m) {
   return (m2.x | m2.y) < 0;
 }
 
-/* clr_v4_permutation_element(i, l, p) with every lane's own p: each lane walks its cycle until
- * its element is below l. */
-CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint i, uint l, uint8 p) {
+/* clr_v4_permutation_element(i, l, p) with every lane's own i and p: each lane walks its cycle
+ * until its element is below l. */
+CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint8 i, uint l, uint8 p) {
   uint w = clr_v4_permutation_mask(l);
-  uint8 v = (uint8)i;
+  uint8 v = i;
   int8 walking = (int8)-1;
   do {
     uint8 x = v;
@@ -211,7 +211,7 @@ static inline void clr_v4_padded_values8(const clr_sampler_params *p, __global c
   __global const uint *cols0 = sobol32, *cols1 = sobol32 + CLR_SOBOL_MATRIX_SIZE;
   for (int k = 0; k < p->sample_count; ++k) {
     uint8 index =
-        clr_v4_permutation_element8((uint)(p->first_sample + k), (uint)p->spp, permutation);
+        clr_v4_permutation_element8((uint8)(uint)(p->first_sample + k), (uint)p->spp, permutation);
     size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
     float8 u0 = clr_v4_sobol_finish8(clr_v4_xor_columns8(index, bits, cols0), p->randomization,
                                      dims == 1 ? high : permutation);
@@ -341,6 +341,77 @@ static inline void clr_v4_independent_vectors8(const clr_sampler_params *p,
     }
   }
   *state = r;
+}
+
+/* clr_v4_div in every lane: in double where the device has fp64 (see clr_v4_div), else lane by
+ * lane. */
+CLR_V4_INLINE float8 clr_v4_div8(float8 a, uint b) {
+#ifdef cl_khr_fp64
+  return (float8)(convert_float4(convert_double4(a.lo) / (double)b),
+                  convert_float4(convert_double4(a.hi) / (double)b));
+#else
+  float q[CLR_V4_LANES];
+  vstore8(a, 0, q);
+  for (int j = 0; j < CLR_V4_LANES; ++j) q[j] = clr_v4_div(q[j], b);
+  return vload8(0, q);
+#endif
+}
+
+/* The 8 lanes' items of pbrt-v4's StratifiedSampler: pixels and sample indices, and their streams
+ * (for the jitter). */
+typedef struct clr_v4_items8 {
+  int px[CLR_V4_LANES], py[CLR_V4_LANES];
+  uint8 sample;
+  clr_pcg32x8 rng;
+} clr_v4_items8;
+
+/* StratifiedSampler's stratum at `dimension` of every lane: PermutationElement(sample, spp,
+ * Hash(pixel, dimension, seed)), the hashes lane by lane. */
+CLR_V4_INLINE uint8 clr_v4_strata8(const clr_sampler_params *p, const clr_v4_items8 *items,
+                                   int dimension) {
+  uint hash[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j)
+    hash[j] = (uint)clr_v4_hash16(clr_v4_pack(items->px[j], items->py[j]),
+                                  clr_v4_pack(dimension, (int)p->seed));
+  return clr_v4_permutation_element8(items->sample, (uint)p->spp, vload8(0, hash));
+}
+
+CLR_V4_INLINE float8 clr_v4_jitter8(const clr_sampler_params *p, clr_pcg32x8 *rng) {
+  return p->jitter ? clr_pcg32x8_float(rng) : (float8)0.5f;
+}
+
+/* clr_v4_sample_vector for pbrt-v4's StratifiedSampler, 8 batch items (lane j's values at
+ * values[out[j]]): Get1D, Get2D (GetPixel2D too) and skips as clr_v4_get1d, clr_v4_get2d and
+ * clr_v4_skip make them. */
+static inline void clr_v4_stratified_vectors8(const clr_sampler_params *p,
+                                              __global const clr_request_slot *slots,
+                                              clr_v4_items8 *items, __global float *values,
+                                              const ulong *out) {
+  clr_pcg32x8 r = items->rng, *rng = &r; /* in registers, not behind the pointer */
+  int dimension = 0;
+  for (int k = 0; k < p->request_count; ++k) {
+    clr_request_slot sl = slots[k];
+    int elements = sl.array_size ? sl.array_size : 1;
+    for (int j = 0; j < elements; ++j) {
+      if (sl.skipped) {
+        dimension += sl.dims;
+        if (p->jitter) clr_pcg32x8_advance(rng, (ulong)sl.dims);
+      } else if (sl.dims == 1 && k != p->film_request) {
+        uint8 stratum = clr_v4_strata8(p, items, dimension++);
+        float8 u = clr_v4_div8(convert_float8(stratum) + clr_v4_jitter8(p, rng), (uint)p->spp);
+        clr_store_lanes8(values, out, (size_t)(sl.first_value + j), u);
+      } else {
+        uint8 stratum = clr_v4_strata8(p, items, dimension);
+        dimension += 2;
+        uint8 y = stratum / (uint)p->x_samples, x = stratum - y * (uint)p->x_samples;
+        float8 dx = clr_v4_jitter8(p, rng);
+        float8 dy = clr_v4_jitter8(p, rng);
+        clr_store_pairs8(values, out, (size_t)(sl.first_value + (k == p->film_request ? 0 : 2 * j)),
+                         clr_v4_div8(convert_float8(x) + dx, (uint)p->x_samples),
+                         clr_v4_div8(convert_float8(y) + dy, (uint)p->y_samples));
+      }
+    }
+  }
 }
 
 #endif

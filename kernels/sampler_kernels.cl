@@ -78,8 +78,8 @@ __kernel void clr_v4_generate_pixels(
 #ifndef CLR_KERNELS_PORTABLE
 #include "pbrt_v4_sampler_simd.h"
 
-/* pbrt-v4's sobol and independent on SIMD contexts: one work-item per 8 batch items (past the end
- * the last item repeats), one per lane. Same arguments as clr_v4_generate. */
+/* pbrt-v4's sobol, independent and stratified on SIMD contexts: one work-item per 8 batch items
+ * (past the end the last item repeats), one per lane. Same arguments as clr_v4_generate. */
 __kernel void clr_v4_generate8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
@@ -90,7 +90,9 @@ __kernel void clr_v4_generate8(
   (void)primes, (void)pmj_pixels, (void)digit_perms, (void)digit_offsets, (void)digit_dims;
   size_t group = get_global_id(0);
   ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
-  float px[CLR_V4_LANES], py[CLR_V4_LANES];
+  float fx[CLR_V4_LANES], fy[CLR_V4_LANES];
+  uint samples[CLR_V4_LANES];
+  clr_v4_items8 items;
   int sobol = p.v4_sampler == CLR_V4_SOBOL;
   for (int j = 0; j < CLR_V4_LANES; ++j) {
     uint item = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)item_count - 1u);
@@ -101,28 +103,34 @@ __kernel void clr_v4_generate8(
     if (sobol) {
       index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
                                              vdc, vdc_inv);
-    } else { /* independent: index holds the stream's state */
+    } else { /* independent, stratified: index holds the stream's state */
       clr_pcg32 r;
       clr_v4_pixel_rng(x, y, p.seed, sample, &r);
       index[j] = r.state;
       inc[j] = r.inc;
     }
-    px[j] = (float)x;
-    py[j] = (float)y;
+    items.px[j] = x;
+    items.py[j] = y;
+    samples[j] = (uint)sample;
+    fx[j] = (float)x;
+    fy[j] = (float)y;
   }
   if (sobol) {
     clr_v4_u64x8 lanes;
     lanes.lo = vload4(0, index);
     lanes.hi = vload4(1, index);
-    clr_v4_sobol_vectors8(&p, slots, sobol32, &lanes, vload8(0, px), vload8(0, py), values, out);
-  } else {
-    clr_pcg32x8 rng;
-    rng.state_lo = vload4(0, index);
-    rng.state_hi = vload4(1, index);
-    rng.inc_lo = vload4(0, inc);
-    rng.inc_hi = vload4(1, inc);
-    clr_v4_independent_vectors8(&p, slots, &rng, values, out);
+    clr_v4_sobol_vectors8(&p, slots, sobol32, &lanes, vload8(0, fx), vload8(0, fy), values, out);
+    return;
   }
+  items.rng.state_lo = vload4(0, index);
+  items.rng.state_hi = vload4(1, index);
+  items.rng.inc_lo = vload4(0, inc);
+  items.rng.inc_hi = vload4(1, inc);
+  items.sample = vload8(0, samples);
+  if (p.v4_sampler == CLR_V4_STRATIFIED)
+    clr_v4_stratified_vectors8(&p, slots, &items, values, out);
+  else
+    clr_v4_independent_vectors8(&p, slots, &items.rng, values, out);
 }
 
 /* zsobol and paddedsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the

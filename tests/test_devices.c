@@ -195,22 +195,23 @@ static void check_v4_randomizations(void) {
     }
 }
 
-/* The SIMD kernels of zsobol and paddedsobol (8 pixels per work-item) and of pbrt-v4's sobol and
- * independent (8 items) on every device, Oclgrind's SIMD context included: every randomizer, spp 8 and 2
+/* The SIMD kernels of zsobol and paddedsobol (8 pixels per work-item) and of pbrt-v4's sobol,
+ * independent and stratified (8 items) on every device, Oclgrind's SIMD context included: every randomizer, spp 8 and 2
  * (zsobol: odd powers of two) or 5 (paddedsobol: cycle walks; sobol), a batch of 18 pixels
  * (padding lanes). */
 static void check_v4_lanes(void) {
   if (clr_context_kernel_shape(ctx) != CLR_KERNELS_SIMD) return;
   static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL, CLR_SAMPLER_PADDEDSOBOL,
-                                           CLR_SAMPLER_SOBOL, CLR_SAMPLER_INDEPENDENT};
-  for (int t = 0; t < 4; ++t)
+                                           CLR_SAMPLER_SOBOL, CLR_SAMPLER_INDEPENDENT,
+                                           CLR_SAMPLER_STRATIFIED};
+  for (int t = 0; t < 5; ++t)
     for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
-      if (types[t] == CLR_SAMPLER_INDEPENDENT && r != CLR_RANDOMIZATION_NONE) continue;
+      int randomized = types[t] != CLR_SAMPLER_INDEPENDENT && types[t] != CLR_SAMPLER_STRATIFIED;
+      if (!randomized && r != CLR_RANDOMIZATION_NONE) continue;
       clr_sampler_desc d;
       clr_sampler_desc_init(&d, types[t]);
       d.seeding = CLR_SEEDING_PBRT_V4;
-      d.randomization =
-          types[t] == CLR_SAMPLER_INDEPENDENT ? CLR_RANDOMIZATION_DEFAULT : (clr_randomization)r;
+      d.randomization = randomized ? (clr_randomization)r : CLR_RANDOMIZATION_DEFAULT;
       d.seed = 3;
       d.pixel_samples = t ? 5 : r == CLR_RANDOMIZATION_OWEN ? 2 : 8;
       d.film.x_resolution = 40;

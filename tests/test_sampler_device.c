@@ -375,36 +375,42 @@ static void test_v4_halton_digit_tables_match_reference(void **state) {
   }
 }
 
-/* pbrt-v4's stratified and pmj02bn divide by the strata and sample counts correctly rounded: in
- * double on devices with fp64, in integers on the host; strata counts that are no powers of two
- * (3x5, 7x1, 13x2, 4x4) and pmj02bn's 1D values at 3, 12 and 48 spp, bit-identical. */
+/* pbrt-v4's stratified (8 items per work-item on SIMD contexts) and pmj02bn divide by the strata
+ * and sample counts correctly rounded: in double on devices with fp64, in integers on the host;
+ * strata counts that are no powers of two (3x5, 7x1, 13x2, 4x4), with and without jitter, whole
+ * pixels and a sample range, and pmj02bn's 1D values at 3, 12 and 48 spp, bit-identical. */
 static void test_v4_divisions_match_reference(void **state) {
   (void)state;
   static const int strata[][2] = {{3, 5}, {7, 1}, {13, 2}, {4, 4}};
   static const int pmj_spps[] = {3, 12, 48};
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
-  for (int c = 0; c < 7; ++c) {
+  for (int c = 0; c < 11; ++c) {
     clr_sampler_desc d;
-    clr_sampler_desc_init(&d, c < 4 ? CLR_SAMPLER_STRATIFIED : CLR_SAMPLER_PMJ02BN);
+    clr_sampler_desc_init(&d, c < 8 ? CLR_SAMPLER_STRATIFIED : CLR_SAMPLER_PMJ02BN);
     d.seeding = CLR_SEEDING_PBRT_V4;
-    if (c < 4) {
-      d.x_samples = strata[c][0];
-      d.y_samples = strata[c][1];
+    if (c < 8) {
+      d.x_samples = strata[c % 4][0];
+      d.y_samples = strata[c % 4][1];
+      d.jitter = c < 4;
     } else {
-      d.pixel_samples = pmj_spps[c - 4];
+      d.pixel_samples = pmj_spps[c - 8];
     }
     d.film.x_resolution = 29;
     d.film.y_resolution = 17;
     clr_sampler s = NULL;
     assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
+    int spp = clr_sampler_spp(s);
     clr_bounds2i px = {1, 2, 28, 6};
-    generated dev = generate(s, px, 0, 0, with_arrays, n, 1);
-    generated ref = generate(s, px, 0, 0, with_arrays, n, 0);
-    char what[64];
-    snprintf(what, sizeof what, "%s case %d", clr_sampler_type_name(d.type), c);
-    assert_same_values(&dev, &ref, what);
-    free_generated(&dev);
-    free_generated(&ref);
+    for (int range = 0; range < (spp >= 4 ? 2 : 1); ++range) {
+      int first = range ? 1 : 0, count = range ? spp - 2 : 0;
+      generated dev = generate(s, px, first, count, with_arrays, n, 1);
+      generated ref = generate(s, px, first, count, with_arrays, n, 0);
+      char what[64];
+      snprintf(what, sizeof what, "%s case %d first %d", clr_sampler_type_name(d.type), c, first);
+      assert_same_values(&dev, &ref, what);
+      free_generated(&dev);
+      free_generated(&ref);
+    }
     clr_sampler_release(s);
   }
 }

@@ -706,7 +706,7 @@ static clr_result upload_digit_tables(clr_sampler_device *d, const clr_sampler_p
 }
 
 /* pbrt-v4's samplers: one work-item per batch item or pixel; on SIMD contexts zsobol and
- * paddedsobol one per 8 pixels, sobol and independent one per 8 batch items. */
+ * paddedsobol one per 8 pixels, sobol, independent and stratified one per 8 batch items. */
 static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                          const clr_request_slot *slots, const float *pmj_pixels, cl_mem values) {
   clr_context ctx = d->ctx;
@@ -725,13 +725,14 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   cl_int digit_dims = 0;
   CLR_CHECK(upload_digit_tables(d, p, slots, &digit_dims));
   /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once;
-   * on SIMD contexts zsobol and paddedsobol one per 8 pixels (a pixel per lane), sobol and
-   * independent one per 8 batch items. */
+   * on SIMD contexts zsobol and paddedsobol one per 8 pixels (a pixel per lane), sobol,
+   * independent and stratified one per 8 batch items. */
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
                   p->v4_sampler == CLR_V4_PMJ02BN;
   int portable = clr_context_portable(ctx);
   int lanes = (p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
-               p->v4_sampler == CLR_V4_SOBOL || p->v4_sampler == CLR_V4_INDEPENDENT) &&
+               p->v4_sampler == CLR_V4_SOBOL || p->v4_sampler == CLR_V4_INDEPENDENT ||
+               p->v4_sampler == CLR_V4_STRATIFIED) &&
                       !portable
                   ? CLR_PIXEL_LANES
                   : 1;
