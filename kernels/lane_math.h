@@ -7,6 +7,13 @@
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
 
+/* any(m) by OR-ing halves (PoCL's any() tests the lanes one by one with branches). */
+static inline __attribute__((always_inline)) int clr_any8(int8 m) {
+  int4 m4 = m.lo | m.hi;
+  int2 m2 = m4.lo | m4.hi;
+  return (m2.x | m2.y) < 0;
+}
+
 /* (a * m) >> 32 per lane in four 64-bit products of even and of odd lanes (AVX2: two vpmuludq
  * and no repacking; the library's mul_hi(uint8) goes through 16-bit halves on PoCL). */
 static inline __attribute__((always_inline)) uint8 clr_mul_hi8(uint8 a, uint m) {

@@ -1,7 +1,9 @@
-/* Device-only, 8 pixels per work-item: pbrt-v4's ZSobolSampler and PaddedSobolSampler
- * (clr_v4_pixel_vectors' paths, pbrt_v4_sampler_funcs.h) with one pixel per lane in OpenCL vector types: each
- * (pixel, dimension) part and each sample's part in lanes, with the same integer and float
- * operations as the scalar functions, so the bits are those of the host reference. 64-bit lanes are two halves of 4 (ulong8 values would change the AVX2 ABI). */
+/* Device-only: pbrt-v4's samplers in OpenCL vector types for SIMD contexts, 8 lanes per
+ * work-item: zsobol and paddedsobol one pixel per lane (clr_v4_pixel_vectors' paths), sobol,
+ * independent and stratified one sample vector per lane (clr_v4_sample_vector's). Each lane runs
+ * the integer and float operations of the scalar functions (pbrt_v4_sampler_funcs.h), so the bits
+ * are those of the host reference. 64-bit lanes are two halves of 4 (ulong8 values would change
+ * the AVX2 ABI). */
 #ifndef CLR_PBRT_V4_SAMPLER_SIMD_H
 #define CLR_PBRT_V4_SAMPLER_SIMD_H
 
@@ -172,13 +174,6 @@ static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global c
   }
 }
 
-/* Whether any lane of m is set. */
-CLR_V4_INLINE int clr_v4_any8(int8 m) {
-  int4 m4 = m.lo | m.hi;
-  int2 m2 = m4.lo | m4.hi;
-  return (m2.x | m2.y) < 0;
-}
-
 /* clr_v4_permutation_element(i, l, p) with every lane's own i and p: each lane walks its cycle
  * until its element is below l. */
 CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint8 i, uint l, uint8 p) {
@@ -190,7 +185,7 @@ CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint8 i, uint l, uint8 p) {
     CLR_V4_PERMUTATION_STEP(x, p, w);
     v = select(v, x, walking);
     walking &= v >= l;
-  } while (clr_v4_any8(walking));
+  } while (clr_any8(walking));
   return (v + p) % l;
 }
 

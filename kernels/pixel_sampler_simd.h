@@ -16,13 +16,6 @@
 
 #define CLR_PIXEL_LANES 8
 
-/* any(m) by OR-ing halves (PoCL's any() tests the lanes one by one with branches). */
-CLR_LANE_INLINE int clr_any8(int8 m) {
-  int4 m4 = m.lo | m.hi;
-  int2 m2 = m4.lo | m4.hi;
-  return (m2.x | m2.y) < 0;
-}
-
 /* A draw per lane, redrawn in the lanes where it is below `threshold` (UniformUInt32's rejection;
  * only the rejecting lanes draw again). */
 CLR_LANE_INLINE uint8 clr_pcg32x8_accepted(clr_pcg32x8 *r, uint threshold) {
