@@ -110,14 +110,21 @@ CLR_INLINE clr_u32 clr_v4_permutation_element(clr_u32 i, clr_u32 l, clr_u32 p) {
   return (i + p) % l;
 }
 
+/* FastOwenScrambler's hash of the reversed bits v (u32, or u32 lanes) with seed, in place; a
+ * macro so that scalar and lane code share it. */
+#define CLR_V4_FAST_OWEN_HASH(v, seed) \
+  do {                                 \
+    (v) ^= (v)*0x3d20adeau;            \
+    (v) += (seed);                     \
+    (v) *= ((seed) >> 16u) | 1u;       \
+    (v) ^= (v)*0x05526c56u;            \
+    (v) ^= (v)*0x53a22864u;            \
+  } while (0)
+
 /* FastOwenScrambler(seed). */
 CLR_INLINE clr_u32 clr_v4_fast_owen(clr_u32 v, clr_u32 seed) {
   v = clr_reverse_bits32(v);
-  v ^= v * 0x3d20adeau;
-  v += seed;
-  v *= (seed >> 16u) | 1u;
-  v ^= v * 0x05526c56u;
-  v ^= v * 0x53a22864u;
+  CLR_V4_FAST_OWEN_HASH(v, seed);
   return clr_reverse_bits32(v);
 }
 

@@ -134,11 +134,7 @@ CLR_V4_INLINE float8 clr_v4_sobol_finish8(uint8 v, int randomization, uint8 seed
     v ^= seed;
   } else if (randomization == CLR_RANDOMIZE_TYPE_FASTOWEN) {
     v = clr_reverse_bits32x8(v);
-    v ^= v * 0x3d20adeau;
-    v += seed;
-    v *= (seed >> 16u) | 1u;
-    v ^= v * 0x05526c56u;
-    v ^= v * 0x53a22864u;
+    CLR_V4_FAST_OWEN_HASH(v, seed);
     v = clr_reverse_bits32x8(v);
   } else if (randomization == CLR_RANDOMIZE_TYPE_OWEN) {
     v = clr_v4_owen8(v, seed);
