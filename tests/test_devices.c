@@ -167,65 +167,64 @@ static void check_samplers(void) {
     }
 }
 
+/* A pbrt-v4-seeded sampler of `type` (40x24 film) against the reference: samples first ..
+ * first + count - 1 (all for count 0) of pixels px with the camera layout, reported as
+ * "<sampler> <label> <randomization>". */
+static void check_v4_case(clr_sampler_type type, clr_randomization randomization, uint32_t seed,
+                          int spp, clr_bounds2i px, int first, int count, const char *label) {
+  clr_sampler_desc d;
+  clr_sampler_desc_init(&d, type);
+  d.seeding = CLR_SEEDING_PBRT_V4;
+  d.randomization = randomization;
+  d.seed = seed;
+  d.pixel_samples = spp;
+  d.film.x_resolution = 40;
+  d.film.y_resolution = 24;
+  clr_sampler s = NULL;
+  CHECK(clr_sampler_create(ctx, &d, &s) == CLR_SUCCESS, "create: %s", clr_last_error_message());
+  if (!s) return;
+  char what[96];
+  snprintf(what, sizeof what, "%s %s %s", clr_sampler_type_name(type), label,
+           clr_randomization_name(randomization));
+  int ok = compare_batch(s, what, px, first, count, camera10, 6);
+  printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
+  clr_sampler_release(s);
+}
+
 /* pbrt-v4's randomizations of halton, sobol, paddedsobol and zsobol (the camera layout). */
 static void check_v4_randomizations(void) {
   if (!v4_here()) return;
   static const clr_sampler_type types[] = {CLR_SAMPLER_HALTON, CLR_SAMPLER_SOBOL,
                                            CLR_SAMPLER_PADDEDSOBOL, CLR_SAMPLER_ZSOBOL};
   for (int t = 0; t < 4; ++t)
-    for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
-      if (types[t] == CLR_SAMPLER_HALTON && r == CLR_RANDOMIZATION_FASTOWEN) continue;
-      clr_sampler_desc d;
-      clr_sampler_desc_init(&d, types[t]);
-      d.seeding = CLR_SEEDING_PBRT_V4;
-      d.randomization = (clr_randomization)r;
-      d.seed = 5;
-      d.pixel_samples = 8;
-      d.film.x_resolution = 40;
-      d.film.y_resolution = 24;
-      clr_sampler s = NULL;
-      CHECK(clr_sampler_create(ctx, &d, &s) == CLR_SUCCESS, "create: %s", clr_last_error_message());
-      if (!s) continue;
-      char what[96];
-      snprintf(what, sizeof what, "%s/pbrt-v4 %s", clr_sampler_type_name(types[t]),
-               clr_randomization_name((clr_randomization)r));
-      int ok = compare_batch(s, what, (clr_bounds2i){31, 17, 34, 19}, 3, 3, camera10, 6);
-      printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
-      clr_sampler_release(s);
-    }
+    for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r)
+      if (types[t] != CLR_SAMPLER_HALTON || r != CLR_RANDOMIZATION_FASTOWEN)
+        check_v4_case(types[t], (clr_randomization)r, 5, 8, (clr_bounds2i){31, 17, 34, 19}, 3, 3,
+                      "pbrt-v4");
 }
 
 /* The SIMD kernels of zsobol and paddedsobol (8 pixels per work-item) and of pbrt-v4's sobol,
- * independent and stratified (8 items) on every device, Oclgrind's SIMD context included: every randomizer, spp 8 and 2
- * (zsobol: odd powers of two) or 5 (paddedsobol: cycle walks; sobol), a batch of 18 pixels
- * (padding lanes). */
+ * independent and stratified (8 items) on every device, Oclgrind's SIMD context included: every
+ * randomizer (the default for independent and stratified), spp 8 and 2 (zsobol: odd powers of
+ * two) or 5 (paddedsobol: cycle walks; the others), a batch of 18 pixels (padding lanes). */
 static void check_v4_lanes(void) {
   if (clr_context_kernel_shape(ctx) != CLR_KERNELS_SIMD) return;
   static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL, CLR_SAMPLER_PADDEDSOBOL,
                                            CLR_SAMPLER_SOBOL, CLR_SAMPLER_INDEPENDENT,
                                            CLR_SAMPLER_STRATIFIED};
-  for (int t = 0; t < 5; ++t)
-    for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r) {
-      int randomized = types[t] != CLR_SAMPLER_INDEPENDENT && types[t] != CLR_SAMPLER_STRATIFIED;
-      if (!randomized && r != CLR_RANDOMIZATION_NONE) continue;
-      clr_sampler_desc d;
-      clr_sampler_desc_init(&d, types[t]);
-      d.seeding = CLR_SEEDING_PBRT_V4;
-      d.randomization = randomized ? (clr_randomization)r : CLR_RANDOMIZATION_DEFAULT;
-      d.seed = 3;
-      d.pixel_samples = t ? 5 : r == CLR_RANDOMIZATION_OWEN ? 2 : 8;
-      d.film.x_resolution = 40;
-      d.film.y_resolution = 24;
-      clr_sampler s = NULL;
-      CHECK(clr_sampler_create(ctx, &d, &s) == CLR_SUCCESS, "create: %s", clr_last_error_message());
-      if (!s) continue;
-      char what[96];
-      snprintf(what, sizeof what, "%s lanes %s", clr_sampler_type_name(types[t]),
-               clr_randomization_name(d.randomization));
-      int ok = compare_batch(s, what, (clr_bounds2i){3, 2, 12, 4}, 0, 0, camera10, 6);
-      printf("%-40s %s\n", what, ok ? "identical" : "DIFFERENT");
-      clr_sampler_release(s);
+  for (int t = 0; t < 5; ++t) {
+    if (types[t] == CLR_SAMPLER_INDEPENDENT || types[t] == CLR_SAMPLER_STRATIFIED) {
+      check_v4_case(types[t], CLR_RANDOMIZATION_DEFAULT, 3, 5, (clr_bounds2i){3, 2, 12, 4}, 0, 0,
+                    "lanes");
+      continue;
     }
+    for (int r = CLR_RANDOMIZATION_NONE; r <= CLR_RANDOMIZATION_OWEN; ++r)
+      check_v4_case(types[t], (clr_randomization)r, 3,
+                    t                             ? 5
+                    : r == CLR_RANDOMIZATION_OWEN ? 2
+                                                  : 8,
+                    (clr_bounds2i){3, 2, 12, 4}, 0, 0, "lanes");
+  }
 }
 
 /* The global samplers' other paths: indices past 2^32 (halton), more than 32 index bits (sobol),

@@ -78,6 +78,27 @@ static void assert_same_values(const generated *dev, const generated *ref, const
   assert_int_equal(bad, 0);
 }
 
+/* s's device values against the reference's on pixels px, with the camera layout and the layout
+ * with arrays: every sample, and (when s has at least first + 2) samples first .. spp - 2, a
+ * range that starts and ends inside each pixel. `what` names the case in messages. */
+static void assert_batches_match_reference(clr_sampler s, clr_bounds2i px, int first,
+                                           const char *what) {
+  int spp = clr_sampler_spp(s), n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
+  for (int range = 0; range < (spp >= first + 2 ? 2 : 1); ++range) {
+    int from = range ? first : 0, count = range ? spp - first - 1 : 0;
+    for (int layout = 0; layout < 2; ++layout) {
+      const clr_sample_request *req = layout ? with_arrays : camera10;
+      generated dev = generate(s, px, from, count, req, layout ? n : 6, 1);
+      generated ref = generate(s, px, from, count, req, layout ? n : 6, 0);
+      char label[160];
+      snprintf(label, sizeof label, "%s first %d layout %d", what, from, layout);
+      assert_same_values(&dev, &ref, label);
+      free_generated(&dev);
+      free_generated(&ref);
+    }
+  }
+}
+
 static void assert_bit_identical(clr_sampler_type type, clr_seeding seeding,
                                  const clr_sample_request *req, int nreq) {
   clr_sampler s = make_sampler(type, seeding, 64);
@@ -186,7 +207,6 @@ static void test_stratified_device_strata(void **state) {
 static void test_stratified_strata_counts_match_reference(void **state) {
   (void)state;
   static const int strata[][3] = {{3, 3, 1}, {4, 4, 0}, {1, 7, 1}, {5, 5, 1}, {2, 9, 0}};
-  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
   for (size_t t = 0; t < sizeof strata / sizeof strata[0]; ++t) {
     clr_sampler_desc d;
     clr_sampler_desc_init(&d, CLR_SAMPLER_STRATIFIED);
@@ -197,23 +217,9 @@ static void test_stratified_strata_counts_match_reference(void **state) {
     d.film.y_resolution = 11;
     clr_sampler s = NULL;
     assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
-    clr_bounds2i px = {0, 0, 13, 11};
-    int spp = clr_sampler_spp(s);
-    for (int range = 0; range < 2; ++range) {
-      int first = range ? 2 : 0, count = range ? spp - 3 : 0;
-      for (int layout = 0; layout < 2; ++layout) {
-        const clr_sample_request *req = layout ? with_arrays : camera10;
-        int nreq = layout ? n : 6;
-        generated dev = generate(s, px, first, count, req, nreq, 1);
-        generated ref = generate(s, px, first, count, req, nreq, 0);
-        char what[64];
-        snprintf(what, sizeof what, "%dx%d jitter %d first %d", strata[t][0], strata[t][1],
-                 strata[t][2], first);
-        assert_same_values(&dev, &ref, what);
-        free_generated(&dev);
-        free_generated(&ref);
-      }
-    }
+    char what[64];
+    snprintf(what, sizeof what, "%dx%d jitter %d", strata[t][0], strata[t][1], strata[t][2]);
+    assert_batches_match_reference(s, (clr_bounds2i){0, 0, 13, 11}, 2, what);
     clr_sampler_release(s);
   }
 }
@@ -225,7 +231,6 @@ static void test_stratified_strata_counts_match_reference(void **state) {
 static void test_zerotwo_spp_match_reference(void **state) {
   (void)state;
   static const int spps[] = {1, 2, 8, 32, 64};
-  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
   for (int t = CLR_SAMPLER_ZEROTWO; t <= CLR_SAMPLER_MAXMINDIST; ++t)
     for (size_t k = 0; k < sizeof spps / sizeof spps[0]; ++k) {
       clr_sampler_desc d;
@@ -236,31 +241,18 @@ static void test_zerotwo_spp_match_reference(void **state) {
       clr_sampler s = NULL;
       assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
       assert_int_equal(clr_sampler_spp(s), spps[k]);
-      clr_bounds2i px = {0, 0, 13, 11};
-      for (int range = 0; range < (spps[k] >= 4 ? 2 : 1); ++range) {
-        int first = range ? 2 : 0, count = range ? spps[k] - 3 : 0;
-        for (int layout = 0; layout < 2; ++layout) {
-          generated dev =
-              generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 1);
-          generated ref =
-              generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 0);
-          char what[64];
-          snprintf(what, sizeof what, "%s %d spp first %d",
-                   clr_sampler_type_name((clr_sampler_type)t), spps[k], first);
-          assert_same_values(&dev, &ref, what);
-          free_generated(&dev);
-          free_generated(&ref);
-        }
-      }
+      char what[64];
+      snprintf(what, sizeof what, "%s %d spp", clr_sampler_type_name((clr_sampler_type)t), spps[k]);
+      assert_batches_match_reference(s, (clr_bounds2i){0, 0, 13, 11}, 2, what);
       clr_sampler_release(s);
     }
 }
 
 /* zsobol and paddedsobol in the SIMD kernel (8 pixels per work-item), pbrt-v4's sobol and
- * independent (8 items per work-item): 1 to 64 samples per pixel (zsobol: odd and even powers of two, the last binary
- * digit's flip; paddedsobol: any count, the permutation's cycle walks), every randomizer, two seeds, whole pixels and a sample range,
- * streams and arrays, a batch away from the origin whose width is no multiple of 8,
- * bit-identical to the host reference. */
+ * independent (8 items per work-item): 1 to 64 samples per pixel (zsobol: odd and even powers of
+ * two, the last binary digit's flip; paddedsobol: any count, the permutation's cycle walks), every
+ * randomizer, two seeds, whole pixels and a sample range, streams and arrays, a batch away from the
+ * origin whose width is no multiple of 8, bit-identical to the host reference. */
 static void test_v4_lanes_match_reference(void **state) {
   (void)state;
   static const struct {
@@ -290,22 +282,10 @@ static void test_v4_lanes_match_reference(void **state) {
       clr_sampler s = NULL;
       assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
       assert_int_equal(clr_sampler_spp(s), spp);
-      clr_bounds2i px = {3, 2, 42, 9};
-      for (int range = 0; range < (spp >= 4 ? 2 : 1); ++range) {
-        int first = range ? 1 : 0, count = range ? spp - 2 : 0;
-        for (int layout = 0; layout < 2; ++layout) {
-          generated dev =
-              generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 1);
-          generated ref =
-              generate(s, px, first, count, layout ? with_arrays : camera10, layout ? n : 6, 0);
-          char what[96];
-          snprintf(what, sizeof what, "%s %d spp %s first %d", clr_sampler_type_name(cases[k].type),
-                   spp, clr_randomization_name((clr_randomization)r), first);
-          assert_same_values(&dev, &ref, what);
-          free_generated(&dev);
-          free_generated(&ref);
-        }
-      }
+      char what[96];
+      snprintf(what, sizeof what, "%s %d spp %s", clr_sampler_type_name(cases[k].type), spp,
+               clr_randomization_name((clr_randomization)r));
+      assert_batches_match_reference(s, (clr_bounds2i){3, 2, 42, 9}, 1, what);
       clr_sampler_release(s);
     }
   /* Pixels far from the origin at 256 spp: zsobol's Morton and sobol's indices of 36 bits (the
@@ -377,13 +357,12 @@ static void test_v4_halton_digit_tables_match_reference(void **state) {
 
 /* pbrt-v4's stratified (8 items per work-item on SIMD contexts) and pmj02bn divide by the strata
  * and sample counts correctly rounded: in double on devices with fp64, in integers on the host;
- * strata counts that are no powers of two (3x5, 7x1, 13x2, 4x4), with and without jitter, whole
- * pixels and a sample range, and pmj02bn's 1D values at 3, 12 and 48 spp, bit-identical. */
+ * strata counts that are no powers of two (3x5, 7x1, 13x2, 4x4), with and without jitter, and
+ * pmj02bn's 1D values at 3, 12 and 48 spp; whole pixels and a sample range, bit-identical. */
 static void test_v4_divisions_match_reference(void **state) {
   (void)state;
   static const int strata[][2] = {{3, 5}, {7, 1}, {13, 2}, {4, 4}};
   static const int pmj_spps[] = {3, 12, 48};
-  int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
   for (int c = 0; c < 11; ++c) {
     clr_sampler_desc d;
     clr_sampler_desc_init(&d, c < 8 ? CLR_SAMPLER_STRATIFIED : CLR_SAMPLER_PMJ02BN);
@@ -399,18 +378,9 @@ static void test_v4_divisions_match_reference(void **state) {
     d.film.y_resolution = 17;
     clr_sampler s = NULL;
     assert_int_equal(clr_sampler_create(ctx, &d, &s), CLR_SUCCESS);
-    int spp = clr_sampler_spp(s);
-    clr_bounds2i px = {1, 2, 28, 6};
-    for (int range = 0; range < (spp >= 4 ? 2 : 1); ++range) {
-      int first = range ? 1 : 0, count = range ? spp - 2 : 0;
-      generated dev = generate(s, px, first, count, with_arrays, n, 1);
-      generated ref = generate(s, px, first, count, with_arrays, n, 0);
-      char what[64];
-      snprintf(what, sizeof what, "%s case %d first %d", clr_sampler_type_name(d.type), c, first);
-      assert_same_values(&dev, &ref, what);
-      free_generated(&dev);
-      free_generated(&ref);
-    }
+    char what[64];
+    snprintf(what, sizeof what, "%s case %d", clr_sampler_type_name(d.type), c);
+    assert_batches_match_reference(s, (clr_bounds2i){1, 2, 28, 6}, 1, what);
     clr_sampler_release(s);
   }
 }
