@@ -1,7 +1,8 @@
 /* Device-only, 8 pixels per work-item (CLR_SEEDING_TYPE_PIXEL): the pixel samplers (stratified,
- * random, 02sequence, maxmindist) with one PCG32 stream per lane in OpenCL vector types. Every lane runs the same
- * sequence of operations as clr_pixel_sampler_pixel (stratified_funcs.h, random_funcs.h), which
- * the host reference runs: same draws in the same order, same float operations, so the same bits.
+ * random, 02sequence, maxmindist) with one PCG32 stream per lane in OpenCL vector types. Every
+ * lane runs the same sequence of operations as clr_pixel_sampler_pixel (stratified_funcs.h,
+ * random_funcs.h, zerotwo_funcs.h, maxmin_funcs.h), which the host reference runs: same draws in
+ * the same order, same float operations, so the same bits.
  * Lanes differ only where UniformUInt32 rejects a draw: those lanes alone draw again.
  *
  * Scratch: each work-item owns p->scratch_floats rows of 8 floats; row r holds float r of every

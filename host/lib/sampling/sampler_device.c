@@ -686,7 +686,7 @@ static clr_result copy_digit_tables(clr_sampler_device *d) {
  * other samplers, whose kernels ignore the tables). */
 static clr_result upload_digit_tables(clr_sampler_device *d, const clr_sampler_params *p,
                                       const clr_request_slot *slots, cl_int *dims) {
-  *dims = 0;
+  *dims = 0; /* the buffers exist either way: they are kernel arguments */
   CLR_CHECK(grow(d->ctx, &d->digit_perms, 0, CL_MEM_READ_ONLY, "halton digit permutations"));
   CLR_CHECK(grow(d->ctx, &d->digit_offsets, 0, CL_MEM_READ_ONLY, "halton digit permutations"));
   if (p->v4_sampler != CLR_V4_HALTON || p->randomization != CLR_RANDOMIZE_TYPE_PERMUTEDIGITS)
@@ -730,10 +730,7 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
                   p->v4_sampler == CLR_V4_PMJ02BN;
   int portable = clr_context_portable(ctx);
-  int lanes = (p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
-               p->v4_sampler == CLR_V4_SOBOL || p->v4_sampler == CLR_V4_INDEPENDENT ||
-               p->v4_sampler == CLR_V4_STRATIFIED) &&
-                      !portable
+  int lanes = !portable && p->v4_sampler != CLR_V4_HALTON && p->v4_sampler != CLR_V4_PMJ02BN
                   ? CLR_PIXEL_LANES
                   : 1;
   const char *name = !per_pixel  ? (lanes > 1 ? "clr_v4_generate8" : "clr_v4_generate")
