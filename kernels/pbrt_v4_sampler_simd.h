@@ -52,12 +52,26 @@ typedef struct clr_v4_u64x8 {
   ulong4 lo, hi;
 } clr_v4_u64x8;
 
+/* (hash >> 24) % 24 of every lane's 64-bit hash (two halves) in 32-bit lanes, with no division
+ * (a 64-bit remainder has no vector instruction): x = 8 y + (x & 7) with y = hash >> 27 below
+ * 2^37, and y mod 3 by folding 32-, 16- and 8-bit parts (2^32, 2^16 and 2^8 are 1 mod 3) down
+ * to below 2^10, where a 16-bit reciprocal is exact. */
+CLR_V4_INLINE uint8 clr_v4_mod24x8(ulong4 lo, ulong4 hi) {
+  uint8 top = (uint8)(convert_uint4(lo >> 59ul), convert_uint4(hi >> 59ul));
+  uint8 mid = (uint8)(convert_uint4(lo >> 27ul), convert_uint4(hi >> 27ul));
+  uint8 low = (uint8)(convert_uint4(lo >> 24ul), convert_uint4(hi >> 24ul)) & 7u;
+  uint8 t = (mid >> 16u) + (mid & 0xffffu) + top;
+  t = (t >> 8u) + (t & 0xffu);
+  uint8 q = (t * 21846u) >> 16u;
+  return ((t - 3u * q) << 3u) | low;
+}
+
 /* The permutation (of 24) of the base-4 digit below bit `above` of every lane's m: a hash of the
  * bits from `above` up and the salt (clr_v4_zsobol_digits). */
 CLR_V4_INLINE uint8 clr_v4_digit_perm8(const clr_v4_u64x8 *m, ulong above, ulong salt) {
   ulong4 hash_lo = clr_v4_mix_bits4((m->lo >> above) ^ salt);
   ulong4 hash_hi = clr_v4_mix_bits4((m->hi >> above) ^ salt);
-  return (uint8)(convert_uint4((hash_lo >> 24ul) % 24ul), convert_uint4((hash_hi >> 24ul) % 24ul));
+  return clr_v4_mod24x8(hash_lo, hash_hi);
 }
 
 /* Base-4 digit `shift` (its low bit) of every lane's m. */
