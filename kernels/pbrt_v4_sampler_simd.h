@@ -184,6 +184,19 @@ static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global c
   }
 }
 
+/* x % l in every lane for a uniform l > 0, without eight scalar divisions: a mask for powers
+ * of two, else Granlund and Montgomery's multiply by an invariant reciprocal (exact for every
+ * 32-bit x; halton_tables.c's division_magic). */
+CLR_V4_INLINE uint8 clr_v4_mod8(uint8 x, uint l) {
+  uint shift = 32u - clz(l - 1u); /* ceil(log2(l)) */
+  /* not l & (l - 1): LLVM makes that a popcount, which Oclgrind cannot run */
+  if (((ulong)1 << shift) == (ulong)l) return x & (l - 1u);
+  uint magic = (uint)((((ulong)1 << shift) - (ulong)l) * ((ulong)1 << 32) / (ulong)l + 1ul);
+  uint8 t = clr_mul_hi8(x, magic);
+  uint8 q = (t + ((x - t) >> 1u)) >> (shift - 1u);
+  return x - q * l;
+}
+
 /* clr_v4_permutation_element(i, l, p) with every lane's own i and p: each lane walks its cycle
  * until its element is below l. */
 CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint8 i, uint l, uint8 p) {
@@ -196,7 +209,7 @@ CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint8 i, uint l, uint8 p) {
     v = select(v, x, walking);
     walking &= v >= l;
   } while (clr_any8(walking));
-  return (v + p) % l;
+  return clr_v4_mod8(v + p, l);
 }
 
 /* paddedsobol's Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`
