@@ -184,17 +184,16 @@ static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global c
   }
 }
 
-/* x % l in every lane for a uniform l > 0, without eight scalar divisions: a mask for powers
+/* x / l in every lane for a uniform l > 0, without eight scalar divisions: a shift for powers
  * of two, else Granlund and Montgomery's multiply by an invariant reciprocal (exact for every
  * 32-bit x; halton_tables.c's division_magic). */
-CLR_V4_INLINE uint8 clr_v4_mod8(uint8 x, uint l) {
+CLR_V4_INLINE uint8 clr_v4_quotient8(uint8 x, uint l) {
   uint shift = 32u - clz(l - 1u); /* ceil(log2(l)) */
   /* not l & (l - 1): LLVM makes that a popcount, which Oclgrind cannot run */
-  if (((ulong)1 << shift) == (ulong)l) return x & (l - 1u);
+  if (((ulong)1 << shift) == (ulong)l) return x >> shift;
   uint magic = (uint)((((ulong)1 << shift) - (ulong)l) * ((ulong)1 << 32) / (ulong)l + 1ul);
   uint8 t = clr_mul_hi8(x, magic);
-  uint8 q = (t + ((x - t) >> 1u)) >> (shift - 1u);
-  return x - q * l;
+  return (t + ((x - t) >> 1u)) >> (shift - 1u);
 }
 
 /* clr_v4_permutation_element(i, l, p) with every lane's own i and p: each lane walks its cycle
@@ -209,7 +208,8 @@ CLR_V4_INLINE uint8 clr_v4_permutation_element8(uint8 i, uint l, uint8 p) {
     v = select(v, x, walking);
     walking &= v >= l;
   } while (clr_any8(walking));
-  return clr_v4_mod8(v + p, l);
+  v += p;
+  return v - clr_v4_quotient8(v, l) * l;
 }
 
 /* paddedsobol's Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`
@@ -421,7 +421,8 @@ static inline void clr_v4_stratified_vectors8(const clr_sampler_params *p,
       } else {
         uint8 stratum = clr_v4_strata8(p, items, dimension);
         dimension += 2;
-        uint8 y = stratum / (uint)p->x_samples, x = stratum - y * (uint)p->x_samples;
+        uint8 y = clr_v4_quotient8(stratum, (uint)p->x_samples);
+        uint8 x = stratum - y * (uint)p->x_samples;
         float8 dx = clr_v4_jitter8(p, rng);
         float8 dy = clr_v4_jitter8(p, rng);
         clr_store_pairs8(values, out, (size_t)(sl.first_value + (k == p->film_request ? 0 : 2 * j)),
