@@ -94,6 +94,11 @@ __kernel void clr_v4_generate8(
   uint samples[CLR_V4_LANES];
   clr_v4_items8 items;
   int sobol = p.v4_sampler == CLR_V4_SOBOL;
+  /* A pixel's next sample starts 65536 draws on: that jump's terms (plus for increment 1; the
+   * jump adds inc times it, as the terms are linear in inc). */
+  ulong jump_mult = 0ul, jump_plus = 0ul;
+  if (!sobol) clr_pcg32_advance_terms(65536ul, 1ul, &jump_mult, &jump_plus);
+  int last_pixel = -1, last_sample = 0;
   for (int j = 0; j < CLR_V4_LANES; ++j) {
     uint item = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)item_count - 1u);
     int pixel = (int)(item / (uint)p.sample_count), row = pixel / p.batch_width;
@@ -103,12 +108,17 @@ __kernel void clr_v4_generate8(
     if (sobol) {
       index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
                                              vdc, vdc_inv);
+    } else if (pixel == last_pixel && sample == last_sample + 1) { /* the last lane's, jumped */
+      index[j] = jump_mult * index[j - 1] + inc[j - 1] * jump_plus;
+      inc[j] = inc[j - 1];
     } else { /* independent, stratified: index holds the stream's state */
       clr_pcg32 r;
       clr_v4_pixel_rng(x, y, p.seed, sample, &r);
       index[j] = r.state;
       inc[j] = r.inc;
     }
+    last_pixel = pixel;
+    last_sample = sample;
     items.px[j] = x;
     items.py[j] = y;
     samples[j] = (uint)sample;
