@@ -243,19 +243,107 @@ static inline void clr_v4_padded_values8(const clr_sampler_params *p, __global c
   }
 }
 
+/* clr_v4_div in every lane: in double where the device has fp64 (see clr_v4_div), else lane by
+ * lane. */
+CLR_V4_INLINE float8 clr_v4_div8(float8 a, uint b) {
+#ifdef cl_khr_fp64
+  return (float8)(convert_float4(convert_double4(a.lo) / (double)b),
+                  convert_float4(convert_double4(a.hi) / (double)b));
+#else
+  float q[CLR_V4_LANES];
+  vstore8(a, 0, q);
+  for (int j = 0; j < CLR_V4_LANES; ++j) q[j] = clr_v4_div(q[j], b);
+  return vload8(0, q);
+#endif
+}
+
+/* clr_v4_below_one per lane. */
+CLR_V4_INLINE float8 clr_v4_below_one8(float8 f) {
+  return select((float8)CLR_ONE_MINUS_EPSILON, f, f < CLR_ONE_MINUS_EPSILON);
+}
+
+/* clr_v4_pmj02_rotate per lane. */
+CLR_V4_INLINE float8 clr_v4_pmj02_rotate8(float8 v, float8 noise) {
+  v += noise;
+  return clr_v4_below_one8(select(v, v - 1.0f, v >= 1.0f));
+}
+
+/* Coordinates (c = 0, 1) of points `index` (every lane its own) of one pmj02bn point set. */
+CLR_V4_INLINE float8 clr_v4_pmj02_points8(__global const float *set, uint8 index, int c) {
+  uint8 at = 2u * index + (uint)c;
+  return (float8)(set[at.s0], set[at.s1], set[at.s2], set[at.s3], set[at.s4], set[at.s5],
+                  set[at.s6], set[at.s7]);
+}
+
+/* pmj02bn's Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`
+ * (clr_v4_pixel_dim_value), stored at value `first` of each sample: the (pixel, dimension)
+ * parts (hash, blue noise) lane by lane, the samples' permutations and points in lanes. */
+static inline void clr_v4_pmj02_values8(const clr_sampler_params *p, const clr_v4_tables *t,
+                                        const int *px, const int *py, int dimension, int dims,
+                                        __global float *values, const ulong *out, int first) {
+  uint hash[CLR_V4_LANES];
+  float noise0[CLR_V4_LANES], noise1[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) {
+    clr_v4_pixel_dim d;
+    clr_v4_pixel_dim_part(p, t, px[j], py[j], 0ul, dimension, dims, &d);
+    hash[j] = (uint)d.hash;
+    noise0[j] = d.noise[0];
+    noise1[j] = d.noise[1];
+  }
+  uint8 h = vload8(0, hash);
+  float8 n0 = vload8(0, noise0), n1 = vload8(0, noise1);
+  int set = dimension / 2;
+  __global const float *points = t->pmj_sets + 2u * (uint)(set % CLR_PMJ02_SETS) * (uint)p->spp;
+  for (int k = 0; k < p->sample_count; ++k) {
+    uint8 sample = (uint8)(uint)(p->first_sample + k);
+    size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
+    if (dims == 1) { /* clr_v4_pmj02_value1d */
+      uint8 index = clr_v4_permutation_element8(sample, (uint)p->spp, h);
+      clr_store_lanes8(values, out, at,
+                       clr_v4_below_one8(clr_v4_div8(convert_float8(index) + n0, (uint)p->spp)));
+      continue;
+    }
+    uint8 index = set < CLR_PMJ02_SETS ? sample /* clr_v4_pmj02_index2d */
+                                       : clr_v4_permutation_element8(sample, (uint)p->spp, h);
+    clr_store_pairs8(values, out, at,
+                     clr_v4_pmj02_rotate8(clr_v4_pmj02_points8(points, index, 0), n0),
+                     clr_v4_pmj02_rotate8(clr_v4_pmj02_points8(points, index, 1), n1));
+  }
+}
+
+/* pmj02bn's GetPixel2D of every sample of the 8 lanes' pixels: their tile pixel's table entries. */
+static inline void clr_v4_pmj02_pixel8(const clr_sampler_params *p, const clr_v4_tables *t,
+                                       const int *px, const int *py, __global float *values,
+                                       const ulong *out, int first) {
+  uint at[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) {
+    int x = clr_v4_mod(px[j], p->pmj_tile), y = clr_v4_mod(py[j], p->pmj_tile);
+    at[j] = (uint)((x + y * p->pmj_tile) * p->spp);
+  }
+  uint8 row = vload8(0, at);
+  for (int k = 0; k < p->sample_count; ++k) {
+    uint8 index = row + (uint)(p->first_sample + k);
+    clr_store_pairs8(values, out, (size_t)k * (size_t)p->values_per_sample + (size_t)first,
+                     clr_v4_pmj02_points8(t->pmj_pixels, index, 0),
+                     clr_v4_pmj02_points8(t->pmj_pixels, index, 1));
+  }
+}
+
 /* The 8 lanes' pixels: raster coordinates, and zsobol's Morton indices of their sample 0. */
 typedef struct clr_v4_lanes8 {
   int px[CLR_V4_LANES], py[CLR_V4_LANES];
   clr_v4_u64x8 morton;
 } clr_v4_lanes8;
 
-/* clr_v4_pixel_vectors for zsobol and paddedsobol, 8 pixels (lane j's values start at
+/* clr_v4_pixel_vectors for zsobol, paddedsobol and pmj02bn, 8 pixels (lane j's values start at
  * values[out[j]]). */
 static inline void clr_v4_pixels8(const clr_sampler_params *p,
-                                  __global const clr_request_slot *slots,
-                                  __global const uint *sobol32, const clr_v4_lanes8 *lanes,
-                                  __global float *values, const ulong *out) {
-  int dimension = 0;
+                                  __global const clr_request_slot *slots, const clr_v4_tables *t,
+                                  const clr_v4_lanes8 *lanes, __global float *values,
+                                  const ulong *out) {
+  __global const uint *sobol32 = t->sobol32;
+  int pmj = p->v4_sampler == CLR_V4_PMJ02BN;
+  int dimension = pmj ? 2 : 0;
   for (int r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];
     int elements = sl.array_size ? sl.array_size : 1;
@@ -266,8 +354,14 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
     int dims = r == p->film_request ? 2 : sl.dims;
     for (int j = 0; j < elements; ++j) {
       int first = sl.first_value + (sl.dims == 2 ? 2 * j : j);
+      if (pmj && r == p->film_request) { /* its own table; no dimension */
+        clr_v4_pmj02_pixel8(p, t, lanes->px, lanes->py, values, out, first);
+        continue;
+      }
       if (p->v4_sampler == CLR_V4_ZSOBOL)
         clr_v4_zsobol_values8(p, sobol32, &lanes->morton, dimension, dims, values, out, first);
+      else if (pmj)
+        clr_v4_pmj02_values8(p, t, lanes->px, lanes->py, dimension, dims, values, out, first);
       else
         clr_v4_padded_values8(p, sobol32, lanes->px, lanes->py, dimension, dims, values, out,
                               first);
@@ -359,20 +453,6 @@ static inline void clr_v4_independent_vectors8(const clr_sampler_params *p,
     }
   }
   *state = r;
-}
-
-/* clr_v4_div in every lane: in double where the device has fp64 (see clr_v4_div), else lane by
- * lane. */
-CLR_V4_INLINE float8 clr_v4_div8(float8 a, uint b) {
-#ifdef cl_khr_fp64
-  return (float8)(convert_float4(convert_double4(a.lo) / (double)b),
-                  convert_float4(convert_double4(a.hi) / (double)b));
-#else
-  float q[CLR_V4_LANES];
-  vstore8(a, 0, q);
-  for (int j = 0; j < CLR_V4_LANES; ++j) q[j] = clr_v4_div(q[j], b);
-  return vload8(0, q);
-#endif
 }
 
 /* The 8 lanes' items of pbrt-v4's StratifiedSampler: pixels and sample indices, and their streams

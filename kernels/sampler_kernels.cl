@@ -143,8 +143,8 @@ __kernel void clr_v4_generate8(
     clr_v4_independent_vectors8(&p, slots, &items.rng, values, out);
 }
 
-/* zsobol and paddedsobol on SIMD contexts: one work-item per 8 batch pixels (past the end the
- * last pixel repeats), one pixel per lane. Same arguments as clr_v4_generate_pixels. */
+/* zsobol, paddedsobol and pmj02bn on SIMD contexts: one work-item per 8 batch pixels (past the
+ * end the last pixel repeats), one pixel per lane. Same arguments as clr_v4_generate_pixels. */
 __kernel void clr_v4_generate_pixels8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
@@ -152,8 +152,9 @@ __kernel void clr_v4_generate_pixels8(
     __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
     __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
     int pixel_count) {
-  (void)vdc, (void)vdc_inv, (void)primes, (void)pmj_pixels; /* clr_v4_generate_pixels' tables */
-  (void)digit_perms, (void)digit_offsets, (void)digit_dims;
+  clr_v4_tables t;
+  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
+                       digit_dims, &t);
   size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
   ulong out[CLR_V4_LANES], morton[CLR_V4_LANES];
@@ -170,7 +171,7 @@ __kernel void clr_v4_generate_pixels8(
   }
   lanes.morton.lo = vload4(0, morton);
   lanes.morton.hi = vload4(1, morton);
-  clr_v4_pixels8(&p, slots, sobol32, &lanes, values, out);
+  clr_v4_pixels8(&p, slots, &t, &lanes, values, out);
 }
 #endif
 #endif

@@ -203,17 +203,19 @@ static void check_v4_randomizations(void) {
                       "pbrt-v4");
 }
 
-/* The SIMD kernels of zsobol and paddedsobol (8 pixels per work-item) and of pbrt-v4's sobol,
- * independent and stratified (8 items) on every device, Oclgrind's SIMD context included: every
- * randomizer (the default for independent and stratified), spp 8 and 2 (zsobol: odd powers of
- * two) or 5 (paddedsobol: cycle walks; the others), a batch of 18 pixels (padding lanes). */
+/* The SIMD kernels of zsobol, paddedsobol and pmj02bn (8 pixels per work-item) and of pbrt-v4's
+ * sobol, independent and stratified (8 items) on every device, Oclgrind's SIMD context included:
+ * every randomizer (the default for independent, stratified and pmj02bn), spp 8 and 2 (zsobol:
+ * odd powers of two) or 5 (paddedsobol: cycle walks; the others), a batch of 18 pixels (padding
+ * lanes). */
 static void check_v4_lanes(void) {
   if (clr_context_kernel_shape(ctx) != CLR_KERNELS_SIMD) return;
-  static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL, CLR_SAMPLER_PADDEDSOBOL,
-                                           CLR_SAMPLER_SOBOL, CLR_SAMPLER_INDEPENDENT,
-                                           CLR_SAMPLER_STRATIFIED};
-  for (int t = 0; t < 5; ++t) {
-    if (types[t] == CLR_SAMPLER_INDEPENDENT || types[t] == CLR_SAMPLER_STRATIFIED) {
+  static const clr_sampler_type types[] = {CLR_SAMPLER_ZSOBOL,     CLR_SAMPLER_PADDEDSOBOL,
+                                           CLR_SAMPLER_SOBOL,      CLR_SAMPLER_INDEPENDENT,
+                                           CLR_SAMPLER_STRATIFIED, CLR_SAMPLER_PMJ02BN};
+  for (int t = 0; t < 6; ++t) {
+    if (types[t] == CLR_SAMPLER_INDEPENDENT || types[t] == CLR_SAMPLER_STRATIFIED ||
+        types[t] == CLR_SAMPLER_PMJ02BN) {
       check_v4_case(types[t], CLR_RANDOMIZATION_DEFAULT, 3, 5, (clr_bounds2i){3, 2, 12, 4}, 0, 0,
                     "lanes");
       continue;

@@ -265,11 +265,14 @@ static void test_v4_lanes_match_reference(void **state) {
       {CLR_SAMPLER_PADDEDSOBOL, 5},  {CLR_SAMPLER_PADDEDSOBOL, 12}, {CLR_SAMPLER_PADDEDSOBOL, 16},
       {CLR_SAMPLER_PADDEDSOBOL, 33}, {CLR_SAMPLER_SOBOL, 1},        {CLR_SAMPLER_SOBOL, 12},
       {CLR_SAMPLER_SOBOL, 16},       {CLR_SAMPLER_SOBOL, 64},       {CLR_SAMPLER_INDEPENDENT, 1},
-      {CLR_SAMPLER_INDEPENDENT, 7},  {CLR_SAMPLER_INDEPENDENT, 16}};
+      {CLR_SAMPLER_INDEPENDENT, 7},  {CLR_SAMPLER_INDEPENDENT, 16}, {CLR_SAMPLER_PMJ02BN, 1},
+      {CLR_SAMPLER_PMJ02BN, 3},      {CLR_SAMPLER_PMJ02BN, 16},     {CLR_SAMPLER_PMJ02BN, 48}};
   int n = (int)(sizeof with_arrays / sizeof with_arrays[0]);
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k)
     for (int r = 0; r <= CLR_RANDOMIZATION_OWEN; ++r) {
-      if (cases[k].type == CLR_SAMPLER_INDEPENDENT && r != CLR_RANDOMIZATION_DEFAULT) continue;
+      if ((cases[k].type == CLR_SAMPLER_INDEPENDENT || cases[k].type == CLR_SAMPLER_PMJ02BN) &&
+          r != CLR_RANDOMIZATION_DEFAULT)
+        continue;
       int spp = cases[k].spp;
       clr_sampler_desc d;
       clr_sampler_desc_init(&d, cases[k].type);
