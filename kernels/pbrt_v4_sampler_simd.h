@@ -52,18 +52,23 @@ typedef struct clr_v4_u64x8 {
   ulong4 lo, hi;
 } clr_v4_u64x8;
 
-/* (hash >> 24) % 24 of every lane's 64-bit hash (two halves) in 32-bit lanes, with no division
- * (a 64-bit remainder has no vector instruction): x = 8 y + (x & 7) with y = hash >> 27 below
- * 2^37, and y mod 3 by folding 32-, 16- and 8-bit parts (2^32, 2^16 and 2^8 are 1 mod 3) down
- * to below 2^10, where a 16-bit reciprocal is exact. */
-CLR_V4_INLINE uint8 clr_v4_mod24x8(ulong4 lo, ulong4 hi) {
-  uint8 top = (uint8)(convert_uint4(lo >> 59ul), convert_uint4(hi >> 59ul));
-  uint8 mid = (uint8)(convert_uint4(lo >> 27ul), convert_uint4(hi >> 27ul));
-  uint8 low = (uint8)(convert_uint4(lo >> 24ul), convert_uint4(hi >> 24ul)) & 7u;
+/* (8 y + low) % 24 in every lane from y's parts: y = top 2^32 + mid below 2^37, low below 8. y
+ * mod 3 by folding the 32-, 16- and 8-bit parts (2^32, 2^16 and 2^8 are 1 mod 3) to below 2^10,
+ * where a 16-bit reciprocal is exact; no division (a 64-bit remainder has no vector
+ * instruction). */
+CLR_V4_INLINE uint8 clr_v4_mod24_parts8(uint8 top, uint8 mid, uint8 low) {
   uint8 t = (mid >> 16u) + (mid & 0xffffu) + top;
   t = (t >> 8u) + (t & 0xffu);
   uint8 q = (t * 21846u) >> 16u;
   return ((t - 3u * q) << 3u) | low;
+}
+
+/* (hash >> 24) % 24 of every lane's 64-bit hash (two halves): zsobol's digit permutation. */
+CLR_V4_INLINE uint8 clr_v4_mod24x8(ulong4 lo, ulong4 hi) {
+  uint8 top = (uint8)(convert_uint4(lo >> 59ul), convert_uint4(hi >> 59ul));
+  uint8 mid = (uint8)(convert_uint4(lo >> 27ul), convert_uint4(hi >> 27ul));
+  uint8 low = (uint8)(convert_uint4(lo >> 24ul), convert_uint4(hi >> 24ul)) & 7u;
+  return clr_v4_mod24_parts8(top, mid, low);
 }
 
 /* The permutation (of 24) of the base-4 digit below bit `above` of every lane's m: a hash of the
@@ -275,24 +280,44 @@ CLR_V4_INLINE float8 clr_v4_pmj02_points8(__global const float *set, uint8 index
                   set[at.s6], set[at.s7]);
 }
 
+/* clr_v4_blue_noise_sample of the 8 lanes' pixels (their Morton indices of (x, y) mod 256 in m).
+ * Its digit permutations take (uint32)(hash >> 24) % 24, as pbrt-v4's BlueNoiseSample does (not
+ * zsobol's 64-bit remainder). */
+CLR_V4_INLINE float8 clr_v4_blue_noise8(const clr_v4_u64x8 *m, int instance) {
+  ulong salt = (ulong)(long)(int)(0x55555555u * (uint)instance);
+  uint8 index = (uint8)0u;
+  for (int i = 7; i >= 0; --i) {
+    ulong shift = (ulong)(2 * i);
+    uint8 x = (uint8)(convert_uint4(clr_v4_mix_bits4((m->lo >> (shift + 2ul)) ^ salt) >> 24ul),
+                      convert_uint4(clr_v4_mix_bits4((m->hi >> (shift + 2ul)) ^ salt) >> 24ul));
+    uint8 perm = clr_v4_mod24_parts8((uint8)0u, x >> 3u, x & 7u);
+    index |= clr_v4_permute4x8(perm, clr_v4_digit8(m, shift)) << (uint)shift;
+  }
+  return convert_float8(clr_reverse_bits32x8(index)) * 0x1p-32f;
+}
+
 /* pmj02bn's Get1D (dims 1) or Get2D of every sample of the 8 lanes' pixels at `dimension`
  * (clr_v4_pixel_dim_value), stored at value `first` of each sample: the (pixel, dimension)
- * parts (hash, blue noise) lane by lane, the samples' permutations and points in lanes. */
+ * hashes lane by lane, the blue noise, the samples' permutations and points in lanes. */
 static inline void clr_v4_pmj02_values8(const clr_sampler_params *p, const clr_v4_tables *t,
                                         const int *px, const int *py, int dimension, int dims,
                                         __global float *values, const ulong *out, int first) {
+  int set = dimension / 2;
   uint hash[CLR_V4_LANES];
-  float noise0[CLR_V4_LANES], noise1[CLR_V4_LANES];
-  for (int j = 0; j < CLR_V4_LANES; ++j) {
-    clr_v4_pixel_dim d;
-    clr_v4_pixel_dim_part(p, t, px[j], py[j], 0ul, dimension, dims, &d);
-    hash[j] = (uint)d.hash;
-    noise0[j] = d.noise[0];
-    noise1[j] = d.noise[1];
+  ulong morton[CLR_V4_LANES];
+  for (int j = 0; j < CLR_V4_LANES; ++j) { /* clr_v4_pixel_dim_part's */
+    hash[j] = dims == 1 || set >= CLR_PMJ02_SETS
+                  ? (uint)clr_v4_pixel_dim_hash(p, px[j], py[j], dimension)
+                  : 0u;
+    morton[j] =
+        clr_v4_left_shift2((uint)py[j] & 255u) << 1u | clr_v4_left_shift2((uint)px[j] & 255u);
   }
   uint8 h = vload8(0, hash);
-  float8 n0 = vload8(0, noise0), n1 = vload8(0, noise1);
-  int set = dimension / 2;
+  clr_v4_u64x8 m;
+  m.lo = vload4(0, morton);
+  m.hi = vload4(1, morton);
+  float8 n0 = clr_v4_blue_noise8(&m, dimension);
+  float8 n1 = dims == 2 ? clr_v4_blue_noise8(&m, dimension + 1) : (float8)0.0f;
   __global const float *points = t->pmj_sets + 2u * (uint)(set % CLR_PMJ02_SETS) * (uint)p->spp;
   for (int k = 0; k < p->sample_count; ++k) {
     uint8 sample = (uint8)(uint)(p->first_sample + k);
