@@ -1,5 +1,5 @@
 /* Device-only: pbrt-v4's samplers in OpenCL vector types for SIMD contexts, 8 lanes per
- * work-item: zsobol and paddedsobol one pixel per lane (clr_v4_pixel_vectors' paths), sobol,
+ * work-item: zsobol, paddedsobol and pmj02bn one pixel per lane (clr_v4_pixel_vectors' paths), sobol,
  * independent and stratified one sample vector per lane (clr_v4_sample_vector's). Each lane runs
  * the integer and float operations of the scalar functions (pbrt_v4_sampler_funcs.h), so the bits
  * are those of the host reference. 64-bit lanes are two halves of 4 (ulong8 values would change
