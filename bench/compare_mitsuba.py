@@ -296,13 +296,14 @@ def main():
             sys.exit("compare_mitsuba: bad argument %r (see --help)" % key)
         opts[key[2:]] = args.pop(0)
     py = os.environ.get("MITSUBA_PYTHON", sys.executable)
-    probe = subprocess.run([py, "-c", "import mitsuba as mi; mi.set_variant('llvm_ad_rgb'); "
+    # numpy too: the worker hands its image over through TensorXf.numpy()
+    probe = subprocess.run([py, "-c", "import numpy, mitsuba as mi; mi.set_variant('llvm_ad_rgb'); "
                             "print(mi.__version__)"], capture_output=True, text=True)
     if probe.returncode != 0:
-        print("compare_mitsuba: SKIP: Mitsuba 3 with the llvm_ad_rgb variant is not importable by "
-              "%s (pip install mitsuba in a venv outside the repository, set MITSUBA_PYTHON to its "
-              "python and DRJIT_LIBLLVM_PATH to libLLVM; LLVM 15 is known to crash it):\n%s"
-              % (py, probe.stderr.strip()[-600:]))
+        print("compare_mitsuba: SKIP: Mitsuba 3 with the llvm_ad_rgb variant (and numpy) is not "
+              "importable by %s (pip install mitsuba numpy in a venv outside the repository, set "
+              "MITSUBA_PYTHON to its python and DRJIT_LIBLLVM_PATH to libLLVM; LLVM 15 is known "
+              "to crash it):\n%s" % (py, probe.stderr.strip()[-600:]))
         return 0
     clrender = os.path.abspath(opts["clrender"])
     if not os.access(clrender, os.X_OK):
