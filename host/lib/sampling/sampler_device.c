@@ -715,9 +715,10 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL;
   CLR_CHECK(share_sobol_matrices(ctx, &sobol32));
   CLR_CHECK(share_vdc_matrices(ctx, &vdc, &vdc_inv));
-  CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
-                                      sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
-                                      &primes));
+  if (p->v4_sampler == CLR_V4_HALTON) /* the others leave it NULL: its tables take 15 ms */
+    CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
+                                        sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
+                                        &primes));
   CLR_CHECK(upload_slots(d, p, slots));
   size_t pmj_bytes = pmj_pixels ? sizeof(float) * ((size_t)clr_v4_pmj02_pixel_floats(p) +
                                                    2 * CLR_PMJ02_SETS * (size_t)p->spp)
