@@ -297,13 +297,17 @@ CLR_INLINE clr_u32 clr_pmj02_point(clr_i32 set, clr_u32 index, clr_i32 c,
   return clr_v4_owen(v, (clr_u32)clr_v4_mix_bits(0x706d6a3032UL + (clr_u64)(2 * set + c)));
 }
 
+/* The Morton index of pixel p mod 256, BlueNoiseSample's digits. */
+CLR_INLINE clr_u64 clr_v4_blue_noise_morton(clr_i32 px, clr_i32 py) {
+  return clr_v4_left_shift2((clr_u32)py & 255u) << 1u | clr_v4_left_shift2((clr_u32)px & 255u);
+}
+
 /* BlueNoiseSample(p, instance) of pbrt-v4's lowdiscrepancy.h (the pixel's Morton index with
  * hashed base-4 digit permutations, reversed), used where pbrt-v4's pmj02bn reads its blue-noise
  * textures (BlueNoise(instance, p), also found by search). */
 CLR_INLINE float clr_v4_blue_noise_sample(clr_i32 px, clr_i32 py, clr_i32 instance) {
   clr_u64 salt = (clr_u64)(clr_i64)(clr_i32)(0x55555555u * (clr_u32)instance);
-  clr_u64 morton =
-      clr_v4_left_shift2((clr_u32)py & 255u) << 1u | clr_v4_left_shift2((clr_u32)px & 255u);
+  clr_u64 morton = clr_v4_blue_noise_morton(px, py);
   clr_u32 index = 0u;
   for (clr_i32 i = 7; i >= 0; --i) {
     clr_u32 shift = (clr_u32)(2 * i);

@@ -280,7 +280,7 @@ CLR_V4_INLINE float8 clr_v4_pmj02_points8(__global const float *set, uint8 index
                   set[at.s6], set[at.s7]);
 }
 
-/* clr_v4_blue_noise_sample of the 8 lanes' pixels (their Morton indices of (x, y) mod 256 in m).
+/* clr_v4_blue_noise_sample of the 8 lanes' pixels (m: their clr_v4_blue_noise_morton).
  * Its digit permutations take (uint32)(hash >> 24) % 24, as pbrt-v4's BlueNoiseSample does (not
  * zsobol's 64-bit remainder). */
 CLR_V4_INLINE float8 clr_v4_blue_noise8(const clr_v4_u64x8 *m, int instance) {
@@ -300,24 +300,18 @@ CLR_V4_INLINE float8 clr_v4_blue_noise8(const clr_v4_u64x8 *m, int instance) {
  * (clr_v4_pixel_dim_value), stored at value `first` of each sample: the (pixel, dimension)
  * hashes lane by lane, the blue noise, the samples' permutations and points in lanes. */
 static inline void clr_v4_pmj02_values8(const clr_sampler_params *p, const clr_v4_tables *t,
-                                        const int *px, const int *py, int dimension, int dims,
-                                        __global float *values, const ulong *out, int first) {
+                                        const int *px, const int *py, const clr_v4_u64x8 *m,
+                                        int dimension, int dims, __global float *values,
+                                        const ulong *out, int first) {
   int set = dimension / 2;
   uint hash[CLR_V4_LANES];
-  ulong morton[CLR_V4_LANES];
-  for (int j = 0; j < CLR_V4_LANES; ++j) { /* clr_v4_pixel_dim_part's */
+  for (int j = 0; j < CLR_V4_LANES; ++j) /* clr_v4_pixel_dim_part's */
     hash[j] = dims == 1 || set >= CLR_PMJ02_SETS
                   ? (uint)clr_v4_pixel_dim_hash(p, px[j], py[j], dimension)
                   : 0u;
-    morton[j] =
-        clr_v4_left_shift2((uint)py[j] & 255u) << 1u | clr_v4_left_shift2((uint)px[j] & 255u);
-  }
   uint8 h = vload8(0, hash);
-  clr_v4_u64x8 m;
-  m.lo = vload4(0, morton);
-  m.hi = vload4(1, morton);
-  float8 n0 = clr_v4_blue_noise8(&m, dimension);
-  float8 n1 = dims == 2 ? clr_v4_blue_noise8(&m, dimension + 1) : (float8)0.0f;
+  float8 n0 = clr_v4_blue_noise8(m, dimension);
+  float8 n1 = dims == 2 ? clr_v4_blue_noise8(m, dimension + 1) : (float8)0.0f;
   __global const float *points = t->pmj_sets + 2u * (uint)(set % CLR_PMJ02_SETS) * (uint)p->spp;
   for (int k = 0; k < p->sample_count; ++k) {
     uint8 sample = (uint8)(uint)(p->first_sample + k);
@@ -354,7 +348,8 @@ static inline void clr_v4_pmj02_pixel8(const clr_sampler_params *p, const clr_v4
   }
 }
 
-/* The 8 lanes' pixels: raster coordinates, and zsobol's Morton indices of their sample 0. */
+/* The 8 lanes' pixels: raster coordinates, and Morton indices: zsobol's of their sample 0,
+ * pmj02bn's blue noise's (clr_v4_blue_noise_morton). */
 typedef struct clr_v4_lanes8 {
   int px[CLR_V4_LANES], py[CLR_V4_LANES];
   clr_v4_u64x8 morton;
@@ -386,7 +381,8 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
       if (p->v4_sampler == CLR_V4_ZSOBOL)
         clr_v4_zsobol_values8(p, sobol32, &lanes->morton, dimension, dims, values, out, first);
       else if (pmj)
-        clr_v4_pmj02_values8(p, t, lanes->px, lanes->py, dimension, dims, values, out, first);
+        clr_v4_pmj02_values8(p, t, lanes->px, lanes->py, &lanes->morton, dimension, dims, values,
+                             out, first);
       else
         clr_v4_padded_values8(p, sobol32, lanes->px, lanes->py, dimension, dims, values, out,
                               first);

@@ -165,9 +165,10 @@ __kernel void clr_v4_generate_pixels8(
     out[j] = (ulong)pixel * per_pixel;
     lanes.px[j] = p.batch_x0 + (int)pixel - row * p.batch_width;
     lanes.py[j] = p.batch_y0 + row;
-    morton[j] = p.v4_sampler == CLR_V4_ZSOBOL
-                    ? clr_v4_zsobol_pixel_morton(&p, lanes.px[j], lanes.py[j])
-                    : 0ul;
+    morton[j] =
+        p.v4_sampler == CLR_V4_ZSOBOL    ? clr_v4_zsobol_pixel_morton(&p, lanes.px[j], lanes.py[j])
+        : p.v4_sampler == CLR_V4_PMJ02BN ? clr_v4_blue_noise_morton(lanes.px[j], lanes.py[j])
+                                         : 0ul;
   }
   lanes.morton.lo = vload4(0, morton);
   lanes.morton.hi = vload4(1, morton);
