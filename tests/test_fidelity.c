@@ -307,6 +307,37 @@ static void test_ray_count_pbrt_v3(void **state) {
   free(im.rgb);
 }
 
+/* The path tracer's ray at maxdepth after a non-specular bounce can change nothing (pbrt-v3 adds
+ * only what a specular bounce sees there) and is not traced: a matte plane under a distant light,
+ * seen from above, takes the camera ray and the shadow ray per sample at maxdepth 1 (pbrt-v3
+ * traces a third), and the continuation ray too at maxdepth 2 (it escapes); the image is the
+ * same, Kd/pi * L cos(theta) = 0.5/pi * 2 * 1, at both depths. */
+static void test_path_last_bounce_rays(void **state) {
+  (void)state;
+  for (int depth = 1; depth <= 2; ++depth) {
+    char scene[1024];
+    snprintf(
+        scene, sizeof scene,
+        "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
+        "Film \"image\" \"integer xresolution\" [8] \"integer yresolution\" [6]\n"
+        "Sampler \"halton\" \"integer pixelsamples\" [4]\n"
+        "Integrator \"path\" \"integer maxdepth\" [%d]\nWorldBegin\n"
+        "LightSource \"distant\" \"point from\" [0 0 1] \"point to\" [0 0 0] \"rgb L\" [2 2 2]\n"
+        "Material \"matte\" \"rgb Kd\" [0.5 0.5 0.5]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+        "\"point P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\nWorldEnd\n",
+        depth);
+    clr_render_stats st;
+    clr_render_stats_init(&st);
+    clr_render_image im = render_opts(scene, NULL, &st);
+    uint64_t samples = 8 * 6 * 4;
+    assert_int_equal(st.rays, (uint64_t)(depth + 1) * samples);
+    const double e = 1.0 / PI_D;
+    for (int i = 0; i < im.width * im.height * 3; ++i) assert_true(fabs(im.rgb[i] - e) <= 1e-5 * e);
+    free(im.rgb);
+  }
+}
+
 /* ---- matte "sigma": Oren-Nayar ---- */
 
 /* pbrt-v3 OrenNayar::f * pi / R for polar angles ti, to (radians) and azimuth difference dphi. */
@@ -372,13 +403,15 @@ static void test_matte_sigma_oren_nayar(void **state) {
 
 /* A mirror plane (Kr) seen from above under a constant infinite light L: every pixel is Kr L,
  * with the path tracer and with direct lighting (pbrt-v3 SpecularReflect); with maxdepth 1 the
- * direct lighting integrator stops at the mirror (0), as pbrt-v3's depth + 1 < maxDepth. */
+ * direct lighting integrator stops at the mirror (0), as pbrt-v3's depth + 1 < maxDepth, while
+ * the path tracer still traces the specular bounce's ray at maxdepth and adds what it sees. */
 static void test_mirror_sky(void **state) {
   (void)state;
   const char *integrators[] = {"\"path\" \"integer maxdepth\" [5]", "\"directlighting\"",
-                               "\"directlighting\" \"integer maxdepth\" [1]"};
-  const double expect_scale[] = {1.0, 1.0, 0.0};
-  for (int t = 0; t < 3; ++t) {
+                               "\"directlighting\" \"integer maxdepth\" [1]",
+                               "\"path\" \"integer maxdepth\" [1]"};
+  const double expect_scale[] = {1.0, 1.0, 0.0, 1.0};
+  for (int t = 0; t < 4; ++t) {
     char scene[2048];
     snprintf(scene, sizeof scene,
              "LookAt 0 0 10  0 0 0  0 1 0\nCamera \"orthographic\"\n"
@@ -1223,6 +1256,7 @@ int main(void) {
       cmocka_unit_test(test_sphere_light_irradiance),
       cmocka_unit_test(test_sphere_light_noise),
       cmocka_unit_test(test_ray_count_pbrt_v3),
+      cmocka_unit_test(test_path_last_bounce_rays),
       cmocka_unit_test(test_matte_sigma_oren_nayar),
       cmocka_unit_test(test_mirror_sky),
       cmocka_unit_test(test_mirror_reflects_lit_plane),

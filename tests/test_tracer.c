@@ -838,6 +838,32 @@ static void test_bad_input(void **state) {
                  "ray 17");
     assert_error(clr_tracer_occluded(t, batch, occs, 20), CLR_ERROR_INVALID_ARGUMENT, "ray 17");
   }
+  /* nothing traced, outputs untouched, and the first bad ray named: calls checked in their
+   * packets (up to 512 rays) and calls checked ray by ray first */
+  enum { MANY = 600 };
+  static clr_ray many[MANY];
+  static clr_hit many_hits[MANY];
+  static uint8_t many_occ[MANY];
+  const int32_t counts[] = {16, 33, 512, MANY}, bad_at[] = {15, 32, 511, 517};
+  for (int c = 0; c < 4; ++c)
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+      for (int k = 0; k < MANY; ++k) many[k] = ray;
+      many[bad_at[c]] = bad[i];
+      many[MANY - 1] = bad[(i + 1) % (sizeof bad / sizeof bad[0])]; /* later: not named */
+      memset(many_hits, 0x5a, sizeof many_hits);
+      memset(many_occ, 0x5a, sizeof many_occ);
+      char want[16];
+      snprintf(want, sizeof want, "ray %d ", (int)bad_at[c]);
+      assert_error(clr_tracer_intersect(t, many, many_hits, counts[c]), CLR_ERROR_INVALID_ARGUMENT,
+                   want);
+      assert_error(clr_tracer_occluded(t, many, many_occ, counts[c]), CLR_ERROR_INVALID_ARGUMENT,
+                   want);
+      for (int k = 0; k < MANY; ++k) {
+        const unsigned char *h = (const unsigned char *)&many_hits[k];
+        for (size_t b = 0; b < sizeof many_hits[k]; ++b) assert_int_equal(h[b], 0x5a);
+        assert_int_equal(many_occ[k], 0x5a);
+      }
+    }
   /* a tfar below tnear is a valid empty segment */
   ray.tfar = -1.0f;
   assert_int_equal(clr_tracer_intersect(t, &ray, &hit, 1), CLR_SUCCESS);

@@ -777,14 +777,10 @@ static clr_result reserve_jobs(clr_integrator_scratch *s, size_t n) {
 /* pbrt Distribution1D::SampleDiscrete over a light cdf (the integrator's when NULL). */
 static int choose_light(const clr_integrator *it, const float *cdf, float u, float *pdf) {
   if (!cdf) cdf = it->light_cdf;
-  int lo = 0, hi = it->light_count - 1;
-  while (lo < hi) {
-    int mid = (lo + hi + 1) / 2;
-    if (cdf[mid] <= u)
-      lo = mid;
-    else
-      hi = mid - 1;
-  }
+  /* the last entry in [0, count) with cdf <= u (cdf[0] = 0), halving without branches: a
+   * mispredicted branch per halving cost more than the search */
+  int lo = 0;
+  for (int n = it->light_count; n > 1; n -= n / 2) lo = cdf[lo + n / 2] <= u ? lo + n / 2 : lo;
   while (lo < it->light_count - 1 && cdf[lo + 1] - cdf[lo] <= 0.0f) ++lo;
   *pdf = cdf[lo + 1] - cdf[lo];
   return lo;
@@ -1264,6 +1260,15 @@ static clr_result fetch_deep_values(const clr_integrator *it, const clr_integrat
   return CLR_SUCCESS;
 }
 
+/* A path leaving vertex `bounces` goes on (its next ray is traced) unless that ray cannot change
+ * L: at maxdepth pbrt-v3 only adds what a specular bounce sees, so after a non-specular one the
+ * ray is dropped untraced (the same L, fewer rays). */
+static void path_next_vertex(const clr_integrator *it, clr_integrator_scratch *s, int i,
+                             int bounces, int specular) {
+  s->bounces[i] = bounces + 1;
+  if (bounces + 1 >= it->max_depth && !specular) s->active[i] = 0;
+}
+
 /* The Lambertian vertices of a wave, pushed by li_path's shading loop: their BSDF samples in
  * structure-of-arrays form, then the rest of li_path's bounce for each (pbrt-v3: beta *= f |cos|
  * / pdf, the next ray, Russian roulette). */
@@ -1284,7 +1289,7 @@ static void path_lambert_wave(const clr_integrator *it, const clr_integrator_val
     clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
     const float *bv = path_bounce(it, sv, deep, i, bounces);
     path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-    s->bounces[i] = bounces + 1;
+    path_next_vertex(it, s, i, bounces, 0);
   }
 }
 
@@ -1401,7 +1406,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         }
         clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
         path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-        s->bounces[i] = bounces + 1;
+        path_next_vertex(it, s, i, bounces, 1);
         continue;
       }
       if (sf->mirror) { /* pbrt-v3: no light sampling; beta *= Kr (f |cos| / pdf) */
@@ -1414,7 +1419,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
         clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
         path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-        s->bounces[i] = bounces + 1;
+        path_next_vertex(it, s, i, bounces, 1);
         continue;
       }
       if (path_samples_light(it, sf, bounces)) {
@@ -1452,7 +1457,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
       clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
       path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-      s->bounces[i] = bounces + 1;
+      path_next_vertex(it, s, i, bounces, specular[i]);
     }
     path_lambert_wave(it, sv, deep, keys, s, eta_scale);
     if (nj) {

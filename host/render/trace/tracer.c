@@ -999,39 +999,84 @@ static void load_packet(const clr_ray *rays, int32_t lanes, struct RTCRay16 *ray
   }
 }
 
-/* Traces rays in packets of 16: closest hits into `hits` (rtcIntersect16), or, when hits is
- * NULL, occlusion flags into `occluded` (rtcOccluded16). */
-static void trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int32_t count,
-                          clr_hit *hits, uint8_t *occluded) {
-  for (int32_t base = 0; base < count; base += 16) {
-    int32_t lanes = count - base < 16 ? count - base : 16;
-    alignas(64) int valid[16];
-    struct RTCRayHit16 rh;
-    load_packet(rays + base, lanes, &rh.ray, valid);
-    struct RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    if (!hits) {
-      rtcOccluded16(valid, t->groups[0].scene, &context, &rh.ray);
-      for (int32_t i = 0; i < lanes; ++i) occluded[base + i] = rh.ray.tfar[i] == -INFINITY;
-      continue;
-    }
-    for (int i = 0; i < 16; ++i) {
-      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    }
-    rtcIntersect16(valid, t->groups[0].scene, &context, &rh);
-    for (int32_t i = 0; i < lanes; ++i) {
-      float ng[3] = {rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]};
-      finish_hit(t, rh.ray.tfar[i], ng, rh.hit.u[i], rh.hit.v[i], rh.hit.primID[i],
-                 rh.hit.geomID[i], rh.hit.instID[0][i], rays[base + i].time, &hits[base + i]);
-    }
+/* Non-zero when a lane of a loaded packet fails ray_is_valid (check_rays' test, lane-wise). */
+static int packet_invalid(const struct RTCRay16 *r) {
+  int bad = 0;
+  for (int i = 0; i < 16; ++i) {
+    float f = (r->org_x[i] - r->org_x[i]) + (r->org_y[i] - r->org_y[i]) +
+              (r->org_z[i] - r->org_z[i]) + (r->dir_x[i] - r->dir_x[i]) +
+              (r->dir_y[i] - r->dir_y[i]) + (r->dir_z[i] - r->dir_z[i]) +
+              (r->tnear[i] - r->tnear[i]);
+    bad |= !(f == 0.0f) | !(r->tnear[i] >= 0.0f) | (r->tfar[i] != r->tfar[i]) |
+           ((r->dir_x[i] == 0.0f) & (r->dir_y[i] == 0.0f) & (r->dir_z[i] == 0.0f));
   }
+  return bad;
+}
+
+/* Traces one loaded packet of `lanes` rays: closest hits into `hits` (rtcIntersect16), or, when
+ * hits is NULL, occlusion flags into `occluded` (rtcOccluded16). */
+static void trace_packet(const struct clr_tracer_t *t, struct RTCRayHit16 *rh, const int *valid,
+                         const clr_ray *rays, int32_t lanes, clr_hit *hits, uint8_t *occluded) {
+  struct RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  if (!hits) {
+    rtcOccluded16(valid, t->groups[0].scene, &context, &rh->ray);
+    for (int32_t i = 0; i < lanes; ++i) occluded[i] = rh->ray.tfar[i] == -INFINITY;
+    return;
+  }
+  for (int i = 0; i < 16; ++i) {
+    rh->hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(valid, t->groups[0].scene, &context, rh);
+  for (int32_t i = 0; i < lanes; ++i) {
+    float ng[3] = {rh->hit.Ng_x[i], rh->hit.Ng_y[i], rh->hit.Ng_z[i]};
+    finish_hit(t, rh->ray.tfar[i], ng, rh->hit.u[i], rh->hit.v[i], rh->hit.primID[i],
+               rh->hit.geomID[i], rh->hit.instID[0][i], rays[i].time, &hits[i]);
+  }
+}
+
+/* Calls of up to this many packets load them all first and check the rays there, in vector
+ * compares over each field, before tracing any; larger calls check ray by ray first. */
+#define LOADED_PACKETS 32
+
+/* Checks every ray, then traces them in packets of 16 (see trace_packet); nothing is traced and
+ * the outputs stay untouched when a ray is invalid. */
+static clr_result trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int32_t count,
+                                clr_hit *hits, uint8_t *occluded, const char *fn) {
+  int32_t npackets = count / 16 + (count % 16 != 0);
+  if (npackets > LOADED_PACKETS) {
+    CLR_CHECK(check_rays(rays, count, fn));
+    for (int32_t base = 0; base < count; base += 16) {
+      int32_t lanes = count - base < 16 ? count - base : 16;
+      alignas(64) int valid[16];
+      struct RTCRayHit16 rh;
+      load_packet(rays + base, lanes, &rh.ray, valid);
+      trace_packet(t, &rh, valid, rays + base, lanes, hits ? hits + base : NULL,
+                   hits ? NULL : occluded + base);
+    }
+    return CLR_SUCCESS;
+  }
+  struct RTCRayHit16 rh[LOADED_PACKETS];
+  alignas(64) int valid[LOADED_PACKETS][16];
+  int bad = 0;
+  for (int32_t p = 0; p < npackets; ++p) {
+    int32_t lanes = count - 16 * p < 16 ? count - 16 * p : 16;
+    load_packet(rays + 16 * p, lanes, &rh[p].ray, valid[p]);
+    bad |= packet_invalid(&rh[p].ray);
+  }
+  if (bad) CLR_CHECK(check_rays(rays, count, fn)); /* it names the first invalid ray */
+  for (int32_t p = 0; p < npackets; ++p) {
+    int32_t base = 16 * p, lanes = count - base < 16 ? count - base : 16;
+    trace_packet(t, &rh[p], valid[p], rays + base, lanes, hits ? hits + base : NULL,
+                 hits ? NULL : occluded + base);
+  }
+  return CLR_SUCCESS;
 }
 
 clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
   CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect"));
-  CLR_CHECK(check_rays(rays, count, "clr_tracer_intersect"));
-  trace_packets(t, rays, count, hits, NULL);
+  CLR_CHECK(trace_packets(t, rays, count, hits, NULL, "clr_tracer_intersect"));
   return embree_check(t, "rtcIntersect16");
 }
 
@@ -1066,8 +1111,7 @@ clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hi
 clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occluded,
                                int32_t count) {
   CLR_CHECK(check_query(t, rays, occluded, count, "clr_tracer_occluded"));
-  CLR_CHECK(check_rays(rays, count, "clr_tracer_occluded"));
-  trace_packets(t, rays, count, NULL, occluded);
+  CLR_CHECK(trace_packets(t, rays, count, NULL, occluded, "clr_tracer_occluded"));
   return embree_check(t, "rtcOccluded16");
 }
 
