@@ -89,6 +89,34 @@ static void make_u(int k, float u[2]) {
 
 static int same(const float *a, const float *b, size_t n) { return !memcmp(a, b, n * 4); }
 
+/* Entry e's BSDF sample (u) at surface sf seen from wo against the scalar code: the Lambertian
+ * direction, pdf and f |cos| / Kd (lambertian.h), the spawned ray's origin and the light's
+ * shape test (clr_render_scene_light_may_hit); returns the test's answer. */
+static int check_bsdf_sample(const clr_render_scene *scene, const clr_light_wave *w, int32_t e,
+                             int light, const clr_surface *sf, const float wo[3],
+                             const float u[2]) {
+  float wi[3], pdf;
+  clr_lambert_sample_dir(sf, wo, u, wi, &pdf);
+  float fcos = clr_lambert_cos_plain(sf, wo, wi);
+  const clr_lambert_wave *b = &w->bsdf;
+  float got_wi[3] = {b->wi[0][e], b->wi[1][e], b->wi[2][e]};
+  if (!same(got_wi, wi, 3) || !same(&b->pdf[e], &pdf, 1) || !same(&b->fcos[e], &fcos, 1))
+    fail_msg("entry %d: wave wi (%a %a %a) pdf %a fcos %a, scalar (%a %a %a) %a %a", (int)e,
+             got_wi[0], got_wi[1], got_wi[2], b->pdf[e], b->fcos[e], wi[0], wi[1], wi[2], pdf,
+             fcos);
+  clr_ray r;
+  clr_render_scene_spawn_ray(sf, wi, &r);
+  float o[3] = {r.ox, r.oy, r.oz},
+        got_o[3] = {w->mis_origin[0][e], w->mis_origin[1][e], w->mis_origin[2][e]};
+  if (!same(got_o, o, 3))
+    fail_msg("entry %d: wave origin (%a %a %a), scalar (%a %a %a)", (int)e, got_o[0], got_o[1],
+             got_o[2], o[0], o[1], o[2]);
+  int may = clr_render_scene_light_may_hit(scene, light, &r);
+  if ((w->mis_hit[e] != 0.0) != may)
+    fail_msg("entry %d: wave shape test %g, scalar %d", (int)e, w->mis_hit[e], may);
+  return may;
+}
+
 /* The wave's entries of the lights of one kind against the scalar light sample. */
 static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) {
   int nl = clr_render_scene_light_count(scene), lights[8], nk = 0;
@@ -106,7 +134,7 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
   memset(&w, 0, sizeof w);
   assert_int_equal(clr_light_wave_reserve(&w, N), CLR_SUCCESS);
   static clr_surface surfaces[N];
-  static float wo[N][3], u[N][2];
+  static float wo[N][3], u[N][2], ub[N][2];
   static int light[N];
   static int32_t entry[N];
   /* sample k of light k % nk; triangle lights' grouped by light: group g holds samples g,
@@ -122,10 +150,17 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
     make_surface(k, &surfaces[k]);
     random_unit(wo[k]);
     make_u(k, u[k]);
+    make_u(k + 1, ub[k]);
+    if (k % 10 == 3) ub[k][0] = 1.0f; /* clamped below 1 */
+    if (k % 3) {                      /* a tangent (else none: the frame's axis fallback) */
+      surfaces[k].dpdu[0] = surfaces[k].p[1];
+      surfaces[k].dpdu[1] = -surfaces[k].p[0];
+      surfaces[k].dpdu[2] = 0.3f;
+    }
     light[k] = lights[k % nk];
     if (kind == CLR_WAVE_LIGHT_TRIANGLE) {
       entry[k] = first[k % nk] + k / nk;
-      clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k]);
+      clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k], ub[k]);
     } else {
       entry[k] = clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
       assert_int_equal(entry[k], k);
@@ -136,9 +171,11 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
     clr_light_wave_sample(&w);
   else
     clr_light_wave_sample_points(&w);
-  int used = 0, unlit = 0;
+  int used = 0, unlit = 0, may_hit = 0;
   for (int k = 0; k < N; ++k) {
     const clr_surface *sf = &surfaces[k];
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE) /* the BSDF sample, its ray and its shape test */
+      may_hit += check_bsdf_sample(scene, &w, entry[k], light[k], sf, wo[k], ub[k]);
     clr_light_sample ls;
     clr_render_scene_sample_light(scene, light[k], sf->p, sf->ng, u[k], &ls);
     assert_int_equal(ls.is_delta, kind == CLR_WAVE_LIGHT_POINT);
@@ -174,6 +211,7 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
   }
   assert_true(used > N / 10 && used < N); /* both outcomes exercised */
   assert_true(unlit > 0);                 /* the points on the light */
+  if (kind == CLR_WAVE_LIGHT_TRIANGLE) assert_true(may_hit > 0 && may_hit < N / 2);
   clr_light_wave_free(&w);
 }
 

@@ -600,6 +600,27 @@ static void light_wave_result(const clr_light_wave *lv, int32_t e, float time, c
   for (int k = 0; k < 3; ++k) contrib[k] = lv->contrib[k][e];
 }
 
+/* Job jb's BSDF sample from entry e of the sampled light wave (at surface sf): when usable, its f
+ * and pdf, and when it may hit the light, its ray in *ray and shape_entry SHAPE_MAY_HIT. */
+static void light_wave_bsdf(const clr_light_wave *lv, int32_t e, const clr_surface *sf,
+                            direct_job *jb, clr_ray *ray) {
+  float wi[3], pdf, f3[3];
+  if (!lambert_wave_result(&lv->bsdf, e, sf, wi, &pdf, f3)) return;
+  for (int k = 0; k < 3; ++k) jb->bsdf_f[k] = f3[k];
+  jb->bsdf_pdf = pdf;
+  if (lv->mis_hit[e] == 0.0) return;
+  *ray = (clr_ray){lv->mis_origin[0][e],
+                   lv->mis_origin[1][e],
+                   lv->mis_origin[2][e],
+                   0.0f,
+                   wi[0],
+                   wi[1],
+                   wi[2],
+                   INFINITY,
+                   sf->time};
+  jb->shape_entry = SHAPE_MAY_HIT;
+}
+
 /* Room for the light waves' groups of njobs jobs among nlights lights. */
 static clr_result reserve_groups(clr_integrator_scratch *s, int nlights, int njobs) {
   size_t c0 = s->light_group_cap, c1 = s->group_cap, c2 = c1;
@@ -651,7 +672,8 @@ static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scrat
     direct_job *jb = &jobs[j];
     if (jb->light_entry > -2) continue;
     int32_t k = s->group_next[-2 - jb->light_entry]++;
-    clr_light_wave_put(tris, k, &s->surfaces[jb->sample], wo_all + 3 * jb->sample, jb->u_light);
+    clr_light_wave_put(tris, k, &s->surfaces[jb->sample], wo_all + 3 * jb->sample, jb->u_light,
+                       jb->u_scatter);
     jb->light_entry = k;
   }
   clr_light_wave_sample(tris);
@@ -674,10 +696,10 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
     memset(jb->result, 0, sizeof jb->result);
     jb->shadow_index = -1;
     jb->mis_index = -1;
-    if (jb->light_entry >= 0) {
+    if (jb->light_entry >= 0) { /* a triangle light's BSDF sample is the light wave's too */
       int point = it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_POINT; /* a delta light */
       const clr_light_wave *lv = point ? &s->points : &s->lights;
-      jb->lambert_entry = point ? -1 : clr_lambert_wave_push(lw, sf, wo, jb->u_scatter, j);
+      jb->lambert_entry = -1;
       if (lv->use[jb->light_entry]) {
         light_wave_result(lv, jb->light_entry, sf->time, &s->rays[nshadow], jb->shadow_contrib);
         jb->shadow_index = nshadow++;
@@ -705,8 +727,9 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
   for (int j = 0; j < njobs; ++j)
     if (jobs[j].shadow_index >= 0 && !s->occluded[jobs[j].shadow_index])
       memcpy(jobs[j].result, jobs[j].shadow_contrib, sizeof jobs[j].result);
-  /* BSDF sampling with MIS, for non-delta lights (Lambertian surfaces': the wave's); job j's
-   * ray waits in cand[j] for its light's shape test (triangle lights': the shape wave's) */
+  /* BSDF sampling with MIS, for non-delta lights (Lambertian surfaces': the light wave's toward
+   * triangle lights, else the Lambertian wave's); job j's ray waits in cand[j] for its light's
+   * shape test (the light wave's done; other triangle lights': the shape wave's) */
   clr_lambert_wave_sample(lw);
   clr_shape_wave *sw = &s->shapes;
   CLR_CHECK(clr_shape_wave_reserve(sw, njobs));
@@ -716,6 +739,10 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
     jb->shape_entry = SHAPE_NO_RAY;
     if (light_is_delta(sc, jb->light)) continue;
     const clr_surface *sf = &s->surfaces[jb->sample];
+    if (jb->light_entry >= 0) { /* the light wave's BSDF sample, its shape test done */
+      light_wave_bsdf(&s->lights, jb->light_entry, sf, jb, &cand[j]);
+      continue;
+    }
     const float *wo = wo_all + 3 * jb->sample;
     float wi[3], pdf;
     float f3[3];

@@ -5,17 +5,66 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "render_error.h"
+#include "shape_wave.h"
 #include "wave_block.h"
 
 #define WAVE_FLOATS 40 /* float arrays in clr_light_wave */
 #define WAVE_INTS 2    /* and int32_t ones */
+#define BSDF_FLOATS 28 /* and float arrays of the BSDF samples (bsdf's own, mis_origin) */
+#define HIT_COLUMNS 2  /* mis_hit: n doubles */
+
+/* Points the BSDF samples' arrays into the block's columns from `column` on (wo, ns and ng are
+ * the light samples'); mis_hit follows them. */
+static void bsdf_columns(clr_light_wave *w, float *block, size_t cap, int column) {
+  clr_lambert_wave *b = &w->bsdf;
+  float **own[BSDF_FLOATS] = {&b->u0,
+                              &b->u1,
+                              &b->dpdu[0],
+                              &b->dpdu[1],
+                              &b->dpdu[2],
+                              &b->n_geom[0],
+                              &b->n_geom[1],
+                              &b->n_geom[2],
+                              &b->l[0],
+                              &b->l[1],
+                              &b->l[2],
+                              &b->ss[0],
+                              &b->ss[1],
+                              &b->ss[2],
+                              &b->ts[0],
+                              &b->ts[1],
+                              &b->ts[2],
+                              &b->nf[0],
+                              &b->nf[1],
+                              &b->nf[2],
+                              &b->wi[0],
+                              &b->wi[1],
+                              &b->wi[2],
+                              &b->pdf,
+                              &b->fcos,
+                              &w->mis_origin[0],
+                              &w->mis_origin[1],
+                              &w->mis_origin[2]};
+  for (int a = 0; a < BSDF_FLOATS; ++a) *own[a] = block + (size_t)(column + a) * cap;
+  for (int a = 0; a < 3; ++a) {
+    b->wo[a] = w->wo[a];
+    b->ns[a] = w->ns[a];
+    b->ng[a] = w->ng[a];
+  }
+  b->owner = NULL;
+  b->block = NULL; /* the light wave's */
+  b->cap = (int32_t)cap;
+  b->n = 0;
+  w->mis_hit = (double *)(block + (size_t)(column + BSDF_FLOATS) * cap);
+}
 
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
   w->n = w->ngroups = 0;
   if (n <= w->cap) return CLR_SUCCESS;
   size_t cap;
-  float *block = clr_wave_block_alloc(n, WAVE_FLOATS + WAVE_INTS, &cap);
+  float *block = clr_wave_block_alloc(n, WAVE_FLOATS + WAVE_INTS + BSDF_FLOATS + HIT_COLUMNS, &cap);
   int32_t *first = block ? malloc(cap * sizeof *first) : NULL;
   const clr_light_triangle **tri = first ? malloc(cap * sizeof *tri) : NULL;
   if (!tri) {
@@ -36,6 +85,7 @@ clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
   int32_t *ints = (int32_t *)(block + (size_t)WAVE_FLOATS * cap);
   w->emits = ints;
   w->use = ints + cap;
+  bsdf_columns(w, block, cap, WAVE_FLOATS + WAVE_INTS);
   w->block = block;
   w->group_first = first;
   w->group_tri = tri;
@@ -51,6 +101,9 @@ void clr_light_wave_free(clr_light_wave *w) {
   w->group_first = NULL;
   w->group_tri = NULL;
   w->cap = w->n = w->ngroups = 0;
+  memset(&w->bsdf, 0, sizeof w->bsdf);
+  w->mis_hit = NULL;
+  for (int a = 0; a < 3; ++a) w->mis_origin[a] = NULL;
 }
 
 int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_triangle *t) {
@@ -221,6 +274,27 @@ static void wave_shadow_rays(int32_t n, const float *restrict p0, const float *r
   }
 }
 
+/* clr_render_scene_spawn_ray's origins for directions w from p: offset along ng to w's side
+ * (rs_spawn_eps, its fmaxf's NaN rule kept). */
+static void wave_spawn_origins(int32_t n, const float *restrict p0, const float *restrict p1,
+                               const float *restrict p2, const float *restrict g0,
+                               const float *restrict g1, const float *restrict g2,
+                               const float *restrict w0, const float *restrict w1,
+                               const float *restrict w2, float *restrict o0, float *restrict o1,
+                               float *restrict o2) {
+  for (int32_t k = 0; k < n; ++k) {
+    float side = g0[k] * w0[k] + g1[k] * w1[k] + g2[k] * w2[k] < 0.0f ? -1.0f : 1.0f;
+    float a0 = fabsf(p0[k]), a1 = fabsf(p1[k]), a2 = fabsf(p2[k]);
+    float m12 = a1 > a2 ? a1 : a2, m = a0 > m12 ? a0 : m12;
+    m12 = a2 != a2 ? a1 : m12;
+    m = m12 != m12 ? a0 : m;
+    float e = 1e-4f * (1.0f + m) * side;
+    o0[k] = p0[k] + g0[k] * e;
+    o1[k] = p1[k] + g1[k] * e;
+    o2[k] = p2[k] + g2[k] * e;
+  }
+}
+
 /* The entry after group g's last. */
 static int32_t group_end(const clr_light_wave *w, int32_t g) {
   return g + 1 < w->ngroups ? w->group_first[g + 1] : w->n;
@@ -241,6 +315,22 @@ static void sample_triangle_group(clr_light_wave *w, int32_t a, int32_t n,
                      w->contrib[1] + a, w->contrib[2] + a);
 }
 
+/* The BSDF samples' rays (spawned from p along bsdf's wi) and their test against each group's
+ * triangle. */
+static void sample_bsdf(clr_light_wave *w) {
+  clr_lambert_wave *b = &w->bsdf;
+  b->n = w->n;
+  clr_lambert_wave_sample(b);
+  wave_spawn_origins(w->n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], b->wi[0],
+                     b->wi[1], b->wi[2], w->mis_origin[0], w->mis_origin[1], w->mis_origin[2]);
+  for (int32_t g = 0; g < w->ngroups; ++g) {
+    int32_t a = w->group_first[g];
+    const float *o[3] = {w->mis_origin[0] + a, w->mis_origin[1] + a, w->mis_origin[2] + a};
+    const float *d[3] = {b->wi[0] + a, b->wi[1] + a, b->wi[2] + a};
+    clr_shape_wave_triangle(group_end(w, g) - a, o, d, w->group_tri[g], w->mis_hit + a);
+  }
+}
+
 void clr_light_wave_sample(clr_light_wave *w) {
   for (int32_t g = 0; g < w->ngroups; ++g) {
     int32_t a = w->group_first[g];
@@ -249,6 +339,7 @@ void clr_light_wave_sample(clr_light_wave *w) {
   wave_shadow_rays(w->n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->pt[0],
                    w->pt[1], w->pt[2], w->origin[0], w->origin[1], w->origin[2], w->dir[0],
                    w->dir[1], w->dir[2], w->tfar);
+  sample_bsdf(w);
 }
 
 void clr_light_wave_sample_points(clr_light_wave *w) {

@@ -8,6 +8,7 @@
 #define CLR_LIGHT_WAVE_H
 
 #include <stdint.h>
+#include "lambert_wave.h"
 #include "lambertian.h"
 
 /* How the light wave samples a light. */
@@ -35,6 +36,13 @@ typedef struct clr_light_wave {
    * shadow ray's origin, direction and tfar */
   int32_t *use;
   float *contrib[3], *origin[3], *dir[3], *tfar;
+  /* triangle entries' BSDF samples for MIS (EstimateDirect's second half): a Lambertian wave of
+   * their own values (u0 clamped) and the surfaces' dpdu and n_geom that shares this wave's wo,
+   * ns and ng; then the sampled ray's origin (clr_render_scene_spawn_ray's) and whether it may
+   * hit the group's triangle (clr_shape_wave's test, tnear 0, tfar infinite) */
+  clr_lambert_wave bsdf;
+  float *mis_origin[3];
+  double *mis_hit;
   float *block;
 } clr_light_wave;
 
@@ -58,12 +66,20 @@ static inline void clr_light_wave_put_surface(clr_light_wave *w, int32_t k, cons
   }
 }
 
-/* Entry k of a triangle group: a sample u of its light from surface s seen from wo. */
+/* Entry k of a triangle group: a sample u of its light from surface s seen from wo, and a
+ * sample u_bsdf of the surface's BSDF. */
 static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_surface *s,
-                                      const float wo[3], const float u[2]) {
+                                      const float wo[3], const float u[2], const float u_bsdf[2]) {
   w->u0[k] = u[0];
   w->u1[k] = u[1];
   clr_light_wave_put_surface(w, k, s, wo);
+  clr_lambert_wave *b = &w->bsdf;
+  b->u0[k] = fminf(u_bsdf[0], CLR_ONE_MINUS_EPSILON);
+  b->u1[k] = u_bsdf[1];
+  for (int a = 0; a < 3; ++a) {
+    b->dpdu[a][k] = s->dpdu[a];
+    b->n_geom[a][k] = s->n_geom[a];
+  }
 }
 
 /* Appends a sample of point light l from surface s seen from wo; returns its index. */
@@ -78,7 +94,8 @@ static inline int32_t clr_light_wave_push_point(clr_light_wave *w, const clr_sur
   return k;
 }
 
-/* use, contrib and the shadow rays of entries 0 .. n of triangle lights, group by group. */
+/* use, contrib and the shadow rays of entries 0 .. n of triangle lights, group by group; then
+ * their BSDF samples (bsdf's wi, pdf and fcos), mis_origin and mis_hit. */
 void clr_light_wave_sample(clr_light_wave *w);
 /* The same for point lights. */
 void clr_light_wave_sample_points(clr_light_wave *w);

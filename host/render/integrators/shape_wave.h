@@ -44,4 +44,9 @@ static inline int32_t clr_shape_wave_push(clr_shape_wave *w, const clr_ray *r,
 /* hit of entries 0 .. n. */
 void clr_shape_wave_test(clr_shape_wave *w);
 
+/* The same test for n rays (origins o, directions d, tnear 0, tfar infinite: spawned rays)
+ * against one triangle, into hit. */
+void clr_shape_wave_triangle(int32_t n, const float *const o[3], const float *const d[3],
+                             const clr_light_triangle *t, double *hit);
+
 #endif
