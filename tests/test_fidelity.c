@@ -338,6 +338,53 @@ static void test_path_last_bounce_rays(void **state) {
   }
 }
 
+/* The light waves (a triangle light without shading normals: its light samples, the MIS BSDF
+ * samples with their shape tests, and the path's next directions in the same frames) against the
+ * scalar code the light takes when its mesh has shading normals equal to its face normal: pbrt-v3
+ * gives both the same samples, so the images agree bit for bit, with direct lighting and with the
+ * path tracer (Lambertian walls and boxes, interreflections, Russian roulette). */
+static void test_light_waves_match_scalar(void **state) {
+  (void)state;
+  const char *integrators[] = {"\"path\" \"integer maxdepth\" [6]", "\"directlighting\""};
+  for (int t = 0; t < 2; ++t) {
+    clr_render_image im[2];
+    for (int normals = 0; normals < 2; ++normals) {
+      char scene[4096];
+      snprintf(scene, sizeof scene,
+               CORNELL_CAMERA
+               "Film \"image\" \"integer xresolution\" [24] \"integer yresolution\" [24]\n"
+               "Sampler \"sobol\" \"integer pixelsamples\" [8]\nIntegrator %s\nWorldBegin\n"
+               "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [17 12 4]\n"
+               "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+               "\"point P\" [343 548.7 227  343 548.7 332  213 548.7 332  213 548.7 227]%s\n"
+               "AttributeEnd\nMaterial \"matte\" \"rgb Kd\" [0.7 0.6 0.5]\n"
+               "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n\"point P\" "
+               "[0 0 0  0 0 559  556 0 559  556 0 0  0 0 559  0 548 559  556 548 "
+               "559  556 0 559] \n"
+               "Material \"matte\" \"rgb Kd\" [0.6 0.1 0.1]\n"
+               "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+               "\"point P\" [556 0 0  556 0 559  556 548 559  556 548 0]\n"
+               "Material \"matte\" \"rgb Kd\" [0.2 0.5 0.2]\n"
+               "Translate 180 0 200\nShape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 "
+               "6 4 6 7]\n\"point P\" [0 160 0  160 160 0  160 160 160  0 160 160  0 0 0  0 160 0  "
+               "0 160 160  0 0 160]\nWorldEnd\n",
+               integrators[t], normals ? " \"normal N\" [0 -1 0  0 -1 0  0 -1 0  0 -1 0]" : "");
+      im[normals] = render_opts(scene, NULL, NULL);
+    }
+    assert_int_equal(im[0].width, im[1].width);
+    assert_true(image_mean(&im[0]) > 0.01);
+    size_t bytes = (size_t)im[0].width * im[0].height * 3 * sizeof(float);
+    if (memcmp(im[0].rgb, im[1].rgb, bytes) != 0) {
+      size_t n = bytes / sizeof(float), i = 0;
+      while (i < n && im[0].rgb[i] == im[1].rgb[i]) ++i;
+      fail_msg("%s: value %zu: %a with the light waves, %a without", integrators[t], i,
+               im[0].rgb[i], im[1].rgb[i]);
+    }
+    free(im[0].rgb);
+    free(im[1].rgb);
+  }
+}
+
 /* ---- matte "sigma": Oren-Nayar ---- */
 
 /* pbrt-v3 OrenNayar::f * pi / R for polar angles ti, to (radians) and azimuth difference dphi. */
@@ -1257,6 +1304,7 @@ int main(void) {
       cmocka_unit_test(test_sphere_light_noise),
       cmocka_unit_test(test_ray_count_pbrt_v3),
       cmocka_unit_test(test_path_last_bounce_rays),
+      cmocka_unit_test(test_light_waves_match_scalar),
       cmocka_unit_test(test_matte_sigma_oren_nayar),
       cmocka_unit_test(test_mirror_sky),
       cmocka_unit_test(test_mirror_reflects_lit_plane),

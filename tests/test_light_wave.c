@@ -117,6 +117,26 @@ static int check_bsdf_sample(const clr_render_scene *scene, const clr_light_wave
   return may;
 }
 
+/* Entry e's next direction (values u) against the scalar Lambertian sample and spawned ray. */
+static void check_next_sample(const clr_light_wave *w, int32_t e, const clr_surface *sf,
+                              const float wo[3], const float u[2]) {
+  float wi[3], pdf;
+  clr_lambert_sample_dir(sf, wo, u, wi, &pdf);
+  float fcos = clr_lambert_cos_plain(sf, wo, wi);
+  clr_ray r;
+  clr_render_scene_spawn_ray(sf, wi, &r);
+  float o[3] = {r.ox, r.oy, r.oz};
+  float got_wi[3] = {w->next_wi[0][e], w->next_wi[1][e], w->next_wi[2][e]};
+  float got_o[3] = {w->next_origin[0][e], w->next_origin[1][e], w->next_origin[2][e]};
+  if (!same(got_wi, wi, 3) || !same(&w->next_pdf[e], &pdf, 1) ||
+      !same(&w->next_fcos[e], &fcos, 1) || !same(got_o, o, 3))
+    fail_msg(
+        "entry %d: wave next wi (%a %a %a) pdf %a fcos %a origin (%a %a %a), scalar "
+        "(%a %a %a) %a %a (%a %a %a)",
+        (int)e, got_wi[0], got_wi[1], got_wi[2], w->next_pdf[e], w->next_fcos[e], got_o[0],
+        got_o[1], got_o[2], wi[0], wi[1], wi[2], pdf, fcos, o[0], o[1], o[2]);
+}
+
 /* The wave's entries of the lights of one kind against the scalar light sample. */
 static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) {
   int nl = clr_render_scene_light_count(scene), lights[8], nk = 0;
@@ -134,7 +154,7 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
   memset(&w, 0, sizeof w);
   assert_int_equal(clr_light_wave_reserve(&w, N), CLR_SUCCESS);
   static clr_surface surfaces[N];
-  static float wo[N][3], u[N][2], ub[N][2];
+  static float wo[N][3], u[N][2], ub[N][2], un[N][2];
   static int light[N];
   static int32_t entry[N];
   /* sample k of light k % nk; triangle lights' grouped by light: group g holds samples g,
@@ -151,6 +171,8 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
     random_unit(wo[k]);
     make_u(k, u[k]);
     make_u(k + 1, ub[k]);
+    make_u(k + 2, un[k]);
+    if (k % 10 == 7) un[k][0] = 1.0f;
     if (k % 10 == 3) ub[k][0] = 1.0f; /* clamped below 1 */
     if (k % 3) {                      /* a tangent (else none: the frame's axis fallback) */
       surfaces[k].dpdu[0] = surfaces[k].p[1];
@@ -160,7 +182,7 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
     light[k] = lights[k % nk];
     if (kind == CLR_WAVE_LIGHT_TRIANGLE) {
       entry[k] = first[k % nk] + k / nk;
-      clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k], ub[k]);
+      clr_light_wave_put(&w, entry[k], &surfaces[k], wo[k], u[k], ub[k], k % 5 == 1 ? NULL : un[k]);
     } else {
       entry[k] = clr_light_wave_push_point(&w, &surfaces[k], wo[k], &points[light[k]]);
       assert_int_equal(entry[k], k);
@@ -174,8 +196,10 @@ static void check_kind(const clr_render_scene *scene, clr_wave_light_kind kind) 
   int used = 0, unlit = 0, may_hit = 0;
   for (int k = 0; k < N; ++k) {
     const clr_surface *sf = &surfaces[k];
-    if (kind == CLR_WAVE_LIGHT_TRIANGLE) /* the BSDF sample, its ray and its shape test */
+    if (kind == CLR_WAVE_LIGHT_TRIANGLE) { /* the BSDF sample, its ray and its shape test */
       may_hit += check_bsdf_sample(scene, &w, entry[k], light[k], sf, wo[k], ub[k]);
+      if (k % 5 != 1) check_next_sample(&w, entry[k], sf, wo[k], un[k]);
+    }
     clr_light_sample ls;
     clr_render_scene_sample_light(scene, light[k], sf->p, sf->ng, u[k], &ls);
     assert_int_equal(ls.is_delta, kind == CLR_WAVE_LIGHT_POINT);

@@ -234,6 +234,8 @@ typedef struct direct_job {
   int32_t light_entry;   /* the light sample's entry in the scratch's light wave, or -1 */
   int32_t shape_entry;   /* the MIS ray's entry in the scratch's shape wave, or a SHAPE_ code */
   float shadow_contrib[3];
+  int32_t continues; /* the path tracer's: its vertex's next direction is the light wave's */
+  float u_next[2];   /* and that direction's sample values */
 } direct_job;
 
 struct clr_integrator_scratch {
@@ -673,7 +675,7 @@ static clr_result light_wave_jobs(const clr_integrator *it, clr_integrator_scrat
     if (jb->light_entry > -2) continue;
     int32_t k = s->group_next[-2 - jb->light_entry]++;
     clr_light_wave_put(tris, k, &s->surfaces[jb->sample], wo_all + 3 * jb->sample, jb->u_light,
-                       jb->u_scatter);
+                       jb->u_scatter, jb->continues ? jb->u_next : NULL);
     jb->light_entry = k;
   }
   clr_light_wave_sample(tris);
@@ -1025,6 +1027,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
           direct_job *jb = &s->jobs[nj++];
           jb->sample = k;
           jb->light = j;
+          jb->continues = 0;
           int base = depth == 0 ? 100 : 5000 + 1000 * depth;
           for (int a = 0; a < 2; ++a) {
             jb->u_light[a] = off >= 0 ? v[off + 2 * q + a] : fallback(keys[i], base + dim++);
@@ -1039,6 +1042,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       for (int a = 0; a < 5; ++a)
         u[a] = depth == 0 ? v[it->value_offset + a] : fallback(keys[i], 5000 + 1000 * depth + a);
       direct_job *jb = &s->jobs[nj++];
+      jb->continues = 0;
       int nl = it->light_count;
       jb->light = (int)fminf(u[0] * (float)nl, (float)(nl - 1));
       jb->sample = k;
@@ -1320,6 +1324,40 @@ static void path_lambert_wave(const clr_integrator *it, const clr_integrator_val
   }
 }
 
+/* The rest of li_path's bounce (as path_lambert_wave) for the vertices whose next direction the
+ * light wave sampled with their light sample (jobs 0 .. nj that continue). */
+static void path_light_wave_next(const clr_integrator *it, const clr_integrator_values *sv,
+                                 const float *deep, const uint64_t *keys, clr_integrator_scratch *s,
+                                 const float *eta_scale, int nj) {
+  const clr_light_wave *lv = &s->lights;
+  for (int j = 0; j < nj; ++j) {
+    const direct_job *jb = &s->jobs[j];
+    if (!jb->continues) continue;
+    int i = jb->sample, bounces = s->bounces[i];
+    int32_t e = jb->light_entry;
+    const clr_surface *sf = &s->surfaces[i];
+    float fc = lv->next_fcos[e], pdf = lv->next_pdf[e], f3[3], *b = s->beta + 3 * i;
+    for (int a = 0; a < 3; ++a) f3[a] = sf->kd[a] * fc;
+    if (!(fc > 0.0f && pdf > 0.0f && !is_black(f3))) { /* lambert_wave_result's test */
+      s->active[i] = 0;
+      continue;
+    }
+    for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
+    s->rays2[i] = (clr_ray){lv->next_origin[0][e],
+                            lv->next_origin[1][e],
+                            lv->next_origin[2][e],
+                            0.0f,
+                            lv->next_wi[0][e],
+                            lv->next_wi[1][e],
+                            lv->next_wi[2][e],
+                            INFINITY,
+                            sf->time};
+    const float *bv = path_bounce(it, sv, deep, i, bounces);
+    path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+    path_next_vertex(it, s, i, bounces, 0);
+  }
+}
+
 /* Frees li_path's per-call buffers. */
 static void free_path_buffers(float *wos, int *idx, int *specular, float *eta_scale, float *deep,
                               int32_t *picked) {
@@ -1449,13 +1487,15 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         path_next_vertex(it, s, i, bounces, 1);
         continue;
       }
+      direct_job *jb = NULL;
       if (path_samples_light(it, sf, bounces)) {
         float lpdf;
         int light = choose_light(it, s->cdfs[i], path_value(bv, keys[i], bounces, 0), &lpdf);
         if (lpdf > 0.0f) {
-          direct_job *jb = &s->jobs[nj++];
+          jb = &s->jobs[nj++];
           jb->sample = i;
           jb->light = light;
+          jb->continues = 0;
           for (int a = 0; a < 2; ++a) {
             jb->u_light[a] = path_value(bv, keys[i], bounces, 1 + a);
             jb->u_scatter[a] = path_value(bv, keys[i], bounces, 3 + a);
@@ -1464,8 +1504,14 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
         }
       }
       float u[2] = {path_value(bv, keys[i], bounces, 5), path_value(bv, keys[i], bounces, 6)};
-      if (clr_surface_is_lambertian(sf)) { /* sampled with the wave's others below */
-        clr_lambert_wave_push(&s->lambert, sf, w, u, i);
+      if (clr_surface_is_lambertian(sf)) {
+        if (jb && it->light_wave_kind &&
+            it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_TRIANGLE) {
+          jb->continues = 1; /* sampled in its light sample's frame (path_light_wave_next) */
+          memcpy(jb->u_next, u, sizeof u);
+        } else { /* sampled with the wave's others (path_lambert_wave) */
+          clr_lambert_wave_push(&s->lambert, sf, w, u, i);
+        }
         continue;
       }
       float wi[3], pdf;
@@ -1491,6 +1537,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
       /* the direct jobs need the surfaces of this wave: copy their index order */
       r = estimate_direct(it, sc, s, s->jobs, nj, wos, c);
       if (r == CLR_SUCCESS) add_jobs(s->jobs, nj, L);
+      if (r == CLR_SUCCESS) path_light_wave_next(it, sv, deep, keys, s, eta_scale, nj);
     }
     nactive = 0;
     for (int i = 0; i < count; ++i) nactive += s->active[i];

@@ -135,3 +135,14 @@ void clr_lambert_wave_sample(clr_lambert_wave *w) {
   wave_lambert_cos(n, w->wo[0], w->wo[1], w->wo[2], w->wi[0], w->wi[1], w->wi[2], w->ng[0],
                    w->ng[1], w->ng[2], w->ns[0], w->ns[1], w->ns[2], w->fcos);
 }
+
+void clr_lambert_wave_sample_more(const clr_lambert_wave *w, const float *u0, const float *u1,
+                                  float *const l[3], float *const wi[3], float *pdf, float *fcos) {
+  int32_t n = w->n;
+  clr_wave_cosine_hemisphere(n, u0, u1, l[0], l[1], l[2]);
+  wave_directions(n, w->wo[0], w->wo[1], w->wo[2], l[0], l[1], l[2], w->ss[0], w->ss[1], w->ss[2],
+                  w->ts[0], w->ts[1], w->ts[2], w->nf[0], w->nf[1], w->nf[2], wi[0], wi[1], wi[2],
+                  pdf);
+  wave_lambert_cos(n, w->wo[0], w->wo[1], w->wo[2], wi[0], wi[1], wi[2], w->ng[0], w->ng[1],
+                   w->ng[2], w->ns[0], w->ns[1], w->ns[2], fcos);
+}

@@ -45,4 +45,9 @@ static inline int32_t clr_lambert_wave_push(clr_lambert_wave *w, const clr_surfa
 /* wi, pdf and fcos of entries 0 .. n. */
 void clr_lambert_wave_sample(clr_lambert_wave *w);
 
+/* After clr_lambert_wave_sample: another direction per entry from the same frames, for values
+ * u0 (clamped below 1) and u1: wi, pdf and fcos (l: scratch), the bits of a wave of their own. */
+void clr_lambert_wave_sample_more(const clr_lambert_wave *w, const float *u0, const float *u1,
+                                  float *const l[3], float *const wi[3], float *pdf, float *fcos);
+
 #endif

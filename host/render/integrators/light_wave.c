@@ -12,7 +12,7 @@
 
 #define WAVE_FLOATS 40 /* float arrays in clr_light_wave */
 #define WAVE_INTS 2    /* and int32_t ones */
-#define BSDF_FLOATS 28 /* and float arrays of the BSDF samples (bsdf's own, mis_origin) */
+#define BSDF_FLOATS 41 /* and float arrays of the BSDF samples (bsdf's own, mis_origin, next) */
 #define HIT_COLUMNS 2  /* mis_hit: n doubles */
 
 /* Points the BSDF samples' arrays into the block's columns from `column` on (wo, ns and ng are
@@ -46,7 +46,20 @@ static void bsdf_columns(clr_light_wave *w, float *block, size_t cap, int column
                               &b->fcos,
                               &w->mis_origin[0],
                               &w->mis_origin[1],
-                              &w->mis_origin[2]};
+                              &w->mis_origin[2],
+                              &w->next_u0,
+                              &w->next_u1,
+                              &w->next_l[0],
+                              &w->next_l[1],
+                              &w->next_l[2],
+                              &w->next_wi[0],
+                              &w->next_wi[1],
+                              &w->next_wi[2],
+                              &w->next_pdf,
+                              &w->next_fcos,
+                              &w->next_origin[0],
+                              &w->next_origin[1],
+                              &w->next_origin[2]};
   for (int a = 0; a < BSDF_FLOATS; ++a) *own[a] = block + (size_t)(column + a) * cap;
   for (int a = 0; a < 3; ++a) {
     b->wo[a] = w->wo[a];
@@ -61,7 +74,7 @@ static void bsdf_columns(clr_light_wave *w, float *block, size_t cap, int column
 }
 
 clr_result clr_light_wave_reserve(clr_light_wave *w, int32_t n) {
-  w->n = w->ngroups = 0;
+  w->n = w->ngroups = w->with_next = 0;
   if (n <= w->cap) return CLR_SUCCESS;
   size_t cap;
   float *block = clr_wave_block_alloc(n, WAVE_FLOATS + WAVE_INTS + BSDF_FLOATS + HIT_COLUMNS, &cap);
@@ -103,7 +116,9 @@ void clr_light_wave_free(clr_light_wave *w) {
   w->cap = w->n = w->ngroups = 0;
   memset(&w->bsdf, 0, sizeof w->bsdf);
   w->mis_hit = NULL;
-  for (int a = 0; a < 3; ++a) w->mis_origin[a] = NULL;
+  for (int a = 0; a < 3; ++a) w->mis_origin[a] = w->next_l[a] = w->next_wi[a] = NULL;
+  for (int a = 0; a < 3; ++a) w->next_origin[a] = NULL;
+  w->next_u0 = w->next_u1 = w->next_pdf = w->next_fcos = NULL;
 }
 
 int32_t clr_light_wave_group(clr_light_wave *w, int32_t count, const clr_light_triangle *t) {
@@ -329,6 +344,12 @@ static void sample_bsdf(clr_light_wave *w) {
     const float *d[3] = {b->wi[0] + a, b->wi[1] + a, b->wi[2] + a};
     clr_shape_wave_triangle(group_end(w, g) - a, o, d, w->group_tri[g], w->mis_hit + a);
   }
+  if (!w->with_next) return;
+  clr_lambert_wave_sample_more(b, w->next_u0, w->next_u1, w->next_l, w->next_wi, w->next_pdf,
+                               w->next_fcos);
+  wave_spawn_origins(w->n, w->p[0], w->p[1], w->p[2], w->ng[0], w->ng[1], w->ng[2], w->next_wi[0],
+                     w->next_wi[1], w->next_wi[2], w->next_origin[0], w->next_origin[1],
+                     w->next_origin[2]);
 }
 
 void clr_light_wave_sample(clr_light_wave *w) {

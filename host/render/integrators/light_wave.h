@@ -43,6 +43,11 @@ typedef struct clr_light_wave {
   clr_lambert_wave bsdf;
   float *mis_origin[3];
   double *mis_hit;
+  /* the path tracer's next direction at each surface (its own BSDF sample) from the same frame:
+   * values (0 where put got none), wi, pdf, fcos and the spawned ray's origin; with_next: some
+   * entry has one */
+  int32_t with_next;
+  float *next_u0, *next_u1, *next_l[3], *next_wi[3], *next_pdf, *next_fcos, *next_origin[3];
   float *block;
 } clr_light_wave;
 
@@ -66,10 +71,11 @@ static inline void clr_light_wave_put_surface(clr_light_wave *w, int32_t k, cons
   }
 }
 
-/* Entry k of a triangle group: a sample u of its light from surface s seen from wo, and a
- * sample u_bsdf of the surface's BSDF. */
+/* Entry k of a triangle group: a sample u of its light from surface s seen from wo, a sample
+ * u_bsdf of the surface's BSDF, and u_next (or NULL) of the path's next direction. */
 static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_surface *s,
-                                      const float wo[3], const float u[2], const float u_bsdf[2]) {
+                                      const float wo[3], const float u[2], const float u_bsdf[2],
+                                      const float *u_next) {
   w->u0[k] = u[0];
   w->u1[k] = u[1];
   clr_light_wave_put_surface(w, k, s, wo);
@@ -80,6 +86,9 @@ static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_su
     b->dpdu[a][k] = s->dpdu[a];
     b->n_geom[a][k] = s->n_geom[a];
   }
+  w->with_next |= u_next != NULL;
+  w->next_u0[k] = u_next ? fminf(u_next[0], CLR_ONE_MINUS_EPSILON) : 0.0f;
+  w->next_u1[k] = u_next ? u_next[1] : 0.0f;
 }
 
 /* Appends a sample of point light l from surface s seen from wo; returns its index. */
@@ -95,7 +104,8 @@ static inline int32_t clr_light_wave_push_point(clr_light_wave *w, const clr_sur
 }
 
 /* use, contrib and the shadow rays of entries 0 .. n of triangle lights, group by group; then
- * their BSDF samples (bsdf's wi, pdf and fcos), mis_origin and mis_hit. */
+ * their BSDF samples (bsdf's wi, pdf and fcos), mis_origin and mis_hit, and with_next the next
+ * directions. */
 void clr_light_wave_sample(clr_light_wave *w);
 /* The same for point lights. */
 void clr_light_wave_sample_points(clr_light_wave *w);
