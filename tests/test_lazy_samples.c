@@ -258,8 +258,9 @@ static void test_generate_at_bad_arguments(void **state) {
   clr_sampler_release(s);
 }
 
-/* A closed box with a matte sphere and a glass sphere: paths reach every bounce of the layout
- * (maxdepth 6) and past it is none; interfaces and specular bounces consume no or fewer values. */
+/* A closed box with a matte sphere, a glass sphere and an interface (material "none"): paths
+ * reach every bounce of the layout (maxdepth 6) and past it is none; interfaces and specular
+ * bounces consume no or fewer values, so a wave's vertices are at different bounces. */
 static const char *box_scene =
     "LookAt 0 1 -3.2  0 1 0  0 1 0\nCamera \"perspective\" \"float fov\" [50]\n"
     "Film \"image\" \"integer xresolution\" [20] \"integer yresolution\" [16]\n"
@@ -277,6 +278,8 @@ static const char *box_scene =
     "Shape \"sphere\" \"float radius\" [0.4]\nAttributeEnd\n"
     "AttributeBegin\nMaterial \"glass\"\nTranslate 0.45 0.35 -0.5\n"
     "Shape \"sphere\" \"float radius\" [0.35]\nAttributeEnd\n"
+    "AttributeBegin\nMaterial \"none\"\nTranslate 0.1 1.1 -1.6\n"
+    "Shape \"sphere\" \"float radius\" [0.45]\nAttributeEnd\n"
     "WorldEnd\n";
 
 static float *render(const char *sampler, int lazy, int threads, int tile, clr_seeding seeding,

@@ -1269,23 +1269,36 @@ static void copy_bounce_values(float *to, const float *from, int32_t nv) {
 
 /* The values of the wave's vertices that sample (material surfaces below maxdepth) at bounces
  * past those the vectors hold, into deep (CLR_PATH_VALUES_PER_BOUNCE per sample); picked and
- * got: scratch of count entries and count * CLR_PATH_VALUES_PER_BOUNCE floats. */
+ * got: scratch of 2 * count entries and count * CLR_PATH_VALUES_PER_BOUNCE floats. One pass
+ * picks them (a wave's vertices mostly share one bounce), then one fetch per bounce. */
 static clr_result fetch_deep_values(const clr_integrator *it, const clr_integrator_values *sv,
                                     const clr_integrator_scratch *s, const int *idx, int n,
                                     int32_t *picked, float *got, float *deep) {
-  for (int bounce = sv->path_bounces; bounce < it->path_bounces_in_layout; ++bounce) {
-    int32_t m = 0;
-    for (int k = 0; k < n; ++k) {
-      int i = idx[k];
-      if (s->hits[k].geom_id != CLR_TRACER_INVALID_ID && s->surfaces[i].has_material &&
-          s->bounces[i] == bounce)
-        picked[m++] = i;
+  int32_t first = sv->path_bounces, last = it->path_bounces_in_layout, m = 0, lo = last, hi = -1;
+  for (int k = 0; k < n; ++k) {
+    int i = idx[k], b = s->bounces[i];
+    if (b < first || b >= last || s->hits[k].geom_id == CLR_TRACER_INVALID_ID ||
+        !s->surfaces[i].has_material)
+      continue;
+    picked[m++] = i;
+    lo = b < lo ? b : lo;
+    hi = b > hi ? b : hi;
+  }
+  int32_t *one = picked + n; /* one bounce's, when the wave holds several */
+  for (int bounce = lo; bounce <= hi; ++bounce) {
+    const int32_t *list = picked;
+    int32_t mb = m;
+    if (lo != hi) {
+      mb = 0;
+      for (int32_t j = 0; j < m; ++j)
+        if (s->bounces[picked[j]] == bounce) one[mb++] = picked[j];
+      list = one;
     }
-    if (!m) continue;
+    if (!mb) continue;
     int32_t nv = path_bounce_values(bounce);
-    CLR_CHECK(sv->fetch(sv->fetch_user, picked, m, path_bounce_offset(it, bounce), nv, got));
-    for (int32_t j = 0; j < m; ++j)
-      copy_bounce_values(deep + (size_t)picked[j] * CLR_PATH_VALUES_PER_BOUNCE,
+    CLR_CHECK(sv->fetch(sv->fetch_user, list, mb, path_bounce_offset(it, bounce), nv, got));
+    for (int32_t j = 0; j < mb; ++j)
+      copy_bounce_values(deep + (size_t)list[j] * CLR_PATH_VALUES_PER_BOUNCE,
                          got + (size_t)j * (size_t)nv, nv);
   }
   return CLR_SUCCESS;
@@ -1383,7 +1396,7 @@ static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
   int lazy = sv->path_bounces < it->path_bounces_in_layout;
   size_t deep_floats = lazy ? (size_t)count * CLR_PATH_VALUES_PER_BOUNCE : 1;
   float *deep = malloc(2 * deep_floats * sizeof(float)); /* and the fetch's output */
-  int32_t *picked = malloc((size_t)(count > 0 ? count : 1) * sizeof(int32_t));
+  int32_t *picked = malloc((size_t)(count > 0 ? 2 * count : 1) * sizeof(int32_t));
   if (!wos || !idx || !specular || !eta_scale || !deep || !picked) {
     free_path_buffers(wos, idx, specular, eta_scale, deep, picked);
     return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
