@@ -739,12 +739,13 @@ static clr_result estimate_direct(const clr_integrator *it, const clr_render_sce
   for (int j = 0; j < njobs; ++j) {
     direct_job *jb = &jobs[j];
     jb->shape_entry = SHAPE_NO_RAY;
-    if (light_is_delta(sc, jb->light)) continue;
     const clr_surface *sf = &s->surfaces[jb->sample];
     if (jb->light_entry >= 0) { /* the light wave's BSDF sample, its shape test done */
-      light_wave_bsdf(&s->lights, jb->light_entry, sf, jb, &cand[j]);
+      if (it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_TRIANGLE) /* point lights are delta */
+        light_wave_bsdf(&s->lights, jb->light_entry, sf, jb, &cand[j]);
       continue;
     }
+    if (light_is_delta(sc, jb->light)) continue;
     const float *wo = wo_all + 3 * jb->sample;
     float wi[3], pdf;
     float f3[3];
