@@ -186,7 +186,7 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
     t0 = t1;
     t1 = tmp;
   }
-  double p[3], phi = 0.0, t = 0.0;
+  double p[3] = {0.0, 0.0, 0.0}, phi = 0.0, t = 0.0; /* set by the root that is found */
   int found = 0;
   for (int root = 0; root < 2 && !found; ++root) {
     t = root ? t1 : t0;
