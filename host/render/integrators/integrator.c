@@ -575,14 +575,18 @@ static void intersect_visible(const clr_render_scene *sc, clr_integrator_scratch
 
 /* ---------- Lambertian samples of a wave (lambert_wave.h) ---------- */
 
+/* A Lambertian sample's f = Kd f |cos| / Kd at surface sf; 1 when the sample is usable. */
+static int lambert_value(const clr_surface *sf, float fc, float pdf, float f[3]) {
+  for (int k = 0; k < 3; ++k) f[k] = sf->kd[k] * fc;
+  return fc > 0.0f && pdf > 0.0f && !is_black(f);
+}
+
 /* bsdf_sample's outputs for entry e of a sampled wave at surface sf; 1 when usable. */
 static int lambert_wave_result(const clr_lambert_wave *lw, int32_t e, const clr_surface *sf,
                                float wi[3], float *pdf, float f[3]) {
-  float fc = lw->fcos[e];
   for (int a = 0; a < 3; ++a) wi[a] = lw->wi[a][e];
   *pdf = lw->pdf[e];
-  for (int k = 0; k < 3; ++k) f[k] = sf->kd[k] * fc;
-  return fc > 0.0f && *pdf > 0.0f && !is_black(f);
+  return lambert_value(sf, lw->fcos[e], *pdf, f);
 }
 
 /* ---------- EstimateDirect for a batch of jobs ---------- */
@@ -1350,9 +1354,8 @@ static void path_light_wave_next(const clr_integrator *it, const clr_integrator_
     int i = jb->sample, bounces = s->bounces[i];
     int32_t e = jb->light_entry;
     const clr_surface *sf = &s->surfaces[i];
-    float fc = lv->next_fcos[e], pdf = lv->next_pdf[e], f3[3], *b = s->beta + 3 * i;
-    for (int a = 0; a < 3; ++a) f3[a] = sf->kd[a] * fc;
-    if (!(fc > 0.0f && pdf > 0.0f && !is_black(f3))) { /* lambert_wave_result's test */
+    float pdf = lv->next_pdf[e], f3[3], *b = s->beta + 3 * i;
+    if (!lambert_value(sf, lv->next_fcos[e], pdf, f3)) {
       s->active[i] = 0;
       continue;
     }
