@@ -1318,6 +1318,19 @@ static void path_next_vertex(const clr_integrator *it, clr_integrator_scratch *s
   if (bounces + 1 >= it->max_depth && !specular) s->active[i] = 0;
 }
 
+/* The rest of li_path's bounce at a Lambertian vertex i whose sample (f |cos|, pdf) is usable and
+ * whose next ray is set: pbrt-v3's beta *= f |cos| / pdf, Russian roulette, the next vertex. */
+static void path_lambert_bounce(const clr_integrator *it, const clr_integrator_values *sv,
+                                const float *deep, const uint64_t *keys, clr_integrator_scratch *s,
+                                const float *eta_scale, int i, int bounces, const float f3[3],
+                                float pdf) {
+  float *b = s->beta + 3 * i;
+  for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
+  const float *bv = path_bounce(it, sv, deep, i, bounces);
+  path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
+  path_next_vertex(it, s, i, bounces, 0);
+}
+
 /* The Lambertian vertices of a wave, pushed by li_path's shading loop: their BSDF samples in
  * structure-of-arrays form, then the rest of li_path's bounce for each (pbrt-v3: beta *= f |cos|
  * / pdf, the next ray, Russian roulette). */
@@ -1329,16 +1342,13 @@ static void path_lambert_wave(const clr_integrator *it, const clr_integrator_val
   for (int32_t e = 0; e < lw->n; ++e) {
     int i = lw->owner[e], bounces = s->bounces[i];
     const clr_surface *sf = &s->surfaces[i];
-    float wi[3], pdf, f3[3], *b = s->beta + 3 * i;
+    float wi[3], pdf, f3[3];
     if (!lambert_wave_result(lw, e, sf, wi, &pdf, f3)) {
       s->active[i] = 0;
       continue;
     }
-    for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
     clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-    const float *bv = path_bounce(it, sv, deep, i, bounces);
-    path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-    path_next_vertex(it, s, i, bounces, 0);
+    path_lambert_bounce(it, sv, deep, keys, s, eta_scale, i, bounces, f3, pdf);
   }
 }
 
@@ -1354,12 +1364,11 @@ static void path_light_wave_next(const clr_integrator *it, const clr_integrator_
     int i = jb->sample, bounces = s->bounces[i];
     int32_t e = jb->light_entry;
     const clr_surface *sf = &s->surfaces[i];
-    float pdf = lv->next_pdf[e], f3[3], *b = s->beta + 3 * i;
+    float pdf = lv->next_pdf[e], f3[3];
     if (!lambert_value(sf, lv->next_fcos[e], pdf, f3)) {
       s->active[i] = 0;
       continue;
     }
-    for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
     s->rays2[i] = (clr_ray){lv->next_origin[0][e],
                             lv->next_origin[1][e],
                             lv->next_origin[2][e],
@@ -1369,9 +1378,7 @@ static void path_light_wave_next(const clr_integrator *it, const clr_integrator_
                             lv->next_wi[2][e],
                             INFINITY,
                             sf->time};
-    const float *bv = path_bounce(it, sv, deep, i, bounces);
-    path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-    path_next_vertex(it, s, i, bounces, 0);
+    path_lambert_bounce(it, sv, deep, keys, s, eta_scale, i, bounces, f3, pdf);
   }
 }
 
