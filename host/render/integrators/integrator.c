@@ -1318,29 +1318,55 @@ static void path_next_vertex(const clr_integrator *it, clr_integrator_scratch *s
   if (bounces + 1 >= it->max_depth && !specular) s->active[i] = 0;
 }
 
-/* The rest of li_path's bounce at a Lambertian vertex i whose sample (f |cos|, pdf) is usable and
- * whose next ray is set: pbrt-v3's beta *= f |cos| / pdf, Russian roulette, the next vertex. */
-static void path_lambert_bounce(const clr_integrator *it, const clr_integrator_values *sv,
-                                const float *deep, const uint64_t *keys, clr_integrator_scratch *s,
-                                const float *eta_scale, int i, int bounces, const float f3[3],
-                                float pdf) {
-  float *b = s->beta + 3 * i;
-  for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
-  const float *bv = path_bounce(it, sv, deep, i, bounces);
-  path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-  path_next_vertex(it, s, i, bounces, 0);
+/* One li_path call: its inputs, and its per-sample state besides the scratch's (beta, bounces,
+ * active, rays2, surfaces). */
+typedef struct path_call {
+  const clr_integrator *it;
+  const clr_render_scene *sc;
+  clr_integrator_scratch *s;
+  const clr_integrator_values *sv;
+  const uint64_t *keys;
+  float *L;
+  clr_integrator_counters *c;
+  int count;
+  float *wos;       /* each sample's wo at its vertex */
+  int *idx;         /* the wave's samples */
+  int *specular;    /* the last bounce was specular (pbrt-v3 specularBounce) */
+  float *eta_scale; /* pbrt-v3 etaScale */
+  int lazy;         /* the vectors hold a prefix: deeper bounces' values are fetched into deep */
+  size_t deep_floats;
+  float *deep;     /* then deep_floats floats of the fetch's output */
+  int32_t *picked; /* fetch_deep_values' scratch */
+  int nulls;       /* interfaces crossed, all samples together */
+  int njobs;       /* the wave's light sampling jobs (scratch jobs) */
+} path_call;
+
+/* The values of bounce `bounces` of sample i (path_bounce's). */
+static const float *path_values(const path_call *pc, int i, int bounces) {
+  return path_bounce(pc->it, pc->sv, pc->deep, i, bounces);
 }
 
-/* The Lambertian vertices of a wave, pushed by li_path's shading loop: their BSDF samples in
+/* The rest of li_path's bounce at a Lambertian vertex i whose sample (f |cos|, pdf) is usable and
+ * whose next ray is set: pbrt-v3's beta *= f |cos| / pdf, Russian roulette, the next vertex. */
+static void path_lambert_bounce(const path_call *pc, int i, int bounces, const float f3[3],
+                                float pdf) {
+  clr_integrator_scratch *s = pc->s;
+  float *b = s->beta + 3 * i;
+  for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
+  path_roulette(pc->it, path_values(pc, i, bounces), pc->keys[i], bounces, pc->eta_scale[i], b,
+                &s->active[i]);
+  path_next_vertex(pc->it, s, i, bounces, 0);
+}
+
+/* The Lambertian vertices of a wave, pushed by path_shade: their BSDF samples in
  * structure-of-arrays form, then the rest of li_path's bounce for each (pbrt-v3: beta *= f |cos|
  * / pdf, the next ray, Russian roulette). */
-static void path_lambert_wave(const clr_integrator *it, const clr_integrator_values *sv,
-                              const float *deep, const uint64_t *keys, clr_integrator_scratch *s,
-                              const float *eta_scale) {
+static void path_lambert_wave(const path_call *pc) {
+  clr_integrator_scratch *s = pc->s;
   clr_lambert_wave *lw = &s->lambert;
   clr_lambert_wave_sample(lw);
   for (int32_t e = 0; e < lw->n; ++e) {
-    int i = lw->owner[e], bounces = s->bounces[i];
+    int i = lw->owner[e];
     const clr_surface *sf = &s->surfaces[i];
     float wi[3], pdf, f3[3];
     if (!lambert_wave_result(lw, e, sf, wi, &pdf, f3)) {
@@ -1348,20 +1374,19 @@ static void path_lambert_wave(const clr_integrator *it, const clr_integrator_val
       continue;
     }
     clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-    path_lambert_bounce(it, sv, deep, keys, s, eta_scale, i, bounces, f3, pdf);
+    path_lambert_bounce(pc, i, s->bounces[i], f3, pdf);
   }
 }
 
 /* The rest of li_path's bounce (as path_lambert_wave) for the vertices whose next direction the
- * light wave sampled with their light sample (jobs 0 .. nj that continue). */
-static void path_light_wave_next(const clr_integrator *it, const clr_integrator_values *sv,
-                                 const float *deep, const uint64_t *keys, clr_integrator_scratch *s,
-                                 const float *eta_scale, int nj) {
+ * light wave sampled with their light sample (the wave's jobs that continue). */
+static void path_light_wave_next(const path_call *pc) {
+  clr_integrator_scratch *s = pc->s;
   const clr_light_wave *lv = &s->lights;
-  for (int j = 0; j < nj; ++j) {
+  for (int j = 0; j < pc->njobs; ++j) {
     const direct_job *jb = &s->jobs[j];
     if (!jb->continues) continue;
-    int i = jb->sample, bounces = s->bounces[i];
+    int i = jb->sample;
     int32_t e = jb->light_entry;
     const clr_surface *sf = &s->surfaces[i];
     float pdf = lv->next_pdf[e], f3[3];
@@ -1378,195 +1403,265 @@ static void path_light_wave_next(const clr_integrator *it, const clr_integrator_
                             lv->next_wi[2][e],
                             INFINITY,
                             sf->time};
-    path_lambert_bounce(it, sv, deep, keys, s, eta_scale, i, bounces, f3, pdf);
+    path_lambert_bounce(pc, i, s->bounces[i], f3, pdf);
   }
 }
 
+/* The bounce's end for a sample i whose next ray is set and beta updated: Russian roulette and
+ * the next vertex. */
+static void path_continue(const path_call *pc, int i, int bounces, const float *bv, int specular) {
+  clr_integrator_scratch *s = pc->s;
+  path_roulette(pc->it, bv, pc->keys[i], bounces, pc->eta_scale[i], s->beta + 3 * i, &s->active[i]);
+  path_next_vertex(pc->it, s, i, bounces, specular);
+}
+
+/* A glass vertex: pbrt-v3 FresnelSpecular::Sample_f, reflection or refraction by the Fresnel
+ * term. */
+static void path_glass(const path_call *pc, int i, int bounces, const float *bv,
+                       const clr_surface *sf, const float w[3]) {
+  clr_integrator_scratch *s = pc->s;
+  float *b = s->beta + 3 * i;
+  float wi[3], cos_o = rs_dot(w, sf->ns);
+  int entering = rs_dot(w, sf->n_geom) > 0.0f;
+  float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
+  if (path_value(bv, pc->keys[i], bounces, 5) < F) {
+    mirror_direction(sf, w, wi);
+    for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a]; /* Kr F / F */
+  } else {
+    float eta = entering ? 1.0f / sf->eta : sf->eta; /* eta_i / eta_t */
+    float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+    if (sin2_t >= 1.0f) {
+      s->active[i] = 0;
+      return;
+    }
+    float cos_t = sqrtf(1.0f - sin2_t);
+    for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
+    for (int a = 0; a < 3; ++a) b[a] *= sf->kt[a] * eta * eta; /* T (1-F) (eta_i/eta_t)^2 / (1-F) */
+    pc->eta_scale[i] *= entering ? sf->eta * sf->eta : 1.0f / (sf->eta * sf->eta);
+  }
+  if (is_black(b)) {
+    s->active[i] = 0;
+    return;
+  }
+  clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+  path_continue(pc, i, bounces, bv, 1);
+}
+
+/* A mirror vertex: pbrt-v3 samples no light there; beta *= Kr (f |cos| / pdf). */
+static void path_mirror(const path_call *pc, int i, int bounces, const float *bv,
+                        const clr_surface *sf, const float w[3]) {
+  clr_integrator_scratch *s = pc->s;
+  float *b = s->beta + 3 * i;
+  float wi[3];
+  mirror_direction(sf, w, wi);
+  if (is_black(sf->kr) || rs_dot(wi, sf->ns) == 0.0f) {
+    s->active[i] = 0;
+    return;
+  }
+  for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
+  clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+  path_continue(pc, i, bounces, bv, 1);
+}
+
+/* pbrt-v3's UniformSampleOneLight at vertex i: a job for estimate_direct when the chosen light's
+ * pdf is not 0 (else NULL). */
+static direct_job *path_light_job(path_call *pc, int i, int bounces, const float *bv) {
+  const clr_integrator *it = pc->it;
+  clr_integrator_scratch *s = pc->s;
+  if (!path_samples_light(it, &s->surfaces[i], bounces)) return NULL;
+  uint64_t key = pc->keys[i];
+  float lpdf;
+  int light = choose_light(it, s->cdfs[i], path_value(bv, key, bounces, 0), &lpdf);
+  if (!(lpdf > 0.0f)) return NULL;
+  direct_job *jb = &s->jobs[pc->njobs++];
+  jb->sample = i;
+  jb->light = light;
+  jb->continues = 0;
+  for (int a = 0; a < 2; ++a) {
+    jb->u_light[a] = path_value(bv, key, bounces, 1 + a);
+    jb->u_scatter[a] = path_value(bv, key, bounces, 3 + a);
+  }
+  const float *b = s->beta + 3 * i;
+  for (int a = 0; a < 3; ++a) jb->scale[a] = b[a] / lpdf;
+  return jb;
+}
+
+/* A Lambertian vertex's next direction from values u: sampled in its light sample's frame when
+ * the light wave samples its job (path_light_wave_next), else with the wave's others
+ * (path_lambert_wave). */
+static void path_lambert(const path_call *pc, direct_job *jb, int i, const clr_surface *sf,
+                         const float w[3], const float u[2]) {
+  const clr_integrator *it = pc->it;
+  if (jb && it->light_wave_kind && it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_TRIANGLE) {
+    jb->continues = 1;
+    memcpy(jb->u_next, u, 2 * sizeof *u);
+  } else {
+    clr_lambert_wave_push(&pc->s->lambert, sf, w, u, i);
+  }
+}
+
+/* Any other material: its BSDF's sample from values u (pbrt-v3 BSDF::Sample_f), etaScale after a
+ * specular transmission. */
+static void path_bsdf(const path_call *pc, int i, int bounces, const float *bv,
+                      const clr_surface *sf, const float w[3], const float u[2]) {
+  clr_integrator_scratch *s = pc->s;
+  float wi[3], pdf, f3[3];
+  int flags = 0;
+  if (sf->general ? !clr_bsdf_sample(&sf->bsdf, w, u, CLR_BXDF_ALL, wi, &pdf, f3, &flags)
+                  : !bsdf_sample(sf, w, u, wi, &pdf, f3)) {
+    s->active[i] = 0;
+    return;
+  }
+  int specular = pc->specular[i] = (flags & CLR_BSDF_SPECULAR) != 0;
+  if (specular && (flags & CLR_BSDF_TRANSMISSION)) { /* pbrt-v3 etaScale */
+    float e2 = sf->bsdf.eta * sf->bsdf.eta;
+    pc->eta_scale[i] *= rs_dot(w, sf->n_geom) > 0.0f ? e2 : 1.0f / e2;
+  }
+  float *b = s->beta + 3 * i;
+  for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
+  clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
+  path_continue(pc, i, bounces, bv, specular);
+}
+
+/* An interface (material "none"): pbrt-v3 adds its emission first, then the ray goes on. */
+static void path_interface(path_call *pc, int i, int seen, const clr_ray *ray,
+                           const clr_surface *sf) {
+  clr_integrator_scratch *s = pc->s;
+  const float *b = s->beta + 3 * i;
+  float *Li = pc->L + 3 * i;
+  if (seen)
+    for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
+  float d[3] = {ray->dx, ray->dy, ray->dz};
+  clr_render_scene_spawn_ray(sf, d, &s->rays2[i]);
+  if (++pc->nulls > MAX_NULL_SURFACES * pc->count) s->active[i] = 0;
+}
+
+/* pbrt-v3 PathIntegrator::Li's loop body for the wave's k-th sample: its hit's emission, then
+ * the bounce by material (light sampling jobs and Lambertian samples wait for the wave's end). */
+static void path_shade(path_call *pc, int k) {
+  const clr_integrator *it = pc->it;
+  clr_integrator_scratch *s = pc->s;
+  int i = pc->idx[k];
+  const float *b = s->beta + 3 * i;
+  float *Li = pc->L + 3 * i;
+  const clr_ray *ray = &s->rays[k];
+  int bounces = s->bounces[i];
+  int seen = bounces == 0 || pc->specular[i]; /* pbrt-v3: emission counted here, else by MIS */
+  if (s->hits[k].geom_id == CLR_TRACER_INVALID_ID) {
+    if (seen) add_escaped(pc->sc, ray, b, Li);
+    s->active[i] = 0;
+    return;
+  }
+  const clr_surface *sf = &s->surfaces[i];
+  if (!sf->has_material) {
+    path_interface(pc, i, seen, ray, sf);
+    return;
+  }
+  if (seen)
+    for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
+  if (bounces >= it->max_depth) {
+    s->active[i] = 0;
+    return;
+  }
+  pc->c->bounce_vertices[bounces < CLR_COUNTED_BOUNCES ? bounces : CLR_COUNTED_BOUNCES - 1]++;
+  const float *bv = path_values(pc, i, bounces);
+  float *w = pc->wos + 3 * i;
+  w[0] = -ray->dx;
+  w[1] = -ray->dy;
+  w[2] = -ray->dz;
+  pc->specular[i] = sf->mirror || sf->glass;
+  if (sf->glass) {
+    path_glass(pc, i, bounces, bv, sf, w);
+    return;
+  }
+  if (sf->mirror) {
+    path_mirror(pc, i, bounces, bv, sf, w);
+    return;
+  }
+  direct_job *jb = path_light_job(pc, i, bounces, bv);
+  uint64_t key = pc->keys[i];
+  float u[2] = {path_value(bv, key, bounces, 5), path_value(bv, key, bounces, 6)};
+  if (clr_surface_is_lambertian(sf))
+    path_lambert(pc, jb, i, sf, w, u);
+  else
+    path_bsdf(pc, i, bounces, bv, sf, w, u);
+}
+
+/* One wave of li_path: the active samples' rays traced and their vertices shaded, then the
+ * wave's Lambertian samples and light sampling jobs. */
+static clr_result path_wave(path_call *pc, int wave) {
+  clr_integrator_scratch *s = pc->s;
+  int n = 0;
+  for (int i = 0; i < pc->count; ++i)
+    if (s->active[i]) pc->idx[n++] = i;
+  CLR_CHECK(reserve_rays(s, (size_t)n));
+  for (int k = 0; k < n; ++k) s->rays[k] = s->rays2[pc->idx[k]];
+  trace(pc->sc, s->rays, s->hits, (size_t)n, pc->c);
+  path_surfaces(pc->it, pc->sc, s, pc->idx, n, wave);
+  if (pc->lazy)
+    CLR_CHECK(fetch_deep_values(pc->it, pc->sv, s, pc->idx, n, pc->picked,
+                                pc->deep + pc->deep_floats, pc->deep));
+  CLR_CHECK(clr_lambert_wave_reserve(&s->lambert, n));
+  pc->njobs = 0;
+  for (int k = 0; k < n; ++k) path_shade(pc, k);
+  path_lambert_wave(pc);
+  if (!pc->njobs) return CLR_SUCCESS;
+  CLR_CHECK(estimate_direct(pc->it, pc->sc, s, s->jobs, pc->njobs, pc->wos, pc->c));
+  add_jobs(s->jobs, pc->njobs, pc->L);
+  path_light_wave_next(pc);
+  return CLR_SUCCESS;
+}
+
 /* Frees li_path's per-call buffers. */
-static void free_path_buffers(float *wos, int *idx, int *specular, float *eta_scale, float *deep,
-                              int32_t *picked) {
-  free(wos);
-  free(idx);
-  free(specular);
-  free(eta_scale);
-  free(deep);
-  free(picked);
+static void free_path_buffers(path_call *pc) {
+  free(pc->wos);
+  free(pc->idx);
+  free(pc->specular);
+  free(pc->eta_scale);
+  free(pc->deep);
+  free(pc->picked);
+}
+
+/* li_path's per-call buffers for count samples. */
+static clr_result alloc_path_buffers(path_call *pc, int count) {
+  size_t one = (size_t)(count > 0 ? count : 1);
+  pc->wos = malloc(one * 3 * sizeof(float));
+  pc->idx = malloc(one * sizeof(int));
+  pc->specular = calloc(one, sizeof(int));
+  pc->eta_scale = malloc(one * sizeof(float));
+  pc->deep_floats = pc->lazy ? one * CLR_PATH_VALUES_PER_BOUNCE : 1;
+  pc->deep = malloc(2 * pc->deep_floats * sizeof(float));
+  pc->picked = malloc(2 * one * sizeof(int32_t));
+  if (pc->wos && pc->idx && pc->specular && pc->eta_scale && pc->deep && pc->picked)
+    return CLR_SUCCESS;
+  free_path_buffers(pc);
+  return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
 }
 
 static clr_result li_path(const clr_integrator *it, const clr_render_scene *sc,
                           clr_integrator_scratch *s, const clr_integrator_values *sv,
                           const uint64_t *keys, int count, float *L, clr_integrator_counters *c) {
-  float wo[3 * 1];
-  (void)wo;
-  float *beta = s->beta;
   CLR_CHECK(reserve_jobs(s, (size_t)count + 1));
-  float *wos = malloc((size_t)count * 3 * sizeof(float));
-  int *idx = malloc((size_t)count * sizeof(int));
-  int *specular = calloc((size_t)(count > 0 ? count : 1), sizeof(int)); /* last bounce specular */
-  float *eta_scale = malloc((size_t)(count > 0 ? count : 1) * sizeof(float));
-  int lazy = sv->path_bounces < it->path_bounces_in_layout;
-  size_t deep_floats = lazy ? (size_t)count * CLR_PATH_VALUES_PER_BOUNCE : 1;
-  float *deep = malloc(2 * deep_floats * sizeof(float)); /* and the fetch's output */
-  int32_t *picked = malloc((size_t)(count > 0 ? 2 * count : 1) * sizeof(int32_t));
-  if (!wos || !idx || !specular || !eta_scale || !deep || !picked) {
-    free_path_buffers(wos, idx, specular, eta_scale, deep, picked);
-    return clr_set_last_error(CLR_ERROR_OUT_OF_MEMORY, "path integrator");
-  }
+  path_call pc = {
+      .it = it, .sc = sc, .s = s, .sv = sv, .keys = keys, .L = L, .c = c, .count = count};
+  pc.lazy = sv->path_bounces < it->path_bounces_in_layout;
+  CLR_CHECK(alloc_path_buffers(&pc, count));
   c->samples += (uint64_t)count;
   for (int i = 0; i < count; ++i) {
-    eta_scale[i] = 1.0f;
-    beta[3 * i] = beta[3 * i + 1] = beta[3 * i + 2] = 1.0f;
+    pc.eta_scale[i] = 1.0f;
+    s->beta[3 * i] = s->beta[3 * i + 1] = s->beta[3 * i + 2] = 1.0f;
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
     s->bounces[i] = 0;
     s->active[i] = 1;
   }
   clr_result r = CLR_SUCCESS;
-  int nactive = count, nulls = 0;
+  int nactive = count;
   for (int wave = 0; nactive > 0 && r == CLR_SUCCESS; ++wave) {
-    int n = 0;
-    for (int i = 0; i < count; ++i)
-      if (s->active[i]) idx[n++] = i;
-    r = reserve_rays(s, (size_t)n);
-    if (r != CLR_SUCCESS) break;
-    for (int k = 0; k < n; ++k) s->rays[k] = s->rays2[idx[k]];
-    trace(sc, s->rays, s->hits, (size_t)n, c);
-    path_surfaces(it, sc, s, idx, n, wave);
-    if (lazy) r = fetch_deep_values(it, sv, s, idx, n, picked, deep + deep_floats, deep);
-    if (r == CLR_SUCCESS) r = clr_lambert_wave_reserve(&s->lambert, n);
-    if (r != CLR_SUCCESS) break;
-    int nj = 0;
-    for (int k = 0; k < n; ++k) {
-      int i = idx[k];
-      float *b = beta + 3 * i, *Li = L + 3 * i;
-      const clr_ray *ray = &s->rays[k];
-      const clr_hit *h = &s->hits[k];
-      int bounces = s->bounces[i];
-      int seen = bounces == 0 || specular[i]; /* pbrt-v3: emission counted here, else by MIS */
-      if (h->geom_id == CLR_TRACER_INVALID_ID) {
-        if (seen) add_escaped(sc, ray, b, Li);
-        s->active[i] = 0;
-        continue;
-      }
-      clr_surface *sf = &s->surfaces[i];
-      if (!sf->has_material) { /* an interface: pbrt-v3 adds its emission first */
-        if (seen)
-          for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
-        float d[3] = {ray->dx, ray->dy, ray->dz};
-        clr_render_scene_spawn_ray(sf, d, &s->rays2[i]);
-        if (++nulls > MAX_NULL_SURFACES * count) s->active[i] = 0;
-        continue;
-      }
-      if (seen)
-        for (int a = 0; a < 3; ++a) Li[a] += b[a] * sf->le[a];
-      if (bounces >= it->max_depth) {
-        s->active[i] = 0;
-        continue;
-      }
-      c->bounce_vertices[bounces < CLR_COUNTED_BOUNCES ? bounces : CLR_COUNTED_BOUNCES - 1]++;
-      const float *bv = path_bounce(it, sv, deep, i, bounces);
-      float *w = wos + 3 * i;
-      w[0] = -ray->dx;
-      w[1] = -ray->dy;
-      w[2] = -ray->dz;
-      specular[i] = sf->mirror || sf->glass;
-      if (sf->glass) { /* pbrt-v3 FresnelSpecular::Sample_f */
-        float wi[3], cos_o = rs_dot(w, sf->ns);
-        int entering = rs_dot(w, sf->n_geom) > 0.0f;
-        float F = clr_fr_dielectric(entering ? cos_o : -cos_o, 1.0f, sf->eta);
-        if (path_value(bv, keys[i], bounces, 5) < F) {
-          mirror_direction(sf, w, wi);
-          for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a]; /* Kr F / F */
-        } else {
-          float eta = entering ? 1.0f / sf->eta : sf->eta; /* eta_i / eta_t */
-          float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
-          if (sin2_t >= 1.0f) {
-            s->active[i] = 0;
-            continue;
-          }
-          float cos_t = sqrtf(1.0f - sin2_t);
-          for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
-          for (int a = 0; a < 3; ++a)
-            b[a] *= sf->kt[a] * eta * eta; /* T (1-F) (eta_i/eta_t)^2 / (1-F) */
-          eta_scale[i] *= entering ? sf->eta * sf->eta : 1.0f / (sf->eta * sf->eta);
-        }
-        if (is_black(b)) {
-          s->active[i] = 0;
-          continue;
-        }
-        clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-        path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-        path_next_vertex(it, s, i, bounces, 1);
-        continue;
-      }
-      if (sf->mirror) { /* pbrt-v3: no light sampling; beta *= Kr (f |cos| / pdf) */
-        float wi[3];
-        mirror_direction(sf, w, wi);
-        if (is_black(sf->kr) || rs_dot(wi, sf->ns) == 0.0f) {
-          s->active[i] = 0;
-          continue;
-        }
-        for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a];
-        clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-        path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-        path_next_vertex(it, s, i, bounces, 1);
-        continue;
-      }
-      direct_job *jb = NULL;
-      if (path_samples_light(it, sf, bounces)) {
-        float lpdf;
-        int light = choose_light(it, s->cdfs[i], path_value(bv, keys[i], bounces, 0), &lpdf);
-        if (lpdf > 0.0f) {
-          jb = &s->jobs[nj++];
-          jb->sample = i;
-          jb->light = light;
-          jb->continues = 0;
-          for (int a = 0; a < 2; ++a) {
-            jb->u_light[a] = path_value(bv, keys[i], bounces, 1 + a);
-            jb->u_scatter[a] = path_value(bv, keys[i], bounces, 3 + a);
-          }
-          for (int a = 0; a < 3; ++a) jb->scale[a] = b[a] / lpdf;
-        }
-      }
-      float u[2] = {path_value(bv, keys[i], bounces, 5), path_value(bv, keys[i], bounces, 6)};
-      if (clr_surface_is_lambertian(sf)) {
-        if (jb && it->light_wave_kind &&
-            it->light_wave_kind[jb->light] == CLR_WAVE_LIGHT_TRIANGLE) {
-          jb->continues = 1; /* sampled in its light sample's frame (path_light_wave_next) */
-          memcpy(jb->u_next, u, sizeof u);
-        } else { /* sampled with the wave's others (path_lambert_wave) */
-          clr_lambert_wave_push(&s->lambert, sf, w, u, i);
-        }
-        continue;
-      }
-      float wi[3], pdf;
-      float f3[3];
-      int flags = 0;
-      if (sf->general ? !clr_bsdf_sample(&sf->bsdf, w, u, CLR_BXDF_ALL, wi, &pdf, f3, &flags)
-                      : !bsdf_sample(sf, w, u, wi, &pdf, f3)) {
-        s->active[i] = 0;
-        continue;
-      }
-      specular[i] = (flags & CLR_BSDF_SPECULAR) != 0;
-      if (specular[i] && (flags & CLR_BSDF_TRANSMISSION)) { /* pbrt-v3 etaScale */
-        float e2 = sf->bsdf.eta * sf->bsdf.eta;
-        eta_scale[i] *= rs_dot(w, sf->n_geom) > 0.0f ? e2 : 1.0f / e2;
-      }
-      for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
-      clr_render_scene_spawn_ray(sf, wi, &s->rays2[i]);
-      path_roulette(it, bv, keys[i], bounces, eta_scale[i], b, &s->active[i]);
-      path_next_vertex(it, s, i, bounces, specular[i]);
-    }
-    path_lambert_wave(it, sv, deep, keys, s, eta_scale);
-    if (nj) {
-      /* the direct jobs need the surfaces of this wave: copy their index order */
-      r = estimate_direct(it, sc, s, s->jobs, nj, wos, c);
-      if (r == CLR_SUCCESS) add_jobs(s->jobs, nj, L);
-      if (r == CLR_SUCCESS) path_light_wave_next(it, sv, deep, keys, s, eta_scale, nj);
-    }
+    r = path_wave(&pc, wave);
     nactive = 0;
     for (int i = 0; i < count; ++i) nactive += s->active[i];
   }
-  free_path_buffers(wos, idx, specular, eta_scale, deep, picked);
+  free_path_buffers(&pc);
   return r;
 }
 
