@@ -16,6 +16,7 @@
 #include "clrender/kernels.h"
 #include "adaptive.h"
 #include "camera_sample.h"
+#include "cost_fit.h"
 #include "distributed.h"
 #include "integrator.h"
 #include "pfm_output.h"
@@ -316,12 +317,15 @@ typedef struct render_job {
   const clr_integrator *integrator;
   clr_sampler sampler;
   int lazy; /* bands may hold a prefix of the layout (lazy_allowed), 2: always the same */
-  /* choose_prefix's figures: samples shaded and their vertices per bounce, and the CPU costs of
-   * generated values (the process's CPU seconds during generation less the workers') and of
-   * fetched values (the workers' thread CPU seconds in sampled fetches, values of those calls) */
+  /* choose_prefix's figures: samples shaded and their vertices per bounce, the CPU cost of
+   * generated values (each band's values against the process's CPU seconds during its
+   * generation less the workers', the first band left out: its calls start cold) and of fetched
+   * values (the workers' thread CPU seconds in sampled fetches, values of those calls) */
   uint64_t seen_samples, seen_vertices[CLR_COUNTED_BOUNCES];
-  double gen_value_s, fetch_cpu_s;
-  uint64_t gen_values, fetch_cpu_values;
+  clr_cost_fit gen_fit;
+  int gen_bands;
+  double fetch_cpu_s;
+  uint64_t fetch_cpu_values;
   double fetch_value_s;     /* the workers' wall seconds in fetches (--stats) */
   clr_sample_fetch fetch;   /* the layout prepared for fetches (lazy), or NULL */
   clockid_t *worker_clocks; /* the workers' CPU clocks, for the generation's CPU */
@@ -680,8 +684,7 @@ static clr_result generate_band(render_job *job, clr_sampler sampler, clr_sample
   CLR_CHECK(generate_values(job, sampler, batch, px, band->stride, band->values));
   double gen = workers_clock_seconds(job) - w0;
   gen = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - p0 - gen;
-  job->gen_value_s += gen > 0.0 ? gen : 0.0;
-  job->gen_values += (uint64_t)need;
+  if (job->gen_bands++ > 0) clr_cost_fit_add(&job->gen_fit, (double)need, gen > 0.0 ? gen : 0.0);
   band->pixels = px;
   for (int k = 0; k < n; ++k) {
     job->tiles[pos + k].index = first + k;
@@ -716,22 +719,18 @@ static clr_result commit_tile(render_job *job, tile_info *m) {
 /* The path bounces whose values the next band generates up front (path_bounces_in_layout: the
  * whole layout). Values are the same either way, so this chooses speed only: a deeper bounce's
  * values are fetched on the host when the fraction of samples reaching it, times a fetched
- * value's cost, is below a generated value's cost (each measured so far in this render; the
- * first band explores with one bounce up front). Bounce 0 is always generated. */
-/* A generated value's measured cost (the process's CPU over each band's generate call less the
- * workers') reads 3-6 ns for a sobol value where perf puts the kernel at 0.7 ns: it is taken at
- * a quarter. Measured (2-core AVX-512 machine, 256^2, 16 spp): Cornell path 2-3 % less CPU (its
- * 30-70 % of samples reaching bounces 1-4 keep whole vectors), sphere and star path (4-13 %
- * past bounce 1) within 1 %. */
-#define GEN_COST_SCALE 0.25
-
+ * value's cost, is below a generated value's (each measured so far in this render; the first
+ * bands explore with one bounce up front). A generated value's cost is the slope of the bands'
+ * CPU seconds against their values: the average would count each launch's fixed cost (0.7 ms a
+ * band measured on a 2-core AVX2 EPYC) as values' cost, several times the kernel's on a machine
+ * where the kernel is fast. Bounce 0 is always generated. */
 static int32_t choose_prefix(const render_job *job) {
   int32_t all = job->integrator->path_bounces_in_layout;
   if (!job->lazy) return all;
   if (job->lazy == 2) return 1;
-  if (!job->seen_samples || !job->gen_values || !job->fetch_cpu_values) return 1;
-  double ratio = GEN_COST_SCALE * (job->gen_value_s / (double)job->gen_values) /
-                 (job->fetch_cpu_s / (double)job->fetch_cpu_values);
+  double gen = clr_cost_fit_per_unit(&job->gen_fit);
+  if (!job->seen_samples || !(gen > 0.0) || !job->fetch_cpu_values) return 1;
+  double ratio = gen / (job->fetch_cpu_s / (double)job->fetch_cpu_values);
   for (int32_t b = 1; b < all; ++b) {
     uint64_t v = job->seen_vertices[b < CLR_COUNTED_BOUNCES ? b : CLR_COUNTED_BOUNCES - 1];
     if ((double)v < ratio * (double)job->seen_samples) return b;
