@@ -9,10 +9,9 @@
  *
  * Build defines (host/lib/sampler_device.c):
  *   CLR_INDEX32            every global index of the launch is below 2^32;
- *   CLR_SOBOL_M            sobol: log2 resolution m;
- *   CLR_SOBOL_FRAME_BITS   sobol: sample numbers are below 2^it (<= 52 - 2m);
- *   CLR_SOBOL_BITS         sobol: 2m + frame bits, indices are below 2^it (<= 52);
  *   CLR_HALTON_INDEX32     halton: with CLR_INDEX32.
+ * Sobol's log2 resolution m and frame bits (sample numbers below 2^frame bits, 2m + frame bits
+ * <= 32) are arguments, not defines: one program serves every resolution and sample count.
  * Halton plan entries carry in `shape` the chunks that cover the dimension's largest argument and
  * (bit 8) whether its reversed digits fit 32 bits (host/lib/sampler_device.c). */
 #ifndef CLR_GLOBAL_SAMPLER_SIMD_H
@@ -100,42 +99,46 @@ static inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL && defined(CLR_INDEX32)
 /* Same over the 64-bit VdC columns (clr_sobol_xor_columns64) taken mod 2^32: AND, XOR and left
  * shifts commute with that, so the low 32 index bits are exact, and those are all the bits (the
- * columns of row m - 1 are below 2^2m, and indices below 2^32). */
+ * columns of row m - 1 are below 2^2m, and indices below 2^32). count <= 32 is uniform; four
+ * columns a step (bits past count are zero, and a row has 52 columns to read). */
 CLR_SIMD_INLINE uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *cols, int count) {
   uint8 v = (uint8)0u;
-  CLR_UNROLL
-  for (int i = 0; i < count; ++i) v ^= (uint8)(uint)cols[i] & (0u - ((bits >> (uint)i) & 1u));
+  CLR_SCALAR_LOOP
+  for (int i = 0; i < count; i += 4, bits >>= 4u) {
+    v ^= (uint8)(uint)cols[i] & (0u - (bits & 1u));
+    v ^= (uint8)(uint)cols[i + 1] & (0u - ((bits >> 1u) & 1u));
+    v ^= (uint8)(uint)cols[i + 2] & (0u - ((bits >> 2u) & 1u));
+    v ^= (uint8)(uint)cols[i + 3] & (0u - ((bits >> 3u) & 1u));
+  }
   return v;
 }
 
-/* clr_sobol_interval_to_index for sample numbers below 2^CLR_SOBOL_FRAME_BITS: higher frame
+/* clr_sobol_interval_to_index for sample numbers below 2^p->sobol_frame_bits: higher frame
  * bits are zero and the pixel bits b span 2m. */
-static inline uint8 clr_sobol_index8(uint8 frame, int8 px, int8 py, __global const ulong *vdc,
-                                     __global const ulong *vdc_inv) {
-#if CLR_SOBOL_M == 0
-  (void)px;
-  (void)py;
-  (void)vdc;
-  (void)vdc_inv;
-  return frame;
-#else
-  const uint row = (CLR_SOBOL_M - 1) * CLR_SOBOL_MATRIX_SIZE;
-  uint8 delta = clr_xor_columns_low8(frame, vdc + row, CLR_SOBOL_FRAME_BITS);
-  const uint mask = (1u << CLR_SOBOL_M) - 1u;
-  uint8 b = (((as_uint8(px) & mask) << (uint)CLR_SOBOL_M) | (as_uint8(py) & mask)) ^ delta;
-  return (frame << (uint)(2 * CLR_SOBOL_M)) ^
-         clr_xor_columns_low8(b, vdc_inv + row, 2 * CLR_SOBOL_M);
-#endif
+static inline uint8 clr_sobol_index8(const clr_sampler_params *p, uint8 frame, int8 px, int8 py,
+                                     __global const ulong *vdc, __global const ulong *vdc_inv) {
+  const int m = p->sobol_log2_resolution;
+  if (m == 0) return frame;
+  const uint row = (uint)(m - 1) * CLR_SOBOL_MATRIX_SIZE;
+  uint8 delta = clr_xor_columns_low8(frame, vdc + row, p->sobol_frame_bits);
+  const uint mask = (1u << (uint)m) - 1u;
+  uint8 b = (((as_uint8(px) & mask) << (uint)m) | (as_uint8(py) & mask)) ^ delta;
+  return (frame << (uint)(2 * m)) ^ clr_xor_columns_low8(b, vdc_inv + row, 2 * m);
 }
 
 /* clr_sobol_sample_float for a table dimension, from its 3-bit group tables `groups`
  * (CLR_SOBOL_GROUP_ENTRIES per group: entry x of group g is the XOR of the columns 3g + b over
- * the bits b of x), one lookup per 3 index bits. */
-CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups) {
+ * the bits b of x), one lookup per 3 of the index's `bits` (<= 32, uniform). Four groups a step:
+ * entry 0 of a group past the bits is 0, and a table has 18 groups. */
+CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups, int bits) {
   uint8 v = (uint8)0u;
-  CLR_UNROLL
-  for (int g = 0; g < (CLR_SOBOL_BITS + 2) / 3; ++g)
-    v ^= clr_permute8(vload8(g, groups), index >> (uint)(3 * g));
+  CLR_SCALAR_LOOP
+  for (int g = 0; 3 * g < bits; g += 4, index >>= 12u) {
+    v ^= clr_permute8(vload8(g, groups), index);
+    v ^= clr_permute8(vload8(g + 1, groups), index >> 3u);
+    v ^= clr_permute8(vload8(g + 2, groups), index >> 6u);
+    v ^= clr_permute8(vload8(g + 3, groups), index >> 9u);
+  }
   return clr_below_one8(convert_float8(v) * 0x1p-32f);
 }
 
@@ -150,7 +153,8 @@ CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global co
     for (int j = 0; j < CLR_LANES; ++j) out[j] = clr_sobol_fallback_float((ulong)lanes[j], dim);
     return vload8(0, out);
   }
-  float8 s = clr_sobol_float8(index, groups + (uint)dim * CLR_SOBOL_GROUP_TABLE);
+  float8 s = clr_sobol_float8(index, groups + (uint)dim * CLR_SOBOL_GROUP_TABLE,
+                              2 * p->sobol_log2_resolution + p->sobol_frame_bits);
   if (dim > 1) return s;
   float pmin = (float)(dim == 0 ? p->sample_x0 : p->sample_y0);
   float8 pixel = convert_float8(dim == 0 ? px : py);

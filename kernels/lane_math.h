@@ -6,6 +6,8 @@
 
 /* Fully unrolls a loop with a compile-time trip count; LLVM must not vectorise it further. */
 #define CLR_UNROLL _Pragma("clang loop vectorize(disable) interleave(disable) unroll(full)")
+/* A loop whose trip count is a (uniform) argument: LLVM must not vectorise it further either. */
+#define CLR_SCALAR_LOOP _Pragma("clang loop vectorize(disable) interleave(disable)")
 
 /* any(m) by OR-ing halves (PoCL's any() tests the lanes one by one with branches). */
 static inline __attribute__((always_inline)) int clr_any8(int8 m) {

@@ -207,7 +207,7 @@ __kernel void clr_global_generate_portable(
  * dimension), else as columns (CLR_SOBOL_MATRIX_SIZE per dimension). */
 typedef __global const uint *clr_table0_t;
 typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and inverses */
-#define clr_index8(number) clr_sobol_index8(number, rel_x, rel_y, t1, t2)
+#define clr_index8(number) clr_sobol_index8(&p, number, rel_x, rel_y, t1, t2)
 #define clr_value8(index, e) clr_sobol_value8(&p, t0, index, e.dim, it.px, it.py)
 #define clr_index1(j, number) clr_sobol_sampler_index(&p, t1, t2, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_sobol_sampler_value(&p, t0, index, dim, pxs[j], pys[j])

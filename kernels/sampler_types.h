@@ -85,7 +85,8 @@ typedef struct clr_sampler_params {
   clr_i32 zsobol_log2_spp, zsobol_base4_digits;
   clr_i32 pmj_tile;     /* pmj02bn: side of the tile of pixels its GetPixel2D table covers */
   clr_i32 film_request; /* pbrt-v4 samplers: the request that is GetPixel2D (1D ones before it) */
-  clr_i32 pad[2];
+  clr_i32 sobol_frame_bits; /* sobol device launch: its sample numbers are below 2^it */
+  clr_i32 pad;
 } clr_sampler_params;
 
 /* One request of the layout, resolved for the sampler family. */

@@ -36,8 +36,7 @@ typedef struct define_set {
   const char *defines;
 } define_set;
 
-/* The build defines of every program variant family the host builds (the Sobol specialisation
- * values are representative: m = 0 and a large m, index bits up to and past 32). */
+/* The build defines of every program variant the host builds. */
 static const define_set sets[] = {
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=0 -DCLR_KERNELS_PORTABLE"},
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=1 -DCLR_KERNELS_PORTABLE"},
@@ -54,17 +53,8 @@ static const define_set sets[] = {
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=4"}, /* 02sequence, SIMD */
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=5"}, /* maxmindist, SIMD */
     {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=2 -DCLR_INDEX32 -DCLR_HALTON_INDEX32"},
-    {"sampler_kernels.cl",
-     "-DCLR_SAMPLER_TYPE=3 -DCLR_SOBOL_M=0 -DCLR_SOBOL_FRAME_BITS=4 -DCLR_SOBOL_BITS=4 "
-     "-DCLR_INDEX32"},
-    {"sampler_kernels.cl",
-     "-DCLR_SAMPLER_TYPE=3 -DCLR_SOBOL_M=6 -DCLR_SOBOL_FRAME_BITS=8 -DCLR_SOBOL_BITS=20 "
-     "-DCLR_INDEX32"},
-    {"sampler_kernels.cl",
-     "-DCLR_SAMPLER_TYPE=3 -DCLR_SOBOL_M=10 -DCLR_SOBOL_FRAME_BITS=12 -DCLR_SOBOL_BITS=32 "
-     "-DCLR_INDEX32"},
-    {"sampler_kernels.cl",
-     "-DCLR_SAMPLER_TYPE=3 -DCLR_SOBOL_M=10 -DCLR_SOBOL_FRAME_BITS=16 -DCLR_SOBOL_BITS=36"},
+    {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=3 -DCLR_INDEX32"},
+    {"sampler_kernels.cl", "-DCLR_SAMPLER_TYPE=3"},
     {"film_kernels.cl", ""},
     {"selftest_kernels.cl", ""},
 };

@@ -453,6 +453,41 @@ static void test_large_indices_match_reference(void **state) {
   }
 }
 
+/* Sobol's log2 resolution m and frame bits are launch arguments of one program: every m from 0
+ * to 15 (2m pixel bits), with sample numbers of 0 to 20 bits up to 32 index bits in all (the SIMD
+ * kernel's limit: columns and 3-bit lookups four at a time, a partial last step) and one past it
+ * (the lane-by-lane path), on a film whose width is not a power of two. Device == reference. */
+static void test_sobol_every_index_width_matches_reference(void **state) {
+  (void)state;
+  for (int m = 0; m <= 15; ++m) {
+    int room = 32 - 2 * m < 20 ? 32 - 2 * m : 20; /* frame bits that keep 32-bit indices */
+    int frame_bits[] = {0, 1, room / 2, room - 1, room, room + 1};
+    for (size_t k = 0; k < sizeof frame_bits / sizeof frame_bits[0]; ++k) {
+      if (frame_bits[k] < 0 || frame_bits[k] > 20) continue; /* pixelsamples <= 2^20 */
+      int spp = 1 << frame_bits[k], side = m < 2 ? 1 << m : (1 << m) - 1;
+      clr_sampler_desc d;
+      clr_sampler_desc_init(&d, CLR_SAMPLER_SOBOL);
+      d.pixel_samples = spp;
+      d.film.x_resolution = side;
+      d.film.y_resolution = m < 2 ? side : 3;
+      clr_sampler s = NULL;
+      if (clr_sampler_create(ctx, &d, &s) != CLR_SUCCESS)
+        fail_msg("sobol m = %d, %d spp: %s", m, spp, clr_last_error_message());
+      int x0 = side > 9 ? side - 9 : 0, y0 = d.film.y_resolution > 2 ? d.film.y_resolution - 2 : 0;
+      clr_bounds2i px = {x0, y0, side, d.film.y_resolution};
+      int count = spp < 3 ? spp : 3;
+      generated dev = generate(s, px, spp - count, count, camera10, 6, 1);
+      generated ref = generate(s, px, spp - count, count, camera10, 6, 0);
+      if (memcmp(dev.values, ref.values, dev.count * sizeof(float)) != 0 ||
+          memcmp(dev.indices, ref.indices, dev.items * sizeof(uint64_t)) != 0)
+        fail_msg("sobol m = %d, %d spp: device differs from the reference", m, spp);
+      free_generated(&dev);
+      free_generated(&ref);
+      clr_sampler_release(s);
+    }
+  }
+}
+
 /* Halton's pair tables (two lookups per value where every argument of a launch is below 2^28 and
  * fits the table limits): 512^2 film, so indices below 31104 * spp; tables of one to four digits
  * per part, with 64 spp larger ones, with 500 values past the tables' budget (the rest keep the
@@ -707,6 +742,7 @@ int main(void) {
       cmocka_unit_test(test_v4_divisions_match_reference),
       cmocka_unit_test(test_past_available_dimensions),
       cmocka_unit_test(test_large_indices_match_reference),
+      cmocka_unit_test(test_sobol_every_index_width_matches_reference),
       cmocka_unit_test(test_halton_pair_tables_match_reference),
       cmocka_unit_test(test_halton_film_scales_match_reference),
       cmocka_unit_test(test_bad_input),

@@ -398,20 +398,21 @@ static clr_result halton_pair_tables(clr_sampler_device *d, const clr_sampler_pa
   return CLR_SUCCESS;
 }
 
-/* Build defines of the global samplers (every loop's trip count); whether indices fit 32 bits. */
+/* Sobol's frame bits of a launch: its sample numbers are below 2^it (at most 52 - 2m). */
+static int sobol_frame_bits(const clr_sampler_params *p, const global_plan *g) {
+  int frame_bits = bits_for((uint64_t)g->frame_limit);
+  int most = CLR_SOBOL_INDEX_BITS - 2 * p->sobol_log2_resolution;
+  return frame_bits < most ? frame_bits : most;
+}
+
+/* Build defines of the global samplers; whether indices fit 32 bits. Nothing that varies with the
+ * resolution or sample count: each new define would cost a program build (seconds on PoCL). */
 static int global_defines(clr_sampler_device *d, const clr_sampler_params *p, const global_plan *g,
                           char *out, size_t size) {
   if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
-    int m = p->sobol_log2_resolution;
-    /* Rounded up (fewer program variants): frame bits past the limit are zero. */
-    int frame_bits = (bits_for((uint64_t)g->frame_limit) + 3) / 4 * 4;
-    if (frame_bits > CLR_SOBOL_INDEX_BITS - 2 * m) frame_bits = CLR_SOBOL_INDEX_BITS - 2 * m;
-    int bits = 2 * m + frame_bits;
-    snprintf(out, size,
-             "-DCLR_SAMPLER_TYPE=%d -DCLR_SOBOL_M=%d -DCLR_SOBOL_FRAME_BITS=%d "
-             "-DCLR_SOBOL_BITS=%d%s",
-             (int)p->type, m, frame_bits, bits, bits <= 32 ? " -DCLR_INDEX32" : "");
-    return bits <= 32;
+    int index32 = 2 * p->sobol_log2_resolution + sobol_frame_bits(p, g) <= 32;
+    snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d%s", (int)p->type, index32 ? " -DCLR_INDEX32" : "");
+    return index32;
   }
   uint64_t limit = (uint64_t)p->halton_stride * (uint64_t)g->frame_limit; /* indices below it */
   if (limit > ((uint64_t)1 << 32)) {
@@ -557,8 +558,10 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
   CLR_CHECK(get_kernel(d, name, defines, &k));
   clr_item_divisors div = item_divisors(p);
   cl_int count = (cl_int)items, write = write_indices;
+  clr_sampler_params launch_params = *p;
+  if (sobol) launch_params.sobol_frame_bits = sobol_frame_bits(p, &g);
   int a = 0;
-  SET_ARG(ctx, k, a++, *p);
+  SET_ARG(ctx, k, a++, launch_params);
   SET_ARG(ctx, k, a++, div);
   SET_ARG(ctx, k, a++, d->plan.mem);
   SET_ARG(ctx, k, a++, d->index_plan.mem);
