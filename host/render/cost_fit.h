@@ -4,8 +4,6 @@
 #ifndef CLR_RENDER_COST_FIT_H
 #define CLR_RENDER_COST_FIT_H
 
-#include <stdint.h>
-
 typedef struct clr_cost_fit {
   double n, units, seconds, units2, units_seconds; /* sums over the observations */
 } clr_cost_fit;

@@ -405,12 +405,13 @@ static int sobol_frame_bits(const clr_sampler_params *p, const global_plan *g) {
   return frame_bits < most ? frame_bits : most;
 }
 
-/* Build defines of the global samplers; whether indices fit 32 bits. Nothing that varies with the
- * resolution or sample count: each new define would cost a program build (seconds on PoCL). */
+/* Build defines of the global samplers (p: the launch's, sobol_frame_bits set); whether indices
+ * fit 32 bits. Nothing that varies with the resolution or sample count: each new define would
+ * cost a program build (seconds on PoCL). */
 static int global_defines(clr_sampler_device *d, const clr_sampler_params *p, const global_plan *g,
                           char *out, size_t size) {
   if (p->type == CLR_SAMPLER_TYPE_SOBOL) {
-    int index32 = 2 * p->sobol_log2_resolution + sobol_frame_bits(p, g) <= 32;
+    int index32 = 2 * p->sobol_log2_resolution + p->sobol_frame_bits <= 32;
     snprintf(out, size, "-DCLR_SAMPLER_TYPE=%d%s", (int)p->type, index32 ? " -DCLR_INDEX32" : "");
     return index32;
   }
@@ -526,10 +527,12 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
   if (clr_context_portable(ctx)) return run_global_portable(d, p, slots, values, write_indices);
   global_plan g;
   build_global_plan(d, p, slots, &g);
-  char defines[224];
-  int index32 = global_defines(d, p, &g, defines, sizeof defines);
-  size_t items = batch_items(p);
   int sobol = p->type == CLR_SAMPLER_TYPE_SOBOL;
+  clr_sampler_params launch_params = *p;
+  if (sobol) launch_params.sobol_frame_bits = sobol_frame_bits(p, &g);
+  char defines[224];
+  int index32 = global_defines(d, &launch_params, &g, defines, sizeof defines);
+  size_t items = batch_items(p);
   cl_mem tables[3] = {NULL, NULL, NULL};
   if (sobol) {
     if (index32)
@@ -558,8 +561,6 @@ static clr_result run_global(clr_sampler_device *d, const clr_sampler_params *p,
   CLR_CHECK(get_kernel(d, name, defines, &k));
   clr_item_divisors div = item_divisors(p);
   cl_int count = (cl_int)items, write = write_indices;
-  clr_sampler_params launch_params = *p;
-  if (sobol) launch_params.sobol_frame_bits = sobol_frame_bits(p, &g);
   int a = 0;
   SET_ARG(ctx, k, a++, launch_params);
   SET_ARG(ctx, k, a++, div);
