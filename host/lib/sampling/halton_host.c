@@ -4,6 +4,10 @@
 
 #include <stdlib.h>
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
 /* Entries of one set's tables at most (4 MiB); records past it keep the chunk loop. */
 #define HOST_PAIR_BUDGET ((size_t)1 << 21)
 
@@ -61,14 +65,14 @@ void clr_halton_host_pairs_free(clr_halton_host_pairs *hp) {
   }
 }
 
-/* clr_halton_pair_value of a table whose entries hold their digit counts (not
- * CLR_HALTON_PAIR_DERIVED_COUNTS), with the header read once: the same integers and float
+/* clr_halton_pair_value's table reads with the header read once: the same integers and float
  * operations, so the same bits. */
 typedef struct pair_reader {
   const clr_u16 *low_entries, *top_entries, *powers;
   const float *inv_base_pow;
   float scramble_tail;
-  clr_u32 chunk, magic, shift, count_shift, value_mask;
+  clr_u32 chunk, magic, shift, count_shift, value_mask, low_digits;
+  clr_u32 reach[CLR_HALTON_PAIR_ROW]; /* the header's powers, UINT32_MAX past the top */
 } pair_reader;
 
 static pair_reader pair_reader_of(const clr_halton_prime *pr, const clr_u16 *pt) {
@@ -76,9 +80,13 @@ static pair_reader pair_reader_of(const clr_halton_prime *pr, const clr_u16 *pt)
   r.chunk = pt[0];
   r.magic = (clr_u32)pt[1] | (clr_u32)pt[2] << 16u;
   r.shift = pt[3];
+  r.low_digits = pt[4];
   r.count_shift = pt[5];
   r.value_mask = (1u << r.count_shift) - 1u;
   r.powers = pt + 8;
+  int top = 0;
+  while (top < CLR_HALTON_PAIR_ROW && pt[8 + top] != 0u) ++top;
+  for (int k = 0; k < CLR_HALTON_PAIR_ROW; ++k) r.reach[k] = k < top ? pt[8 + k] : UINT32_MAX;
   r.low_entries = pt + CLR_HALTON_PAIR_HEADER;
   r.top_entries = r.low_entries + r.chunk;
   r.inv_base_pow = pr->inv_base_pow;
@@ -86,33 +94,76 @@ static pair_reader pair_reader_of(const clr_halton_prime *pr, const clr_u16 *pt)
   return r;
 }
 
-static inline float pair_read(const pair_reader *r, clr_u32 a) {
+/* (float)reversed, converted into a zeroed register where the compiler has SSE2: the plain
+ * conversion merges into its destination, which chains each value's float operations to the
+ * previous value's. */
+static inline float int_to_float(clr_i32 reversed) {
+#if defined(__SSE2__)
+  return _mm_cvtss_f32(_mm_cvtsi32_ss(_mm_setzero_ps(), reversed));
+#else
+  return (float)reversed;
+#endif
+}
+
+/* clr_halton_pair_value(a). derived: the table's count shift is CLR_HALTON_PAIR_DERIVED_COUNTS. */
+static inline float pair_read(const pair_reader *r, int derived, clr_u32 a) {
   clr_u32 hi = (clr_u32)(((clr_u64)a * r->magic) >> r->shift);
   clr_u32 lo = a - hi * r->chunk;
   clr_u32 low = (hi == 0u ? r->top_entries : r->low_entries)[lo];
   clr_u32 high = r->top_entries[hi];
   clr_u32 count = high >> r->count_shift, digits = (low >> r->count_shift) + count;
+  if (derived) {
+    clr_u32 x = hi != 0u ? hi : a, c = 0u;
+    for (int k = 0; k < CLR_HALTON_PAIR_ROW; ++k) c += x >= r->reach[k] ? 1u : 0u;
+    count = hi != 0u ? c : 0u;
+    digits = c + (hi != 0u ? r->low_digits : 0u);
+  }
   clr_u32 reversed = (low & r->value_mask) * r->powers[count] + (high & r->value_mask);
-  float v = r->inv_base_pow[digits] * ((float)(clr_i32)reversed + r->scramble_tail);
+  float v = r->inv_base_pow[digits] * (int_to_float((clr_i32)reversed) + r->scramble_tail);
   return v < CLR_ONE_MINUS_EPSILON ? v : CLR_ONE_MINUS_EPSILON;
 }
 
-/* One dimension's values from its pair table where the argument is below `limit`. base3: the
- * arguments are index / scale[1] (dimension 1). */
+/* The pair-table argument of index: index / scale[1] for dimension 1 (base3), else index. */
+static inline clr_u64 pair_argument(const clr_sampler_params *p, int base3, clr_u64 index) {
+  return base3 ? clr_halton_drop_base3_digits(p, index) : index;
+}
+
+/* out[i * stride] for the items of index whose arguments are below limit (the others are left);
+ * 1 when there were such. The reader is copied so that its fields stay in registers. */
+static inline int read_run(const pair_reader *reader, int derived, const clr_sampler_params *p,
+                           int base3, clr_u64 limit, const clr_u64 *index, clr_i32 n, float *out,
+                           size_t stride) {
+  const pair_reader r = *reader;
+  int past_limit = 0;
+  for (clr_i32 i = 0; i < n; ++i) {
+    clr_u64 a = pair_argument(p, base3, index[i]);
+    if (a >= limit) {
+      past_limit = 1;
+      continue;
+    }
+    out[(size_t)i * stride] = pair_read(&r, derived, (clr_u32)a);
+  }
+  return past_limit;
+}
+
+/* One dimension's values, from its pair table where the argument is below its limit, else from
+ * clr_halton_sampler_value. base3: the arguments are index / scale[1] (dimension 1). */
 static void pair_values(const clr_halton_host_pairs *hp, const clr_sampler_params *p, int record,
                         int base3, const clr_u64 *index, clr_i32 n, float *out, size_t stride) {
   const clr_halton_prime *primes = hp->tables->primes, *pr = &primes[record];
   const clr_u16 *pt = hp->entries + hp->offset[record], *perms = hp->tables->permutations;
   clr_u64 limit = hp->limit[record];
-  clr_i32 dim = base3 ? 1 : record;
   const pair_reader r = pair_reader_of(pr, pt);
   const int derived = r.count_shift == CLR_HALTON_PAIR_DERIVED_COUNTS;
-  for (clr_i32 i = 0; i < n; ++i) {
-    clr_u64 a = base3 ? clr_halton_drop_base3_digits(p, index[i]) : index[i];
-    out[(size_t)i * stride] = a >= limit ? clr_halton_sampler_value(p, primes, perms, index[i], dim)
-                              : derived  ? clr_halton_pair_value(pr, pt, (clr_u32)a)
-                                         : pair_read(&r, (clr_u32)a);
-  }
+  /* constant flags where they matter, so that each kind of table gets its own loop */
+  int past_limit = base3     ? read_run(&r, derived, p, 1, limit, index, n, out, stride)
+                   : derived ? read_run(&r, 1, p, 0, limit, index, n, out, stride)
+                             : read_run(&r, 0, p, 0, limit, index, n, out, stride);
+  if (!past_limit) return;
+  for (clr_i32 i = 0; i < n; ++i)
+    if (pair_argument(p, base3, index[i]) >= limit)
+      out[(size_t)i * stride] =
+          clr_halton_sampler_value(p, primes, perms, index[i], base3 ? 1 : record);
 }
 
 void clr_halton_host_values(const clr_halton_host_pairs *hp, const clr_sampler_params *p,
