@@ -43,8 +43,7 @@ clr_result clr_li_ao(const clr_integrator *it, const clr_render_scene *sc,
     const clr_surface *sf = &s->surfaces[i];
     if (sf->has_material < 0) continue;
     const float *u = values + (size_t)i * (size_t)it->values_per_sample + it->value_offset;
-    float ss[3], ts[3], up[3], down[3];
-    memcpy(ss, sf->dpdu, sizeof ss);
+    float ss[3] = {sf->dpdu[0], sf->dpdu[1], sf->dpdu[2]}, ts[3], up[3], down[3];
     rs_normalize(ss);
     rs_cross(sf->n_geom, ss, ts);
     /* clr_render_scene_spawn_ray's two possible origins, computed once per point */
