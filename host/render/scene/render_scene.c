@@ -1162,7 +1162,9 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
                                            clr_surface *out) {
   const rs_shape *sh = &s->shapes[hit->user_id];
   clr_transform moved;
-  float p[3], n[3], ns[3], uv[2], dpdu[3];
+  /* written in place: copies of them reloaded 8 bytes at a time could not be forwarded from
+   * hit_geometry's 4-byte stores */
+  float *p = out->p, *n = out->n_geom, *uv = out->uv, *dpdu = out->dpdu, ns[3];
   int has_ns;
   const clr_transform *inst =
       hit_geometry(s, sh, ray, hit, s->reads_uv, &moved, p, n, ns, &has_ns, uv, dpdu);
@@ -1188,10 +1190,6 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
     memcpy(ns, nsh, sizeof ns);
     has_ns = 1;
   }
-  memcpy(out->p, p, sizeof p);
-  memcpy(out->n_geom, n, sizeof n);
-  memcpy(out->uv, uv, sizeof uv);
-  memcpy(out->dpdu, dpdu, sizeof dpdu);
   float wo[3] = {-ray->dx, -ray->dy, -ray->dz};
   facing_normal(ray, n, out->ng);
   if (has_ns) {
@@ -1199,7 +1197,7 @@ void clr_render_scene_surface_differential(const clr_render_scene *s, const clr_
     memcpy(out->ns, ns, sizeof ns);
     if (rs_dot(out->ns, out->ng) < 0.0f) rs_negate(out->ns);
   } else {
-    memcpy(out->ns, out->ng, sizeof n);
+    memcpy(out->ns, out->ng, sizeof out->ns);
   }
   out->has_differentials = diffs && specular;
   if (out->has_differentials) {
