@@ -144,12 +144,12 @@ static int affine_from_matrix(const float m[16], affine *a) {
   return 1;
 }
 
-static void map_point(const double m[12], const double p[3], double out[3]) {
+static inline void map_point(const double m[12], const double p[3], double out[3]) {
   for (int r = 0; r < 3; ++r)
     out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
 }
 
-static void map_vector(const double m[12], const double v[3], double out[3]) {
+static inline void map_vector(const double m[12], const double v[3], double out[3]) {
   for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * v[0] + m[4 * r + 1] * v[1] + m[4 * r + 2] * v[2];
 }
 
