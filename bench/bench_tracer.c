@@ -1,6 +1,7 @@
 /* Embree tracing throughput (rays/s, one thread) on a 100352-triangle height field: packets of
- * 16 (rtcIntersect16, rtcOccluded16) against one ray at a time (rtcIntersect1), the baseline,
- * for incoherent and coherent rays. Not per device: the tracer runs on the host. */
+ * the tracer's width (rtcIntersect8/16, rtcOccluded8/16; clr_tracer_packet_width) against one
+ * ray at a time (rtcIntersect1), the baseline, for incoherent and coherent rays. Not per
+ * device: the tracer runs on the host. */
 #include <math.h>
 #include <stdlib.h>
 #include "bench.h"
@@ -68,9 +69,10 @@ static void report(const char *rays_kind, trace_run *r, int reps) {
   }
   printf(
       "{\"bench\":\"tracer\",\"rays\":\"%s\",\"triangles\":%d,\"threads\":1,"
-      "\"intersect16_rays_per_s\":%.4g,\"occluded16_rays_per_s\":%.4g,"
+      "\"packet_width\":%d,\"intersect_rays_per_s\":%.4g,\"occluded_rays_per_s\":%.4g,"
       "\"baseline\":\"intersect1\",\"baseline_rays_per_s\":%.4g,\"ratio\":%.3f}\n",
-      rays_kind, 2 * GRID * GRID, rate[0], rate[2], rate[1], rate[0] / rate[1]);
+      rays_kind, 2 * GRID * GRID, clr_tracer_packet_width(r->tracer), rate[0], rate[2], rate[1],
+      rate[0] / rate[1]);
 }
 
 void bench_tracer(const bench_options *o) {

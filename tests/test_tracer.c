@@ -454,35 +454,42 @@ static void random_rays(clr_ray *rays, int n) {
   }
 }
 
-static void test_packets_equal_single(void **state) {
-  (void)state;
+/* Packets (more rays than one loaded batch too) give the single-ray hits and occlusion, at the
+ * device's packet width and at 16 (Embree's split of a 16-wide packet under SSE4.2). */
+static void packets_equal_single(int expected_width) {
   clr_tracer t = build_instanced_scene();
-  enum { N = 100 };
-  clr_ray rays[N];
-  clr_hit packet[N], single[N];
+  int width = clr_tracer_packet_width(t);
+  if (expected_width)
+    assert_int_equal(width, expected_width);
+  else
+    assert_true(width == 8 || width == 16);
+  enum { N = 600 };
+  static clr_ray rays[N];
+  static clr_hit packet[N], single[N];
   random_rays(rays, N);
   assert_int_equal(clr_tracer_intersect_single(t, rays, single, N), CLR_SUCCESS);
   int hit_count = 0, inst_count = 0;
   for (int i = 0; i < N; ++i)
     hit_count += single[i].geom_id != CLR_TRACER_INVALID_ID,
         inst_count += single[i].inst_id != CLR_TRACER_INVALID_ID;
-  assert_true(hit_count >= 30 && inst_count >= 15 && hit_count < N);
-  static const int counts[] = {1, 15, 16, 17, 100};
+  assert_true(hit_count >= 180 && inst_count >= 90 && hit_count < N);
+  static const int counts[] = {1, 7, 8, 9, 15, 16, 17, 100, 512, 513, 599};
   for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
     for (int i = 0; i < N; ++i) packet[i].t = -1.0f; /* detect writes past count */
     assert_int_equal(clr_tracer_intersect(t, rays, packet, counts[c]), CLR_SUCCESS);
     for (int i = 0; i < counts[c]; ++i)
       if (!hits_equal(&packet[i], &single[i]))
-        fail_msg("count %d ray %d: packet t %g geom %u, single t %g geom %u", counts[c], i,
-                 (double)packet[i].t, packet[i].geom_id, (double)single[i].t, single[i].geom_id);
+        fail_msg("width %d count %d ray %d: packet t %g geom %u, single t %g geom %u", width,
+                 counts[c], i, (double)packet[i].t, packet[i].geom_id, (double)single[i].t,
+                 single[i].geom_id);
     for (int i = counts[c]; i < N; ++i) assert_true(packet[i].t == -1.0f);
   }
   assert_int_equal(clr_tracer_intersect(t, rays, packet, 0), CLR_SUCCESS);
 
   /* occlusion agrees with the closest hits: occluded exactly when a hit exists */
-  uint8_t occ[N];
-  static const int occ_counts[] = {1, 17, 100};
-  for (size_t c = 0; c < 3; ++c) {
+  static uint8_t occ[N];
+  static const int occ_counts[] = {1, 9, 17, 100, 513, 599};
+  for (size_t c = 0; c < sizeof occ_counts / sizeof occ_counts[0]; ++c) {
     memset(occ, 7, sizeof occ);
     assert_int_equal(clr_tracer_occluded(t, rays, occ, occ_counts[c]), CLR_SUCCESS);
     for (int i = 0; i < occ_counts[c]; ++i)
@@ -490,6 +497,14 @@ static void test_packets_equal_single(void **state) {
     for (int i = occ_counts[c]; i < N; ++i) assert_int_equal(occ[i], 7);
   }
   clr_tracer_release(t);
+}
+
+static void test_packets_equal_single(void **state) {
+  (void)state;
+  packets_equal_single(0);
+  setenv("CLRENDER_EMBREE_ISA", "sse4.2", 1); /* no native 8-wide packets */
+  packets_equal_single(16);
+  unsetenv("CLRENDER_EMBREE_ISA");
 }
 
 static void test_occlusion_tfar(void **state) {

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdalign.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,7 +68,8 @@ struct clr_tracer_t {
   group *groups;
   int32_t group_count, group_capacity;
   int committed;
-  int sphere_uv; /* spheres added now get hits with (u, v) (clr_tracer_set_sphere_uv) */
+  int sphere_uv;    /* spheres added now get hits with (u, v) (clr_tracer_set_sphere_uv) */
+  int packet_width; /* rays per Embree packet: 8 or 16 (native_packet_width) */
   pthread_mutex_t error_lock; /* guards the message recorded by the error callback */
   char error_message[256];
 };
@@ -477,6 +479,14 @@ static clr_result embree_config(char *config, size_t size) {
                             isa);
 }
 
+/* The packet width this device traces natively: 16 with AVX-512, 8 with AVX and AVX2, where
+ * Embree splits a 16-wide packet into two 8-wide ones through copies (16 when neither is native:
+ * the split is Embree's then, as before). */
+static int native_packet_width(RTCDevice device) {
+  if (rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) return 16;
+  return rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? 8 : 16;
+}
+
 clr_result clr_tracer_create(clr_tracer *out) {
   if (!out) return clr_set_last_error(CLR_ERROR_NULL_POINTER, "clr_tracer_create: out is NULL");
   *out = NULL;
@@ -501,6 +511,7 @@ clr_result clr_tracer_create(clr_tracer *out) {
                               embree_error_name(code), (int)code);
   }
   rtcSetDeviceErrorFunction(t->device, record_embree_error, t);
+  t->packet_width = native_packet_width(t->device);
   clr_result r = embree_check(t, "rtcSetDeviceErrorFunction");
   if (r == CLR_SUCCESS &&
       rtcGetDeviceProperty(t->device, RTC_DEVICE_PROPERTY_BACKFACE_CULLING_ENABLED))
@@ -984,100 +995,166 @@ static void finish_hit(const struct clr_tracer_t *t, float tfar, const float ng[
   out->time = time;
 }
 
-/* Loads rays [base, base + lanes) into a 16-wide packet; unused lanes are masked off. */
-static void load_packet(const clr_ray *rays, int32_t lanes, struct RTCRay16 *ray, int *valid) {
-  for (int32_t i = 0; i < 16; ++i) {
+/* ---- ray packets ---- */
+
+/* Embree's packets (RTCRayHit8, RTCRayHit16) hold one array of `width` lanes per field, in the
+ * same field order at every width; a field's index is its offset in the 16-wide struct. */
+#define FIELD(member) (offsetof(struct RTCRayHit16, member) / (16 * sizeof(float)))
+enum {
+  PACKET_FIELDS = sizeof(struct RTCRayHit16) / (16 * sizeof(float)),
+  F_ORG_X = FIELD(ray.org_x),
+  F_ORG_Y = FIELD(ray.org_y),
+  F_ORG_Z = FIELD(ray.org_z),
+  F_TNEAR = FIELD(ray.tnear),
+  F_DIR_X = FIELD(ray.dir_x),
+  F_DIR_Y = FIELD(ray.dir_y),
+  F_DIR_Z = FIELD(ray.dir_z),
+  F_TIME = FIELD(ray.time),
+  F_TFAR = FIELD(ray.tfar),
+  F_MASK = FIELD(ray.mask),
+  F_ID = FIELD(ray.id),
+  F_FLAGS = FIELD(ray.flags),
+  F_NG_X = FIELD(hit.Ng_x),
+  F_NG_Y = FIELD(hit.Ng_y),
+  F_NG_Z = FIELD(hit.Ng_z),
+  F_HIT_U = FIELD(hit.u),
+  F_HIT_V = FIELD(hit.v),
+  F_PRIM_ID = FIELD(hit.primID),
+  F_GEOM_ID = FIELD(hit.geomID),
+  F_INST_ID = FIELD(hit.instID)
+};
+#undef FIELD
+_Static_assert(sizeof(struct RTCRayHit8) == PACKET_FIELDS * 8 * sizeof(float) &&
+                   offsetof(struct RTCRayHit8, hit.instID) == F_INST_ID * 8 * sizeof(float),
+               "RTCRayHit8 has RTCRayHit16's field order");
+
+/* One lane of one field: float or unsigned. */
+typedef union lane {
+  float f;
+  uint32_t u;
+} lane;
+
+/* Always inlined, so that each packet width gets its own constant-width loops. */
+#define PACKET_INLINE static inline __attribute__((always_inline))
+
+/* Loads rays [base, base + lanes) into a `width`-lane packet; unused lanes are masked off. */
+PACKET_INLINE void load_packet(const clr_ray *rays, int32_t lanes, int width, lane *p, int *valid) {
+  for (int32_t i = 0; i < width; ++i) {
     static const clr_ray unused = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
     const clr_ray *r = i < lanes ? &rays[i] : &unused;
     valid[i] = i < lanes ? -1 : 0;
-    ray->org_x[i] = r->ox, ray->org_y[i] = r->oy, ray->org_z[i] = r->oz, ray->tnear[i] = r->tnear;
-    ray->dir_x[i] = r->dx, ray->dir_y[i] = r->dy, ray->dir_z[i] = r->dz, ray->tfar[i] = r->tfar;
-    ray->time[i] = r->time;
-    ray->mask[i] = 0xffffffffu;
-    ray->id[i] = (unsigned)i;
-    ray->flags[i] = 0;
+    p[F_ORG_X * width + i].f = r->ox, p[F_ORG_Y * width + i].f = r->oy;
+    p[F_ORG_Z * width + i].f = r->oz, p[F_TNEAR * width + i].f = r->tnear;
+    p[F_DIR_X * width + i].f = r->dx, p[F_DIR_Y * width + i].f = r->dy;
+    p[F_DIR_Z * width + i].f = r->dz, p[F_TFAR * width + i].f = r->tfar;
+    p[F_TIME * width + i].f = r->time;
+    p[F_MASK * width + i].u = 0xffffffffu;
+    p[F_ID * width + i].u = (uint32_t)i;
+    p[F_FLAGS * width + i].u = 0;
   }
 }
 
 /* Non-zero when a lane of a loaded packet fails ray_is_valid (check_rays' test, lane-wise). */
-static int packet_invalid(const struct RTCRay16 *r) {
+PACKET_INLINE int packet_invalid(const lane *p, int width) {
   int bad = 0;
-  for (int i = 0; i < 16; ++i) {
-    float f = (r->org_x[i] - r->org_x[i]) + (r->org_y[i] - r->org_y[i]) +
-              (r->org_z[i] - r->org_z[i]) + (r->dir_x[i] - r->dir_x[i]) +
-              (r->dir_y[i] - r->dir_y[i]) + (r->dir_z[i] - r->dir_z[i]) +
-              (r->tnear[i] - r->tnear[i]);
-    bad |= !(f == 0.0f) | !(r->tnear[i] >= 0.0f) | (r->tfar[i] != r->tfar[i]) |
-           ((r->dir_x[i] == 0.0f) & (r->dir_y[i] == 0.0f) & (r->dir_z[i] == 0.0f));
+  for (int i = 0; i < width; ++i) {
+#define AT(field) p[(field)*width + i].f
+    float f = (AT(F_ORG_X) - AT(F_ORG_X)) + (AT(F_ORG_Y) - AT(F_ORG_Y)) +
+              (AT(F_ORG_Z) - AT(F_ORG_Z)) + (AT(F_DIR_X) - AT(F_DIR_X)) +
+              (AT(F_DIR_Y) - AT(F_DIR_Y)) + (AT(F_DIR_Z) - AT(F_DIR_Z)) +
+              (AT(F_TNEAR) - AT(F_TNEAR));
+    bad |= !(f == 0.0f) | !(AT(F_TNEAR) >= 0.0f) | (AT(F_TFAR) != AT(F_TFAR)) |
+           ((AT(F_DIR_X) == 0.0f) & (AT(F_DIR_Y) == 0.0f) & (AT(F_DIR_Z) == 0.0f));
+#undef AT
   }
   return bad;
 }
 
-/* Traces one loaded packet of `lanes` rays: closest hits into `hits` (rtcIntersect16), or, when
- * hits is NULL, occlusion flags into `occluded` (rtcOccluded16). */
-static void trace_packet(const struct clr_tracer_t *t, struct RTCRayHit16 *rh, const int *valid,
-                         const clr_ray *rays, int32_t lanes, clr_hit *hits, uint8_t *occluded) {
+/* Traces one loaded packet of `lanes` rays: closest hits into `hits` (rtcIntersect8/16), or,
+ * when hits is NULL, occlusion flags into `occluded` (rtcOccluded8/16). */
+PACKET_INLINE void trace_packet(const struct clr_tracer_t *t, lane *p, int width, const int *valid,
+                                const clr_ray *rays, int32_t lanes, clr_hit *hits,
+                                uint8_t *occluded) {
   struct RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  RTCScene scene = t->groups[0].scene;
   if (!hits) {
-    rtcOccluded16(valid, t->groups[0].scene, &context, &rh->ray);
-    for (int32_t i = 0; i < lanes; ++i) occluded[i] = rh->ray.tfar[i] == -INFINITY;
+    if (width == 8)
+      rtcOccluded8(valid, scene, &context, (struct RTCRay8 *)p);
+    else
+      rtcOccluded16(valid, scene, &context, (struct RTCRay16 *)p);
+    for (int32_t i = 0; i < lanes; ++i) occluded[i] = p[F_TFAR * width + i].f == -INFINITY;
     return;
   }
-  for (int i = 0; i < 16; ++i) {
-    rh->hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh->hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  for (int i = 0; i < width; ++i) {
+    p[F_GEOM_ID * width + i].u = RTC_INVALID_GEOMETRY_ID;
+    p[F_INST_ID * width + i].u = RTC_INVALID_GEOMETRY_ID;
   }
-  rtcIntersect16(valid, t->groups[0].scene, &context, rh);
+  if (width == 8)
+    rtcIntersect8(valid, scene, &context, (struct RTCRayHit8 *)p);
+  else
+    rtcIntersect16(valid, scene, &context, (struct RTCRayHit16 *)p);
   for (int32_t i = 0; i < lanes; ++i) {
-    float ng[3] = {rh->hit.Ng_x[i], rh->hit.Ng_y[i], rh->hit.Ng_z[i]};
-    finish_hit(t, rh->ray.tfar[i], ng, rh->hit.u[i], rh->hit.v[i], rh->hit.primID[i],
-               rh->hit.geomID[i], rh->hit.instID[0][i], rays[i].time, &hits[i]);
+    float ng[3] = {p[F_NG_X * width + i].f, p[F_NG_Y * width + i].f, p[F_NG_Z * width + i].f};
+    finish_hit(t, p[F_TFAR * width + i].f, ng, p[F_HIT_U * width + i].f, p[F_HIT_V * width + i].f,
+               p[F_PRIM_ID * width + i].u, p[F_GEOM_ID * width + i].u, p[F_INST_ID * width + i].u,
+               rays[i].time, &hits[i]);
   }
 }
 
-/* Calls of up to this many packets load them all first and check the rays there, in vector
+/* Calls of up to this many rays load them all first and check the rays there, in vector
  * compares over each field, before tracing any; larger calls check ray by ray first. */
-#define LOADED_PACKETS 32
+#define LOADED_RAYS 512
 
-/* Checks every ray, then traces them in packets of 16 (see trace_packet); nothing is traced and
- * the outputs stay untouched when a ray is invalid. */
-static clr_result trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int32_t count,
-                                clr_hit *hits, uint8_t *occluded, const char *fn) {
-  int32_t npackets = count / 16 + (count % 16 != 0);
-  if (npackets > LOADED_PACKETS) {
+/* trace_packets at one packet width. */
+PACKET_INLINE clr_result trace_packets_of(const struct clr_tracer_t *t, int width,
+                                          const clr_ray *rays, int32_t count, clr_hit *hits,
+                                          uint8_t *occluded, const char *fn) {
+  const size_t floats = (size_t)PACKET_FIELDS * (size_t)width; /* per packet */
+  if (count > LOADED_RAYS) {
     CLR_CHECK(check_rays(rays, count, fn));
-    for (int32_t base = 0; base < count; base += 16) {
-      int32_t lanes = count - base < 16 ? count - base : 16;
+    for (int32_t base = 0; base < count; base += width) {
+      int32_t lanes = count - base < width ? count - base : width;
       alignas(64) int valid[16];
-      struct RTCRayHit16 rh;
-      load_packet(rays + base, lanes, &rh.ray, valid);
-      trace_packet(t, &rh, valid, rays + base, lanes, hits ? hits + base : NULL,
+      alignas(64) lane p[PACKET_FIELDS * 16];
+      load_packet(rays + base, lanes, width, p, valid);
+      trace_packet(t, p, width, valid, rays + base, lanes, hits ? hits + base : NULL,
                    hits ? NULL : occluded + base);
     }
     return CLR_SUCCESS;
   }
-  struct RTCRayHit16 rh[LOADED_PACKETS];
-  alignas(64) int valid[LOADED_PACKETS][16];
+  int32_t npackets = count / width + (count % width != 0);
+  alignas(64) lane packets[PACKET_FIELDS * LOADED_RAYS];
+  alignas(64) int valid[LOADED_RAYS];
   int bad = 0;
-  for (int32_t p = 0; p < npackets; ++p) {
-    int32_t lanes = count - 16 * p < 16 ? count - 16 * p : 16;
-    load_packet(rays + 16 * p, lanes, &rh[p].ray, valid[p]);
-    bad |= packet_invalid(&rh[p].ray);
+  for (int32_t k = 0; k < npackets; ++k) {
+    int32_t base = width * k, lanes = count - base < width ? count - base : width;
+    load_packet(rays + base, lanes, width, packets + floats * (size_t)k, valid + base);
+    bad |= packet_invalid(packets + floats * (size_t)k, width);
   }
   if (bad) CLR_CHECK(check_rays(rays, count, fn)); /* it names the first invalid ray */
-  for (int32_t p = 0; p < npackets; ++p) {
-    int32_t base = 16 * p, lanes = count - base < 16 ? count - base : 16;
-    trace_packet(t, &rh[p], valid[p], rays + base, lanes, hits ? hits + base : NULL,
-                 hits ? NULL : occluded + base);
+  for (int32_t k = 0; k < npackets; ++k) {
+    int32_t base = width * k, lanes = count - base < width ? count - base : width;
+    trace_packet(t, packets + floats * (size_t)k, width, valid + base, rays + base, lanes,
+                 hits ? hits + base : NULL, hits ? NULL : occluded + base);
   }
   return CLR_SUCCESS;
 }
 
+/* Checks every ray, then traces them in packets of the device's native width (see
+ * trace_packet); nothing is traced and the outputs stay untouched when a ray is invalid. */
+static clr_result trace_packets(const struct clr_tracer_t *t, const clr_ray *rays, int32_t count,
+                                clr_hit *hits, uint8_t *occluded, const char *fn) {
+  if (t->packet_width == 8) return trace_packets_of(t, 8, rays, count, hits, occluded, fn);
+  return trace_packets_of(t, 16, rays, count, hits, occluded, fn);
+}
+
+int clr_tracer_packet_width(clr_tracer t) { return t ? t->packet_width : 0; }
+
 clr_result clr_tracer_intersect(clr_tracer t, const clr_ray *rays, clr_hit *hits, int32_t count) {
   CLR_CHECK(check_query(t, rays, hits, count, "clr_tracer_intersect"));
   CLR_CHECK(trace_packets(t, rays, count, hits, NULL, "clr_tracer_intersect"));
-  return embree_check(t, "rtcIntersect16");
+  return embree_check(t, t->packet_width == 8 ? "rtcIntersect8" : "rtcIntersect16");
 }
 
 clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hit *hits,
@@ -1112,7 +1189,7 @@ clr_result clr_tracer_occluded(clr_tracer t, const clr_ray *rays, uint8_t *occlu
                                int32_t count) {
   CLR_CHECK(check_query(t, rays, occluded, count, "clr_tracer_occluded"));
   CLR_CHECK(trace_packets(t, rays, count, NULL, occluded, "clr_tracer_occluded"));
-  return embree_check(t, "rtcOccluded16");
+  return embree_check(t, t->packet_width == 8 ? "rtcOccluded8" : "rtcOccluded16");
 }
 
 /* ---- surface data at hits ---- */

@@ -115,13 +115,18 @@ clr_result clr_tracer_instance_info(clr_tracer tracer, uint32_t inst_id, int32_t
  * be added and the scene can be queried. Committing twice is an error. */
 clr_result clr_tracer_commit(clr_tracer tracer);
 
-/* Closest hits of `count` rays, traced as packets of 16 (rtcIntersect16). */
+/* Closest hits of `count` rays, traced as packets of clr_tracer_packet_width rays
+ * (rtcIntersect8 or rtcIntersect16). */
 clr_result clr_tracer_intersect(clr_tracer tracer, const clr_ray *rays, clr_hit *hits,
                                 int32_t count);
+/* Rays per packet: 16 where Embree traces 16-wide packets natively (AVX-512), else 8 where it
+ * traces 8-wide ones natively (AVX, AVX2), else 16. */
+int clr_tracer_packet_width(clr_tracer tracer);
 /* Same results traced one ray at a time (rtcIntersect1); for comparison and benchmarks. */
 clr_result clr_tracer_intersect_single(clr_tracer tracer, const clr_ray *rays, clr_hit *hits,
                                        int32_t count);
-/* occluded[i] = 1 when anything lies on ray i within [tnear, tfar], else 0 (rtcOccluded16). */
+/* occluded[i] = 1 when anything lies on ray i within [tnear, tfar], else 0 (rtcOccluded8 or
+ * rtcOccluded16). */
 clr_result clr_tracer_occluded(clr_tracer tracer, const clr_ray *rays, uint8_t *occluded,
                                int32_t count);
 
