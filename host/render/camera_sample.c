@@ -1,5 +1,6 @@
 #include "camera_sample.h"
 #include <math.h>
+#include "float_minmax.h"
 
 #define ONE_MINUS_EPSILON 0x1.fffffep-1f
 
@@ -31,14 +32,14 @@ static float lerp_v4(float t, float a, float b) { return (1.0f - t) * a + t * b;
 static float sample_linear(float u, float a, float b) {
   if (u == 0.0f && a == 0.0f) return 0.0f;
   float x = u * (a + b) / (a + sqrtf(lerp_v4(u, a * a, b * b)));
-  return fminf(x, ONE_MINUS_EPSILON);
+  return rs_fminf(x, ONE_MINUS_EPSILON);
 }
 
 /* pbrt-v4's SampleTent: SampleDiscrete({0.5, 0.5}) picks a side and remaps u */
 static float sample_tent(float u, float r) {
   float up = u == 1.0f ? ONE_MINUS_EPSILON : u; /* u * (0.5 + 0.5), NextFloatDown at the sum */
-  if (!(up >= 0.5f)) return -r + r * sample_linear(fminf(up / 0.5f, ONE_MINUS_EPSILON), 0, 1);
-  return r * sample_linear(fminf((up - 0.5f) / 0.5f, ONE_MINUS_EPSILON), 1, 0);
+  if (!(up >= 0.5f)) return -r + r * sample_linear(rs_fminf(up / 0.5f, ONE_MINUS_EPSILON), 0, 1);
+  return r * sample_linear(rs_fminf((up - 0.5f) / 0.5f, ONE_MINUS_EPSILON), 1, 0);
 }
 
 static float filter_offset(const clr_camera_layout *l, float u, float r) {

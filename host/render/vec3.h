@@ -3,6 +3,7 @@
 #define CLR_RENDER_VEC3_H
 
 #include <math.h>
+#include "float_minmax.h"
 
 #define RS_PI 3.14159265358979323846f
 #define RS_INV_PI 0.31830988618379067154f
@@ -53,7 +54,7 @@ static inline void rs_concentric_disk(float u0, float u1, float *x, float *y) {
 
 /* Offset that moves a ray origin at p off its surface (avoids self-intersection). */
 static inline float rs_spawn_eps(const float p[3]) {
-  float m = fmaxf(fabsf(p[0]), fmaxf(fabsf(p[1]), fabsf(p[2])));
+  float m = rs_fmaxf(fabsf(p[0]), rs_fmaxf(fabsf(p[1]), fabsf(p[2])));
   return 1e-4f * (1.0f + m);
 }
 

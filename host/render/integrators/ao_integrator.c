@@ -1,9 +1,10 @@
 /* pbrt-v3's AOIntegrator over a batch of camera samples. */
 #include "hemisphere_wave.h"
 #include "integrator_internal.h"
+#include "float_minmax.h"
 
 static void uniform_hemisphere(const float u[2], float w[3]) {
-  float z = u[0], r = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
+  float z = u[0], r = sqrtf(rs_fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
   w[0] = r * cosf(phi);
   w[1] = r * sinf(phi);
   w[2] = z;
@@ -47,7 +48,8 @@ clr_result clr_li_ao(const clr_integrator *it, const clr_render_scene *sc,
     rs_normalize(ss);
     rs_cross(sf->n_geom, ss, ts);
     /* clr_render_scene_spawn_ray's two possible origins, computed once per point */
-    float e = 1e-4f * (1.0f + fmaxf(fabsf(sf->p[0]), fmaxf(fabsf(sf->p[1]), fabsf(sf->p[2]))));
+    float e =
+        1e-4f * (1.0f + rs_fmaxf(fabsf(sf->p[0]), rs_fmaxf(fabsf(sf->p[1]), fabsf(sf->p[2]))));
     for (int a = 0; a < 3; ++a) {
       up[a] = sf->p[a] + sf->ng[a] * e;
       down[a] = sf->p[a] + sf->ng[a] * -e;

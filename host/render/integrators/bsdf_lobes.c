@@ -6,6 +6,7 @@
 #include "local_frame.h"
 #include "microfacet.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 #define ONE_MINUS_EPS 0x1.fffffep-1f
 
@@ -34,7 +35,7 @@ static void reflect(const float wo[3], const float n[3], float wi[3]) {
 
 /* pbrt-v3 Refract: wt for wi through a surface of normal n, eta = eta_i / eta_t. */
 static int refract(const float wi[3], const float n[3], float eta, float wt[3]) {
-  float cos_i = rs_dot(n, wi), sin2_i = fmaxf(0.0f, 1.0f - cos_i * cos_i);
+  float cos_i = rs_dot(n, wi), sin2_i = rs_fmaxf(0.0f, 1.0f - cos_i * cos_i);
   float sin2_t = eta * eta * sin2_i;
   if (sin2_t >= 1.0f) return 0;
   float cos_t = sqrtf(1.0f - sin2_t);
@@ -93,7 +94,7 @@ static float oren_nayar(const clr_lobe *l, const float wo[3], const float wi[3])
   float si = sqrtf(sin2_theta(wi)), so = sqrtf(sin2_theta(wo)), max_cos = 0.0f;
   if (si > 1e-4f && so > 1e-4f) {
     float dcos = cos_phi(wi) * cos_phi(wo) + sin_phi(wi) * sin_phi(wo);
-    max_cos = fmaxf(0.0f, dcos);
+    max_cos = rs_fmaxf(0.0f, dcos);
   }
   float sin_alpha, tan_beta;
   if (fabsf(wi[2]) > fabsf(wo[2])) {
@@ -161,7 +162,7 @@ static void lobe_f(const clr_lobe *l, const float wo[3], const float wi[3], floa
       normalize3(wh);
       float dh = rs_dot(wi, wh);
       float spec =
-          clr_tr_d(wh, l->ax, l->ay) / (4.0f * fabsf(dh) * fmaxf(fabsf(wi[2]), fabsf(wo[2])));
+          clr_tr_d(wh, l->ax, l->ay) / (4.0f * fabsf(dh) * rs_fmaxf(fabsf(wi[2]), fabsf(wo[2])));
       for (int k = 0; k < 3; ++k) f[k] += spec * (l->c2[k] + pow5(1.0f - dh) * (1.0f - l->c2[k]));
       return;
     }
@@ -206,7 +207,7 @@ static float lobe_pdf(const clr_lobe *l, const float wo[3], const float wi[3]) {
 
 static void cosine_hemisphere(const float u[2], float w[3]) {
   rs_concentric_disk(u[0], u[1], &w[0], &w[1]);
-  w[2] = sqrtf(fmaxf(0.0f, 1.0f - w[0] * w[0] - w[1] * w[1]));
+  w[2] = sqrtf(rs_fmaxf(0.0f, 1.0f - w[0] * w[0] - w[1] * w[1]));
 }
 
 /* BxDF::Sample_f of one lobe: wi, pdf and f (unscaled); 0 when no direction. */
@@ -237,11 +238,11 @@ static int lobe_sample(const clr_lobe *l, const float wo[3], const float u_in[2]
     }
     case CLR_LOBE_FRESNEL_BLEND:
       if (u[0] < 0.5f) {
-        u[0] = fminf(2.0f * u[0], ONE_MINUS_EPS);
+        u[0] = rs_fminf(2.0f * u[0], ONE_MINUS_EPS);
         cosine_hemisphere(u, wi);
         if (wo[2] < 0.0f) wi[2] = -wi[2];
       } else {
-        u[0] = fminf(2.0f * (u[0] - 0.5f), ONE_MINUS_EPS);
+        u[0] = rs_fminf(2.0f * (u[0] - 0.5f), ONE_MINUS_EPS);
         float wh[3];
         clr_tr_sample_wh(wo, u, l->ax, l->ay, wh);
         reflect(wo, wh, wi);
@@ -324,14 +325,14 @@ int clr_bsdf_sample_local(const clr_bsdf *b, const float wo[3], const float u_in
   f[0] = f[1] = f[2] = 0.0f;
   int n = clr_bsdf_count(b, mask);
   if (!n || wo[2] == 0.0f) return 0;
-  int comp = (int)fminf(floorf(u_in[0] * (float)n), (float)(n - 1)), chosen = -1;
+  int comp = (int)rs_fminf(floorf(u_in[0] * (float)n), (float)(n - 1)), chosen = -1;
   for (int i = 0, c = comp; i < b->n; ++i)
     if (matches(&b->lobes[i], mask) && c-- == 0) {
       chosen = i;
       break;
     }
   const clr_lobe *l = &b->lobes[chosen];
-  float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPS), u_in[1]}, g[3];
+  float u[2] = {rs_fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPS), u_in[1]}, g[3];
   if (!lobe_sample(l, wo, u, wi, pdf, g) || !(*pdf > 0.0f)) return 0;
   int refl = rs_dot(wi, ng) * rs_dot(wo, ng) > 0.0f;
   if (is_specular(l)) {

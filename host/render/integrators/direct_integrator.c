@@ -4,6 +4,7 @@
 #include "microfacet.h"
 #include "specular_differentials.h"
 #include "surface_bsdf.h"
+#include "float_minmax.h"
 
 /* pbrt-v3 SpecularReflect and SpecularTransmit for a lobe BSDF: each followed when it has such
  * a component, with f |cos| / pdf as the factor (sample values hashed); rd (or NULL): the
@@ -75,7 +76,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
         cont[2 * k] = 1;
       }
       float eta = entering ? 1.0f / sf->eta : sf->eta;
-      float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+      float sin2_t = eta * eta * rs_fmaxf(0.0f, 1.0f - cos_o * cos_o);
       if (sin2_t < 1.0f) {
         float cos_t = sqrtf(1.0f - sin2_t);
         for (int a = 0; a < 3; ++a) wi[a] = -eta * w[a] + (eta * cos_o - cos_t) * sf->ns[a];
@@ -130,7 +131,7 @@ static clr_result direct_wave(const clr_integrator *it, const clr_render_scene *
       direct_job *jb = &s->jobs[nj++];
       jb->continues = 0;
       int nl = it->light_count;
-      jb->light = (int)fminf(u[0] * (float)nl, (float)(nl - 1));
+      jb->light = (int)rs_fminf(u[0] * (float)nl, (float)(nl - 1));
       jb->sample = k;
       memcpy(jb->u_light, u + 1, 2 * sizeof(float));
       memcpy(jb->u_scatter, u + 3, 2 * sizeof(float));

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdint.h>
 #include "lambertian.h"
+#include "float_minmax.h"
 
 typedef struct clr_lambert_wave {
   int32_t n, cap;
@@ -30,7 +31,7 @@ static inline int32_t clr_lambert_wave_push(clr_lambert_wave *w, const clr_surfa
                                             const float wo[3], const float u[2], int32_t owner) {
   int32_t k = w->n++;
   w->owner[k] = owner;
-  w->u0[k] = fminf(u[0], CLR_ONE_MINUS_EPSILON);
+  w->u0[k] = rs_fminf(u[0], CLR_ONE_MINUS_EPSILON);
   w->u1[k] = u[1];
   for (int a = 0; a < 3; ++a) {
     w->wo[a][k] = wo[a];

@@ -7,6 +7,7 @@
 #include <math.h>
 #include "render_scene.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 #define CLR_ONE_MINUS_EPSILON 0x1.fffffep-1f
 
@@ -86,7 +87,7 @@ static inline int clr_surface_is_lambertian(const clr_surface *s) {
 /* pbrt-v3 Lambertian::Sample_f's direction in the BSDF frame: wi (world) and pdf. */
 static inline void clr_lambert_sample_dir(const clr_surface *s, const float wo[3],
                                           const float u_in[2], float wi[3], float *pdf) {
-  float u[2] = {fminf(u_in[0], CLR_ONE_MINUS_EPSILON), u_in[1]}, l[3], ss[3], ts[3], n[3];
+  float u[2] = {rs_fminf(u_in[0], CLR_ONE_MINUS_EPSILON), u_in[1]}, l[3], ss[3], ts[3], n[3];
   clr_cosine_hemisphere(u, l);
   clr_shape_frame(s, ss, ts, n); /* pbrt-v3's frame: the same directions for the same samples */
   if (rs_dot(wo, n) < 0.0f) l[2] = -l[2];

@@ -9,6 +9,7 @@
 #include <sys/mman.h>
 #endif
 #include "light_distribution.h"
+#include "float_minmax.h"
 
 #define POINTS 128
 #define MAX_FIXED_LIGHTS 256
@@ -96,7 +97,7 @@ clr_result clr_light_distribution_create(const clr_render_scene *scene,
   float diag[3], bmax = 0.0f;
   for (int i = 0; i < 3; ++i) {
     diag[i] = d->hi[i] - d->lo[i];
-    bmax = fmaxf(bmax, diag[i]);
+    bmax = rs_fmaxf(bmax, diag[i]);
   }
   size_t count = 1;
   for (int i = 0; i < 3; ++i) {

@@ -9,6 +9,7 @@
 #include "render_error.h"
 #include "shape_wave.h"
 #include "wave_block.h"
+#include "float_minmax.h"
 
 #define WAVE_FLOATS 40 /* float arrays in clr_light_wave */
 #define WAVE_INTS 2    /* and int32_t ones */

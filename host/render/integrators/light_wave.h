@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include "lambert_wave.h"
 #include "lambertian.h"
+#include "float_minmax.h"
 
 /* How the light wave samples a light. */
 typedef enum {
@@ -80,14 +81,14 @@ static inline void clr_light_wave_put(clr_light_wave *w, int32_t k, const clr_su
   w->u1[k] = u[1];
   clr_light_wave_put_surface(w, k, s, wo);
   clr_lambert_wave *b = &w->bsdf;
-  b->u0[k] = fminf(u_bsdf[0], CLR_ONE_MINUS_EPSILON);
+  b->u0[k] = rs_fminf(u_bsdf[0], CLR_ONE_MINUS_EPSILON);
   b->u1[k] = u_bsdf[1];
   for (int a = 0; a < 3; ++a) {
     b->dpdu[a][k] = s->dpdu[a];
     b->n_geom[a][k] = s->n_geom[a];
   }
   w->with_next |= u_next != NULL;
-  w->next_u0[k] = u_next ? fminf(u_next[0], CLR_ONE_MINUS_EPSILON) : 0.0f;
+  w->next_u0[k] = u_next ? rs_fminf(u_next[0], CLR_ONE_MINUS_EPSILON) : 0.0f;
   w->next_u1[k] = u_next ? u_next[1] : 0.0f;
 }
 

@@ -4,17 +4,18 @@
 #define CLR_LOCAL_FRAME_H
 
 #include <math.h>
+#include "float_minmax.h"
 
 static inline float cos2_theta(const float w[3]) { return w[2] * w[2]; }
-static inline float sin2_theta(const float w[3]) { return fmaxf(0.0f, 1.0f - cos2_theta(w)); }
+static inline float sin2_theta(const float w[3]) { return rs_fmaxf(0.0f, 1.0f - cos2_theta(w)); }
 static inline float tan2_theta(const float w[3]) { return sin2_theta(w) / cos2_theta(w); }
 static inline float cos_phi(const float w[3]) {
   float s = sqrtf(sin2_theta(w));
-  return s == 0.0f ? 1.0f : fminf(1.0f, fmaxf(-1.0f, w[0] / s));
+  return s == 0.0f ? 1.0f : rs_fminf(1.0f, rs_fmaxf(-1.0f, w[0] / s));
 }
 static inline float sin_phi(const float w[3]) {
   float s = sqrtf(sin2_theta(w));
-  return s == 0.0f ? 0.0f : fminf(1.0f, fmaxf(-1.0f, w[1] / s));
+  return s == 0.0f ? 0.0f : rs_fminf(1.0f, rs_fmaxf(-1.0f, w[1] / s));
 }
 
 #endif

@@ -3,26 +3,27 @@
 #include <math.h>
 #include "microfacet.h"
 #include "local_frame.h"
+#include "float_minmax.h"
 
 #define MF_PI 3.14159265358979323846f
 
 float clr_tr_roughness_to_alpha(float roughness) {
-  float r = fmaxf(roughness, 1e-3f), x = logf(r);
+  float r = rs_fmaxf(roughness, 1e-3f), x = logf(r);
   return 1.62142f + 0.819955f * x + 0.1734f * x * x + 0.0171201f * x * x * x +
          0.000640711f * x * x * x * x;
 }
 
 float clr_fr_dielectric(float cos_i, float eta_i, float eta_t) {
-  cos_i = fminf(1.0f, fmaxf(-1.0f, cos_i));
+  cos_i = rs_fminf(1.0f, rs_fmaxf(-1.0f, cos_i));
   if (!(cos_i > 0.0f)) {
     float t = eta_i;
     eta_i = eta_t;
     eta_t = t;
     cos_i = fabsf(cos_i);
   }
-  float sin_i = sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i)), sin_t = eta_i / eta_t * sin_i;
+  float sin_i = sqrtf(rs_fmaxf(0.0f, 1.0f - cos_i * cos_i)), sin_t = eta_i / eta_t * sin_i;
   if (sin_t >= 1.0f) return 1.0f;
-  float cos_t = sqrtf(fmaxf(0.0f, 1.0f - sin_t * sin_t));
+  float cos_t = sqrtf(rs_fmaxf(0.0f, 1.0f - sin_t * sin_t));
   float rparl = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
   float rperp = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
   return (rparl * rparl + rperp * rperp) / 2.0f;
@@ -78,11 +79,12 @@ void clr_tr_sample11(float cos_t, float u1, float u2, float *sx, float *sy) {
     *sy = r * sinf(phi);
     return;
   }
-  float sin_t = sqrtf(fmaxf(0.0f, 1.0f - cos_t * cos_t)), tan_t = sin_t / cos_t, a = 1.0f / tan_t;
+  float sin_t = sqrtf(rs_fmaxf(0.0f, 1.0f - cos_t * cos_t)), tan_t = sin_t / cos_t,
+        a = 1.0f / tan_t;
   float g1 = 2.0f / (1.0f + sqrtf(1.0f + 1.0f / (a * a)));
   float A = 2.0f * u1 / g1 - 1.0f, tmp = 1.0f / (A * A - 1.0f);
   if (tmp > 1e10f) tmp = 1e10f;
-  float B = tan_t, D = sqrtf(fmaxf(B * B * tmp * tmp - (A * A - B * B) * tmp, 0.0f));
+  float B = tan_t, D = sqrtf(rs_fmaxf(B * B * tmp * tmp - (A * A - B * B) * tmp, 0.0f));
   float x1 = B * tmp - D, x2 = B * tmp + D;
   *sx = (A < 0.0f || x2 > 1.0f / tan_t) ? x1 : x2;
   float S;
@@ -149,10 +151,10 @@ float clr_microfacet_f(const float wo[3], const float wi[3], float alpha) {
 }
 
 float clr_fr_conductor(float cos_i, float eta, float k) {
-  cos_i = fminf(1.0f, fabsf(cos_i));
+  cos_i = rs_fminf(1.0f, fabsf(cos_i));
   float c2 = cos_i * cos_i, s2 = 1.0f - c2, eta2 = eta * eta, k2 = k * k;
   float t0 = eta2 - k2 - s2, a2b2 = sqrtf(t0 * t0 + 4.0f * eta2 * k2), t1 = a2b2 + c2;
-  float a = sqrtf(fmaxf(0.0f, 0.5f * (a2b2 + t0))), t2 = 2.0f * cos_i * a;
+  float a = sqrtf(rs_fmaxf(0.0f, 0.5f * (a2b2 + t0))), t2 = 2.0f * cos_i * a;
   float rs = (t1 - t2) / (t1 + t2), t3 = c2 * a2b2 + s2 * s2, t4 = t2 * s2;
   float rp = rs * (t3 - t4) / (t3 + t4);
   return 0.5f * (rp + rs);

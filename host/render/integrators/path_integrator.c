@@ -5,6 +5,7 @@
 #include "microfacet.h"
 #include "light_distribution.h"
 #include "surface_bsdf.h"
+#include "float_minmax.h"
 
 static int32_t path_bounce_values(int bounce) {
   return CLR_PATH_VALUES_PER_BOUNCE - (bounce > 3 ? 0 : 1);
@@ -42,12 +43,16 @@ static float path_value(const float *bv, uint64_t key, int bounce, int k) {
   return fallback(key, 1000 + bounce * CLR_PATH_VALUES_PER_BOUNCE + k);
 }
 
-/* pbrt-v3 Russian roulette after bounce 3, on beta * etaScale. */
-static void path_roulette(const clr_integrator *it, const float *bv, uint64_t key, int bounces,
-                          float eta_scale, float b[3], int32_t *active) {
-  float m = fmaxf(b[0] * eta_scale, fmaxf(b[1] * eta_scale, b[2] * eta_scale));
+/* pbrt-v3 Russian roulette after bounce 3, on beta * etaScale. Inlined, so that a beta just
+ * computed is read from registers: its reload, 8 bytes at once, could not be forwarded from the
+ * three 4-byte stores (a store-forwarding stall). */
+static inline __attribute__((always_inline)) void path_roulette(const clr_integrator *it,
+                                                                const float *bv, uint64_t key,
+                                                                int bounces, float eta_scale,
+                                                                float b[3], int32_t *active) {
+  float m = rs_fmaxf(b[0] * eta_scale, rs_fmaxf(b[1] * eta_scale, b[2] * eta_scale));
   if (m < it->rr_threshold && bounces > 3) {
-    float q = fmaxf(0.05f, 1.0f - m);
+    float q = rs_fmaxf(0.05f, 1.0f - m);
     if (path_value(bv, key, bounces, 7) < q) {
       *active = 0;
     } else {
@@ -180,10 +185,11 @@ static const float *path_values(const path_call *pc, int i, int bounces) {
 static void path_lambert_bounce(const path_call *pc, int i, int bounces, const float f3[3],
                                 float pdf) {
   clr_integrator_scratch *s = pc->s;
+  const float *bv = path_values(pc, i, bounces);
   float *b = s->beta + 3 * i;
-  for (int a = 0; a < 3; ++a) b[a] *= f3[a] / pdf;
-  path_roulette(pc->it, path_values(pc, i, bounces), pc->keys[i], bounces, pc->eta_scale[i], b,
-                &s->active[i]);
+  float b0 = b[0] * (f3[0] / pdf), b1 = b[1] * (f3[1] / pdf), b2 = b[2] * (f3[2] / pdf);
+  b[0] = b0, b[1] = b1, b[2] = b2;
+  path_roulette(pc->it, bv, pc->keys[i], bounces, pc->eta_scale[i], b, &s->active[i]);
   path_next_vertex(pc->it, s, i, bounces, 0);
 }
 
@@ -258,7 +264,7 @@ static void path_glass(const path_call *pc, int i, int bounces, const float *bv,
     for (int a = 0; a < 3; ++a) b[a] *= sf->kr[a]; /* Kr F / F */
   } else {
     float eta = entering ? 1.0f / sf->eta : sf->eta; /* eta_i / eta_t */
-    float sin2_t = eta * eta * fmaxf(0.0f, 1.0f - cos_o * cos_o);
+    float sin2_t = eta * eta * rs_fmaxf(0.0f, 1.0f - cos_o * cos_o);
     if (sin2_t >= 1.0f) {
       s->active[i] = 0;
       return;

@@ -5,6 +5,7 @@
 #include "lambertian.h"
 #include "microfacet.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 #define ONE_MINUS_EPSILON 0x1.fffffep-1f
 
@@ -16,15 +17,15 @@ static float oren_nayar_factor(const clr_surface *s, const float wo[3], const fl
   clr_shading_frame(s, ss, ts);
   float o[3] = {rs_dot(wo, ss), rs_dot(wo, ts), rs_dot(wo, s->ns)};
   float i[3] = {rs_dot(wi, ss), rs_dot(wi, ts), rs_dot(wi, s->ns)};
-  float sin_o = sqrtf(fmaxf(0.0f, 1.0f - o[2] * o[2])),
-        sin_i = sqrtf(fmaxf(0.0f, 1.0f - i[2] * i[2]));
+  float sin_o = sqrtf(rs_fmaxf(0.0f, 1.0f - o[2] * o[2])),
+        sin_i = sqrtf(rs_fmaxf(0.0f, 1.0f - i[2] * i[2]));
   float max_cos = 0.0f;
   if (sin_i > 1e-4f && sin_o > 1e-4f) {
-    float cpi = fminf(1.0f, fmaxf(-1.0f, i[0] / sin_i)),
-          spi = fminf(1.0f, fmaxf(-1.0f, i[1] / sin_i));
-    float cpo = fminf(1.0f, fmaxf(-1.0f, o[0] / sin_o)),
-          spo = fminf(1.0f, fmaxf(-1.0f, o[1] / sin_o));
-    max_cos = fmaxf(0.0f, cpi * cpo + spi * spo);
+    float cpi = rs_fminf(1.0f, rs_fmaxf(-1.0f, i[0] / sin_i)),
+          spi = rs_fminf(1.0f, rs_fmaxf(-1.0f, i[1] / sin_i));
+    float cpo = rs_fminf(1.0f, rs_fmaxf(-1.0f, o[0] / sin_o)),
+          spo = rs_fminf(1.0f, rs_fmaxf(-1.0f, o[1] / sin_o));
+    max_cos = rs_fmaxf(0.0f, cpi * cpo + spi * spo);
   }
   float sin_alpha, tan_beta;
   if (fabsf(i[2]) > fabsf(o[2])) {
@@ -152,8 +153,8 @@ int clr_surface_bsdf_sample(const clr_surface *s, const float wo[3], const float
   int d, g, n = plastic_components(s, &d, &g);
   *pdf = 0.0f;
   if (!n) return 0;
-  int comp = (int)fminf(floorf(u_in[0] * (float)n), (float)(n - 1));
-  float u[2] = {fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
+  int comp = (int)rs_fminf(floorf(u_in[0] * (float)n), (float)(n - 1));
+  float u[2] = {rs_fminf(u_in[0] * (float)n - (float)comp, ONE_MINUS_EPSILON), u_in[1]};
   int glossy = g && (comp == 1 || !d);
   float ss[3], ts[3], nf[3], lo[3];
   clr_shape_frame(s, ss, ts, nf);

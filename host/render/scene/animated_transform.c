@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "animated_transform.h"
+#include "float_minmax.h"
 
 static void quat_from_matrix(const float m[4][4], float q[4]) {
   float trace = m[0][0] + m[1][1] + m[2][2];
@@ -71,7 +72,7 @@ static void decompose(const float m[4][4], float t[3], float q[4], float s[4][4]
     for (int i = 0; i < 3; ++i) {
       float n =
           fabsf(R[i][0] - next[i][0]) + fabsf(R[i][1] - next[i][1]) + fabsf(R[i][2] - next[i][2]);
-      norm = fmaxf(norm, n);
+      norm = rs_fmaxf(norm, n);
     }
     memcpy(R, next, sizeof R);
   } while (++count < 100 && norm > 0.0001f);
@@ -115,7 +116,7 @@ static void slerp(float t, const float q1[4], const float q2[4], float out[4]) {
     normalize4(out);
     return;
   }
-  float theta = acosf(fminf(1.0f, fmaxf(-1.0f, c))), tp = theta * t, perp[4];
+  float theta = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, c))), tp = theta * t, perp[4];
   for (int k = 0; k < 4; ++k) perp[k] = q2[k] - q1[k] * c;
   normalize4(perp);
   for (int k = 0; k < 4; ++k) out[k] = q1[k] * cosf(tp) + perp[k] * sinf(tp);

@@ -4,6 +4,7 @@
 #include "render_error.h"
 #include "camera.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 clr_result rs_camera_build(rs_camera *cam, const clr_scene_desc *d, clr_warn_fn warn, void *wu) {
   const clr_param_list *p = &d->camera.params;
@@ -183,7 +184,8 @@ float rs_camera_ray(const rs_camera *cam, float film_x, float film_y, float time
   /* moving shapes: the shutter time mapped onto TransformTimes, clamped (Embree's [0, 1]) */
   float shutter_t = (1.0f - time) * cam->shutter_open + time * cam->shutter_close;
   float span = cam->motion.end_time - cam->motion.start_time;
-  ray->time =
-      span > 0.0f ? fminf(fmaxf((shutter_t - cam->motion.start_time) / span, 0.0f), 1.0f) : 0.0f;
+  ray->time = span > 0.0f
+                  ? rs_fminf(rs_fmaxf((shutter_t - cam->motion.start_time) / span, 0.0f), 1.0f)
+                  : 0.0f;
   return 1.0f;
 }

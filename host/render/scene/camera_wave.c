@@ -2,6 +2,7 @@
  * loops with rs_camera_ray's float operations in its order; other cameras ray by ray. */
 #include <math.h>
 #include "camera.h"
+#include "float_minmax.h"
 
 /* rs_camera_ray's normalize: divides by the length where it is positive. */
 static inline float unit_or_same(float x, float len) { return len > 0.0f ? x / len : x; }
@@ -40,14 +41,14 @@ static void ray_times(const rs_camera *cam, const float *time, int n, float *out
     return;
   }
   int negative_zero = 0;
-  for (int k = 0; k < n; ++k) { /* fminf(fmaxf(y, 0), 1) as selects, but where y is -0 */
+  for (int k = 0; k < n; ++k) { /* rs_fminf(rs_fmaxf(y, 0), 1) as selects, but where y is -0 */
     float y = ((1.0f - time[k]) * open + time[k] * close - start) / span;
     out[k] = y > 0.0f ? (y < 1.0f ? y : 1.0f) : 0.0f;
     negative_zero |= (y == 0.0f) & (copysignf(1.0f, y) < 0.0f);
   }
   for (int k = 0; negative_zero && k < n; ++k) {
     float shutter_t = (1.0f - time[k]) * open + time[k] * close;
-    out[k] = fminf(fmaxf((shutter_t - start) / span, 0.0f), 1.0f);
+    out[k] = rs_fminf(rs_fmaxf((shutter_t - start) / span, 0.0f), 1.0f);
   }
 }
 

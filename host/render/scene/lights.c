@@ -10,6 +10,7 @@
 #include "render_error.h"
 #include "lights.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 static float luminance(const float c[3]) {
   return 0.212671f * c[0] + 0.715160f * c[1] + 0.072169f * c[2];
@@ -108,7 +109,7 @@ static float pattern_factor(const rs_light *l, const float w[3], float rgb[3]) {
     wl[2] = t;
     float phi = atan2f(wl[1], wl[0]);
     if (phi < 0.0f) phi += 2.0f * RS_PI;
-    float theta = acosf(fminf(1.0f, fmaxf(-1.0f, wl[2])));
+    float theta = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, wl[2])));
     if (l->envmap) rs_envmap_lookup(l->envmap, phi / (2.0f * RS_PI), theta / RS_PI, rgb);
     return 1.0f;
   }
@@ -348,7 +349,8 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
   float wc[3] = {l->pos[0] - ref[0], l->pos[1] - ref[1], l->pos[2] - ref[2]};
   float dc2 = rs_dot(wc, wc), r = l->radius;
   if (sphere_inside(dc2, r)) {
-    float z = 1.0f - 2.0f * u[0], rr = sqrtf(fmaxf(0.0f, 1.0f - z * z)), phi = 2.0f * RS_PI * u[1];
+    float z = 1.0f - 2.0f * u[0], rr = sqrtf(rs_fmaxf(0.0f, 1.0f - z * z)),
+          phi = 2.0f * RS_PI * u[1];
     n[0] = rr * cosf(phi);
     n[1] = rr * sinf(phi);
     n[2] = z;
@@ -362,15 +364,15 @@ static void sample_emitter(const rs_shape *shapes, const rs_light *l, const floa
   float wx[3], wy[3];
   coordinate_system(wc, wx, wy);
   float sin_max = r / dc, sin_max2 = sin_max * sin_max, inv_sin_max = 1.0f / sin_max;
-  float cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin_max2));
+  float cos_max = sqrtf(rs_fmaxf(0.0f, 1.0f - sin_max2));
   float cos_t = (cos_max - 1.0f) * u[0] + 1.0f, sin_t2 = 1.0f - cos_t * cos_t;
   if (sin_max2 < 0.00068523f) {
     sin_t2 = sin_max2 * u[0];
     cos_t = sqrtf(1.0f - sin_t2);
   }
-  float cos_a =
-      sin_t2 * inv_sin_max + cos_t * sqrtf(fmaxf(0.0f, 1.0f - sin_t2 * inv_sin_max * inv_sin_max));
-  float sin_a = sqrtf(fmaxf(0.0f, 1.0f - cos_a * cos_a)), phi = u[1] * 2.0f * RS_PI;
+  float cos_a = sin_t2 * inv_sin_max +
+                cos_t * sqrtf(rs_fmaxf(0.0f, 1.0f - sin_t2 * inv_sin_max * inv_sin_max));
+  float sin_a = sqrtf(rs_fmaxf(0.0f, 1.0f - cos_a * cos_a)), phi = u[1] * 2.0f * RS_PI;
   for (int i = 0; i < 3; ++i)
     n[i] = -(sin_a * cosf(phi) * wx[i] + sin_a * sinf(phi) * wy[i] + cos_a * wc[i]);
   for (int i = 0; i < 3; ++i) pt[i] = l->pos[i] + r * n[i];
@@ -543,7 +545,7 @@ static void envmap_coords(const float w[3], float *s, float *t) {
   float phi = atan2f(w[1], w[0]);
   if (phi < 0.0f) phi += 2.0f * RS_PI;
   *s = phi / (2.0f * RS_PI);
-  *t = acosf(fminf(1.0f, fmaxf(-1.0f, w[2]))) / RS_PI;
+  *t = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, w[2]))) / RS_PI;
 }
 
 float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const float wi[3], float t,
@@ -553,8 +555,8 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     float wl[3];
     mat3_vec(l->to_light, wi, wl);
     rs_normalize(wl);
-    float ct = fminf(1.0f, fmaxf(-1.0f, wl[2]));
-    float st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct)), map_pdf = 1.0f;
+    float ct = rs_fminf(1.0f, rs_fmaxf(-1.0f, wl[2]));
+    float st = sqrtf(rs_fmaxf(0.0f, 1.0f - ct * ct)), map_pdf = 1.0f;
     if (l->envmap) {
       float s_, t_;
       envmap_coords(wl, &s_, &t_);
@@ -566,7 +568,7 @@ float rs_light_pdf(const rs_light_set *set, int light, const float p[3], const f
     float wc[3] = {l->pos[0] - p[0], l->pos[1] - p[1], l->pos[2] - p[2]};
     float dc2 = rs_dot(wc, wc);
     if (!sphere_inside(dc2, l->radius)) {
-      float sin2 = l->radius * l->radius / dc2, cos_max = sqrtf(fmaxf(0.0f, 1.0f - sin2));
+      float sin2 = l->radius * l->radius / dc2, cos_max = sqrtf(rs_fmaxf(0.0f, 1.0f - sin2));
       return 1.0f / (2.0f * RS_PI * (1.0f - cos_max));
     }
     float c = fabsf(rs_dot(n_hit, wi));

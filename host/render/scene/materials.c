@@ -3,6 +3,7 @@
 #include <string.h>
 #include "materials.h"
 #include "microfacet.h"
+#include "float_minmax.h"
 
 static const struct {
   const char *name;
@@ -136,7 +137,7 @@ int rs_material_needs_lobes(const rs_material *m) {
 }
 
 static void clamp01(float c[3]) { /* Spectrum::Clamp(0, inf) */
-  for (int k = 0; k < 3; ++k) c[k] = fmaxf(0.0f, c[k]);
+  for (int k = 0; k < 3; ++k) c[k] = rs_fmaxf(0.0f, c[k]);
 }
 static int black(const float c[3]) { return c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f; }
 
@@ -177,7 +178,7 @@ static void matte(const eval_ctx *e, const rs_material *m, clr_bsdf *b) {
   colour(e, &m->kd, kd);
   if (black(kd)) return;
   clr_lobe *l = add(b, CLR_LOBE_LAMBERT_R, kd);
-  float sigma = fminf(90.0f, fmaxf(0.0f, value(e, &m->sigma)));
+  float sigma = rs_fminf(90.0f, rs_fmaxf(0.0f, value(e, &m->sigma)));
   if (!l || sigma == 0.0f) return;
   float s = sigma * 3.14159265f / 180.0f, s2 = s * s;
   l->on_a = 1.0f - s2 / (2.0f * (s2 + 0.33f));
@@ -253,7 +254,7 @@ static void scaled(float c[3], const float op[3]) {
 static void uber(const eval_ctx *e, const rs_material *m, clr_bsdf *b) {
   float eta = value(e, &m->eta), op[3], t[3], kd[3], ks[3], kr[3], kt[3];
   colour(e, &m->opacity, op);
-  for (int k = 0; k < 3; ++k) t[k] = fmaxf(0.0f, 1.0f - op[k]);
+  for (int k = 0; k < 3; ++k) t[k] = rs_fmaxf(0.0f, 1.0f - op[k]);
   b->eta = black(t) ? eta : 1.0f; /* pbrt-v3: BSDF(si, 1) when the surface lets light through */
   if (!black(t)) add(b, CLR_LOBE_SPECULAR_T, t); /* SpecularTransmission(t, 1, 1) */
   colour(e, &m->kd, kd);
@@ -324,7 +325,7 @@ static void mix(const rs_material *m, const rs_material *all, int count, const e
                 clr_bsdf *b, int depth) {
   float s1[3], s2[3];
   colour(e, &m->amount, s1);
-  for (int k = 0; k < 3; ++k) s2[k] = fmaxf(0.0f, 1.0f - s1[k]);
+  for (int k = 0; k < 3; ++k) s2[k] = rs_fmaxf(0.0f, 1.0f - s1[k]);
   for (int q = 0; q < 2; ++q) {
     int first = b->n;
     float eta = b->eta;

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "mipmap.h"
 #include "render_error.h"
+#include "float_minmax.h"
 
 #define LANCZOS_TAU 2.0f
 #define MAX_SIDE (1 << 20)   /* larger images are refused (the pyramid's indices stay in int) */
@@ -98,7 +99,7 @@ static clr_result resample(const float *img, int w, int h, int w2, int h2, rs_wr
     }
     for (int t = 0; t < h2; ++t)
       for (int k = 0; k < 3; ++k)
-        out[3 * ((size_t)t * (size_t)w2 + (size_t)s) + k] = fmaxf(0.0f, col[3 * t + k]);
+        out[3 * ((size_t)t * (size_t)w2 + (size_t)s) + k] = rs_fmaxf(0.0f, col[3 * t + k]);
   }
   free(sw);
   free(tw);
@@ -218,7 +219,7 @@ static void lerp3(float f, const float a[3], const float b[3], float out[3]) {
 }
 
 void rs_mipmap_trilinear(const rs_mipmap *m, const float st[2], float width, float out[3]) {
-  float level = (float)(m->count - 1) + log2_f(fmaxf(width, 1e-8f));
+  float level = (float)(m->count - 1) + log2_f(rs_fmaxf(width, 1e-8f));
   if (!(level >= 0.0f)) { /* NaN widths too */
     rs_mipmap_bilinear(m, 0, st, out);
   } else if (level >= (float)(m->count - 1)) {
@@ -304,7 +305,7 @@ void rs_mipmap_ewa(const rs_mipmap *m, const float st[2], const float dst0[2], c
     rs_mipmap_bilinear(m, 0, st, out);
     return;
   }
-  float lod = fmaxf(0.0f, (float)(m->count - 1) + log2_f(minor));
+  float lod = rs_fmaxf(0.0f, (float)(m->count - 1) + log2_f(minor));
   if (!(lod < (float)m->count)) { /* both levels past the last: its single texel */
     rs_mipmap_texel(m, m->count - 1, 0, 0, out);
     return;
@@ -319,8 +320,8 @@ void rs_mipmap_ewa(const rs_mipmap *m, const float st[2], const float dst0[2], c
 void rs_mipmap_lookup(const rs_mipmap *m, const float st[2], const float dstdx[2],
                       const float dstdy[2], float out[3]) {
   if (m->trilinear) {
-    float width =
-        fmaxf(fmaxf(fabsf(dstdx[0]), fabsf(dstdx[1])), fmaxf(fabsf(dstdy[0]), fabsf(dstdy[1])));
+    float width = rs_fmaxf(rs_fmaxf(fabsf(dstdx[0]), fabsf(dstdx[1])),
+                           rs_fmaxf(fabsf(dstdy[0]), fabsf(dstdy[1])));
     rs_mipmap_trilinear(m, st, width, out);
     return;
   }

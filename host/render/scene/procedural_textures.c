@@ -2,6 +2,7 @@
  * wrinkled, windy, marble, checkerboard 3D), re-implemented from their definitions. */
 #include <math.h>
 #include "procedural_textures.h"
+#include "float_minmax.h"
 
 /* Ken Perlin's permutation of 0..255 from his public-domain reference implementation of
  * improved noise (2002); pbrt-v3's NoisePerm is this table twice. It is Perlin's data, not a
@@ -75,14 +76,14 @@ static float noise_at(const float p[3], float lambda) {
 static float octave_count(const float dpdx[3], const float dpdy[3], int max_octaves) {
   float lx = dpdx[0] * dpdx[0] + dpdx[1] * dpdx[1] + dpdx[2] * dpdx[2];
   float ly = dpdy[0] * dpdy[0] + dpdy[1] * dpdy[1] + dpdy[2] * dpdy[2];
-  float n = -1.0f - 0.5f * (logf(fmaxf(lx, ly)) * 1.442695040888963387004650940071f);
+  float n = -1.0f - 0.5f * (logf(rs_fmaxf(lx, ly)) * 1.442695040888963387004650940071f);
   if (!(n > 0.0f)) return 0.0f; /* NaN differentials too */
   return n < (float)max_octaves ? n : (float)max_octaves;
 }
 
 /* pbrt-v3 SmoothStep(0.3, 0.7, x). */
 static float smooth_step(float x) {
-  float t = fminf(1.0f, fmaxf(0.0f, (x - 0.3f) / (0.7f - 0.3f)));
+  float t = rs_fminf(1.0f, rs_fmaxf(0.0f, (x - 0.3f) / (0.7f - 0.3f)));
   return t * t * (3.0f - 2.0f * t);
 }
 

@@ -5,6 +5,7 @@
 #include "render_error.h"
 #include "quadric_shapes.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 int rs_is_quadric(const char *type) {
   return strcmp(type, "cylinder") == 0 || strcmp(type, "cone") == 0 ||
@@ -84,8 +85,8 @@ void rs_quadric_bounds(const clr_quadric *q, const clr_transform *o2w, float lo[
           w[3];
     clr_transform_point(o2w, o, w);
     for (int i = 0; i < 3; ++i) {
-      lo[i] = fminf(lo[i], w[i]);
-      hi[i] = fmaxf(hi[i], w[i]);
+      lo[i] = rs_fminf(lo[i], w[i]);
+      hi[i] = rs_fmaxf(hi[i], w[i]);
     }
   }
 }

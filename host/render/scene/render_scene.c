@@ -18,6 +18,7 @@
 #include "shapes.h"
 #include "textures.h"
 #include "vec3.h"
+#include "float_minmax.h"
 
 /* An ObjectInstance: instance to world at the start (and end, when it moves) of TransformTimes. */
 typedef struct rs_instance {
@@ -165,10 +166,10 @@ void clr_render_settings_from_desc(const clr_scene_desc *desc, clr_render_settin
   int n = 0;
   const float *cw = clr_params_find_floats(p, "cropwindow", &n);
   if (cw && n == 4) {
-    st->crop_window[0] = fminf(cw[0], cw[1]);
-    st->crop_window[1] = fmaxf(cw[0], cw[1]);
-    st->crop_window[2] = fminf(cw[2], cw[3]);
-    st->crop_window[3] = fmaxf(cw[2], cw[3]);
+    st->crop_window[0] = rs_fminf(cw[0], cw[1]);
+    st->crop_window[1] = rs_fmaxf(cw[0], cw[1]);
+    st->crop_window[2] = rs_fminf(cw[2], cw[3]);
+    st->crop_window[3] = rs_fmaxf(cw[2], cw[3]);
   }
   st->scale = clr_params_find_float(p, "scale", 1.0f);
   st->max_sample_luminance = clr_params_find_float(p, "maxsampleluminance", INFINITY);
@@ -253,8 +254,8 @@ static clr_result build_mesh(const clr_shape_desc *sd, int moving, clr_mesh *m, 
 static void grow_bounds(clr_render_scene *s, float lo[3], float hi[3], const float p[3]) {
   (void)s;
   for (int i = 0; i < 3; ++i) {
-    lo[i] = fminf(lo[i], p[i]);
-    hi[i] = fmaxf(hi[i], p[i]);
+    lo[i] = rs_fminf(lo[i], p[i]);
+    hi[i] = rs_fmaxf(hi[i], p[i]);
   }
 }
 
@@ -274,8 +275,8 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
   if (sh->type == RS_SHAPE_MESH) {
     for (int v = 0; v < sh->mesh.vertex_count; ++v)
       for (int i = 0; i < 3; ++i) {
-        lo[i] = fminf(lo[i], sh->mesh.p[3 * v + i]);
-        hi[i] = fmaxf(hi[i], sh->mesh.p[3 * v + i]);
+        lo[i] = rs_fminf(lo[i], sh->mesh.p[3 * v + i]);
+        hi[i] = rs_fmaxf(hi[i], sh->mesh.p[3 * v + i]);
       }
     return;
   }
@@ -290,8 +291,8 @@ static void shape_bounds(const rs_shape *sh, float lo[3], float hi[3]) {
     if (sh->type == RS_SHAPE_DISK) q[2] = sh->height;
     clr_transform_point(own_transform(sh), q, w);
     for (int i = 0; i < 3; ++i) {
-      lo[i] = fminf(lo[i], w[i]);
-      hi[i] = fmaxf(hi[i], w[i]);
+      lo[i] = rs_fminf(lo[i], w[i]);
+      hi[i] = rs_fmaxf(hi[i], w[i]);
     }
   }
 }
@@ -354,7 +355,7 @@ static void oren_nayar_params(const clr_shape_desc *sd, const clr_material_desc 
   if (strcmp(mtype, "matte") != 0) return;
   float sigma = clr_params_find_float(&md->params, "sigma", 0.0f);
   sigma = clr_params_find_float(&sd->params, "sigma", sigma);
-  sigma = fminf(90.0f, fmaxf(0.0f, sigma));
+  sigma = rs_fminf(90.0f, rs_fmaxf(0.0f, sigma));
   if (sigma == 0.0f) return;
   float s = sigma * RS_PI / 180.0f, s2 = s * s;
   sh->on_a = 1.0f - s2 / (2.0f * (s2 + 0.33f));
@@ -531,9 +532,9 @@ static clr_result build_shapes(clr_render_scene *s, const clr_scene_desc *d, clr
       float r = sh->radius, z0 = clr_params_find_float(p, "zmin", -r),
             z1 = clr_params_find_float(p, "zmax", r);
       float pm = clr_params_find_float(p, "phimax", 360.0f);
-      sh->zmin = fminf(fmaxf(fminf(z0, z1), -r), r);
-      sh->zmax = fminf(fmaxf(fmaxf(z0, z1), -r), r);
-      sh->phimax = fminf(fmaxf(pm, 0.0f), 360.0f) * RS_PI / 180.0f;
+      sh->zmin = rs_fminf(rs_fmaxf(rs_fminf(z0, z1), -r), r);
+      sh->zmax = rs_fminf(rs_fmaxf(rs_fmaxf(z0, z1), -r), r);
+      sh->phimax = rs_fminf(rs_fmaxf(pm, 0.0f), 360.0f) * RS_PI / 180.0f;
       sh->partial = !(sh->zmin <= -r && sh->zmax >= r && pm >= 360.0f);
       if (sh->partial && sd->area_light >= 0)
         warn_fmt(warn, wu,
@@ -755,7 +756,7 @@ static void world_bounds(clr_render_scene *s, const clr_scene_desc *d) {
     s->world_center[i] = 0.5f * (lo[i] + hi[i]);
     diag[i] = hi[i] - s->world_center[i];
   }
-  s->lights.world_radius = fmaxf(sqrtf(rs_dot(diag, diag)), 1e-3f);
+  s->lights.world_radius = rs_fmaxf(sqrtf(rs_dot(diag, diag)), 1e-3f);
 }
 
 clr_result clr_render_scene_build(const clr_scene_desc *d, clr_warn_fn warn, void *wu,
@@ -853,12 +854,12 @@ static void mesh_surface(const rs_shape *sh, const clr_hit *hit, float p[3], flo
 static void sphere_uv(const rs_shape *sh, const float po[3], float uv[2]) {
   float phi = atan2f(po[1], po[0]);
   if (phi < 0.0f) phi += 2.0f * RS_PI;
-  float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / sh->radius));
+  float ct = rs_fminf(1.0f, rs_fmaxf(-1.0f, po[2] / sh->radius));
   uv[0] = phi / (2.0f * RS_PI);
   uv[1] = 1.0f - acosf(ct) / RS_PI;
   if (sh->partial) {
-    float tz0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmin / sh->radius)));
-    float tz1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->zmax / sh->radius)));
+    float tz0 = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, sh->zmin / sh->radius)));
+    float tz1 = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, sh->zmax / sh->radius)));
     uv[0] = phi / sh->phimax;
     uv[1] = (acosf(ct) - tz0) / (tz1 - tz0);
   }
@@ -914,9 +915,9 @@ static void disk_surface(const rs_shape *sh, const clr_transform *o2w, const clr
 /* pbrt-v3 Sphere's object-space dpdv at object point po. */
 static void sphere_dpdv(const rs_shape *sh, const float po[3], float v[3]) {
   float r = sh->radius, zr = sqrtf(po[0] * po[0] + po[1] * po[1]);
-  float ct = fminf(1.0f, fmaxf(-1.0f, po[2] / r)), st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
-  float t0 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmin / r : -1.0f)));
-  float t1 = acosf(fminf(1.0f, fmaxf(-1.0f, sh->partial ? sh->zmax / r : 1.0f)));
+  float ct = rs_fminf(1.0f, rs_fmaxf(-1.0f, po[2] / r)), st = sqrtf(rs_fmaxf(0.0f, 1.0f - ct * ct));
+  float t0 = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, sh->partial ? sh->zmin / r : -1.0f)));
+  float t1 = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, sh->partial ? sh->zmax / r : 1.0f)));
   float cp = zr > 0.0f ? po[0] / zr : 1.0f, sp = zr > 0.0f ? po[1] / zr : 0.0f;
   v[0] = (t1 - t0) * po[2] * cp;
   v[1] = (t1 - t0) * po[2] * sp;

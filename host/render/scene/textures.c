@@ -10,6 +10,7 @@
 #include "blackbody.h"
 #include "procedural_textures.h"
 #include "textures.h"
+#include "float_minmax.h"
 
 static void set_grey(rs_colour *out, float v) { out->rgb[0] = out->rgb[1] = out->rgb[2] = v; }
 
@@ -91,7 +92,7 @@ static void convert_texels(rs_texture *t, int png, int gamma, int is_float, int 
     }
     for (int k = 0; k < 3; ++k) {
       float x = t->scale * (gamma ? inverse_gamma_correct(raw[k]) : raw[k]);
-      v[k] = invert ? fmaxf(0.0f, 1.0f - x) : x;
+      v[k] = invert ? rs_fmaxf(0.0f, 1.0f - x) : x;
     }
   }
 }
@@ -393,7 +394,7 @@ static void sphere_st(const rs_texture *t, const float p[3], float st[2]) {
   if (len > 0.0f)
     for (int k = 0; k < 3; ++k) q[k] /= len;
   float phi = atan2f(q[1], q[0]);
-  st[0] = acosf(fminf(1.0f, fmaxf(-1.0f, q[2]))) * inv_pi;
+  st[0] = acosf(rs_fminf(1.0f, rs_fmaxf(-1.0f, q[2]))) * inv_pi;
   st[1] = (phi < 0.0f ? phi + 2.0f * 3.14159265f : phi) * inv_2pi;
 }
 
@@ -464,7 +465,7 @@ void rs_texture_map_2d(const rs_texture *t, const rs_tex_ctx *ctx, float st[2], 
 /* pbrt-v3's integral of the 0/1 "odd check" indicator over [0, x]. */
 static float bump_int(float x) {
   float h = floorf(x / 2);
-  return h + 2 * fmaxf(x / 2 - h - 0.5f, 0.0f);
+  return h + 2 * rs_fmaxf(x / 2 - h - 0.5f, 0.0f);
 }
 
 /* The odd checks' share of a box of half-widths ds, dt around st along one axis. */
@@ -476,7 +477,7 @@ static float odd_share(float x, float d) {
 /* pbrt-v3 Checkerboard2DTexture's closed-form box filter: tex2's weight over the footprint of
  * dstdx, dstdy (0.5 past a check's width), or -1 when it lies inside one check (point sample). */
 static float checker_box(const float st[2], const float dx[2], const float dy[2]) {
-  float ds = fmaxf(fabsf(dx[0]), fabsf(dy[0])), dt = fmaxf(fabsf(dx[1]), fabsf(dy[1]));
+  float ds = rs_fmaxf(fabsf(dx[0]), fabsf(dy[0])), dt = rs_fmaxf(fabsf(dx[1]), fabsf(dy[1]));
   if (floorf(st[0] - ds) == floorf(st[0] + ds) && floorf(st[1] - dt) == floorf(st[1] + dt))
     return -1.0f;
   if (!(ds <= 1.0f && dt <= 1.0f)) return 0.5f; /* NaN widths too */
