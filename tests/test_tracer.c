@@ -758,6 +758,22 @@ static void test_motion_instance(void **state) {
   h = trace1(t, r);
   assert_true(cw[0] > 1.0f);
   assert_int_equal(h.geom_id, CLR_TRACER_INVALID_ID);
+  /* a packet's lanes at different times, each traced at its own (every lane of a full packet) */
+  enum { LANES = 12 };
+  clr_ray rays[LANES];
+  clr_hit hits[LANES];
+  for (int i = 0; i < LANES; ++i) {
+    rays[i] = r;
+    rays[i].time = i % 3 == 1 ? 0.0f : 0.5f;
+  }
+  assert_int_equal(clr_tracer_intersect(t, rays, hits, LANES), CLR_SUCCESS);
+  for (int i = 0; i < LANES; ++i) {
+    clr_hit one = trace1(t, rays[i]);
+    assert_true(hits[i].time == rays[i].time);
+    assert_int_equal(hits[i].geom_id, i % 3 == 1 ? CLR_TRACER_INVALID_ID : one.geom_id);
+    assert_int_equal(one.user_id, i % 3 == 1 ? CLR_TRACER_INVALID_ID : 7u);
+    assert_true(hits[i].t == one.t);
+  }
   clr_tracer_release(t);
 }
 

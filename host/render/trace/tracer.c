@@ -9,6 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <embree3/rtcore.h>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 #include "render_error.h"
 
 #define PI_D 3.14159265358979323846
@@ -1037,20 +1040,51 @@ typedef union lane {
 /* Always inlined, so that each packet width gets its own constant-width loops. */
 #define PACKET_INLINE static inline __attribute__((always_inline))
 
+#if defined(__SSE2__)
+_Static_assert(offsetof(clr_ray, tnear) == 3 * sizeof(float) &&
+                   offsetof(clr_ray, tfar) == offsetof(clr_ray, dx) + 3 * sizeof(float),
+               "clr_ray: origin, tnear, then direction, tfar");
+/* Lanes [i, i + 4) of four rays' fields: clr_ray's first eight floats are Embree's org_x, org_y,
+ * org_z, tnear, dir_x, dir_y, dir_z and (past time) tfar, so two 4x4 transposes place them. */
+PACKET_INLINE void load_four(const clr_ray *r, int width, lane *p, int i) {
+  __m128 a0 = _mm_loadu_ps(&r[0].ox), a1 = _mm_loadu_ps(&r[1].ox);
+  __m128 a2 = _mm_loadu_ps(&r[2].ox), a3 = _mm_loadu_ps(&r[3].ox);
+  _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+  _mm_storeu_ps(&p[F_ORG_X * width + i].f, a0);
+  _mm_storeu_ps(&p[F_ORG_Y * width + i].f, a1);
+  _mm_storeu_ps(&p[F_ORG_Z * width + i].f, a2);
+  _mm_storeu_ps(&p[F_TNEAR * width + i].f, a3);
+  __m128 d0 = _mm_loadu_ps(&r[0].dx), d1 = _mm_loadu_ps(&r[1].dx);
+  __m128 d2 = _mm_loadu_ps(&r[2].dx), d3 = _mm_loadu_ps(&r[3].dx);
+  _MM_TRANSPOSE4_PS(d0, d1, d2, d3);
+  _mm_storeu_ps(&p[F_DIR_X * width + i].f, d0);
+  _mm_storeu_ps(&p[F_DIR_Y * width + i].f, d1);
+  _mm_storeu_ps(&p[F_DIR_Z * width + i].f, d2);
+  _mm_storeu_ps(&p[F_TFAR * width + i].f, d3);
+  _mm_storeu_ps(&p[F_TIME * width + i].f, _mm_setr_ps(r[0].time, r[1].time, r[2].time, r[3].time));
+}
+#endif
+
 /* Loads rays [base, base + lanes) into a `width`-lane packet; unused lanes are masked off. */
 PACKET_INLINE void load_packet(const clr_ray *rays, int32_t lanes, int width, lane *p, int *valid) {
   for (int32_t i = 0; i < width; ++i) {
+    valid[i] = i < lanes ? -1 : 0;
+    p[F_MASK * width + i].u = 0xffffffffu;
+    p[F_ID * width + i].u = (uint32_t)i;
+    p[F_FLAGS * width + i].u = 0;
+  }
+  int32_t i = 0;
+#if defined(__SSE2__)
+  for (; i + 4 <= lanes; i += 4) load_four(rays + i, width, p, i);
+#endif
+  for (; i < width; ++i) {
     static const clr_ray unused = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
     const clr_ray *r = i < lanes ? &rays[i] : &unused;
-    valid[i] = i < lanes ? -1 : 0;
     p[F_ORG_X * width + i].f = r->ox, p[F_ORG_Y * width + i].f = r->oy;
     p[F_ORG_Z * width + i].f = r->oz, p[F_TNEAR * width + i].f = r->tnear;
     p[F_DIR_X * width + i].f = r->dx, p[F_DIR_Y * width + i].f = r->dy;
     p[F_DIR_Z * width + i].f = r->dz, p[F_TFAR * width + i].f = r->tfar;
     p[F_TIME * width + i].f = r->time;
-    p[F_MASK * width + i].u = 0xffffffffu;
-    p[F_ID * width + i].u = (uint32_t)i;
-    p[F_FLAGS * width + i].u = 0;
   }
 }
 
