@@ -947,11 +947,56 @@ static clr_result invalid_ray(const clr_ray *r, int32_t i, const char *fn) {
                             (double)r->dy, (double)r->dz, (double)r->tnear, (double)r->tfar);
 }
 
+#if defined(__SSE2__)
+_Static_assert(offsetof(clr_ray, tnear) == 3 * sizeof(float) &&
+                   offsetof(clr_ray, tfar) == offsetof(clr_ray, dx) + 3 * sizeof(float),
+               "clr_ray: origin, tnear, then direction, tfar");
+
+/* Four rays' first eight floats, one vector of four lanes per field. */
+typedef struct four_rays {
+  __m128 ox, oy, oz, tnear, dx, dy, dz, tfar;
+} four_rays;
+
+/* Two 4x4 transposes of rays r[0..3]. */
+static inline __attribute__((always_inline)) four_rays transpose_four(const clr_ray *r) {
+  four_rays q = {_mm_loadu_ps(&r[0].ox), _mm_loadu_ps(&r[1].ox), _mm_loadu_ps(&r[2].ox),
+                 _mm_loadu_ps(&r[3].ox), _mm_loadu_ps(&r[0].dx), _mm_loadu_ps(&r[1].dx),
+                 _mm_loadu_ps(&r[2].dx), _mm_loadu_ps(&r[3].dx)};
+  _MM_TRANSPOSE4_PS(q.ox, q.oy, q.oz, q.tnear);
+  _MM_TRANSPOSE4_PS(q.dx, q.dy, q.dz, q.tfar);
+  return q;
+}
+
+/* Non-zero when one of the four rays fails ray_is_valid (check_rays' test, lane-wise). */
+static inline __attribute__((always_inline)) int four_invalid(const four_rays *q) {
+  __m128 f = _mm_add_ps(_mm_sub_ps(q->ox, q->ox), _mm_sub_ps(q->oy, q->oy));
+  f = _mm_add_ps(f, _mm_sub_ps(q->oz, q->oz));
+  f = _mm_add_ps(f, _mm_sub_ps(q->dx, q->dx));
+  f = _mm_add_ps(f, _mm_sub_ps(q->dy, q->dy));
+  f = _mm_add_ps(f, _mm_sub_ps(q->dz, q->dz));
+  f = _mm_add_ps(f, _mm_sub_ps(q->tnear, q->tnear));
+  const __m128 zero = _mm_setzero_ps();
+  __m128 bad = _mm_or_ps(_mm_cmpneq_ps(f, zero), _mm_cmpnge_ps(q->tnear, zero));
+  bad = _mm_or_ps(bad, _mm_cmpunord_ps(q->tfar, q->tfar));
+  __m128 no_dir = _mm_and_ps(_mm_cmpeq_ps(q->dx, zero), _mm_cmpeq_ps(q->dy, zero));
+  bad = _mm_or_ps(bad, _mm_and_ps(no_dir, _mm_cmpeq_ps(q->dz, zero)));
+  return _mm_movemask_ps(bad);
+}
+#endif
+
 /* Checks every ray before any is traced (the outputs stay untouched on failure): a branch-free
- * pass (x - x is 0 exactly for finite x), then the slow search only when one is bad. */
+ * pass (x - x is 0 exactly for finite x), four rays at a time where SSE2 is there, then the slow
+ * search only when one is bad. */
 static clr_result check_rays(const clr_ray *rays, int32_t count, const char *fn) {
   int bad = 0;
-  for (int32_t i = 0; i < count; ++i) {
+  int32_t i = 0;
+#if defined(__SSE2__)
+  for (; i + 4 <= count; i += 4) {
+    four_rays q = transpose_four(rays + i);
+    bad |= four_invalid(&q);
+  }
+#endif
+  for (; i < count; ++i) {
     const clr_ray *r = &rays[i];
     float f = (r->ox - r->ox) + (r->oy - r->oy) + (r->oz - r->oz) + (r->dx - r->dx) +
               (r->dy - r->dy) + (r->dz - r->dz) + (r->tnear - r->tnear);
@@ -1041,26 +1086,18 @@ typedef union lane {
 #define PACKET_INLINE static inline __attribute__((always_inline))
 
 #if defined(__SSE2__)
-_Static_assert(offsetof(clr_ray, tnear) == 3 * sizeof(float) &&
-                   offsetof(clr_ray, tfar) == offsetof(clr_ray, dx) + 3 * sizeof(float),
-               "clr_ray: origin, tnear, then direction, tfar");
 /* Lanes [i, i + 4) of four rays' fields: clr_ray's first eight floats are Embree's org_x, org_y,
- * org_z, tnear, dir_x, dir_y, dir_z and (past time) tfar, so two 4x4 transposes place them. */
+ * org_z, tnear, dir_x, dir_y, dir_z and (past time) tfar. */
 PACKET_INLINE void load_four(const clr_ray *r, int width, lane *p, int i) {
-  __m128 a0 = _mm_loadu_ps(&r[0].ox), a1 = _mm_loadu_ps(&r[1].ox);
-  __m128 a2 = _mm_loadu_ps(&r[2].ox), a3 = _mm_loadu_ps(&r[3].ox);
-  _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
-  _mm_storeu_ps(&p[F_ORG_X * width + i].f, a0);
-  _mm_storeu_ps(&p[F_ORG_Y * width + i].f, a1);
-  _mm_storeu_ps(&p[F_ORG_Z * width + i].f, a2);
-  _mm_storeu_ps(&p[F_TNEAR * width + i].f, a3);
-  __m128 d0 = _mm_loadu_ps(&r[0].dx), d1 = _mm_loadu_ps(&r[1].dx);
-  __m128 d2 = _mm_loadu_ps(&r[2].dx), d3 = _mm_loadu_ps(&r[3].dx);
-  _MM_TRANSPOSE4_PS(d0, d1, d2, d3);
-  _mm_storeu_ps(&p[F_DIR_X * width + i].f, d0);
-  _mm_storeu_ps(&p[F_DIR_Y * width + i].f, d1);
-  _mm_storeu_ps(&p[F_DIR_Z * width + i].f, d2);
-  _mm_storeu_ps(&p[F_TFAR * width + i].f, d3);
+  four_rays q = transpose_four(r);
+  _mm_storeu_ps(&p[F_ORG_X * width + i].f, q.ox);
+  _mm_storeu_ps(&p[F_ORG_Y * width + i].f, q.oy);
+  _mm_storeu_ps(&p[F_ORG_Z * width + i].f, q.oz);
+  _mm_storeu_ps(&p[F_TNEAR * width + i].f, q.tnear);
+  _mm_storeu_ps(&p[F_DIR_X * width + i].f, q.dx);
+  _mm_storeu_ps(&p[F_DIR_Y * width + i].f, q.dy);
+  _mm_storeu_ps(&p[F_DIR_Z * width + i].f, q.dz);
+  _mm_storeu_ps(&p[F_TFAR * width + i].f, q.tfar);
   _mm_storeu_ps(&p[F_TIME * width + i].f, _mm_setr_ps(r[0].time, r[1].time, r[2].time, r[3].time));
 }
 #endif
