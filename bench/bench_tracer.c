@@ -1,6 +1,7 @@
 /* Embree tracing throughput (rays/s, one thread) on a 100352-triangle height field: packets of
- * the tracer's width (rtcIntersect8/16, rtcOccluded8/16; clr_tracer_packet_width) against one
- * ray at a time (rtcIntersect1), the baseline, for incoherent and coherent rays. Not per
+ * the tracer's width (rtcIntersect8/16; clr_tracer_packet_width) and occlusion (one call of
+ * every ray: Embree's ray stream, rtcOccluded1M, in this triangle-only scene) against one ray
+ * at a time (rtcIntersect1), the baseline, for incoherent and coherent rays. Not per
  * device: the tracer runs on the host. */
 #include <math.h>
 #include <stdlib.h>

@@ -126,7 +126,8 @@ int clr_tracer_packet_width(clr_tracer tracer);
 clr_result clr_tracer_intersect_single(clr_tracer tracer, const clr_ray *rays, clr_hit *hits,
                                        int32_t count);
 /* occluded[i] = 1 when anything lies on ray i within [tnear, tfar], else 0 (rtcOccluded8 or
- * rtcOccluded16). */
+ * rtcOccluded16; calls of more than 512 rays in a scene without quadrics go through Embree's
+ * ray stream, rtcOccluded1M). */
 clr_result clr_tracer_occluded(clr_tracer tracer, const clr_ray *rays, uint8_t *occluded,
                                int32_t count);
 
