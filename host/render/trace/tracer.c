@@ -986,9 +986,16 @@ static inline __attribute__((always_inline)) int four_invalid(const four_rays *q
 }
 #endif
 
+/* Non-zero when r fails ray_is_valid, without branches (x - x is 0 exactly for finite x). */
+static inline int ray_invalid(const clr_ray *r) {
+  float f = (r->ox - r->ox) + (r->oy - r->oy) + (r->oz - r->oz) + (r->dx - r->dx) +
+            (r->dy - r->dy) + (r->dz - r->dz) + (r->tnear - r->tnear);
+  return !(f == 0.0f) | !(r->tnear >= 0.0f) | (r->tfar != r->tfar) |
+         ((r->dx == 0.0f) & (r->dy == 0.0f) & (r->dz == 0.0f));
+}
+
 /* Checks every ray before any is traced (the outputs stay untouched on failure): a branch-free
- * pass (x - x is 0 exactly for finite x), four rays at a time where SSE2 is there, then the slow
- * search only when one is bad. */
+ * pass, four rays at a time where SSE2 is there, then the slow search only when one is bad. */
 static clr_result check_rays(const clr_ray *rays, int32_t count, const char *fn) {
   int bad = 0;
   int32_t i = 0;
@@ -998,13 +1005,7 @@ static clr_result check_rays(const clr_ray *rays, int32_t count, const char *fn)
     bad |= four_invalid(&q);
   }
 #endif
-  for (; i < count; ++i) {
-    const clr_ray *r = &rays[i];
-    float f = (r->ox - r->ox) + (r->oy - r->oy) + (r->oz - r->oz) + (r->dx - r->dx) +
-              (r->dy - r->dy) + (r->dz - r->dz) + (r->tnear - r->tnear);
-    bad |= !(f == 0.0f) | !(r->tnear >= 0.0f) | (r->tfar != r->tfar) |
-           ((r->dx == 0.0f) & (r->dy == 0.0f) & (r->dz == 0.0f));
-  }
+  for (; i < count; ++i) bad |= ray_invalid(&rays[i]);
   if (bad)
     for (int32_t i = 0; i < count; ++i)
       if (!ray_is_valid(&rays[i])) return invalid_ray(&rays[i], i, fn);
@@ -1088,9 +1089,9 @@ typedef union lane {
 #define PACKET_INLINE static inline __attribute__((always_inline))
 
 #if defined(__SSE2__)
-/* Lanes [i, i + 4) of four rays' fields: clr_ray's first eight floats are Embree's org_x, org_y,
- * org_z, tnear, dir_x, dir_y, dir_z and (past time) tfar. */
-PACKET_INLINE void load_four(const clr_ray *r, int width, lane *p, int i) {
+/* Lanes [i, i + 4) of four rays' fields (clr_ray's first eight floats are Embree's org_x, org_y,
+ * org_z, tnear, dir_x, dir_y, dir_z and, past time, tfar); non-zero when one of them is invalid. */
+PACKET_INLINE int load_four(const clr_ray *r, int width, lane *p, int i) {
   four_rays q = transpose_four(r);
   _mm_storeu_ps(&p[F_ORG_X * width + i].f, q.ox);
   _mm_storeu_ps(&p[F_ORG_Y * width + i].f, q.oy);
@@ -1101,44 +1102,32 @@ PACKET_INLINE void load_four(const clr_ray *r, int width, lane *p, int i) {
   _mm_storeu_ps(&p[F_DIR_Z * width + i].f, q.dz);
   _mm_storeu_ps(&p[F_TFAR * width + i].f, q.tfar);
   _mm_storeu_ps(&p[F_TIME * width + i].f, _mm_setr_ps(r[0].time, r[1].time, r[2].time, r[3].time));
+  return four_invalid(&q);
 }
 #endif
 
-/* Loads rays [base, base + lanes) into a `width`-lane packet; unused lanes are masked off. */
-PACKET_INLINE void load_packet(const clr_ray *rays, int32_t lanes, int width, lane *p, int *valid) {
+/* Loads rays [base, base + lanes) into a `width`-lane packet (unused lanes are masked off);
+ * non-zero when one of those rays is invalid (check_rays' test). */
+PACKET_INLINE int load_packet(const clr_ray *rays, int32_t lanes, int width, lane *p, int *valid) {
   for (int32_t i = 0; i < width; ++i) {
     valid[i] = i < lanes ? -1 : 0;
     p[F_MASK * width + i].u = 0xffffffffu;
     p[F_ID * width + i].u = (uint32_t)i;
     p[F_FLAGS * width + i].u = 0;
   }
-  int32_t i = 0;
+  int32_t i = 0, bad = 0;
 #if defined(__SSE2__)
-  for (; i + 4 <= lanes; i += 4) load_four(rays + i, width, p, i);
+  for (; i + 4 <= lanes; i += 4) bad |= load_four(rays + i, width, p, i);
 #endif
   for (; i < width; ++i) {
     static const clr_ray unused = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f};
-    const clr_ray *r = i < lanes ? &rays[i] : &unused;
+    const clr_ray *r = i < lanes ? &rays[i] : &unused; /* unused is valid */
+    bad |= ray_invalid(r);
     p[F_ORG_X * width + i].f = r->ox, p[F_ORG_Y * width + i].f = r->oy;
     p[F_ORG_Z * width + i].f = r->oz, p[F_TNEAR * width + i].f = r->tnear;
     p[F_DIR_X * width + i].f = r->dx, p[F_DIR_Y * width + i].f = r->dy;
     p[F_DIR_Z * width + i].f = r->dz, p[F_TFAR * width + i].f = r->tfar;
     p[F_TIME * width + i].f = r->time;
-  }
-}
-
-/* Non-zero when a lane of a loaded packet fails ray_is_valid (check_rays' test, lane-wise). */
-PACKET_INLINE int packet_invalid(const lane *p, int width) {
-  int bad = 0;
-  for (int i = 0; i < width; ++i) {
-#define AT(field) p[(field)*width + i].f
-    float f = (AT(F_ORG_X) - AT(F_ORG_X)) + (AT(F_ORG_Y) - AT(F_ORG_Y)) +
-              (AT(F_ORG_Z) - AT(F_ORG_Z)) + (AT(F_DIR_X) - AT(F_DIR_X)) +
-              (AT(F_DIR_Y) - AT(F_DIR_Y)) + (AT(F_DIR_Z) - AT(F_DIR_Z)) +
-              (AT(F_TNEAR) - AT(F_TNEAR));
-    bad |= !(f == 0.0f) | !(AT(F_TNEAR) >= 0.0f) | (AT(F_TFAR) != AT(F_TFAR)) |
-           ((AT(F_DIR_X) == 0.0f) & (AT(F_DIR_Y) == 0.0f) & (AT(F_DIR_Z) == 0.0f));
-#undef AT
   }
   return bad;
 }
@@ -1190,7 +1179,7 @@ PACKET_INLINE clr_result trace_packets_of(const struct clr_tracer_t *t, int widt
       int32_t lanes = count - base < width ? count - base : width;
       alignas(64) int valid[16];
       alignas(64) lane p[PACKET_FIELDS * 16];
-      load_packet(rays + base, lanes, width, p, valid);
+      (void)load_packet(rays + base, lanes, width, p, valid); /* checked above */
       trace_packet(t, p, width, valid, rays + base, lanes, hits ? hits + base : NULL,
                    hits ? NULL : occluded + base);
     }
@@ -1202,8 +1191,7 @@ PACKET_INLINE clr_result trace_packets_of(const struct clr_tracer_t *t, int widt
   int bad = 0;
   for (int32_t k = 0; k < npackets; ++k) {
     int32_t base = width * k, lanes = count - base < width ? count - base : width;
-    load_packet(rays + base, lanes, width, packets + floats * (size_t)k, valid + base);
-    bad |= packet_invalid(packets + floats * (size_t)k, width);
+    bad |= load_packet(rays + base, lanes, width, packets + floats * (size_t)k, valid + base);
   }
   if (bad) CLR_CHECK(check_rays(rays, count, fn)); /* it names the first invalid ray */
   for (int32_t k = 0; k < npackets; ++k) {
@@ -1212,6 +1200,20 @@ PACKET_INLINE clr_result trace_packets_of(const struct clr_tracer_t *t, int widt
                  hits ? hits + base : NULL, hits ? NULL : occluded + base);
   }
   return CLR_SUCCESS;
+}
+
+/* A ray as Embree's single-ray and stream calls take it. */
+static struct RTCRay embree_ray(const clr_ray *r) {
+  return (struct RTCRay){.org_x = r->ox,
+                         .org_y = r->oy,
+                         .org_z = r->oz,
+                         .tnear = r->tnear,
+                         .dir_x = r->dx,
+                         .dir_y = r->dy,
+                         .dir_z = r->dz,
+                         .time = r->time,
+                         .tfar = r->tfar,
+                         .mask = 0xffffffffu};
 }
 
 /* Occlusion of checked rays through Embree's ray stream (rtcOccluded1M), which sorts them by
@@ -1225,19 +1227,7 @@ static void occluded_stream(const struct clr_tracer_t *t, const clr_ray *rays, i
   for (int32_t base = 0; base < count; base += STREAM_RAYS) {
     int32_t n = count - base < STREAM_RAYS ? count - base : STREAM_RAYS;
     for (int32_t i = 0; i < n; ++i) {
-      const clr_ray *r = &rays[base + i];
-      chunk[i] = (struct RTCRay){.org_x = r->ox,
-                                 .org_y = r->oy,
-                                 .org_z = r->oz,
-                                 .tnear = r->tnear,
-                                 .dir_x = r->dx,
-                                 .dir_y = r->dy,
-                                 .dir_z = r->dz,
-                                 .time = r->time,
-                                 .tfar = r->tfar,
-                                 .mask = 0xffffffffu,
-                                 .id = (unsigned)i,
-                                 .flags = 0};
+      chunk[i] = embree_ray(&rays[base + i]);
     }
     rtcOccluded1M(t->groups[0].scene, &context, chunk, (unsigned)n, sizeof *chunk);
     for (int32_t i = 0; i < n; ++i) occluded[base + i] = chunk[i].tfar == -INFINITY;
@@ -1281,16 +1271,7 @@ clr_result clr_tracer_intersect_single(clr_tracer t, const clr_ray *rays, clr_hi
   for (int32_t i = 0; i < count; ++i) {
     const clr_ray *r = &rays[i];
     struct RTCRayHit rh = {
-        .ray = {.org_x = r->ox,
-                .org_y = r->oy,
-                .org_z = r->oz,
-                .tnear = r->tnear,
-                .dir_x = r->dx,
-                .dir_y = r->dy,
-                .dir_z = r->dz,
-                .tfar = r->tfar,
-                .time = r->time,
-                .mask = 0xffffffffu},
+        .ray = embree_ray(r),
         .hit = {.geomID = RTC_INVALID_GEOMETRY_ID, .instID = {RTC_INVALID_GEOMETRY_ID}}};
     struct RTCIntersectContext context;
     rtcInitIntersectContext(&context);
