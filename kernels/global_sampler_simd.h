@@ -166,12 +166,6 @@ CLR_SIMD_INLINE float8 clr_sobol_value8(const clr_sampler_params *p, __global co
 #endif
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_HALTON && defined(CLR_INDEX32)
-/* Gathered as 16-bit lanes and widened once (each lane one load-and-insert on x86). */
-CLR_SIMD_INLINE uint8 clr_gather_u16(__global const ushort *t, uint8 i) {
-  return convert_uint8(
-      (ushort8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]));
-}
-
 CLR_SIMD_INLINE uint8 clr_gather_u32(__global const uint *t, uint8 i) {
   return (uint8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]);
 }

@@ -26,6 +26,14 @@ static inline __attribute__((always_inline)) uint8 clr_mul_hi8(uint8 a, uint m) 
   return as_uint8(even | odd);
 }
 
+/* t[i] in every lane, gathered as 16-bit lanes and widened once (each lane one load-and-insert
+ * on x86). */
+static inline __attribute__((always_inline)) uint8 clr_gather_u16(__global const ushort *t,
+                                                                  uint8 i) {
+  return convert_uint8(
+      (ushort8)(t[i.s0], t[i.s1], t[i.s2], t[i.s3], t[i.s4], t[i.s5], t[i.s6], t[i.s7]));
+}
+
 #if defined(__AVX2__)
 typedef char clr_bytes32 __attribute__((vector_size(32)));
 

@@ -1,9 +1,9 @@
 /* Device-only: pbrt-v4's samplers in OpenCL vector types for SIMD contexts, 8 lanes per
- * work-item: zsobol, paddedsobol and pmj02bn one pixel per lane (clr_v4_pixel_vectors' paths), sobol,
- * independent and stratified one sample vector per lane (clr_v4_sample_vector's). Each lane runs
- * the integer and float operations of the scalar functions (pbrt_v4_sampler_funcs.h), so the bits
- * are those of the host reference. 64-bit lanes are two halves of 4 (ulong8 values would change
- * the AVX2 ABI). */
+ * work-item: zsobol, paddedsobol and pmj02bn one pixel per lane (clr_v4_pixel_vectors' paths),
+ * sobol, halton, independent and stratified one sample vector per lane (clr_v4_sample_vector's).
+ * Each lane runs the integer and float operations of the scalar functions
+ * (pbrt_v4_sampler_funcs.h), so the bits are those of the host reference. 64-bit lanes are two
+ * halves of 4 (ulong8 values would change the AVX2 ABI). */
 #ifndef CLR_PBRT_V4_SAMPLER_SIMD_H
 #define CLR_PBRT_V4_SAMPLER_SIMD_H
 
@@ -443,6 +443,141 @@ static inline void clr_v4_sobol_vectors8(const clr_sampler_params *p,
         clr_store_pairs8(values, out, (size_t)(sl.first_value + 2 * j),
                          clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension),
                          clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension + 1));
+        dimension += 2;
+      }
+    }
+  }
+}
+
+/* pbrt-v4's HaltonSampler with permuted digits (its default), 8 sample vectors per work-item
+ * whose halton indices are below 2^32, with halton_exponent[1] >= 1 (so dimension 1's argument,
+ * index / 3^e1, is below 2^32 / 3 and its reversed digits below 2^32). */
+
+/* clr_v4_radical_inverse in base 2 of a < 2^32: its reversed digits r (k of them) are the
+ * reversed bits of a shifted down past 32 - k zero bits, so (float)r * 2^-k is this float. */
+CLR_V4_INLINE float8 clr_v4_radical_inverse2x8(uint8 a) {
+  return clr_v4_below_one8(convert_float8(clr_reverse_bits32x8(a)) * 0x1p-32f);
+}
+
+/* clr_v4_radical_inverse in base 3 (record pr) of a < 2^32 / 3: digit by digit while a lane has
+ * digits left; each lane multiplies its invBaseM once per digit of its own. */
+CLR_V4_INLINE float8 clr_v4_radical_inverse3x8(__global const clr_halton_prime *pr, uint8 a) {
+  const float inv_base = pr->inv_base;
+  uint8 reversed = (uint8)0u;
+  float8 inv_m = (float8)1.0f;
+  int8 active = a != 0u;
+  CLR_SCALAR_LOOP
+  while (clr_any8(active)) {
+    uint8 next = a / 3u;
+    reversed = select(reversed, reversed * 3u + (a - next * 3u), active);
+    inv_m = select(inv_m, inv_m * inv_base, active);
+    a = next;
+    active = a != 0u;
+  }
+  return clr_v4_below_one8(convert_float8(reversed) * inv_m);
+}
+
+/* clr_v4_scrambled_radical_inverse of a < 2^32 in every lane, digit i's permutation at perms +
+ * i * base (the dimension's DigitPermutation table). The scalar loop permutes all nDigits digits
+ * (zeros past a's own), so the lanes share its trip count; once every lane's digits are spent the
+ * rest are permuted zeros, the same in every lane: their reversed digits `tail` are read without
+ * a gather, and reversed * base^(digits left) + tail is what the scalar loop sums. The reversed
+ * digits (below base^nDigits) are summed in 32-bit lanes where that bound fits, else in 64-bit
+ * halves. */
+CLR_V4_INLINE float8 clr_v4_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
+                                                       __global const ushort *perms, uint8 a) {
+  const uint base = pr->base, magic = pr->div_magic, shift = pr->div_shift;
+  const int digits = clr_v4_scrambled_digits(pr);
+  float inv_m = 1.0f;
+  ulong bound = 1ul;
+  for (int i = 0; i < digits; ++i) {
+    inv_m *= pr->inv_base;
+    bound *= base;
+  }
+  float8 reversed;
+  int i = 0;
+  ulong tail = 0ul, scale = 1ul;
+  if (bound <= 0x100000000ul) {
+    uint8 r = (uint8)0u;
+    CLR_SCALAR_LOOP
+    for (; i < digits && clr_any8(a != 0u); ++i, perms += base) {
+      uint8 t = clr_mul_hi8(a, magic); /* clr_halton_div32 */
+      uint8 next = (t + ((a - t) >> 1u)) >> shift;
+      r = r * base + clr_gather_u16(perms, a - next * base);
+      a = next;
+    }
+    for (; i < digits; ++i, perms += base) {
+      tail = tail * base + perms[0];
+      scale *= base;
+    }
+    reversed = convert_float8(r * (uint)scale + (uint)tail);
+  } else {
+    ulong4 lo = (ulong4)0ul, hi = (ulong4)0ul;
+    CLR_SCALAR_LOOP
+    for (; i < digits && clr_any8(a != 0u); ++i, perms += base) {
+      uint8 t = clr_mul_hi8(a, magic);
+      uint8 next = (t + ((a - t) >> 1u)) >> shift;
+      uint8 e = clr_gather_u16(perms, a - next * base);
+      lo = lo * (ulong)base + convert_ulong4(e.lo);
+      hi = hi * (ulong)base + convert_ulong4(e.hi);
+      a = next;
+    }
+    for (; i < digits; ++i, perms += base) {
+      tail = tail * base + perms[0];
+      scale *= base;
+    }
+    reversed = (float8)(convert_float4(lo * scale + tail), convert_float4(hi * scale + tail));
+  }
+  return clr_v4_below_one8(inv_m * reversed);
+}
+
+/* clr_v4_halton_dimension with permuted digits in every lane: from the dimension's table, or past
+ * the tables (clr_v4_tables) lane by lane with the digits' hashes. */
+CLR_V4_INLINE float8 clr_v4_halton_dimension8(const clr_sampler_params *p, const clr_v4_tables *t,
+                                              uint8 index, int dim) {
+  __global const clr_halton_prime *pr = t->primes + dim;
+  if (dim < t->digit_dims)
+    return clr_v4_scrambled_radical_inverse8(pr, t->digit_perms + t->digit_offsets[dim], index);
+  uint lanes[CLR_V4_LANES];
+  float v[CLR_V4_LANES];
+  vstore8(index, 0, lanes);
+  for (int j = 0; j < CLR_V4_LANES; ++j)
+    v[j] = clr_v4_scrambled_radical_inverse(pr, (ulong)lanes[j], p->seed, 0);
+  return vload8(0, v);
+}
+
+/* clr_v4_sample_vector for pbrt-v4's HaltonSampler with permuted digits, 8 batch items of halton
+ * indices `index` (lane j's values at values[out[j]]): GetPixel2D reads the unscrambled
+ * dimensions 0 and 1, every other value the next dimension, wrapping to 2 past the primes. */
+static inline void clr_v4_halton_vectors8(const clr_sampler_params *p,
+                                          __global const clr_request_slot *slots,
+                                          const clr_v4_tables *t, uint8 index,
+                                          __global float *values, const ulong *out) {
+  int dimension = 2;
+  for (int r = 0; r < p->request_count; ++r) {
+    clr_request_slot sl = slots[r];
+    int elements = sl.array_size ? sl.array_size : 1;
+    for (int j = 0; j < elements; ++j) {
+      if (sl.skipped) { /* clr_v4_skip */
+        if (dimension + sl.dims - 1 >= CLR_HALTON_PRIMES) dimension = 2;
+        dimension += sl.dims;
+      } else if (r == p->film_request) {
+        uint8 base3 = index; /* index / 3^e1 (halton_scale[1]) */
+        CLR_UNROLL
+        for (int i = 0; i < 5; ++i)
+          if (i < p->halton_exponent[1]) base3 = base3 / 3u;
+        clr_store_pairs8(values, out, (size_t)sl.first_value,
+                         clr_v4_radical_inverse2x8(index >> (uint)p->halton_exponent[0]),
+                         clr_v4_radical_inverse3x8(t->primes + 1, base3));
+      } else if (sl.dims == 1) {
+        if (dimension >= CLR_HALTON_PRIMES) dimension = 2;
+        clr_store_lanes8(values, out, (size_t)(sl.first_value + j),
+                         clr_v4_halton_dimension8(p, t, index, dimension++));
+      } else {
+        if (dimension + 1 >= CLR_HALTON_PRIMES) dimension = 2;
+        clr_store_pairs8(values, out, (size_t)(sl.first_value + 2 * j),
+                         clr_v4_halton_dimension8(p, t, index, dimension),
+                         clr_v4_halton_dimension8(p, t, index, dimension + 1));
         dimension += 2;
       }
     }

@@ -78,8 +78,10 @@ __kernel void clr_v4_generate_pixels(
 #ifndef CLR_KERNELS_PORTABLE
 #include "pbrt_v4_sampler_simd.h"
 
-/* pbrt-v4's sobol, independent and stratified on SIMD contexts: one work-item per 8 batch items
- * (past the end the last item repeats), one per lane. Same arguments as clr_v4_generate. */
+/* pbrt-v4's sobol, halton, independent and stratified on SIMD contexts: one work-item per 8 batch
+ * items (past the end the last item repeats), one per lane. Same arguments as clr_v4_generate.
+ * Halton runs in lanes with permuted digits (its default) when every index is below 2^32 and
+ * halton_exponent[1] >= 1 (clr_v4_halton_vectors8), else lane by lane. */
 __kernel void clr_v4_generate8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const ulong *restrict vdc,
@@ -87,17 +89,16 @@ __kernel void clr_v4_generate8(
     __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
     __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
     int item_count) {
-  (void)primes, (void)pmj_pixels, (void)digit_perms, (void)digit_offsets, (void)digit_dims;
   size_t group = get_global_id(0);
   ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
   float fx[CLR_V4_LANES], fy[CLR_V4_LANES];
-  uint samples[CLR_V4_LANES];
+  uint samples[CLR_V4_LANES], item_of[CLR_V4_LANES];
   clr_v4_items8 items;
-  int sobol = p.v4_sampler == CLR_V4_SOBOL;
+  int sobol = p.v4_sampler == CLR_V4_SOBOL, halton = p.v4_sampler == CLR_V4_HALTON;
   /* A pixel's next sample starts 65536 draws on: that jump's terms (plus for increment 1; the
    * jump adds inc times it, as the terms are linear in inc). */
-  ulong jump_mult = 0ul, jump_plus = 0ul;
-  if (!sobol) clr_pcg32_advance_terms(65536ul, 1ul, &jump_mult, &jump_plus);
+  ulong jump_mult = 0ul, jump_plus = 0ul, index_high = 0ul;
+  if (!sobol && !halton) clr_pcg32_advance_terms(65536ul, 1ul, &jump_mult, &jump_plus);
   int last_pixel = -1, last_sample = 0;
   for (int j = 0; j < CLR_V4_LANES; ++j) {
     uint item = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)item_count - 1u);
@@ -105,7 +106,13 @@ __kernel void clr_v4_generate8(
     int x = p.batch_x0 + pixel - row * p.batch_width, y = p.batch_y0 + row;
     int sample = p.first_sample + (int)(item % (uint)p.sample_count);
     out[j] = (ulong)item * (ulong)p.values_per_sample;
-    if (sobol) {
+    item_of[j] = item;
+    if (halton) { /* a pixel's next sample: the stride on */
+      index[j] = pixel == last_pixel && sample == last_sample + 1
+                     ? index[j - 1] + (ulong)(uint)p.halton_stride
+                     : clr_v4_halton_index(&p, x, y, sample);
+      index_high |= index[j] >> 32u;
+    } else if (sobol) {
       index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
                                              vdc, vdc_inv);
     } else if (pixel == last_pixel && sample == last_sample + 1) { /* the last lane's, jumped */
@@ -124,6 +131,20 @@ __kernel void clr_v4_generate8(
     samples[j] = (uint)sample;
     fx[j] = (float)x;
     fy[j] = (float)y;
+  }
+  if (halton) {
+    clr_v4_tables t;
+    clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
+                         digit_dims, &t);
+    if (index_high == 0ul && p.randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS &&
+        p.halton_exponent[1] >= 1) {
+      uint8 index32 = (uint8)(convert_uint4(vload4(0, index)), convert_uint4(vload4(1, index)));
+      clr_v4_halton_vectors8(&p, slots, &t, index32, values, out);
+    } else {
+      for (int j = 0; j < CLR_V4_LANES; ++j)
+        clr_v4_sample_vector(&p, slots, &t, (int)item_of[j], values + out[j]);
+    }
+    return;
   }
   if (sobol) {
     clr_v4_u64x8 lanes;

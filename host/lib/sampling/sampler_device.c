@@ -710,8 +710,8 @@ static clr_result upload_digit_tables(clr_sampler_device *d, const clr_sampler_p
 }
 
 /* pbrt-v4's samplers: one work-item per batch item or pixel; on SIMD contexts zsobol,
- * paddedsobol and pmj02bn one per 8 pixels, sobol, independent and stratified one per 8 batch
- * items (halton: one per item everywhere). */
+ * paddedsobol and pmj02bn one per 8 pixels, sobol, halton, independent and stratified one per 8
+ * batch items. */
 static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                          const clr_request_slot *slots, const float *pmj_pixels, cl_mem values) {
   clr_context ctx = d->ctx;
@@ -731,12 +731,12 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   cl_int digit_dims = 0;
   CLR_CHECK(upload_digit_tables(d, p, slots, &digit_dims));
   /* zsobol, paddedsobol and pmj02bn: one work-item per pixel, (pixel, dimension) parts once;
-   * on SIMD contexts one per 8 pixels (a pixel per lane), sobol, independent and stratified one
-   * per 8 batch items. */
+   * on SIMD contexts one per 8 pixels (a pixel per lane), sobol, halton, independent and
+   * stratified one per 8 batch items. */
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
                   p->v4_sampler == CLR_V4_PMJ02BN;
   int portable = clr_context_portable(ctx);
-  int lanes = !portable && p->v4_sampler != CLR_V4_HALTON ? CLR_PIXEL_LANES : 1;
+  int lanes = !portable ? CLR_PIXEL_LANES : 1;
   const char *name = !per_pixel  ? (lanes > 1 ? "clr_v4_generate8" : "clr_v4_generate")
                      : lanes > 1 ? "clr_v4_generate_pixels8"
                                  : "clr_v4_generate_pixels";
