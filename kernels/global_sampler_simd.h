@@ -82,15 +82,6 @@ CLR_SIMD_INLINE void clr_store8(__global float *values, uint8 item, int values_p
   values[(size_t)item.s7 * stride + at] = v.s7;
 }
 
-/* Table lookup in every lane: table[index & 7] (one vpermd on AVX2). */
-CLR_SIMD_INLINE uint8 clr_permute8(uint8 table, uint8 index) {
-#if defined(__AVX2__)
-  return as_uint8(__builtin_ia32_permvarsi256(as_int8(table), as_int8(index)));
-#else
-  return shuffle(table, index & 7u);
-#endif
-}
-
 /* Sample numbers s * scale + offset of an index slot. */
 static inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
   return sample * (uint)ip.scale + (uint)ip.offset;
@@ -127,19 +118,9 @@ static inline uint8 clr_sobol_index8(const clr_sampler_params *p, uint8 frame, i
 }
 
 /* clr_sobol_sample_float for a table dimension, from its 3-bit group tables `groups`
- * (CLR_SOBOL_GROUP_ENTRIES per group: entry x of group g is the XOR of the columns 3g + b over
- * the bits b of x), one lookup per 3 of the index's `bits` (<= 32, uniform). Four groups a step:
- * entry 0 of a group past the bits is 0, and a table has 18 groups. */
+ * (clr_sobol_group_bits8), the index's `bits` <= 32 (uniform). */
 CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups, int bits) {
-  uint8 v = (uint8)0u;
-  CLR_SCALAR_LOOP
-  for (int g = 0; 3 * g < bits; g += 4, index >>= 12u) {
-    v ^= clr_permute8(vload8(g, groups), index);
-    v ^= clr_permute8(vload8(g + 1, groups), index >> 3u);
-    v ^= clr_permute8(vload8(g + 2, groups), index >> 6u);
-    v ^= clr_permute8(vload8(g + 3, groups), index >> 9u);
-  }
-  return clr_below_one8(convert_float8(v) * 0x1p-32f);
+  return clr_below_one8(convert_float8(clr_sobol_group_bits8(index, groups, bits)) * 0x1p-32f);
 }
 
 /* clr_sobol_sampler_value: dims 0 and 1 become the offset inside the pixel; dims past the

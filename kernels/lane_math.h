@@ -26,6 +26,32 @@ static inline __attribute__((always_inline)) uint8 clr_mul_hi8(uint8 a, uint m) 
   return as_uint8(even | odd);
 }
 
+/* Table lookup in every lane: table[index & 7] (one vpermd on AVX2). */
+static inline __attribute__((always_inline)) uint8 clr_permute8(uint8 table, uint8 index) {
+#if defined(__AVX2__)
+  return as_uint8(__builtin_ia32_permvarsi256(as_int8(table), as_int8(index)));
+#else
+  return shuffle(table, index & 7u);
+#endif
+}
+
+/* A Sobol' generator matrix times every lane's index (its `bits` <= 32, uniform), from the
+ * matrix's 3-bit group tables `groups` (CLR_SOBOL_GROUP_ENTRIES per group: entry x of group g is
+ * the XOR of the columns 3g + b over the bits b of x), one lookup per 3 bits. Four groups a step:
+ * entry 0 of a group past the bits is 0, and a table has 18 groups. */
+static inline __attribute__((always_inline)) uint8 clr_sobol_group_bits8(
+    uint8 index, __global const uint *groups, int bits) {
+  uint8 v = (uint8)0u;
+  CLR_SCALAR_LOOP
+  for (int g = 0; 3 * g < bits; g += 4, index >>= 12u) {
+    v ^= clr_permute8(vload8(g, groups), index);
+    v ^= clr_permute8(vload8(g + 1, groups), index >> 3u);
+    v ^= clr_permute8(vload8(g + 2, groups), index >> 6u);
+    v ^= clr_permute8(vload8(g + 3, groups), index >> 9u);
+  }
+  return v;
+}
+
 /* t[i] in every lane, gathered as 16-bit lanes and widened once (each lane one load-and-insert
  * on x86). */
 static inline __attribute__((always_inline)) uint8 clr_gather_u16(__global const ushort *t,

@@ -391,14 +391,31 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
   }
 }
 
-/* SobolSampler's Get1D at `dimension` for the 8 lanes' indices (bits below 2^bits). */
+/* The Sobol' matrices of clr_v4_sobol_vectors8: columns (sobol32), the 3-bit group tables
+ * (groups; NULL: none), and the 8 lanes' indices, below 2^bits, also in 32 bits when bits <= 32. */
+typedef struct clr_v4_sobol_lanes {
+  __global const uint *sobol32, *groups;
+  clr_v4_u64x8 index;
+  uint8 index32;
+  int bits;
+} clr_v4_sobol_lanes;
+
+/* clr_v4_sobol_bits of `dimension`'s matrix in every lane: one group lookup per 3 index bits
+ * where the indices have at most 32 and the tables are there, else column by column. */
+CLR_V4_INLINE uint8 clr_v4_sobol_matrix_bits8(const clr_v4_sobol_lanes *l, int dimension) {
+  if (l->groups && l->bits <= 32)
+    return clr_sobol_group_bits8(l->index32, l->groups + (size_t)dimension * CLR_SOBOL_GROUP_TABLE,
+                                 l->bits);
+  return clr_v4_sobol_bits8(&l->index, l->bits,
+                            l->sobol32 + (size_t)dimension * CLR_SOBOL_MATRIX_SIZE);
+}
+
+/* SobolSampler's Get1D at `dimension` for the 8 lanes' indices. */
 CLR_V4_INLINE float8 clr_v4_sobol_dimension8(const clr_sampler_params *p,
-                                             __global const uint *sobol32,
-                                             const clr_v4_u64x8 *index, int bits, int dimension) {
+                                             const clr_v4_sobol_lanes *l, int dimension) {
   uint hash = (uint)clr_v4_hash8(clr_v4_pack(dimension, (int)p->seed));
-  return clr_v4_sobol_finish8(
-      clr_v4_sobol_bits8(index, bits, sobol32 + (size_t)dimension * CLR_SOBOL_MATRIX_SIZE),
-      p->randomization, (uint8)hash);
+  return clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(l, dimension), p->randomization,
+                              (uint8)hash);
 }
 
 /* clr_v4_sobol_pixel in every lane. */
@@ -409,17 +426,22 @@ CLR_V4_INLINE float8 clr_v4_sobol_pixel8(const clr_sampler_params *p, float8 u, 
 }
 
 /* clr_v4_sample_vector for pbrt-v4's SobolSampler, 8 batch items (one per lane: index, pixel,
- * lane j's values at values[out[j]]). */
+ * lane j's values at values[out[j]]); groups: the matrices' group tables, or NULL. */
 static inline void clr_v4_sobol_vectors8(const clr_sampler_params *p,
                                          __global const clr_request_slot *slots,
-                                         __global const uint *sobol32, const clr_v4_u64x8 *index,
-                                         float8 px, float8 py, __global float *values,
-                                         const ulong *out) {
+                                         __global const uint *sobol32, __global const uint *groups,
+                                         const clr_v4_u64x8 *index, float8 px, float8 py,
+                                         __global float *values, const ulong *out) {
   ulong4 any = index->lo | index->hi; /* the indices' bits: those of their OR */
   ulong2 any2 = any.lo | any.hi;
   ulong all = any2.x | any2.y;
-  int bits = 0;
-  while (bits < 64 && (all >> (ulong)bits) != 0ul) ++bits;
+  clr_v4_sobol_lanes l;
+  l.sobol32 = sobol32;
+  l.groups = groups;
+  l.index = *index;
+  l.index32 = (uint8)(convert_uint4(index->lo), convert_uint4(index->hi));
+  l.bits = 0;
+  while (l.bits < 64 && (all >> (ulong)l.bits) != 0ul) ++l.bits;
   int dimension = 2;
   for (int r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];
@@ -429,20 +451,19 @@ static inline void clr_v4_sobol_vectors8(const clr_sampler_params *p,
         if (dimension + sl.dims - 1 >= CLR_SOBOL_DIMENSIONS) dimension = 2;
         dimension += sl.dims;
       } else if (r == p->film_request) { /* GetPixel2D: unrandomized dimensions 0 and 1 */
-        float8 u0 = clr_v4_sobol_finish8(clr_v4_sobol_bits8(index, bits, sobol32), 0, (uint8)0u);
-        float8 u1 = clr_v4_sobol_finish8(
-            clr_v4_sobol_bits8(index, bits, sobol32 + CLR_SOBOL_MATRIX_SIZE), 0, (uint8)0u);
+        float8 u0 = clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(&l, 0), 0, (uint8)0u);
+        float8 u1 = clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(&l, 1), 0, (uint8)0u);
         clr_store_pairs8(values, out, (size_t)sl.first_value, clr_v4_sobol_pixel8(p, u0, px),
                          clr_v4_sobol_pixel8(p, u1, py));
       } else if (sl.dims == 1) {
         if (dimension >= CLR_SOBOL_DIMENSIONS) dimension = 2;
         clr_store_lanes8(values, out, (size_t)(sl.first_value + j),
-                         clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension++));
+                         clr_v4_sobol_dimension8(p, &l, dimension++));
       } else {
         if (dimension + 1 >= CLR_SOBOL_DIMENSIONS) dimension = 2;
         clr_store_pairs8(values, out, (size_t)(sl.first_value + 2 * j),
-                         clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension),
-                         clr_v4_sobol_dimension8(p, sobol32, index, bits, dimension + 1));
+                         clr_v4_sobol_dimension8(p, &l, dimension),
+                         clr_v4_sobol_dimension8(p, &l, dimension + 1));
         dimension += 2;
       }
     }

@@ -38,16 +38,17 @@ CLR_INLINE void clr_v4_kernel_tables(const clr_sampler_params *p, __global const
 
 /* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1): one work-item per batch
  * item, the host reference's scalar functions, on SIMD and portable contexts alike (SIMD
- * contexts run zsobol and paddedsobol in clr_v4_generate_pixels8, below). */
-__kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
-                              __global const uint *restrict sobol32,
-                              __global const ulong *restrict vdc,
-                              __global const ulong *restrict vdc_inv,
-                              __global const clr_halton_prime *restrict primes,
-                              __global const float *restrict pmj_pixels,
-                              __global const ushort *restrict digit_perms,
-                              __global const uint *restrict digit_offsets, int digit_dims,
-                              __global float *restrict values, int item_count) {
+ * contexts run zsobol and paddedsobol in clr_v4_generate_pixels8, below). sobol32: the Sobol'
+ * matrices as columns; sobol_groups: as 3-bit group tables (read by clr_v4_generate8's sobol
+ * only; NULL for the other samplers). */
+__kernel void clr_v4_generate(
+    clr_sampler_params p, __global const clr_request_slot *restrict slots,
+    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
+    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
+    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
+    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
+    int digit_dims, __global float *restrict values, int item_count) {
+  (void)sobol_groups;
   const int item = (int)get_global_id(0);
   if (item >= item_count) return;
   clr_v4_tables t;
@@ -60,11 +61,12 @@ __kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_s
  * each (pixel, dimension) part once). Same arguments as clr_v4_generate; pixel_count pixels. */
 __kernel void clr_v4_generate_pixels(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
-    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
-    __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
-    __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
-    int pixel_count) {
+    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
+    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
+    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
+    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
+    int digit_dims, __global float *restrict values, int pixel_count) {
+  (void)sobol_groups;
   const int pixel = (int)get_global_id(0);
   if (pixel >= pixel_count) return;
   clr_v4_tables t;
@@ -84,11 +86,11 @@ __kernel void clr_v4_generate_pixels(
  * halton_exponent[1] >= 1 (clr_v4_halton_vectors8), else lane by lane. */
 __kernel void clr_v4_generate8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
-    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
-    __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
-    __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
-    int item_count) {
+    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
+    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
+    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
+    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
+    int digit_dims, __global float *restrict values, int item_count) {
   size_t group = get_global_id(0);
   ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
   float fx[CLR_V4_LANES], fy[CLR_V4_LANES];
@@ -150,7 +152,8 @@ __kernel void clr_v4_generate8(
     clr_v4_u64x8 lanes;
     lanes.lo = vload4(0, index);
     lanes.hi = vload4(1, index);
-    clr_v4_sobol_vectors8(&p, slots, sobol32, &lanes, vload8(0, fx), vload8(0, fy), values, out);
+    clr_v4_sobol_vectors8(&p, slots, sobol32, sobol_groups, &lanes, vload8(0, fx), vload8(0, fy),
+                          values, out);
     return;
   }
   items.rng.state_lo = vload4(0, index);
@@ -168,11 +171,12 @@ __kernel void clr_v4_generate8(
  * end the last pixel repeats), one pixel per lane. Same arguments as clr_v4_generate_pixels. */
 __kernel void clr_v4_generate_pixels8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const ulong *restrict vdc,
-    __global const ulong *restrict vdc_inv, __global const clr_halton_prime *restrict primes,
-    __global const float *restrict pmj_pixels, __global const ushort *restrict digit_perms,
-    __global const uint *restrict digit_offsets, int digit_dims, __global float *restrict values,
-    int pixel_count) {
+    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
+    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
+    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
+    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
+    int digit_dims, __global float *restrict values, int pixel_count) {
+  (void)sobol_groups;
   clr_v4_tables t;
   clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
                        digit_dims, &t);

@@ -716,9 +716,14 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
                          const clr_request_slot *slots, const float *pmj_pixels, cl_mem values) {
   clr_context ctx = d->ctx;
   size_t items = batch_items(p);
-  cl_mem sobol32 = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL;
+  cl_mem sobol32 = NULL, sobol_groups = NULL, vdc = NULL, vdc_inv = NULL, primes = NULL;
   CLR_CHECK(share_sobol_matrices(ctx, &sobol32));
   CLR_CHECK(share_vdc_matrices(ctx, &vdc, &vdc_inv));
+  int portable = clr_context_portable(ctx);
+  if (p->v4_sampler == CLR_V4_SOBOL && !portable) /* clr_v4_generate8's 32-bit indices */
+    CLR_CHECK(clr_context_shared_buffer(
+        ctx, "sobol_groups", sobol_group_tables(),
+        sizeof(clr_u32) * CLR_SOBOL_DIMENSIONS * CLR_SOBOL_GROUP_TABLE, &sobol_groups));
   if (p->v4_sampler == CLR_V4_HALTON) /* the others leave it NULL: its tables take 15 ms */
     CLR_CHECK(clr_context_shared_buffer(ctx, "halton_primes", clr_halton_primes(),
                                         sizeof(clr_halton_prime) * CLR_HALTON_PRIME_RECORDS,
@@ -735,7 +740,6 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
    * stratified one per 8 batch items. */
   int per_pixel = p->v4_sampler == CLR_V4_ZSOBOL || p->v4_sampler == CLR_V4_PADDEDSOBOL ||
                   p->v4_sampler == CLR_V4_PMJ02BN;
-  int portable = clr_context_portable(ctx);
   int lanes = !portable ? CLR_PIXEL_LANES : 1;
   const char *name = !per_pixel  ? (lanes > 1 ? "clr_v4_generate8" : "clr_v4_generate")
                      : lanes > 1 ? "clr_v4_generate_pixels8"
@@ -753,6 +757,7 @@ static clr_result run_v4(clr_sampler_device *d, const clr_sampler_params *p,
   SET_ARG(ctx, k, a++, *p);
   SET_ARG(ctx, k, a++, d->slots.mem);
   SET_ARG(ctx, k, a++, sobol32);
+  SET_ARG(ctx, k, a++, sobol_groups);
   SET_ARG(ctx, k, a++, vdc);
   SET_ARG(ctx, k, a++, vdc_inv);
   SET_ARG(ctx, k, a++, primes);
