@@ -1,4 +1,5 @@
-/* Sample generation throughput (values/s) per sampler on each device, against the host reference. */
+/* Sample generation throughput (values/s) per sampler on each device, against the host reference;
+ * halton, sobol and stratified also with pbrt-v4's logic (--seeding pbrt-v4). */
 #include <stdlib.h>
 #include <string.h>
 #include "bench.h"
@@ -31,12 +32,23 @@ static void setup_run(run *r, clr_sampler s, int side) {
   clr_sample_output_init(&r->out);
 }
 
+/* A bench line's sampler: a type and a seeding (CLR_SEEDING_PBRT_V4, or the default). */
+typedef struct sampler_case {
+  clr_sampler_type type;
+  int v4;
+} sampler_case;
+
+static void case_desc(sampler_case c, clr_sampler_desc *d) {
+  clr_sampler_desc_init(d, c.type);
+  if (c.v4) d->seeding = CLR_SEEDING_PBRT_V4;
+  d->film.x_resolution = d->film.y_resolution = 512;
+}
+
 /* Values per second of the single-thread host reference on a smaller batch. */
-static double reference_rate(clr_sampler_type type, const bench_options *o) {
+static double reference_rate(sampler_case c, const bench_options *o) {
   int side = o->quick ? 32 : 64;
   clr_sampler_desc d;
-  clr_sampler_desc_init(&d, type);
-  d.film.x_resolution = d.film.y_resolution = 512;
+  case_desc(c, &d);
   clr_sampler s = NULL;
   if (clr_sampler_create(NULL, &d, &s) != CLR_SUCCESS) return -1;
   run r;
@@ -51,12 +63,11 @@ static double reference_rate(clr_sampler_type type, const bench_options *o) {
 }
 
 /* The device's timing of `*value_count` values; 0 on failure. */
-static int device_timing(clr_context ctx, clr_sampler_type type, const bench_options *o,
-                         bench_timing *t, double *value_count) {
+static int device_timing(clr_context ctx, sampler_case c, const bench_options *o, bench_timing *t,
+                         double *value_count) {
   int side = o->quick ? 128 : 512;
   clr_sampler_desc d;
-  clr_sampler_desc_init(&d, type);
-  d.film.x_resolution = d.film.y_resolution = 512;
+  case_desc(c, &d);
   clr_sampler s = NULL;
   if (clr_sampler_create(ctx, &d, &s) != CLR_SUCCESS) return 0;
   run r;
@@ -82,25 +93,39 @@ static int sampler_wanted(clr_sampler_type t) {
   return 0;
 }
 
+/* Every sampler with its default seeding, then pbrt-v4's halton, sobol and stratified: how many
+ * cases (at most `most`). */
+static int sampler_cases(sampler_case *cases, int most) {
+  static const clr_sampler_type v4[] = {CLR_SAMPLER_HALTON, CLR_SAMPLER_SOBOL,
+                                        CLR_SAMPLER_STRATIFIED};
+  int n = 0;
+  for (int t = 0; t < bench_sampler_count() && n < most; ++t)
+    cases[n++] = (sampler_case){(clr_sampler_type)t, 0};
+  for (int k = 0; k < 3 && n < most; ++k) cases[n++] = (sampler_case){v4[k], 1};
+  return n;
+}
+
 void bench_samples(const bench_options *o, const clr_device_info *devices, int device_count) {
-  enum { MAX_TYPES = 64 };
-  int types = bench_sampler_count() < MAX_TYPES ? bench_sampler_count() : MAX_TYPES;
-  double baseline[MAX_TYPES];
-  for (int t = 0; t < types; ++t)
-    baseline[t] = sampler_wanted((clr_sampler_type)t) ? reference_rate((clr_sampler_type)t, o) : -1;
+  enum { MAX_CASES = 64 };
+  sampler_case cases[MAX_CASES];
+  int count = sampler_cases(cases, MAX_CASES);
+  double baseline[MAX_CASES];
+  for (int c = 0; c < count; ++c)
+    baseline[c] = sampler_wanted(cases[c].type) ? reference_rate(cases[c], o) : -1;
   for (int i = 0; i < device_count; ++i) {
     clr_context ctx = bench_open_device(o, devices, i, "samples");
     if (!ctx) continue;
-    for (int t = 0; t < types; ++t) {
-      if (!sampler_wanted((clr_sampler_type)t)) continue;
+    for (int c = 0; c < count; ++c) {
+      if (!sampler_wanted(cases[c].type)) continue;
       bench_timing timing;
       double values = 0;
-      int ok = device_timing(ctx, (clr_sampler_type)t, o, &timing, &values);
+      int ok = device_timing(ctx, cases[c], o, &timing, &values);
       double rate = ok ? values / timing.median : -1;
       printf("{\"bench\":\"samples\",");
       bench_json_device(ctx);
-      printf(",\"sampler\":\"%s\",\"layout_values\":%d", clr_sampler_type_name((clr_sampler_type)t),
-             LAYOUT_VALUES);
+      printf(",\"sampler\":\"%s\"", clr_sampler_type_name(cases[c].type));
+      if (cases[c].v4) printf(",\"seeding\":\"pbrt-v4\"");
+      printf(",\"layout_values\":%d", LAYOUT_VALUES);
       if (!ok) {
         printf(",\"error\":");
         bench_json_escape(stdout, clr_last_error_message());
@@ -108,7 +133,7 @@ void bench_samples(const bench_options *o, const clr_device_info *devices, int d
         printf(
             ",\"values_per_s\":%.4g,\"baseline\":\"host reference, 1 thread\","
             "\"baseline_values_per_s\":%.4g,\"ratio\":%.2f",
-            rate, baseline[t], baseline[t] > 0 ? rate / baseline[t] : 0.0);
+            rate, baseline[c], baseline[c] > 0 ? rate / baseline[c] : 0.0);
         bench_json_spread("values_per_s", values, &timing);
       }
       printf("}\n");
