@@ -391,7 +391,7 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
   }
 }
 
-/* The Sobol' matrices of clr_v4_sobol_vectors8: columns (sobol32), the 3-bit group tables
+/* The Sobol' matrices of clr_v4_global_vectors8: columns (sobol32), the 3-bit group tables
  * (groups; NULL: none), and the 8 lanes' indices, below 2^bits, also in 32 bits when bits <= 32. */
 typedef struct clr_v4_sobol_lanes {
   __global const uint *sobol32, *groups;
@@ -425,49 +425,19 @@ CLR_V4_INLINE float8 clr_v4_sobol_pixel8(const clr_sampler_params *p, float8 u, 
   return select(v, (float8)0.0f, v < 0.0f);
 }
 
-/* clr_v4_sample_vector for pbrt-v4's SobolSampler, 8 batch items (one per lane: index, pixel,
- * lane j's values at values[out[j]]); groups: the matrices' group tables, or NULL. */
-static inline void clr_v4_sobol_vectors8(const clr_sampler_params *p,
-                                         __global const clr_request_slot *slots,
-                                         __global const uint *sobol32, __global const uint *groups,
-                                         const clr_v4_u64x8 *index, float8 px, float8 py,
-                                         __global float *values, const ulong *out) {
-  ulong4 any = index->lo | index->hi; /* the indices' bits: those of their OR */
+/* The lanes' Sobol' state for clr_v4_global_vectors8: the matrices (groups may be NULL) and the
+ * indices, with their bit count (that of their OR). */
+CLR_V4_INLINE void clr_v4_sobol_lanes_init(clr_v4_sobol_lanes *l, __global const uint *sobol32,
+                                           __global const uint *groups, const clr_v4_u64x8 *index) {
+  ulong4 any = index->lo | index->hi;
   ulong2 any2 = any.lo | any.hi;
   ulong all = any2.x | any2.y;
-  clr_v4_sobol_lanes l;
-  l.sobol32 = sobol32;
-  l.groups = groups;
-  l.index = *index;
-  l.index32 = (uint8)(convert_uint4(index->lo), convert_uint4(index->hi));
-  l.bits = 0;
-  while (l.bits < 64 && (all >> (ulong)l.bits) != 0ul) ++l.bits;
-  int dimension = 2;
-  for (int r = 0; r < p->request_count; ++r) {
-    clr_request_slot sl = slots[r];
-    int elements = sl.array_size ? sl.array_size : 1;
-    for (int j = 0; j < elements; ++j) {
-      if (sl.skipped) { /* clr_v4_skip */
-        if (dimension + sl.dims - 1 >= CLR_SOBOL_DIMENSIONS) dimension = 2;
-        dimension += sl.dims;
-      } else if (r == p->film_request) { /* GetPixel2D: unrandomized dimensions 0 and 1 */
-        float8 u0 = clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(&l, 0), 0, (uint8)0u);
-        float8 u1 = clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(&l, 1), 0, (uint8)0u);
-        clr_store_pairs8(values, out, (size_t)sl.first_value, clr_v4_sobol_pixel8(p, u0, px),
-                         clr_v4_sobol_pixel8(p, u1, py));
-      } else if (sl.dims == 1) {
-        if (dimension >= CLR_SOBOL_DIMENSIONS) dimension = 2;
-        clr_store_lanes8(values, out, (size_t)(sl.first_value + j),
-                         clr_v4_sobol_dimension8(p, &l, dimension++));
-      } else {
-        if (dimension + 1 >= CLR_SOBOL_DIMENSIONS) dimension = 2;
-        clr_store_pairs8(values, out, (size_t)(sl.first_value + 2 * j),
-                         clr_v4_sobol_dimension8(p, &l, dimension),
-                         clr_v4_sobol_dimension8(p, &l, dimension + 1));
-        dimension += 2;
-      }
-    }
-  }
+  l->sobol32 = sobol32;
+  l->groups = groups;
+  l->index = *index;
+  l->index32 = (uint8)(convert_uint4(index->lo), convert_uint4(index->hi));
+  l->bits = 0;
+  while (l->bits < 64 && (all >> (ulong)l->bits) != 0ul) ++l->bits;
 }
 
 /* pbrt-v4's HaltonSampler with permuted digits (its default), 8 sample vectors per work-item
@@ -567,38 +537,71 @@ CLR_V4_INLINE float8 clr_v4_halton_dimension8(const clr_sampler_params *p, const
   return vload8(0, v);
 }
 
-/* clr_v4_sample_vector for pbrt-v4's HaltonSampler with permuted digits, 8 batch items of halton
- * indices `index` (lane j's values at values[out[j]]): GetPixel2D reads the unscrambled
- * dimensions 0 and 1, every other value the next dimension, wrapping to 2 past the primes. */
-static inline void clr_v4_halton_vectors8(const clr_sampler_params *p,
+/* The 8 lanes of pbrt-v4's global samplers: sobol's (its matrices and indices, the lanes'
+ * pixels for GetPixel2D), or halton's (its tables and 32-bit indices). */
+typedef struct clr_v4_global_lanes {
+  clr_v4_sobol_lanes sobol;
+  float8 px, py;
+  const clr_v4_tables *halton;
+  uint8 halton_index;
+} clr_v4_global_lanes;
+
+/* GetPixel2D in every lane: the unrandomized dimensions 0 and 1 (sobol's remapped into the
+ * pixel; halton's second one of index / 3^e1, halton_scale[1]). */
+CLR_V4_INLINE void clr_v4_global_pixel8(const clr_sampler_params *p, const clr_v4_global_lanes *g,
+                                        float8 *u0, float8 *u1) {
+  if (p->v4_sampler == CLR_V4_HALTON) {
+    uint8 base3 = g->halton_index;
+    CLR_UNROLL
+    for (int i = 0; i < 5; ++i)
+      if (i < p->halton_exponent[1]) base3 = base3 / 3u;
+    *u0 = clr_v4_radical_inverse2x8(g->halton_index >> (uint)p->halton_exponent[0]);
+    *u1 = clr_v4_radical_inverse3x8(g->halton->primes + 1, base3);
+    return;
+  }
+  *u0 = clr_v4_sobol_pixel8(
+      p, clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(&g->sobol, 0), 0, (uint8)0u), g->px);
+  *u1 = clr_v4_sobol_pixel8(
+      p, clr_v4_sobol_finish8(clr_v4_sobol_matrix_bits8(&g->sobol, 1), 0, (uint8)0u), g->py);
+}
+
+/* Get1D at `dimension` in every lane. */
+CLR_V4_INLINE float8 clr_v4_global_value8(const clr_sampler_params *p, const clr_v4_global_lanes *g,
+                                          int dimension) {
+  return p->v4_sampler == CLR_V4_HALTON
+             ? clr_v4_halton_dimension8(p, g->halton, g->halton_index, dimension)
+             : clr_v4_sobol_dimension8(p, &g->sobol, dimension);
+}
+
+/* clr_v4_sample_vector for pbrt-v4's SobolSampler and HaltonSampler (permuted digits), 8 batch
+ * items (lane j's values at values[out[j]]): GetPixel2D, then every other value the next
+ * dimension, wrapping to 2 past sobol's tables or halton's primes (skipped requests too). */
+static inline void clr_v4_global_vectors8(const clr_sampler_params *p,
                                           __global const clr_request_slot *slots,
-                                          const clr_v4_tables *t, uint8 index,
-                                          __global float *values, const ulong *out) {
+                                          const clr_v4_global_lanes *g, __global float *values,
+                                          const ulong *out) {
+  const int wrap = p->v4_sampler == CLR_V4_HALTON ? CLR_HALTON_PRIMES : CLR_SOBOL_DIMENSIONS;
   int dimension = 2;
   for (int r = 0; r < p->request_count; ++r) {
     clr_request_slot sl = slots[r];
     int elements = sl.array_size ? sl.array_size : 1;
     for (int j = 0; j < elements; ++j) {
       if (sl.skipped) { /* clr_v4_skip */
-        if (dimension + sl.dims - 1 >= CLR_HALTON_PRIMES) dimension = 2;
+        if (dimension + sl.dims - 1 >= wrap) dimension = 2;
         dimension += sl.dims;
       } else if (r == p->film_request) {
-        uint8 base3 = index; /* index / 3^e1 (halton_scale[1]) */
-        CLR_UNROLL
-        for (int i = 0; i < 5; ++i)
-          if (i < p->halton_exponent[1]) base3 = base3 / 3u;
-        clr_store_pairs8(values, out, (size_t)sl.first_value,
-                         clr_v4_radical_inverse2x8(index >> (uint)p->halton_exponent[0]),
-                         clr_v4_radical_inverse3x8(t->primes + 1, base3));
+        float8 u0, u1;
+        clr_v4_global_pixel8(p, g, &u0, &u1);
+        clr_store_pairs8(values, out, (size_t)sl.first_value, u0, u1);
       } else if (sl.dims == 1) {
-        if (dimension >= CLR_HALTON_PRIMES) dimension = 2;
+        if (dimension >= wrap) dimension = 2;
         clr_store_lanes8(values, out, (size_t)(sl.first_value + j),
-                         clr_v4_halton_dimension8(p, t, index, dimension++));
+                         clr_v4_global_value8(p, g, dimension++));
       } else {
-        if (dimension + 1 >= CLR_HALTON_PRIMES) dimension = 2;
+        if (dimension + 1 >= wrap) dimension = 2;
         clr_store_pairs8(values, out, (size_t)(sl.first_value + 2 * j),
-                         clr_v4_halton_dimension8(p, t, index, dimension),
-                         clr_v4_halton_dimension8(p, t, index, dimension + 1));
+                         clr_v4_global_value8(p, g, dimension),
+                         clr_v4_global_value8(p, g, dimension + 1));
         dimension += 2;
       }
     }

@@ -83,7 +83,7 @@ __kernel void clr_v4_generate_pixels(
 /* pbrt-v4's sobol, halton, independent and stratified on SIMD contexts: one work-item per 8 batch
  * items (past the end the last item repeats), one per lane. Same arguments as clr_v4_generate.
  * Halton runs in lanes with permuted digits (its default) when every index is below 2^32 and
- * halton_exponent[1] >= 1 (clr_v4_halton_vectors8), else lane by lane. */
+ * halton_exponent[1] >= 1 (clr_v4_global_vectors8), else lane by lane. */
 __kernel void clr_v4_generate8(
     clr_sampler_params p, __global const clr_request_slot *restrict slots,
     __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
@@ -140,8 +140,10 @@ __kernel void clr_v4_generate8(
                          digit_dims, &t);
     if (index_high == 0ul && p.randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS &&
         p.halton_exponent[1] >= 1) {
-      uint8 index32 = (uint8)(convert_uint4(vload4(0, index)), convert_uint4(vload4(1, index)));
-      clr_v4_halton_vectors8(&p, slots, &t, index32, values, out);
+      clr_v4_global_lanes g;
+      g.halton = &t;
+      g.halton_index = (uint8)(convert_uint4(vload4(0, index)), convert_uint4(vload4(1, index)));
+      clr_v4_global_vectors8(&p, slots, &g, values, out);
     } else {
       for (int j = 0; j < CLR_V4_LANES; ++j)
         clr_v4_sample_vector(&p, slots, &t, (int)item_of[j], values + out[j]);
@@ -152,8 +154,11 @@ __kernel void clr_v4_generate8(
     clr_v4_u64x8 lanes;
     lanes.lo = vload4(0, index);
     lanes.hi = vload4(1, index);
-    clr_v4_sobol_vectors8(&p, slots, sobol32, sobol_groups, &lanes, vload8(0, fx), vload8(0, fy),
-                          values, out);
+    clr_v4_global_lanes g;
+    clr_v4_sobol_lanes_init(&g.sobol, sobol32, sobol_groups, &lanes);
+    g.px = vload8(0, fx);
+    g.py = vload8(0, fy);
+    clr_v4_global_vectors8(&p, slots, &g, values, out);
     return;
   }
   items.rng.state_lo = vload4(0, index);
