@@ -27,6 +27,9 @@ typedef struct clr_v4_tables {
   CLR_GLOBAL const clr_u16 *digit_perms;
   CLR_GLOBAL const clr_u32 *digit_offsets;
   clr_i32 digit_dims;
+  /* sobol's matrices as 3-bit group tables (clr_sobol_group_bits8; the SIMD kernels only), or
+   * NULL: the columns */
+  CLR_GLOBAL const clr_u32 *sobol_groups;
 } clr_v4_tables;
 
 /* Floats of pmj02bn's GetPixel2D table; its point-set table (clr_v4_pmj02_set_point) follows. */

@@ -15,17 +15,27 @@
 #include "pcg32_lanes.h"
 
 #ifdef CLR_SAMPLER_V4
+/* The table arguments every pbrt-v4 kernel takes, in this order (CLR_V4_TABLES gathers them). */
+#define CLR_V4_TABLE_ARGS                                                                          \
+  __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,               \
+      __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,                  \
+      __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels, \
+      __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,    \
+      int digit_dims
+
 /* The tables of the pbrt-v4 kernels' arguments; pmj02bn's point sets follow its pixel table. (An
  * out-parameter: a returned struct becomes a noalias sret argument, whose inlining Oclgrind
  * cannot run.) */
 CLR_INLINE void clr_v4_kernel_tables(const clr_sampler_params *p, __global const uint *sobol32,
-                                     __global const ulong *vdc, __global const ulong *vdc_inv,
+                                     __global const uint *sobol_groups, __global const ulong *vdc,
+                                     __global const ulong *vdc_inv,
                                      __global const clr_halton_prime *primes,
                                      __global const float *pmj_pixels,
                                      __global const ushort *digit_perms,
                                      __global const uint *digit_offsets, int digit_dims,
                                      clr_v4_tables *t) {
   t->sobol32 = sobol32;
+  t->sobol_groups = sobol_groups;
   t->vdc = vdc;
   t->vdc_inv = vdc_inv;
   t->primes = primes;
@@ -36,42 +46,35 @@ CLR_INLINE void clr_v4_kernel_tables(const clr_sampler_params *p, __global const
   t->digit_dims = digit_dims;
 }
 
+/* clr_v4_tables t from a kernel's CLR_V4_TABLE_ARGS. */
+#define CLR_V4_TABLES(p, t)                                                                        \
+  clr_v4_kernel_tables(&(p), sobol32, sobol_groups, vdc, vdc_inv, primes, pmj_pixels, digit_perms, \
+                       digit_offsets, digit_dims, &(t))
+
 /* pbrt-v4's samplers (built with -DCLR_SAMPLER_V4 -DCLR_SAMPLER_TYPE=-1): one work-item per batch
  * item, the host reference's scalar functions, on SIMD and portable contexts alike (SIMD
  * contexts run zsobol and paddedsobol in clr_v4_generate_pixels8, below). sobol32: the Sobol'
  * matrices as columns; sobol_groups: as 3-bit group tables (read by clr_v4_generate8's sobol
  * only; NULL for the other samplers). */
-__kernel void clr_v4_generate(
-    clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
-    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
-    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
-    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
-    int digit_dims, __global float *restrict values, int item_count) {
-  (void)sobol_groups;
+__kernel void clr_v4_generate(clr_sampler_params p, __global const clr_request_slot *restrict slots,
+                              CLR_V4_TABLE_ARGS, __global float *restrict values, int item_count) {
   const int item = (int)get_global_id(0);
   if (item >= item_count) return;
   clr_v4_tables t;
-  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
-                       digit_dims, &t);
+  CLR_V4_TABLES(p, t);
   clr_v4_sample_vector(&p, slots, &t, item, values + (size_t)item * (size_t)p.values_per_sample);
 }
 
 /* zsobol, paddedsobol and pmj02bn: one work-item per batch pixel, all of its samples (clr_v4_pixel_vectors:
  * each (pixel, dimension) part once). Same arguments as clr_v4_generate; pixel_count pixels. */
-__kernel void clr_v4_generate_pixels(
-    clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
-    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
-    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
-    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
-    int digit_dims, __global float *restrict values, int pixel_count) {
-  (void)sobol_groups;
+__kernel void clr_v4_generate_pixels(clr_sampler_params p,
+                                     __global const clr_request_slot *restrict slots,
+                                     CLR_V4_TABLE_ARGS, __global float *restrict values,
+                                     int pixel_count) {
   const int pixel = (int)get_global_id(0);
   if (pixel >= pixel_count) return;
   clr_v4_tables t;
-  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
-                       digit_dims, &t);
+  CLR_V4_TABLES(p, t);
   clr_v4_pixel_vectors(
       &p, slots, &t, pixel,
       values + (size_t)pixel * (size_t)p.sample_count * (size_t)p.values_per_sample);
@@ -84,13 +87,9 @@ __kernel void clr_v4_generate_pixels(
  * items (past the end the last item repeats), one per lane. Same arguments as clr_v4_generate.
  * Halton runs in lanes with permuted digits (its default) when every index is below 2^32 and
  * halton_exponent[1] >= 1 (clr_v4_global_vectors8), else lane by lane. */
-__kernel void clr_v4_generate8(
-    clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
-    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
-    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
-    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
-    int digit_dims, __global float *restrict values, int item_count) {
+__kernel void clr_v4_generate8(clr_sampler_params p,
+                               __global const clr_request_slot *restrict slots, CLR_V4_TABLE_ARGS,
+                               __global float *restrict values, int item_count) {
   size_t group = get_global_id(0);
   ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
   float fx[CLR_V4_LANES], fy[CLR_V4_LANES];
@@ -136,8 +135,7 @@ __kernel void clr_v4_generate8(
   }
   if (halton) {
     clr_v4_tables t;
-    clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
-                         digit_dims, &t);
+    CLR_V4_TABLES(p, t);
     if (index_high == 0ul && p.randomization == CLR_RANDOMIZE_TYPE_PERMUTEDIGITS &&
         p.halton_exponent[1] >= 1) {
       clr_v4_global_lanes g;
@@ -174,17 +172,12 @@ __kernel void clr_v4_generate8(
 
 /* zsobol, paddedsobol and pmj02bn on SIMD contexts: one work-item per 8 batch pixels (past the
  * end the last pixel repeats), one pixel per lane. Same arguments as clr_v4_generate_pixels. */
-__kernel void clr_v4_generate_pixels8(
-    clr_sampler_params p, __global const clr_request_slot *restrict slots,
-    __global const uint *restrict sobol32, __global const uint *restrict sobol_groups,
-    __global const ulong *restrict vdc, __global const ulong *restrict vdc_inv,
-    __global const clr_halton_prime *restrict primes, __global const float *restrict pmj_pixels,
-    __global const ushort *restrict digit_perms, __global const uint *restrict digit_offsets,
-    int digit_dims, __global float *restrict values, int pixel_count) {
-  (void)sobol_groups;
+__kernel void clr_v4_generate_pixels8(clr_sampler_params p,
+                                      __global const clr_request_slot *restrict slots,
+                                      CLR_V4_TABLE_ARGS, __global float *restrict values,
+                                      int pixel_count) {
   clr_v4_tables t;
-  clr_v4_kernel_tables(&p, sobol32, vdc, vdc_inv, primes, pmj_pixels, digit_perms, digit_offsets,
-                       digit_dims, &t);
+  CLR_V4_TABLES(p, t);
   size_t group = get_global_id(0);
   size_t per_pixel = (size_t)p.sample_count * (size_t)p.values_per_sample;
   ulong out[CLR_V4_LANES], morton[CLR_V4_LANES];

@@ -86,7 +86,7 @@ static void sobol_pixel_walk(int v4) {
   static const int spps[] = {1, 2, 4, 8, 16, 32};
   static const int randomizations[] = {CLR_RANDOMIZE_TYPE_NONE, CLR_RANDOMIZE_TYPE_PERMUTEDIGITS,
                                        CLR_RANDOMIZE_TYPE_FASTOWEN, CLR_RANDOMIZE_TYPE_OWEN};
-  clr_v4_tables t = {clr_sobol_matrices32, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0};
+  clr_v4_tables t = {clr_sobol_matrices32, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0, NULL};
   for (size_t s = 0; s < sizeof spps / sizeof spps[0]; ++s)
     for (size_t r = 0; r < sizeof randomizations / sizeof randomizations[0]; ++r)
       for (size_t l = 0; l < sizeof layouts / sizeof layouts[0]; ++l) {
@@ -137,7 +137,8 @@ static void test_pmj02bn_pixel_walk(void **state) {
                        table + clr_v4_pmj02_pixel_floats(&p),
                        NULL,
                        NULL,
-                       0};
+                       0,
+                       NULL};
     for (int set = 0; set < CLR_PMJ02_SETS; ++set)
       for (int i = 0; i < p.spp; ++i)
         for (int c = 0; c < 2; ++c)

@@ -675,7 +675,8 @@ clr_result clr_sampler_generate_reference(clr_sampler s, const clr_sample_batch 
                        s->pmj_pixels ? s->pmj_pixels + clr_v4_pmj02_pixel_floats(&p) : NULL,
                        NULL, /* halton's digit permutations computed per digit */
                        NULL,
-                       0};
+                       0,
+                       NULL}; /* sobol by its columns */
     for (size_t i = 0; i < items; ++i)
       clr_v4_sample_vector(&p, slots, &t, (clr_i32)i, values + i * (size_t)p.values_per_sample);
     if (out->host_indices)
