@@ -88,35 +88,6 @@ static inline uint8 clr_sample_numbers8(uint8 sample, clr_index_plan ip) {
 }
 
 #if CLR_SAMPLER_TYPE == CLR_SAMPLER_TYPE_SOBOL && defined(CLR_INDEX32)
-/* Same over the 64-bit VdC columns (clr_sobol_xor_columns64) taken mod 2^32: AND, XOR and left
- * shifts commute with that, so the low 32 index bits are exact, and those are all the bits (the
- * columns of row m - 1 are below 2^2m, and indices below 2^32). count <= 32 is uniform; four
- * columns a step (bits past count are zero, and a row has 52 columns to read). */
-CLR_SIMD_INLINE uint8 clr_xor_columns_low8(uint8 bits, __global const ulong *cols, int count) {
-  uint8 v = (uint8)0u;
-  CLR_SCALAR_LOOP
-  for (int i = 0; i < count; i += 4, bits >>= 4u) {
-    v ^= (uint8)(uint)cols[i] & (0u - (bits & 1u));
-    v ^= (uint8)(uint)cols[i + 1] & (0u - ((bits >> 1u) & 1u));
-    v ^= (uint8)(uint)cols[i + 2] & (0u - ((bits >> 2u) & 1u));
-    v ^= (uint8)(uint)cols[i + 3] & (0u - ((bits >> 3u) & 1u));
-  }
-  return v;
-}
-
-/* clr_sobol_interval_to_index for sample numbers below 2^p->sobol_frame_bits: higher frame
- * bits are zero and the pixel bits b span 2m. */
-static inline uint8 clr_sobol_index8(const clr_sampler_params *p, uint8 frame, int8 px, int8 py,
-                                     __global const ulong *vdc, __global const ulong *vdc_inv) {
-  const int m = p->sobol_log2_resolution;
-  if (m == 0) return frame;
-  const uint row = (uint)(m - 1) * CLR_SOBOL_MATRIX_SIZE;
-  uint8 delta = clr_xor_columns_low8(frame, vdc + row, p->sobol_frame_bits);
-  const uint mask = (1u << (uint)m) - 1u;
-  uint8 b = (((as_uint8(px) & mask) << (uint)m) | (as_uint8(py) & mask)) ^ delta;
-  return (frame << (uint)(2 * m)) ^ clr_xor_columns_low8(b, vdc_inv + row, 2 * m);
-}
-
 /* clr_sobol_sample_float for a table dimension, from its 3-bit group tables `groups`
  * (clr_sobol_group_bits8), the index's `bits` <= 32 (uniform). */
 CLR_SIMD_INLINE float8 clr_sobol_float8(uint8 index, __global const uint *groups, int bits) {

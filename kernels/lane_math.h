@@ -52,6 +52,37 @@ static inline __attribute__((always_inline)) uint8 clr_sobol_group_bits8(
   return v;
 }
 
+/* clr_sobol_xor_columns64 over the 64-bit VdC columns taken mod 2^32, in every lane: AND, XOR and
+ * left shifts commute with that, so the low 32 index bits are exact, and those are all the bits
+ * (the columns of row m - 1 are below 2^2m, and indices below 2^32). count <= 32 is uniform; four
+ * columns a step (bits past count are zero, and a row has 52 columns to read). */
+static inline __attribute__((always_inline)) uint8 clr_xor_columns_low8(uint8 bits,
+                                                                        __global const ulong *cols,
+                                                                        int count) {
+  uint8 v = (uint8)0u;
+  CLR_SCALAR_LOOP
+  for (int i = 0; i < count; i += 4, bits >>= 4u) {
+    v ^= (uint8)(uint)cols[i] & (0u - (bits & 1u));
+    v ^= (uint8)(uint)cols[i + 1] & (0u - ((bits >> 1u) & 1u));
+    v ^= (uint8)(uint)cols[i + 2] & (0u - ((bits >> 2u) & 1u));
+    v ^= (uint8)(uint)cols[i + 3] & (0u - ((bits >> 3u) & 1u));
+  }
+  return v;
+}
+
+/* clr_sobol_interval_to_index at resolution 2^m in every lane, for sample numbers `frame` below
+ * 2^frame_bits with 2m + frame_bits <= 32 (uniform): higher frame bits are zero and the pixel
+ * bits b span 2m. */
+static inline uint8 clr_sobol_index8(int m, int frame_bits, uint8 frame, int8 px, int8 py,
+                                     __global const ulong *vdc, __global const ulong *vdc_inv) {
+  if (m == 0) return frame;
+  const uint row = (uint)(m - 1) * CLR_SOBOL_MATRIX_SIZE;
+  uint8 delta = clr_xor_columns_low8(frame, vdc + row, frame_bits);
+  const uint mask = (1u << (uint)m) - 1u;
+  uint8 b = (((as_uint8(px) & mask) << (uint)m) | (as_uint8(py) & mask)) ^ delta;
+  return (frame << (uint)(2 * m)) ^ clr_xor_columns_low8(b, vdc_inv + row, 2 * m);
+}
+
 /* t[i] in every lane, gathered as 16-bit lanes and widened once (each lane one load-and-insert
  * on x86). */
 static inline __attribute__((always_inline)) uint8 clr_gather_u16(__global const ushort *t,

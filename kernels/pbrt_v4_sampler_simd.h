@@ -391,6 +391,12 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
   }
 }
 
+/* The bits of a launch's largest sample number, first_sample + sample_count - 1 (64 past 2^32). */
+CLR_V4_INLINE int clr_v4_sample_number_bits(const clr_sampler_params *p) {
+  ulong last = (ulong)((long)p->first_sample + (long)p->sample_count - 1l);
+  return (last >> 32u) != 0ul ? 64 : 32 - (int)clz((uint)last);
+}
+
 /* The Sobol' matrices of clr_v4_global_vectors8: columns (sobol32), the 3-bit group tables
  * (groups; NULL: none), and the 8 lanes' indices, below 2^bits, also in 32 bits when bits <= 32. */
 typedef struct clr_v4_sobol_lanes {
@@ -436,8 +442,7 @@ CLR_V4_INLINE void clr_v4_sobol_lanes_init(clr_v4_sobol_lanes *l, __global const
   l->groups = groups;
   l->index = *index;
   l->index32 = (uint8)(convert_uint4(index->lo), convert_uint4(index->hi));
-  l->bits = 0;
-  while (l->bits < 64 && (all >> (ulong)l->bits) != 0ul) ++l->bits;
+  l->bits = 64 - (int)clz(all);
 }
 
 /* pbrt-v4's HaltonSampler with permuted digits (its default), 8 sample vectors per work-item

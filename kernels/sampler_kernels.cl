@@ -100,23 +100,38 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
    * jump adds inc times it, as the terms are linear in inc). */
   ulong jump_mult = 0ul, jump_plus = 0ul, index_high = 0ul;
   if (!sobol && !halton) clr_pcg32_advance_terms(65536ul, 1ul, &jump_mult, &jump_plus);
-  int last_pixel = -1, last_sample = 0;
+  /* sobol's indices in lanes where they fit 32 bits: the sample numbers' bits and 2m */
+  int frame_bits = clr_v4_sample_number_bits(&p);
+  int sobol_lanes = sobol && frame_bits + 2 * p.sobol_log2_resolution <= 32;
+  /* lane 0's item by division, the others by counting on (past the end the last one repeats) */
+  uint first = (uint)(group * CLR_V4_LANES), item = min(first, (uint)item_count - 1u);
+  int pixel = (int)(item / (uint)p.sample_count), row = pixel / p.batch_width;
+  int column = pixel - row * p.batch_width, number = (int)item - pixel * p.sample_count;
   for (int j = 0; j < CLR_V4_LANES; ++j) {
-    uint item = min((uint)(group * CLR_V4_LANES) + (uint)j, (uint)item_count - 1u);
-    int pixel = (int)(item / (uint)p.sample_count), row = pixel / p.batch_width;
-    int x = p.batch_x0 + pixel - row * p.batch_width, y = p.batch_y0 + row;
-    int sample = p.first_sample + (int)(item % (uint)p.sample_count);
+    int next = j > 0 && first + (uint)j < (uint)item_count; /* lane j - 1's next sample */
+    if (next) {
+      ++item;
+      if (++number == p.sample_count) {
+        number = 0;
+        if (++column == p.batch_width) {
+          column = 0;
+          ++row;
+        }
+      }
+    }
+    int same_pixel_next = next && number > 0;
+    int x = p.batch_x0 + column, y = p.batch_y0 + row, sample = p.first_sample + number;
     out[j] = (ulong)item * (ulong)p.values_per_sample;
     item_of[j] = item;
     if (halton) { /* a pixel's next sample: the stride on */
-      index[j] = pixel == last_pixel && sample == last_sample + 1
-                     ? index[j - 1] + (ulong)(uint)p.halton_stride
-                     : clr_v4_halton_index(&p, x, y, sample);
+      index[j] = same_pixel_next ? index[j - 1] + (ulong)(uint)p.halton_stride
+                                 : clr_v4_halton_index(&p, x, y, sample);
       index_high |= index[j] >> 32u;
     } else if (sobol) {
-      index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
-                                             vdc, vdc_inv);
-    } else if (pixel == last_pixel && sample == last_sample + 1) { /* the last lane's, jumped */
+      if (!sobol_lanes)
+        index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
+                                               vdc, vdc_inv);
+    } else if (same_pixel_next) { /* the last lane's, jumped */
       index[j] = jump_mult * index[j - 1] + inc[j - 1] * jump_plus;
       inc[j] = inc[j - 1];
     } else { /* independent, stratified: index holds the stream's state */
@@ -125,8 +140,6 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
       index[j] = r.state;
       inc[j] = r.inc;
     }
-    last_pixel = pixel;
-    last_sample = sample;
     items.px[j] = x;
     items.py[j] = y;
     samples[j] = (uint)sample;
@@ -150,8 +163,15 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
   }
   if (sobol) {
     clr_v4_u64x8 lanes;
-    lanes.lo = vload4(0, index);
-    lanes.hi = vload4(1, index);
+    if (sobol_lanes) {
+      uint8 index32 = clr_sobol_index8(p.sobol_log2_resolution, frame_bits, vload8(0, samples),
+                                       vload8(0, items.px), vload8(0, items.py), vdc, vdc_inv);
+      lanes.lo = convert_ulong4(index32.lo);
+      lanes.hi = convert_ulong4(index32.hi);
+    } else {
+      lanes.lo = vload4(0, index);
+      lanes.hi = vload4(1, index);
+    }
     clr_v4_global_lanes g;
     clr_v4_sobol_lanes_init(&g.sobol, sobol32, sobol_groups, &lanes);
     g.px = vload8(0, fx);
@@ -230,7 +250,8 @@ __kernel void clr_global_generate_portable(
  * dimension), else as columns (CLR_SOBOL_MATRIX_SIZE per dimension). */
 typedef __global const uint *clr_table0_t;
 typedef __global const ulong *clr_table1_t, *clr_table2_t; /* VdC matrices and inverses */
-#define clr_index8(number) clr_sobol_index8(&p, number, rel_x, rel_y, t1, t2)
+#define clr_index8(number) \
+  clr_sobol_index8(p.sobol_log2_resolution, p.sobol_frame_bits, number, rel_x, rel_y, t1, t2)
 #define clr_value8(index, e) clr_sobol_value8(&p, t0, index, e.dim, it.px, it.py)
 #define clr_index1(j, number) clr_sobol_sampler_index(&p, t1, t2, pxs[j], pys[j], (long)(number))
 #define clr_value1(j, index, dim) clr_sobol_sampler_value(&p, t0, index, dim, pxs[j], pys[j])
