@@ -99,9 +99,21 @@ CLR_V4_INLINE clr_v4_u64x8 clr_v4_zsobol_pixel_part8(const clr_sampler_params *p
   return index;
 }
 
-/* clr_v4_zsobol_sample_part for sample `sample` of the 8 lanes' pixels (< 2^32: spp's bits). */
+/* zsobol's sample-digit permutations of the 8 lanes' pixels at one dimension. Digit i's is a hash
+ * of the sample bits above it (and the pixel's), so over consecutive samples it changes only when
+ * those do: 1 + 4 + 16 + ... hashes per pixel and dimension, not one per digit and sample. */
+typedef struct clr_v4_zsobol_digits8 {
+  uint8 perm[16]; /* digit i's permutation (of 24); sample numbers have at most 32 bits */
+  uint8 flip;     /* the last binary digit's flip when spp is 2^odd */
+  ulong last;     /* the sample number they were made for (~0: none yet) */
+} clr_v4_zsobol_digits8;
+
+/* clr_v4_zsobol_sample_part for sample `sample` of the 8 lanes' pixels (< 2^32: spp's bits),
+ * rehashing only the digits whose higher sample bits differ from the last call's (c). */
 CLR_V4_INLINE uint8 clr_v4_zsobol_sample_part8(const clr_sampler_params *p, const clr_v4_u64x8 *m,
-                                               uint sample, ulong salt) {
+                                               uint sample, ulong salt, clr_v4_zsobol_digits8 *c) {
+  ulong changed = c->last ^ (ulong)sample;
+  c->last = (ulong)sample;
   clr_v4_u64x8 s;
   s.lo = m->lo | (ulong)sample;
   s.hi = m->hi | (ulong)sample;
@@ -109,12 +121,14 @@ CLR_V4_INLINE uint8 clr_v4_zsobol_sample_part8(const clr_sampler_params *p, cons
   uint8 index = (uint8)0u;
   for (int i = clr_v4_zsobol_pixel_digit(p) - 1; i >= odd; --i) {
     ulong shift = (ulong)(2 * i - odd);
-    index |= clr_v4_permute4x8(clr_v4_digit_perm8(&s, shift + 2ul, salt), clr_v4_digit8(&s, shift))
-             << (uint)shift;
+    if ((changed >> (shift + 2ul)) != 0ul) c->perm[i] = clr_v4_digit_perm8(&s, shift + 2ul, salt);
+    index |= clr_v4_permute4x8(c->perm[i], clr_v4_digit8(&s, shift)) << (uint)shift;
   }
-  if (odd)
-    index |= ((uint8)(convert_uint4(s.lo), convert_uint4(s.hi)) & 1u) ^
-             (clr_v4_mix_bits_low8((s.lo >> 1ul) ^ salt, (s.hi >> 1ul) ^ salt) & 1u);
+  if (odd) {
+    if ((changed >> 1ul) != 0ul)
+      c->flip = clr_v4_mix_bits_low8((s.lo >> 1ul) ^ salt, (s.hi >> 1ul) ^ salt) & 1u;
+    index |= ((uint8)(convert_uint4(s.lo), convert_uint4(s.hi)) & 1u) ^ c->flip;
+  }
   return index;
 }
 
@@ -174,8 +188,10 @@ static inline void clr_v4_zsobol_values8(const clr_sampler_params *p, __global c
   uint8 pixel0 = clr_v4_sobol_bits8(&high, high_bits, cols0);
   uint8 pixel1 = dims == 2 ? clr_v4_sobol_bits8(&high, high_bits, cols1) : (uint8)0u;
   ulong hash = clr_v4_hash8(clr_v4_pack(dimension + dims, (int)p->seed));
+  clr_v4_zsobol_digits8 digits;
+  digits.last = ~0ul;
   for (int k = 0; k < p->sample_count; ++k) {
-    uint8 low = clr_v4_zsobol_sample_part8(p, m, (uint)(p->first_sample + k), salt);
+    uint8 low = clr_v4_zsobol_sample_part8(p, m, (uint)(p->first_sample + k), salt, &digits);
     size_t at = (size_t)k * (size_t)p->values_per_sample + (size_t)first;
     float8 u0 = clr_v4_sobol_finish8(pixel0 ^ clr_v4_xor_columns8(low, p->zsobol_log2_spp, cols0),
                                      p->randomization, (uint8)(uint)hash);
