@@ -65,6 +65,8 @@ typedef struct clr_halton_prime {
                            (their count - 1) << tail_shift (for the top chunk) */
   clr_u32 tail_shift;   /* bits of a reversed chunk value (values < B <= 2^tail_shift) */
   float inv_base_pow[CLR_HALTON_MAX_DIGITS32 + 1]; /* [k]: pbrt-v3's invBaseN after k digits */
+  clr_u32 v4_digits;     /* pbrt-v4's nDigits in this base (clr_v4_scrambled_digits) */
+  clr_u32 v4_reversed32; /* base^v4_digits <= 2^32: its reversed digits fit 32 bits */
 } clr_halton_prime;
 
 /* (float)1 / (float)3, written out so that devices never divide. */

@@ -489,27 +489,35 @@ CLR_V4_INLINE float8 clr_v4_radical_inverse3x8(__global const clr_halton_prime *
   return clr_v4_below_one8(convert_float8(reversed) * inv_m);
 }
 
+/* The permuted zeros of digits i .. digits - 1 (permutation tables from perms on, base entries
+ * each), the same in every lane whose own digits are spent: their reversed digits, and
+ * base^(their count) at *scale. */
+CLR_V4_INLINE ulong clr_v4_zero_digits(__global const ushort *perms, uint base, int i, int digits,
+                                       ulong *scale) {
+  ulong tail = 0ul, s = 1ul;
+  for (; i < digits; ++i, perms += base) {
+    tail = tail * base + perms[0];
+    s *= base;
+  }
+  *scale = s;
+  return tail;
+}
+
 /* clr_v4_scrambled_radical_inverse of a < 2^32 in every lane, digit i's permutation at perms +
  * i * base (the dimension's DigitPermutation table). The scalar loop permutes all nDigits digits
  * (zeros past a's own), so the lanes share its trip count; once every lane's digits are spent the
- * rest are permuted zeros, the same in every lane: their reversed digits `tail` are read without
- * a gather, and reversed * base^(digits left) + tail is what the scalar loop sums. The reversed
- * digits (below base^nDigits) are summed in 32-bit lanes where that bound fits, else in 64-bit
- * halves. */
+ * rest are permuted zeros, the same in every lane (clr_v4_zero_digits), and reversed *
+ * base^(digits left) + their reversed digits is what the scalar loop sums. The reversed digits
+ * (below base^nDigits) are summed in 32-bit lanes where that bound fits, else in 64-bit halves. */
 CLR_V4_INLINE float8 clr_v4_scrambled_radical_inverse8(__global const clr_halton_prime *pr,
                                                        __global const ushort *perms, uint8 a) {
   const uint base = pr->base, magic = pr->div_magic, shift = pr->div_shift;
-  const int digits = clr_v4_scrambled_digits(pr);
-  float inv_m = 1.0f;
-  ulong bound = 1ul;
-  for (int i = 0; i < digits; ++i) {
-    inv_m *= pr->inv_base;
-    bound *= base;
-  }
+  const int digits = (int)pr->v4_digits;
+  const float inv_m = pr->inv_base_pow[digits]; /* the scalar loop's invBaseM */
   float8 reversed;
   int i = 0;
-  ulong tail = 0ul, scale = 1ul;
-  if (bound <= 0x100000000ul) {
+  ulong scale;
+  if (pr->v4_reversed32) {
     uint8 r = (uint8)0u;
     CLR_SCALAR_LOOP
     for (; i < digits && clr_any8(a != 0u); ++i, perms += base) {
@@ -518,11 +526,8 @@ CLR_V4_INLINE float8 clr_v4_scrambled_radical_inverse8(__global const clr_halton
       r = r * base + clr_gather_u16(perms, a - next * base);
       a = next;
     }
-    for (; i < digits; ++i, perms += base) {
-      tail = tail * base + perms[0];
-      scale *= base;
-    }
-    reversed = convert_float8(r * (uint)scale + (uint)tail);
+    uint tail = (uint)clr_v4_zero_digits(perms, base, i, digits, &scale);
+    reversed = convert_float8(r * (uint)scale + tail);
   } else {
     ulong4 lo = (ulong4)0ul, hi = (ulong4)0ul;
     CLR_SCALAR_LOOP
@@ -534,10 +539,7 @@ CLR_V4_INLINE float8 clr_v4_scrambled_radical_inverse8(__global const clr_halton
       hi = hi * (ulong)base + convert_ulong4(e.hi);
       a = next;
     }
-    for (; i < digits; ++i, perms += base) {
-      tail = tail * base + perms[0];
-      scale *= base;
-    }
+    ulong tail = clr_v4_zero_digits(perms, base, i, digits, &scale);
     reversed = (float8)(convert_float4(lo * scale + tail), convert_float4(hi * scale + tail));
   }
   return clr_v4_below_one8(inv_m * reversed);

@@ -86,6 +86,17 @@ static void test_primes(void **state) {
   float running = 1.0f;
   for (int k = 0; k <= CLR_HALTON_MAX_DIGITS32; ++k, running *= pr[2].inv_base)
     assert_float_bits_equal(pr[2].inv_base_pow[k], running);
+  /* pbrt-v4's nDigits (DigitPermutation's loop), and whether base^nDigits fits 32 bits. */
+  const struct {
+    int record;
+    clr_u32 digits, fits32;
+  } v4[] = {{0, 25, 1}, {1, 17, 1}, {2, 12, 1}, {3, 10, 1}, {30, 5, 0}, {999, 3, 0}};
+  for (int i = 0; i < 6; ++i) {
+    assert_int_equal(pr[v4[i].record].v4_digits, v4[i].digits);
+    assert_int_equal(pr[v4[i].record].v4_reversed32, v4[i].fits32);
+  }
+  for (int i = 0; i < CLR_HALTON_PRIMES; ++i)
+    assert_true(pr[i].v4_digits <= CLR_HALTON_MAX_DIGITS32);
   /* Chunks: base 5 takes 4 digits (625), 11 three (1331), 127 two, 131 one (its permutation). */
   assert_int_equal(pr[2].chunk_base, 625);
   assert_int_equal(pr[4].chunk_digits, 3);

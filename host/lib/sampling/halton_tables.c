@@ -1,5 +1,6 @@
 /* Builds pbrt-v3's Halton prime and permutation tables once, and the sampler's base scales. */
 #include "halton_tables.h"
+#include "pbrt_v4_sampler_funcs.h"
 
 #include <pthread.h>
 #include <stdlib.h>
@@ -100,6 +101,10 @@ static void fill_record(clr_u16 *table, clr_u32 entries, clr_halton_prime *pr, c
   pr->inv_base_pow[0] = 1.0f;
   for (int k = 1; k <= CLR_HALTON_MAX_DIGITS32; ++k)
     pr->inv_base_pow[k] = pr->inv_base_pow[k - 1] * pr->inv_base;
+  pr->v4_digits = (clr_u32)clr_v4_scrambled_digits(pr);
+  uint64_t bound = 1u;
+  for (clr_u32 k = 0; k < pr->v4_digits && bound <= ((uint64_t)1 << 32u); ++k) bound *= base;
+  pr->v4_reversed32 = bound <= ((uint64_t)1 << 32u);
   clr_u32 chunk_base = base, digits = 1;
   while (chunk_base < CLR_HALTON_CHUNK_MIN) {
     chunk_base *= base;
