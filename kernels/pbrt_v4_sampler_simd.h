@@ -267,6 +267,10 @@ static inline void clr_v4_padded_values8(const clr_sampler_params *p, __global c
 /* clr_v4_div in every lane: in double where the device has fp64 (see clr_v4_div), else lane by
  * lane. */
 CLR_V4_INLINE float8 clr_v4_div8(float8 a, uint b) {
+  uint shift = 32u - clz(b - 1u); /* ceil(log2(b)) */
+  /* a power of two: a * 2^-shift is exact, so it is the correctly rounded quotient (no a here
+   * is small enough to lose bits: they are multiples of 2^-32) */
+  if (((ulong)1 << shift) == (ulong)b) return a * (1.0f / (float)b);
 #ifdef cl_khr_fp64
   return (float8)(convert_float4(convert_double4(a.lo) / (double)b),
                   convert_float4(convert_double4(a.hi) / (double)b));
@@ -662,18 +666,23 @@ static inline void clr_v4_independent_vectors8(const clr_sampler_params *p,
  * (for the jitter). */
 typedef struct clr_v4_items8 {
   int px[CLR_V4_LANES], py[CLR_V4_LANES];
+  int one_pixel; /* every lane's item is a sample of the same pixel */
   uint8 sample;
   clr_pcg32x8 rng;
 } clr_v4_items8;
 
 /* StratifiedSampler's stratum at `dimension` of every lane: PermutationElement(sample, spp,
- * Hash(pixel, dimension, seed)), the hashes lane by lane. */
+ * Hash(pixel, dimension, seed)), the hashes lane by lane, or once where the lanes share a pixel. */
 CLR_V4_INLINE uint8 clr_v4_strata8(const clr_sampler_params *p, const clr_v4_items8 *items,
                                    int dimension) {
+  ulong salt = clr_v4_pack(dimension, (int)p->seed);
+  if (items->one_pixel)
+    return clr_v4_permutation_element8(
+        items->sample, (uint)p->spp,
+        (uint8)(uint)clr_v4_hash16(clr_v4_pack(items->px[0], items->py[0]), salt));
   uint hash[CLR_V4_LANES];
   for (int j = 0; j < CLR_V4_LANES; ++j)
-    hash[j] = (uint)clr_v4_hash16(clr_v4_pack(items->px[j], items->py[j]),
-                                  clr_v4_pack(dimension, (int)p->seed));
+    hash[j] = (uint)clr_v4_hash16(clr_v4_pack(items->px[j], items->py[j]), salt);
   return clr_v4_permutation_element8(items->sample, (uint)p->spp, vload8(0, hash));
 }
 

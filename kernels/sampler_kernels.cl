@@ -184,6 +184,9 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
   items.rng.inc_lo = vload4(0, inc);
   items.rng.inc_hi = vload4(1, inc);
   items.sample = vload8(0, samples);
+  /* the lanes' items are consecutive: the first and last in one pixel, all in it */
+  items.one_pixel =
+      items.px[0] == items.px[CLR_V4_LANES - 1] && items.py[0] == items.py[CLR_V4_LANES - 1];
   if (p.v4_sampler == CLR_V4_STRATIFIED)
     clr_v4_stratified_vectors8(&p, slots, &items, values, out);
   else
