@@ -84,13 +84,21 @@ CLR_V4_INLINE uint8 clr_v4_digit8(const clr_v4_u64x8 *m, ulong shift) {
   return (uint8)(convert_uint4(m->lo >> shift), convert_uint4(m->hi >> shift)) & 3u;
 }
 
-/* clr_v4_zsobol_pixel_part in every lane: the permuted digits of the pixels' Morton indices. */
+/* clr_v4_zsobol_pixel_part in every lane: the permuted digits of the pixels' Morton indices. The
+ * top digits that are the same in every lane (neighbouring pixels share their high Morton bits),
+ * and so hash the same bits, are permuted once, as scalars. */
 CLR_V4_INLINE clr_v4_u64x8 clr_v4_zsobol_pixel_part8(const clr_sampler_params *p,
                                                      const clr_v4_u64x8 *m, ulong salt) {
-  int odd = p->zsobol_log2_spp & 1;
+  int odd = p->zsobol_log2_spp & 1, top = p->zsobol_base4_digits - 1;
+  ulong m0 = m->lo.s0;
+  ulong4 differ4 = (m->lo ^ m0) | (m->hi ^ m0);
+  ulong2 differ2 = differ4.lo | differ4.hi;
+  ulong differ = differ2.x | differ2.y;      /* the bits where a lane's index is not lane 0's */
+  int shared = clr_v4_zsobol_pixel_digit(p); /* the lowest digit shared with all above it */
+  while (shared <= top && (differ >> (ulong)(2 * shared - odd)) != 0ul) ++shared;
   clr_v4_u64x8 index;
-  index.lo = index.hi = (ulong4)0ul;
-  for (int i = p->zsobol_base4_digits - 1; i >= clr_v4_zsobol_pixel_digit(p); --i) {
+  index.lo = index.hi = (ulong4)clr_v4_zsobol_digits(m0, salt, odd, top, shared);
+  for (int i = shared - 1; i >= clr_v4_zsobol_pixel_digit(p); --i) {
     ulong shift = (ulong)(2 * i - odd);
     uint8 e = clr_v4_permute4x8(clr_v4_digit_perm8(m, shift + 2ul, salt), clr_v4_digit8(m, shift));
     index.lo |= convert_ulong4(e.lo) << shift;
