@@ -305,19 +305,28 @@ CLR_INLINE clr_u64 clr_v4_blue_noise_morton(clr_i32 px, clr_i32 py) {
   return clr_v4_left_shift2((clr_u32)py & 255u) << 1u | clr_v4_left_shift2((clr_u32)px & 255u);
 }
 
-/* BlueNoiseSample(p, instance) of pbrt-v4's lowdiscrepancy.h (the pixel's Morton index with
- * hashed base-4 digit permutations, reversed), used where pbrt-v4's pmj02bn reads its blue-noise
- * textures (BlueNoise(instance, p), also found by search). */
-CLR_INLINE float clr_v4_blue_noise_sample(clr_i32 px, clr_i32 py, clr_i32 instance) {
-  clr_u64 salt = (clr_u64)(clr_i64)(clr_i32)(0x55555555u * (clr_u32)instance);
-  clr_u64 morton = clr_v4_blue_noise_morton(px, py);
+CLR_INLINE clr_u64 clr_v4_blue_noise_salt(clr_i32 instance) {
+  return (clr_u64)(clr_i64)(clr_i32)(0x55555555u * (clr_u32)instance);
+}
+
+/* BlueNoiseSample's permuted base-4 digits hi down to lo of a Morton index. */
+CLR_INLINE clr_u32 clr_v4_blue_noise_digits(clr_u64 morton, clr_u64 salt, clr_i32 hi, clr_i32 lo) {
   clr_u32 index = 0u;
-  for (clr_i32 i = 7; i >= 0; --i) {
+  for (clr_i32 i = hi; i >= lo; --i) {
     clr_u32 shift = (clr_u32)(2 * i);
     clr_u32 digit = (clr_u32)(morton >> shift) & 3u;
     clr_u32 perm = (clr_u32)(clr_v4_mix_bits((morton >> (shift + 2u)) ^ salt) >> 24u) % 24u;
     index |= clr_v4_permute4(perm, digit) << shift;
   }
+  return index;
+}
+
+/* BlueNoiseSample(p, instance) of pbrt-v4's lowdiscrepancy.h (the pixel's Morton index with
+ * hashed base-4 digit permutations, reversed), used where pbrt-v4's pmj02bn reads its blue-noise
+ * textures (BlueNoise(instance, p), also found by search). */
+CLR_INLINE float clr_v4_blue_noise_sample(clr_i32 px, clr_i32 py, clr_i32 instance) {
+  clr_u32 index = clr_v4_blue_noise_digits(clr_v4_blue_noise_morton(px, py),
+                                           clr_v4_blue_noise_salt(instance), 7, 0);
   return (float)clr_reverse_bits32(index) * 0x1p-32f;
 }
 

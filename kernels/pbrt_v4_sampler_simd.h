@@ -84,20 +84,28 @@ CLR_V4_INLINE uint8 clr_v4_digit8(const clr_v4_u64x8 *m, ulong shift) {
   return (uint8)(convert_uint4(m->lo >> shift), convert_uint4(m->hi >> shift)) & 3u;
 }
 
+/* The lowest base-4 digit in low..top (digit i at bit 2i - odd) that is the same in every lane's
+ * m, with all bits above it (top + 1 when none is): such digits, and the bits their permutations
+ * hash, are lane 0's. */
+CLR_V4_INLINE int clr_v4_shared_digit(const clr_v4_u64x8 *m, int odd, int low, int top) {
+  ulong m0 = m->lo.s0;
+  ulong4 differ4 = (m->lo ^ m0) | (m->hi ^ m0);
+  ulong2 differ2 = differ4.lo | differ4.hi;
+  ulong differ = differ2.x | differ2.y; /* the bits where a lane is not lane 0 */
+  int shared = low;
+  while (shared <= top && (differ >> (ulong)(2 * shared - odd)) != 0ul) ++shared;
+  return shared;
+}
+
 /* clr_v4_zsobol_pixel_part in every lane: the permuted digits of the pixels' Morton indices. The
  * top digits that are the same in every lane (neighbouring pixels share their high Morton bits),
  * and so hash the same bits, are permuted once, as scalars. */
 CLR_V4_INLINE clr_v4_u64x8 clr_v4_zsobol_pixel_part8(const clr_sampler_params *p,
                                                      const clr_v4_u64x8 *m, ulong salt) {
   int odd = p->zsobol_log2_spp & 1, top = p->zsobol_base4_digits - 1;
-  ulong m0 = m->lo.s0;
-  ulong4 differ4 = (m->lo ^ m0) | (m->hi ^ m0);
-  ulong2 differ2 = differ4.lo | differ4.hi;
-  ulong differ = differ2.x | differ2.y;      /* the bits where a lane's index is not lane 0's */
-  int shared = clr_v4_zsobol_pixel_digit(p); /* the lowest digit shared with all above it */
-  while (shared <= top && (differ >> (ulong)(2 * shared - odd)) != 0ul) ++shared;
+  int shared = clr_v4_shared_digit(m, odd, clr_v4_zsobol_pixel_digit(p), top);
   clr_v4_u64x8 index;
-  index.lo = index.hi = (ulong4)clr_v4_zsobol_digits(m0, salt, odd, top, shared);
+  index.lo = index.hi = (ulong4)clr_v4_zsobol_digits(m->lo.s0, salt, odd, top, shared);
   for (int i = shared - 1; i >= clr_v4_zsobol_pixel_digit(p); --i) {
     ulong shift = (ulong)(2 * i - odd);
     uint8 e = clr_v4_permute4x8(clr_v4_digit_perm8(m, shift + 2ul, salt), clr_v4_digit8(m, shift));
@@ -310,11 +318,13 @@ CLR_V4_INLINE float8 clr_v4_pmj02_points8(__global const float *set, uint8 index
 
 /* clr_v4_blue_noise_sample of the 8 lanes' pixels (m: their clr_v4_blue_noise_morton).
  * Its digit permutations take (uint32)(hash >> 24) % 24, as pbrt-v4's BlueNoiseSample does (not
- * zsobol's 64-bit remainder). */
+ * zsobol's 64-bit remainder). The top digits shared by every lane are permuted once, as scalars
+ * (clr_v4_shared_digit). */
 CLR_V4_INLINE float8 clr_v4_blue_noise8(const clr_v4_u64x8 *m, int instance) {
-  ulong salt = (ulong)(long)(int)(0x55555555u * (uint)instance);
-  uint8 index = (uint8)0u;
-  for (int i = 7; i >= 0; --i) {
+  ulong salt = clr_v4_blue_noise_salt(instance);
+  int shared = clr_v4_shared_digit(m, 0, 0, 7);
+  uint8 index = (uint8)clr_v4_blue_noise_digits(m->lo.s0, salt, 7, shared);
+  for (int i = shared - 1; i >= 0; --i) {
     ulong shift = (ulong)(2 * i);
     uint8 x = (uint8)(convert_uint4(clr_v4_mix_bits4((m->lo >> (shift + 2ul)) ^ salt) >> 24ul),
                       convert_uint4(clr_v4_mix_bits4((m->hi >> (shift + 2ul)) ^ salt) >> 24ul));
