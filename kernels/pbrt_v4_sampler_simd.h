@@ -429,6 +429,41 @@ static inline void clr_v4_pixels8(const clr_sampler_params *p,
   }
 }
 
+/* The 8 batch items of a clr_v4_generate8 work-item, one per lane (past the end the last item
+ * repeats): their pixels and sample numbers, and whether each is the next sample of the previous
+ * lane's pixel. */
+typedef struct clr_v4_lane_items8 {
+  uint item[CLR_V4_LANES];
+  int x[CLR_V4_LANES], y[CLR_V4_LANES], sample[CLR_V4_LANES];
+  int next_in_pixel[CLR_V4_LANES];
+} clr_v4_lane_items8;
+
+/* clr_v4_lane_items8 of work-item `group`: lane 0's item by division, the others by counting on. */
+CLR_V4_INLINE void clr_v4_walk_items8(const clr_sampler_params *p, size_t group, int item_count,
+                                      clr_v4_lane_items8 *l) {
+  uint first = (uint)(group * CLR_V4_LANES), item = min(first, (uint)item_count - 1u);
+  int pixel = (int)(item / (uint)p->sample_count), row = pixel / p->batch_width;
+  int column = pixel - row * p->batch_width, number = (int)item - pixel * p->sample_count;
+  for (int j = 0; j < CLR_V4_LANES; ++j) {
+    int next = j > 0 && first + (uint)j < (uint)item_count; /* lane j - 1's item's next */
+    if (next) {
+      ++item;
+      if (++number == p->sample_count) {
+        number = 0;
+        if (++column == p->batch_width) {
+          column = 0;
+          ++row;
+        }
+      }
+    }
+    l->item[j] = item;
+    l->x[j] = p->batch_x0 + column;
+    l->y[j] = p->batch_y0 + row;
+    l->sample[j] = p->first_sample + number;
+    l->next_in_pixel[j] = next && number > 0;
+  }
+}
+
 /* The bits of a launch's largest sample number, first_sample + sample_count - 1 (64 past 2^32). */
 CLR_V4_INLINE int clr_v4_sample_number_bits(const clr_sampler_params *p) {
   ulong last = (ulong)((long)p->first_sample + (long)p->sample_count - 1l);

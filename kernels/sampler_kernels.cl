@@ -93,7 +93,7 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
   size_t group = get_global_id(0);
   ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
   float fx[CLR_V4_LANES], fy[CLR_V4_LANES];
-  uint samples[CLR_V4_LANES], item_of[CLR_V4_LANES];
+  uint samples[CLR_V4_LANES];
   clr_v4_items8 items;
   int sobol = p.v4_sampler == CLR_V4_SOBOL, halton = p.v4_sampler == CLR_V4_HALTON;
   /* A pixel's next sample starts 65536 draws on: that jump's terms (plus for increment 1; the
@@ -103,35 +103,20 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
   /* sobol's indices in lanes where they fit 32 bits: the sample numbers' bits and 2m */
   int frame_bits = clr_v4_sample_number_bits(&p);
   int sobol_lanes = sobol && frame_bits + 2 * p.sobol_log2_resolution <= 32;
-  /* lane 0's item by division, the others by counting on (past the end the last one repeats) */
-  uint first = (uint)(group * CLR_V4_LANES), item = min(first, (uint)item_count - 1u);
-  int pixel = (int)(item / (uint)p.sample_count), row = pixel / p.batch_width;
-  int column = pixel - row * p.batch_width, number = (int)item - pixel * p.sample_count;
+  clr_v4_lane_items8 l;
+  clr_v4_walk_items8(&p, group, item_count, &l);
   for (int j = 0; j < CLR_V4_LANES; ++j) {
-    int next = j > 0 && first + (uint)j < (uint)item_count; /* lane j - 1's next sample */
-    if (next) {
-      ++item;
-      if (++number == p.sample_count) {
-        number = 0;
-        if (++column == p.batch_width) {
-          column = 0;
-          ++row;
-        }
-      }
-    }
-    int same_pixel_next = next && number > 0;
-    int x = p.batch_x0 + column, y = p.batch_y0 + row, sample = p.first_sample + number;
-    out[j] = (ulong)item * (ulong)p.values_per_sample;
-    item_of[j] = item;
+    int x = l.x[j], y = l.y[j], sample = l.sample[j];
+    out[j] = (ulong)l.item[j] * (ulong)p.values_per_sample;
     if (halton) { /* a pixel's next sample: the stride on */
-      index[j] = same_pixel_next ? index[j - 1] + (ulong)(uint)p.halton_stride
-                                 : clr_v4_halton_index(&p, x, y, sample);
+      index[j] = l.next_in_pixel[j] ? index[j - 1] + (ulong)(uint)p.halton_stride
+                                    : clr_v4_halton_index(&p, x, y, sample);
       index_high |= index[j] >> 32u;
     } else if (sobol) {
       if (!sobol_lanes)
         index[j] = clr_sobol_interval_to_index((uint)p.sobol_log2_resolution, (ulong)sample, x, y,
                                                vdc, vdc_inv);
-    } else if (same_pixel_next) { /* the last lane's, jumped */
+    } else if (l.next_in_pixel[j]) { /* the last lane's, jumped */
       index[j] = jump_mult * index[j - 1] + inc[j - 1] * jump_plus;
       inc[j] = inc[j - 1];
     } else { /* independent, stratified: index holds the stream's state */
@@ -157,7 +142,7 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
       clr_v4_global_vectors8(&p, slots, &g, values, out);
     } else {
       for (int j = 0; j < CLR_V4_LANES; ++j)
-        clr_v4_sample_vector(&p, slots, &t, (int)item_of[j], values + out[j]);
+        clr_v4_sample_vector(&p, slots, &t, (int)l.item[j], values + out[j]);
     }
     return;
   }
