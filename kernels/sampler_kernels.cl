@@ -92,8 +92,6 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
                                __global float *restrict values, int item_count) {
   size_t group = get_global_id(0);
   ulong out[CLR_V4_LANES], index[CLR_V4_LANES], inc[CLR_V4_LANES];
-  float fx[CLR_V4_LANES], fy[CLR_V4_LANES];
-  uint samples[CLR_V4_LANES];
   clr_v4_items8 items;
   int sobol = p.v4_sampler == CLR_V4_SOBOL, halton = p.v4_sampler == CLR_V4_HALTON;
   /* A pixel's next sample starts 65536 draws on: that jump's terms (plus for increment 1; the
@@ -127,10 +125,8 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
     }
     items.px[j] = x;
     items.py[j] = y;
-    samples[j] = (uint)sample;
-    fx[j] = (float)x;
-    fy[j] = (float)y;
   }
+  uint8 samples = as_uint8(vload8(0, l.sample));
   if (halton) {
     clr_v4_tables t;
     CLR_V4_TABLES(p, t);
@@ -149,8 +145,8 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
   if (sobol) {
     clr_v4_u64x8 lanes;
     if (sobol_lanes) {
-      uint8 index32 = clr_sobol_index8(p.sobol_log2_resolution, frame_bits, vload8(0, samples),
-                                       vload8(0, items.px), vload8(0, items.py), vdc, vdc_inv);
+      uint8 index32 = clr_sobol_index8(p.sobol_log2_resolution, frame_bits, samples, vload8(0, l.x),
+                                       vload8(0, l.y), vdc, vdc_inv);
       lanes.lo = convert_ulong4(index32.lo);
       lanes.hi = convert_ulong4(index32.hi);
     } else {
@@ -159,8 +155,8 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
     }
     clr_v4_global_lanes g;
     clr_v4_sobol_lanes_init(&g.sobol, sobol32, sobol_groups, &lanes);
-    g.px = vload8(0, fx);
-    g.py = vload8(0, fy);
+    g.px = convert_float8(vload8(0, l.x));
+    g.py = convert_float8(vload8(0, l.y));
     clr_v4_global_vectors8(&p, slots, &g, values, out);
     return;
   }
@@ -168,7 +164,7 @@ __kernel void clr_v4_generate8(clr_sampler_params p,
   items.rng.state_hi = vload4(1, index);
   items.rng.inc_lo = vload4(0, inc);
   items.rng.inc_hi = vload4(1, inc);
-  items.sample = vload8(0, samples);
+  items.sample = samples;
   /* the lanes' items are consecutive: the first and last in one pixel, all in it */
   items.one_pixel =
       items.px[0] == items.px[CLR_V4_LANES - 1] && items.py[0] == items.py[CLR_V4_LANES - 1];
