@@ -604,6 +604,67 @@ static void test_sphere_occlusion_matches_hits(void **state) {
   }
 }
 
+/* Packets (the whole sphere's two-lane path) equal single rays at the edges of the range: rays
+ * whose tfar or tnear is exactly a first hit's float distance, or one float short of it. The
+ * range test compares the root rounded to float, so tfar = t still hits. */
+static void test_sphere_packets_at_root_bounds(void **state) {
+  (void)state;
+  float m[16];
+  ellipsoid_to_world(m);
+  enum { N = 2000 };
+  clr_ray *rays = calloc(N, sizeof *rays), *edge = calloc(N, sizeof *edge);
+  clr_hit *first = calloc(N, sizeof *first), *single = calloc(N, sizeof *single),
+          *packet = calloc(N, sizeof *packet);
+  uint8_t *occ = calloc(N, 1);
+  assert_true(rays && edge && first && single && packet && occ);
+  for (int i = 0; i < N; ++i) {
+    double o[3] = {0.5 + 8 * rnd() - 4, -1.0 + 8 * rnd() - 4, 2.0 + 8 * rnd() - 4};
+    double target[3] = {0.5 + 3 * rnd() - 1.5, -1.0 + 3 * rnd() - 1.5, 2.0 + 3 * rnd() - 1.5};
+    rays[i] = make_ray((float)o[0], (float)o[1], (float)o[2], (float)(target[0] - o[0]),
+                       (float)(target[1] - o[1]), (float)(target[2] - o[2]), 0.0f, INFINITY);
+  }
+  for (int partial = 0; partial < 2; ++partial) {
+    clr_tracer t;
+    assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
+    add_whole_or_partial_sphere(t, m, partial);
+    assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
+    assert_int_equal(clr_tracer_intersect_single(t, rays, first, N), CLR_SUCCESS);
+    for (int bound = 0; bound < 3; ++bound) { /* tfar = t, tfar one float short, tnear = t */
+      int hits_at_tfar = 0, hit_rays = 0;
+      for (int i = 0; i < N; ++i) {
+        edge[i] = rays[i];
+        if (first[i].geom_id == CLR_TRACER_INVALID_ID) continue;
+        ++hit_rays;
+        if (bound == 0) edge[i].tfar = first[i].t;
+        if (bound == 1) edge[i].tfar = nextafterf(first[i].t, 0.0f);
+        if (bound == 2) edge[i].tnear = first[i].t;
+      }
+      assert_int_equal(clr_tracer_intersect_single(t, edge, single, N), CLR_SUCCESS);
+      assert_int_equal(clr_tracer_intersect(t, edge, packet, N), CLR_SUCCESS);
+      assert_int_equal(clr_tracer_occluded(t, edge, occ, N), CLR_SUCCESS);
+      for (int i = 0; i < N; ++i) {
+        int hit = single[i].geom_id != CLR_TRACER_INVALID_ID;
+        hits_at_tfar += bound == 0 && hit && single[i].t == first[i].t;
+        if (!hits_equal(&packet[i], &single[i]) || occ[i] != hit)
+          fail_msg(
+              "%s sphere, bound %d, ray %d: packet t %a geom %u, single t %a geom %u, "
+              "occluded %d",
+              partial ? "partial" : "whole", bound, i, (double)packet[i].t, packet[i].geom_id,
+              (double)single[i].t, single[i].geom_id, occ[i]);
+      }
+      assert_true(hit_rays > N / 10);
+      if (bound == 0) assert_int_equal(hits_at_tfar, hit_rays);
+    }
+    clr_tracer_release(t);
+  }
+  free(rays);
+  free(edge);
+  free(first);
+  free(single);
+  free(packet);
+  free(occ);
+}
+
 /* With clr_tracer_set_sphere_uv(0) a whole and a partial sphere's hits keep their t, normal and
  * ids bit for bit (the partial sphere's clipping still reads phi), and carry u = v = 0. */
 static void test_sphere_uv_off_keeps_hits(void **state) {
@@ -943,6 +1004,7 @@ int main(void) {
       cmocka_unit_test(test_packets_equal_single),
       cmocka_unit_test(test_occlusion_tfar),
       cmocka_unit_test(test_sphere_occlusion_matches_hits),
+      cmocka_unit_test(test_sphere_packets_at_root_bounds),
       cmocka_unit_test(test_sphere_uv_off_keeps_hits),
       cmocka_unit_test(test_threads),
       cmocka_unit_test(test_motion_instance),

@@ -10,11 +10,15 @@
 #include <string.h>
 #include <embree3/rtcore.h>
 #if defined(__SSE2__)
-#include <xmmintrin.h>
+#include <emmintrin.h>
 #endif
 #include "render_error.h"
 
 #define PI_D 3.14159265358979323846
+
+/* Always inlined: each packet width gets its own constant-width loops, and the sphere's lane
+ * pairs their registers. */
+#define PACKET_INLINE static inline __attribute__((always_inline))
 
 /* An affine map as the top 3 rows of a row-major 4x4 matrix, with its inverse. */
 typedef struct affine {
@@ -172,6 +176,28 @@ typedef struct sphere_hit {
   double ng[3]; /* group space */
 } sphere_hit;
 
+/* The hit's (u, v) at object-space point p on the surface, of azimuth phi (0, 0 without uv). */
+static void sphere_uv(const sphere_shape *s, const double p[3], double phi, sphere_hit *hit) {
+  if (!s->uv) {
+    hit->u = hit->v = 0.0f;
+    return;
+  }
+  double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
+  if (s->partial) {
+    hit->u = (float)(phi / s->phimax);
+    hit->v = (float)((acos(cos_theta) - s->theta_zmin) / (s->theta_zmax - s->theta_zmin));
+  } else {
+    hit->u = (float)(phi / (2.0 * PI_D));
+    hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
+  }
+}
+
+/* Azimuth of an object-space point in [0, 2 pi). */
+static double sphere_phi(const double p[3]) {
+  double phi = atan2(p[1], p[0]);
+  return phi < 0.0 ? phi + 2.0 * PI_D : phi;
+}
+
 /* Smallest root of |o + t d|^2 = r^2 within [tnear, tfar]; 0 if none. hit NULL (occlusion): only
  * whether there is one, so a whole sphere answers at its first root in range (the refinement and
  * phi only clip partial spheres) and no hit's (u, v) and normal are made: the same answer. */
@@ -202,10 +228,7 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
     double len = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     for (int k = 0; k < 3; ++k) p[k] *= s->radius / len; /* pbrt's refinement onto the surface */
     if (p[0] == 0.0 && p[1] == 0.0) p[0] = 1e-5 * s->radius;
-    if (s->partial || s->uv) { /* phi only clips and makes u */
-      phi = atan2(p[1], p[0]);
-      if (phi < 0.0) phi += 2.0 * PI_D;
-    }
+    if (s->partial || s->uv) phi = sphere_phi(p); /* phi only clips and makes u */
     /* pbrt-v3 Sphere::Intersect: a clipped first root tries the second */
     if (s->partial && ((s->zmin > -s->radius && p[2] < s->zmin) ||
                        (s->zmax < s->radius && p[2] > s->zmax) || phi > s->phimax))
@@ -213,17 +236,8 @@ static int sphere_hit_test(const sphere_shape *s, const float org[3], const floa
     found = 1;
   }
   if (!found || !hit) return found;
-  double cos_theta = fmin(fmax(p[2] / s->radius, -1.0), 1.0);
   hit->t = (float)t;
-  if (!s->uv) {
-    hit->u = hit->v = 0.0f;
-  } else if (s->partial) {
-    hit->u = (float)(phi / s->phimax);
-    hit->v = (float)((acos(cos_theta) - s->theta_zmin) / (s->theta_zmax - s->theta_zmin));
-  } else {
-    hit->u = (float)(phi / (2.0 * PI_D));
-    hit->v = (float)((acos(cos_theta) - PI_D) / (0.0 - PI_D)); /* thetaMin = pi, thetaMax = 0 */
-  }
+  sphere_uv(s, p, phi, hit);
   map_normal(&s->object_to_group, p, hit->ng);
   return 1;
 }
@@ -274,11 +288,25 @@ static inline void packet_ray(const float *f, unsigned n, unsigned i, float org[
   }
 }
 
+/* Writes a user geometry's hit into lane i of Embree's ray-hit packet. */
+static inline void store_user_hit(const struct RTCIntersectFunctionNArguments *args, unsigned i,
+                                  const sphere_hit *h) {
+  const unsigned n = args->N;
+  float *f = (float *)args->rayhit;
+  unsigned *w = (unsigned *)args->rayhit;
+  f[RAY_TFAR * n + i] = h->t;
+  for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h->ng[k];
+  f[HIT_U * n + i] = h->u;
+  f[HIT_V * n + i] = h->v;
+  w[HIT_PRIM * n + i] = args->primID;
+  w[HIT_GEOM * n + i] = args->geomID;
+  w[HIT_INST * n + i] = args->context->instID[0];
+}
+
 /* Embree's intersect callback over a packet, for any user geometry's ray test. */
 static void user_intersect(const struct RTCIntersectFunctionNArguments *args, user_hit_test test) {
   const unsigned n = args->N;
   float *f = (float *)args->rayhit;
-  unsigned *w = (unsigned *)args->rayhit;
   for (unsigned i = 0; i < n; ++i) {
     if (!args->valid[i]) continue;
     float org[3], dir[3];
@@ -286,13 +314,7 @@ static void user_intersect(const struct RTCIntersectFunctionNArguments *args, us
     sphere_hit h;
     if (!test(args->geometryUserPtr, org, dir, f[RAY_TNEAR * n + i], f[RAY_TFAR * n + i], &h))
       continue;
-    f[RAY_TFAR * n + i] = h.t;
-    for (int k = 0; k < 3; ++k) f[(HIT_NG + k) * n + i] = (float)h.ng[k];
-    f[HIT_U * n + i] = h.u;
-    f[HIT_V * n + i] = h.v;
-    w[HIT_PRIM * n + i] = args->primID;
-    w[HIT_GEOM * n + i] = args->geomID;
-    w[HIT_INST * n + i] = args->context->instID[0];
+    store_user_hit(args, i, &h);
   }
 }
 
@@ -320,10 +342,6 @@ static void sphere_bounds(const struct RTCBoundsFunctionArguments *args) {
   box_bounds(s->object_to_group.m, s->radius, -s->radius, s->radius, 0.0, args->bounds_o);
 }
 
-static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
-  user_intersect(args, sphere_test);
-}
-
 /* sphere_test without the hit's surface figures (occlusion rays). */
 static int sphere_occludes(const void *shape, const float org[3], const float dir[3], float tnear,
                            float tfar, sphere_hit *hit) {
@@ -331,9 +349,154 @@ static int sphere_occludes(const void *shape, const float org[3], const float di
   return sphere_hit_test(shape, org, dir, tnear, tfar, NULL);
 }
 
+#if defined(__SSE2__)
+/* ---- whole spheres, two packet lanes at a time: sphere_hit_test's operations in SSE2 ---- */
+
+static inline __m128d pd_blend(__m128d mask, __m128d yes, __m128d no) {
+  return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no));
+}
+
+/* Lanes i and i + 1 of one float field of an Embree packet of n rays, as doubles. */
+static inline __m128d packet_pair(const float *f, unsigned n, int field, unsigned i) {
+  return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)(f + field * n + i))));
+}
+
+/* Row r of map_point (translate) or map_vector, in map_point's order of additions. */
+static inline __m128d pd_map_row(const double m[12], int r, const __m128d x[3], int translate) {
+  __m128d v = _mm_add_pd(_mm_mul_pd(_mm_set1_pd(m[4 * r]), x[0]),
+                         _mm_mul_pd(_mm_set1_pd(m[4 * r + 1]), x[1]));
+  v = _mm_add_pd(v, _mm_mul_pd(_mm_set1_pd(m[4 * r + 2]), x[2]));
+  return translate ? _mm_add_pd(v, _mm_set1_pd(m[4 * r + 3])) : v;
+}
+
+static inline __m128d pd_dot(const __m128d a[3], const __m128d b[3]) {
+  return _mm_add_pd(_mm_add_pd(_mm_mul_pd(a[0], b[0]), _mm_mul_pd(a[1], b[1])),
+                    _mm_mul_pd(a[2], b[2]));
+}
+
+/* (float)t within [tnear, tfar], as sphere_hit_test compares. */
+static inline __m128d pd_in_range(__m128d t, __m128d tnear, __m128d tfar) {
+  __m128d tf = _mm_cvtps_pd(_mm_cvtpd_ps(t));
+  return _mm_and_pd(_mm_cmpge_pd(tf, tnear), _mm_cmple_pd(tf, tfar));
+}
+
+/* A whole sphere's roots for lanes i, i + 1: the first root in range in `t`, and `found`. */
+typedef struct sphere_pair {
+  __m128d o[3], d[3], t, found;
+} sphere_pair;
+
+PACKET_INLINE void sphere_pair_roots(const sphere_shape *s, const float *f, unsigned n, unsigned i,
+                                     sphere_pair *r) {
+  __m128d og[3], dg[3];
+  for (int k = 0; k < 3; ++k) {
+    og[k] = packet_pair(f, n, RAY_ORG + k, i);
+    dg[k] = packet_pair(f, n, RAY_DIR + k, i);
+  }
+  for (int k = 0; k < 3; ++k) {
+    r->o[k] = pd_map_row(s->object_to_group.inv, k, og, 1);
+    r->d[k] = pd_map_row(s->object_to_group.inv, k, dg, 0);
+  }
+  const __m128d zero = _mm_setzero_pd(), sign = _mm_set1_pd(-0.0);
+  __m128d a = pd_dot(r->d, r->d), half_b = pd_dot(r->d, r->o);
+  __m128d c = _mm_sub_pd(pd_dot(r->o, r->o), _mm_set1_pd(s->radius * s->radius));
+  __m128d disc = _mm_sub_pd(_mm_mul_pd(half_b, half_b), _mm_mul_pd(a, c));
+  __m128d ok = _mm_and_pd(_mm_cmpge_pd(disc, zero), _mm_cmpneq_pd(a, zero));
+  r->t = zero, r->found = ok;
+  if (!_mm_movemask_pd(ok)) return; /* both rays miss: no root to find */
+  __m128d root = _mm_or_pd(_mm_andnot_pd(sign, _mm_sqrt_pd(disc)), _mm_and_pd(sign, half_b));
+  __m128d q = _mm_xor_pd(_mm_add_pd(half_b, root), sign);
+  __m128d t0 = _mm_div_pd(q, a), t1 = pd_blend(_mm_cmpneq_pd(q, zero), _mm_div_pd(c, q), t0);
+  __m128d swap = _mm_cmpgt_pd(t0, t1), lo = pd_blend(swap, t1, t0), hi = pd_blend(swap, t0, t1);
+  __m128d tnear = packet_pair(f, n, RAY_TNEAR, i), tfar = packet_pair(f, n, RAY_TFAR, i);
+  __m128d in_lo = _mm_and_pd(ok, pd_in_range(lo, tnear, tfar));
+  __m128d in_hi = _mm_and_pd(ok, pd_in_range(hi, tnear, tfar));
+  r->t = pd_blend(in_lo, lo, hi);
+  r->found = _mm_or_pd(in_lo, in_hi);
+}
+
+/* The hits of lanes i, i + 1 (those set in `lanes`) with the roots in r. */
+PACKET_INLINE void sphere_pair_hits(const struct RTCIntersectFunctionNArguments *args,
+                                    const sphere_shape *s, unsigned i, const sphere_pair *r,
+                                    int lanes) {
+  __m128d p[3];
+  for (int k = 0; k < 3; ++k) p[k] = _mm_add_pd(r->o[k], _mm_mul_pd(r->t, r->d[k]));
+  __m128d scale = _mm_div_pd(_mm_set1_pd(s->radius), _mm_sqrt_pd(pd_dot(p, p)));
+  for (int k = 0; k < 3; ++k) p[k] = _mm_mul_pd(p[k], scale); /* pbrt's refinement */
+  const __m128d zero = _mm_setzero_pd();
+  __m128d on_axis = _mm_and_pd(_mm_cmpeq_pd(p[0], zero), _mm_cmpeq_pd(p[1], zero));
+  p[0] = pd_blend(on_axis, _mm_set1_pd(1e-5 * s->radius), p[0]);
+  const double *inv = s->object_to_group.inv;
+  __m128d ng[3];
+  for (int k = 0; k < 3; ++k) {
+    ng[k] = _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_set1_pd(inv[k]), p[0]),
+                                  _mm_mul_pd(_mm_set1_pd(inv[4 + k]), p[1])),
+                       _mm_mul_pd(_mm_set1_pd(inv[8 + k]), p[2]));
+  }
+  alignas(16) double t[2], pl[3][2], nl[3][2];
+  _mm_store_pd(t, r->t);
+  for (int k = 0; k < 3; ++k) {
+    _mm_store_pd(pl[k], p[k]);
+    _mm_store_pd(nl[k], ng[k]);
+  }
+  for (int j = 0; j < 2; ++j) {
+    if (!(lanes & (1 << j))) continue;
+    double pj[3] = {pl[0][j], pl[1][j], pl[2][j]};
+    sphere_hit h = {.t = (float)t[j], .ng = {nl[0][j], nl[1][j], nl[2][j]}};
+    sphere_uv(s, pj, s->uv ? sphere_phi(pj) : 0.0, &h);
+    store_user_hit(args, i + (unsigned)j, &h);
+  }
+}
+
+/* Lanes i and i + 1 that Embree asked about, as bits 0 and 1. */
+static inline int valid_pair(const int *valid, unsigned i) {
+  return (valid[i] != 0) | (valid[i + 1] != 0) << 1;
+}
+
+static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
+  const sphere_shape *s = args->geometryUserPtr;
+  const unsigned n = args->N;
+  if (s->partial || n % 2) {
+    user_intersect(args, sphere_test);
+    return;
+  }
+  const float *f = (const float *)args->rayhit;
+  for (unsigned i = 0; i < n; i += 2) {
+    int valid = valid_pair(args->valid, i);
+    if (!valid) continue;
+    sphere_pair r;
+    sphere_pair_roots(s, f, n, i, &r);
+    int lanes = valid & _mm_movemask_pd(r.found);
+    if (lanes) sphere_pair_hits(args, s, i, &r, lanes);
+  }
+}
+
+static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
+  const sphere_shape *s = args->geometryUserPtr;
+  const unsigned n = args->N;
+  if (s->partial || n % 2) {
+    user_occluded(args, sphere_occludes);
+    return;
+  }
+  float *f = (float *)args->ray;
+  for (unsigned i = 0; i < n; i += 2) {
+    int valid = valid_pair(args->valid, i);
+    if (!valid) continue;
+    sphere_pair r;
+    sphere_pair_roots(s, f, n, i, &r);
+    int lanes = valid & _mm_movemask_pd(r.found);
+    for (unsigned j = 0; j < 2; ++j)
+      if (lanes & (1 << j)) f[RAY_TFAR * n + i + j] = -INFINITY;
+  }
+}
+#else
+static void sphere_intersect(const struct RTCIntersectFunctionNArguments *args) {
+  user_intersect(args, sphere_test);
+}
+
 static void sphere_occluded(const struct RTCOccludedFunctionNArguments *args) {
   user_occluded(args, sphere_occludes);
 }
+#endif
 
 /* ---- disks: pbrt-v3 Disk::Intersect in object space ---- */
 
@@ -1084,9 +1247,6 @@ typedef union lane {
   float f;
   uint32_t u;
 } lane;
-
-/* Always inlined, so that each packet width gets its own constant-width loops. */
-#define PACKET_INLINE static inline __attribute__((always_inline))
 
 #if defined(__SSE2__)
 /* Lanes [i, i + 4) of four rays' fields (clr_ray's first eight floats are Embree's org_x, org_y,
