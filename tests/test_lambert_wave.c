@@ -124,6 +124,41 @@ static void test_hemisphere_wave_equals_scalar(void **state) {
   clr_wave_cosine_hemisphere(0, u0, u1, x, y, z); /* an empty wave writes nothing */
 }
 
+/* The AO integrator's world directions and terms at one point (clr_wave_ao_directions) against
+ * pbrt-v3's AOIntegrator, written out: wi = s x + t y + n z, Dot(wi, n) and Dot / (pdf count)
+ * with pdf = |z| / pi, 0 where z = 0; for counts the vector loop splits in several ways. */
+static void test_ao_directions_equal_pbrt(void **state) {
+  (void)state;
+  enum { MAX = 67 };
+  const int counts[] = {1, 2, 5, 8, 16, 64, MAX};
+  for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c) {
+    int n = counts[c];
+    float frame[9], x[MAX], y[MAX], z[MAX], cos_n[MAX], term[MAX], w[MAX][3];
+    random_unit(frame + 6);
+    random_unit(frame);
+    rs_cross(frame + 6, frame, frame + 3);
+    for (int k = 0; k < n; ++k) {
+      random_unit(w[k]);
+      w[k][2] = k % 9 == 4 ? 0.0f : fabsf(w[k][2]); /* z = 0: a zero pdf */
+      x[k] = w[k][0], y[k] = w[k][1], z[k] = w[k][2];
+    }
+    clr_wave_ao_directions(n, frame, (float)n, x, y, z, cos_n, term);
+    for (int k = 0; k < n; ++k) {
+      float wi[3];
+      for (int a = 0; a < 3; ++a)
+        wi[a] = frame[a] * w[k][0] + frame[3 + a] * w[k][1] + frame[6 + a] * w[k][2];
+      float dot = wi[0] * frame[6] + wi[1] * frame[7] + wi[2] * frame[8];
+      float pdf = fabsf(w[k][2]) * RS_INV_PI, expect = pdf > 0.0f ? dot / (pdf * (float)n) : 0.0f;
+      float got[5] = {x[k], y[k], z[k], cos_n[k], term[k]},
+            want[5] = {wi[0], wi[1], wi[2], dot, expect};
+      if (memcmp(got, want, sizeof got))
+        fail_msg("count %d, direction %d: wave (%a %a %a) %a %a, pbrt (%a %a %a) %a %a", n, k,
+                 got[0], got[1], got[2], got[3], got[4], want[0], want[1], want[2], want[3],
+                 want[4]);
+    }
+  }
+}
+
 /* Reserving again keeps the storage when it is large enough and restarts the wave. */
 static void test_wave_reuse(void **state) {
   (void)state;
@@ -149,6 +184,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_wave_equals_scalar),
       cmocka_unit_test(test_hemisphere_wave_equals_scalar),
+      cmocka_unit_test(test_ao_directions_equal_pbrt),
       cmocka_unit_test(test_wave_reuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

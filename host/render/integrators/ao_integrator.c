@@ -54,19 +54,25 @@ clr_result clr_li_ao(const clr_integrator *it, const clr_render_scene *sc,
       up[a] = sf->p[a] + sf->ng[a] * e;
       down[a] = sf->p[a] + sf->ng[a] * -e;
     }
+    if (it->ao_cos_sample) { /* the point's directions and terms in one vector loop */
+      const float frame[9] = {ss[0], ss[1],     ss[2],     ts[0],    ts[1],
+                              ts[2], sf->ng[0], sf->ng[1], sf->ng[2]};
+      clr_wave_ao_directions(n, frame, (float)n, dx + q, dy + q, dz + q, u0 + q, term + q);
+    }
     for (int k = 0; k < n; ++k, ++q) {
-      float w[3] = {0.0f, 0.0f, 0.0f}, wi[3];
-      if (it->ao_cos_sample) {
-        w[0] = dx[q];
-        w[1] = dy[q];
-        w[2] = dz[q];
+      float wi[3], cos_n;
+      if (it->ao_cos_sample) { /* u0 holds Dot(wi, n) now */
+        wi[0] = dx[q];
+        wi[1] = dy[q];
+        wi[2] = dz[q];
+        cos_n = u0[q];
       } else {
+        float w[3];
         uniform_hemisphere(u + 2 * k, w);
+        for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
+        cos_n = rs_dot(wi, sf->ng);
+        term[q] = cos_n / ((1.0f / (2.0f * RS_PI)) * (float)n); /* the uniform pdf */
       }
-      for (int a = 0; a < 3; ++a) wi[a] = ss[a] * w[0] + ts[a] * w[1] + sf->ng[a] * w[2];
-      float pdf = it->ao_cos_sample ? fabsf(w[2]) * RS_INV_PI : 1.0f / (2.0f * RS_PI);
-      float cos_n = rs_dot(wi, sf->ng);
-      term[q] = pdf > 0.0f ? cos_n / (pdf * (float)n) : 0.0f;
       const float *o = cos_n < 0.0f ? down : up;
       clr_ray *r = &s->rays[q];
       r->ox = o[0];

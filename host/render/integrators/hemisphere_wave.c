@@ -30,3 +30,20 @@ void clr_wave_cosine_hemisphere(int32_t n, const float *restrict u0, const float
     z[k] = sqrtf(z2 > 0.0f ? z2 : 0.0f);
   }
 }
+
+void clr_wave_ao_directions(int32_t n, const float frame[9], float count, float *restrict x,
+                            float *restrict y, float *restrict z, float *restrict cos_n,
+                            float *restrict term) {
+  const float *ss = frame, *ts = frame + 3, *nn = frame + 6;
+  for (int32_t k = 0; k < n; ++k) {
+    float w0 = x[k], w1 = y[k], w2 = z[k];
+    float wx = ss[0] * w0 + ts[0] * w1 + nn[0] * w2, wy = ss[1] * w0 + ts[1] * w1 + nn[1] * w2,
+          wz = ss[2] * w0 + ts[2] * w1 + nn[2] * w2;
+    float pdf = fabsf(w2) * RS_INV_PI, c = wx * nn[0] + wy * nn[1] + wz * nn[2];
+    x[k] = wx;
+    y[k] = wy;
+    z[k] = wz;
+    cos_n[k] = c;
+    term[k] = pdf > 0.0f ? c / (pdf * count) : 0.0f;
+  }
+}
