@@ -1376,6 +1376,14 @@ static struct RTCRay embree_ray(const clr_ray *r) {
                          .mask = 0xffffffffu};
 }
 
+/* embree_ray written field by field into *e: building the struct first made GCC store it in
+ * pieces and reload it 16 bytes at a time, a store-forwarding stall per ray. */
+static inline void store_embree_ray(const clr_ray *r, struct RTCRay *e) {
+  e->org_x = r->ox, e->org_y = r->oy, e->org_z = r->oz, e->tnear = r->tnear;
+  e->dir_x = r->dx, e->dir_y = r->dy, e->dir_z = r->dz, e->time = r->time;
+  e->tfar = r->tfar, e->mask = 0xffffffffu, e->id = 0, e->flags = 0;
+}
+
 /* Occlusion of checked rays through Embree's ray stream (rtcOccluded1M), which sorts them by
  * direction octant and traverses each octant's rays together, in chunks of STREAM_RAYS. */
 #define STREAM_RAYS 512
@@ -1386,9 +1394,7 @@ static void occluded_stream(const struct clr_tracer_t *t, const clr_ray *rays, i
   rtcInitIntersectContext(&context);
   for (int32_t base = 0; base < count; base += STREAM_RAYS) {
     int32_t n = count - base < STREAM_RAYS ? count - base : STREAM_RAYS;
-    for (int32_t i = 0; i < n; ++i) {
-      chunk[i] = embree_ray(&rays[base + i]);
-    }
+    for (int32_t i = 0; i < n; ++i) store_embree_ray(&rays[base + i], &chunk[i]);
     rtcOccluded1M(t->groups[0].scene, &context, chunk, (unsigned)n, sizeof *chunk);
     for (int32_t i = 0; i < n; ++i) occluded[base + i] = chunk[i].tfar == -INFINITY;
   }
