@@ -665,6 +665,62 @@ static void test_sphere_packets_at_root_bounds(void **state) {
   free(occ);
 }
 
+/* Rays that start just off the surface (offsets from 1e-2 down to 1e-7 of the radius), as AO
+ * and shadow rays do, in every direction: packets (whose two-lane path skips the roots of rays
+ * leaving the sphere) give the single-ray hits and occlusion. Leaving rays miss, entering hit. */
+static void test_sphere_rays_leaving_surface(void **state) {
+  (void)state;
+  float m[16];
+  ellipsoid_to_world(m);
+  clr_tracer t;
+  assert_int_equal(clr_tracer_create(&t), CLR_SUCCESS);
+  add_whole_or_partial_sphere(t, m, 0);
+  assert_int_equal(clr_tracer_commit(t), CLR_SUCCESS);
+  enum { N = 3000 };
+  clr_ray *rays = calloc(N, sizeof *rays);
+  clr_hit *single = calloc(N, sizeof *single), *packet = calloc(N, sizeof *packet);
+  uint8_t *occ = calloc(N, 1);
+  int *leaving = calloc(N, sizeof *leaving);
+  assert_true(rays && single && packet && occ && leaving);
+  for (int i = 0; i < N; ++i) {
+    double n[3], d[3], len = 0.0, along = 0.0; /* object space: a unit normal and a direction */
+    for (int k = 0; k < 3; ++k) n[k] = 2 * rnd() - 1, d[k] = 2 * rnd() - 1;
+    for (int k = 0; k < 3; ++k) len += n[k] * n[k];
+    for (int k = 0; k < 3; ++k) n[k] /= sqrt(len), along += n[k] * d[k];
+    double offset = pow(10.0, -2.0 - 5.0 * rnd()), r = 2.0 * (1.0 + offset); /* radius 2 */
+    leaving[i] = along > 0.05 && offset > 1e-5; /* below, float origins may fall inside */
+    double o[3] = {r * n[0], r * n[1], r * n[2]}, w[3], v[3]; /* ellipsoid_to_world's map */
+    w[0] = 1.5 * o[0] + 0.5, w[1] = 0.75 * o[1] - 1.0, w[2] = o[2] + 2.0;
+    v[0] = 1.5 * d[0], v[1] = 0.75 * d[1], v[2] = d[2];
+    rays[i] = make_ray((float)w[0], (float)w[1], (float)w[2], (float)v[0], (float)v[1], (float)v[2],
+                       0.0f, i % 5 == 0 ? 3.0f : INFINITY);
+  }
+  assert_int_equal(clr_tracer_intersect_single(t, rays, single, N), CLR_SUCCESS);
+  assert_int_equal(clr_tracer_intersect(t, rays, packet, N), CLR_SUCCESS);
+  assert_int_equal(clr_tracer_occluded(t, rays, occ, N), CLR_SUCCESS);
+  int left = 0, entered = 0;
+  for (int i = 0; i < N; ++i) {
+    int hit = single[i].geom_id != CLR_TRACER_INVALID_ID;
+    if (!hits_equal(&packet[i], &single[i]) || occ[i] != hit)
+      fail_msg("ray %d (leaving %d): packet t %a geom %u, single t %a geom %u, occluded %d", i,
+               leaving[i], (double)packet[i].t, packet[i].geom_id, (double)single[i].t,
+               single[i].geom_id, occ[i]);
+    if (leaving[i]) {
+      assert_false(hit);
+      ++left;
+    } else if (hit) {
+      ++entered;
+    }
+  }
+  if (left < N / 5 || entered < N / 5) fail_msg("%d rays left, %d entered", left, entered);
+  clr_tracer_release(t);
+  free(rays);
+  free(single);
+  free(packet);
+  free(occ);
+  free(leaving);
+}
+
 /* With clr_tracer_set_sphere_uv(0) a whole and a partial sphere's hits keep their t, normal and
  * ids bit for bit (the partial sphere's clipping still reads phi), and carry u = v = 0. */
 static void test_sphere_uv_off_keeps_hits(void **state) {
@@ -1005,6 +1061,7 @@ int main(void) {
       cmocka_unit_test(test_occlusion_tfar),
       cmocka_unit_test(test_sphere_occlusion_matches_hits),
       cmocka_unit_test(test_sphere_packets_at_root_bounds),
+      cmocka_unit_test(test_sphere_rays_leaving_surface),
       cmocka_unit_test(test_sphere_uv_off_keeps_hits),
       cmocka_unit_test(test_threads),
       cmocka_unit_test(test_motion_instance),

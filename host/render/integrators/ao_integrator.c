@@ -93,8 +93,8 @@ clr_result clr_li_ao(const clr_integrator *it, const clr_render_scene *sc,
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = 0.0f;
     if (sf->has_material < 0) continue;
     float sum = 0.0f;
-    for (int k = 0; k < n; ++k, ++q)
-      if (!s->occluded[q]) sum += term[q];
+    for (int k = 0; k < n; ++k, ++q) /* sum + 0 is sum: it starts at +0, so it is never -0 */
+      sum += s->occluded[q] ? 0.0f : term[q];
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = sum;
   }
   return CLR_SUCCESS;

@@ -401,6 +401,13 @@ PACKET_INLINE void sphere_pair_roots(const sphere_shape *s, const float *f, unsi
   __m128d c = _mm_sub_pd(pd_dot(r->o, r->o), _mm_set1_pd(s->radius * s->radius));
   __m128d disc = _mm_sub_pd(_mm_mul_pd(half_b, half_b), _mm_mul_pd(a, c));
   __m128d ok = _mm_and_pd(_mm_cmpge_pd(disc, zero), _mm_cmpneq_pd(a, zero));
+  /* A ray leaving from outside (c > 0, half_b > 0: AO's and shadow rays off the sphere) has two
+   * negative roots, q / a <= -half_b / a and c / q <= -c / (2 half_b); both stay negative as
+   * floats, below tnear >= 0 (check_rays), when half_b >= a 2^-100 and c >= half_b 2^-98 (which
+   * imply half_b > 0 and c > 0, as a > 0 where ok). */
+  __m128d away = _mm_and_pd(_mm_cmpge_pd(half_b, _mm_mul_pd(a, _mm_set1_pd(0x1p-100))),
+                            _mm_cmpge_pd(c, _mm_mul_pd(half_b, _mm_set1_pd(0x1p-98))));
+  ok = _mm_andnot_pd(away, ok);
   r->t = zero, r->found = ok;
   if (!_mm_movemask_pd(ok)) return; /* both rays miss: no root to find */
   __m128d root = _mm_or_pd(_mm_andnot_pd(sign, _mm_sqrt_pd(disc)), _mm_and_pd(sign, half_b));
