@@ -10,6 +10,15 @@ static void uniform_hemisphere(const float u[2], float w[3]) {
   w[2] = z;
 }
 
+/* v where the ray is not occluded (0), else +0, by masking its bits: no branch to mispredict. */
+static inline float unless_occluded(uint8_t occluded, float v) {
+  uint32_t bits;
+  memcpy(&bits, &v, sizeof bits);
+  bits &= (uint32_t)occluded - 1u;
+  memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
 clr_result clr_li_ao(const clr_integrator *it, const clr_render_scene *sc,
                      clr_integrator_scratch *s, const float *values, int count, float *L,
                      clr_integrator_counters *c) {
@@ -94,7 +103,7 @@ clr_result clr_li_ao(const clr_integrator *it, const clr_render_scene *sc,
     if (sf->has_material < 0) continue;
     float sum = 0.0f;
     for (int k = 0; k < n; ++k, ++q) /* sum + 0 is sum: it starts at +0, so it is never -0 */
-      sum += s->occluded[q] ? 0.0f : term[q];
+      sum += unless_occluded(s->occluded[q], term[q]);
     L[3 * i] = L[3 * i + 1] = L[3 * i + 2] = sum;
   }
   return CLR_SUCCESS;
